@@ -1,0 +1,155 @@
+"""Exact sets of force angles: arcs on the circle and caps on the sphere of directions.
+
+Within one friction assumption every unknown of the dynamics is affine in the force direction
+``d``: ``x_k(d) = a_k + c_k . d`` (methods.md §4). On the sweep circle
+``d = cos(alpha) e1 + sin(alpha) e2`` this is ``a + b cos(alpha) + c sin(alpha)``, positive on
+one arc centred on ``atan2(c, b)`` with half-width ``arccos(-a / hypot(b, c))``. On the sphere
+it is positive on a cap about ``c / |c|`` with the same angular radius.
+
+An arc set is a tuple of disjoint arcs ``(start, end)`` in radians with ``0 <= start < 2 pi``
+and ``start < end <= start + 2 pi``, sorted by start; the full circle is ``((0, 2 pi),)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "TAU",
+    "FULL",
+    "ArcSet",
+    "positive_arc",
+    "intersect",
+    "contains",
+    "margin",
+    "to_degrees",
+    "boundary_angles",
+    "cap_margins",
+]
+
+TAU = 2.0 * np.pi
+ArcSet = tuple[tuple[float, float], ...]
+FULL: ArcSet = ((0.0, TAU),)
+
+
+def positive_arc(a: float, b: float, c: float, *, zero_tol: float = 0.0) -> ArcSet:
+    """Angles where ``a + b cos(alpha) + c sin(alpha) > 0`` (radians).
+
+    ``zero_tol`` is the size below which ``hypot(b, c)`` counts as zero (then the sign of ``a``
+    decides for every angle).
+    """
+    r = float(np.hypot(b, c))
+    if r <= zero_tol:
+        return FULL if a > 0 else ()
+    ratio = -a / r
+    if ratio <= -1.0:
+        return FULL
+    if ratio >= 1.0:
+        return ()
+    half = float(np.arccos(ratio))
+    start = float((np.arctan2(c, b) - half) % TAU)
+    return ((start, start + 2.0 * half),)
+
+
+def _intervals(arcs: ArcSet) -> list[tuple[float, float]]:
+    """Split arcs into intervals inside [0, 2 pi]."""
+    out: list[tuple[float, float]] = []
+    for s, e in arcs:
+        if e <= TAU:
+            out.append((s, e))
+        else:
+            out.append((s, TAU))
+            out.append((0.0, e - TAU))
+    return sorted(out)
+
+
+def _from_intervals(intervals: list[tuple[float, float]]) -> ArcSet:
+    """Merge sorted intervals in [0, 2 pi] into an arc set, joining across angle 0."""
+    merged: list[list[float]] = []
+    for s, e in sorted(intervals):
+        if e <= s:
+            continue
+        if merged and s <= merged[-1][1]:
+            merged[-1][1] = max(merged[-1][1], e)
+        else:
+            merged.append([s, e])
+    if not merged:
+        return ()
+    if merged[0][0] <= 0.0 and merged[-1][1] >= TAU:
+        if len(merged) == 1:
+            return FULL
+        first = merged.pop(0)
+        merged[-1][1] = TAU + first[1]
+    return tuple((float(s), float(e)) for s, e in merged)
+
+
+def intersect(*sets: ArcSet) -> ArcSet:
+    """Intersection of arc sets."""
+    current = [(0.0, TAU)]
+    for arcs in sets:
+        other = _intervals(arcs)
+        nxt = []
+        for s1, e1 in current:
+            for s2, e2 in other:
+                s, e = max(s1, s2), min(e1, e2)
+                if e > s:
+                    nxt.append((s, e))
+        current = nxt
+    return _from_intervals(current)
+
+
+def contains(arcs: ArcSet, angle: float) -> bool:
+    """Whether an angle (radians) lies inside an arc set."""
+    angle = angle % TAU
+    return any(s <= angle <= e or s <= angle + TAU <= e for s, e in arcs)
+
+
+def margin(arcs: ArcSet, angle: float) -> float:
+    """Signed angular distance (radians) from an angle to the nearest arc end.
+
+    Positive inside the set, negative outside; ``pi`` for the full circle, ``-pi`` for none.
+    """
+    if arcs == FULL:
+        return np.pi
+    if not arcs:
+        return -np.pi
+    ends = np.array([x for arc in arcs for x in arc])
+    diff = (angle - ends + np.pi) % TAU - np.pi
+    distance = float(np.abs(diff).min())
+    return distance if contains(arcs, angle) else -distance
+
+
+def to_degrees(arcs: ArcSet) -> list[list[float]]:
+    """Arc set in degrees, as JSON lists ``[start, end]``."""
+    return [[float(np.degrees(s)), float(np.degrees(e))] for s, e in arcs]
+
+
+def boundary_angles(arcs: ArcSet) -> np.ndarray:
+    """All arc ends in [0, 2 pi), sorted (empty for the full circle)."""
+    if arcs == FULL:
+        return np.zeros(0)
+    return np.sort(np.array([x % TAU for arc in arcs for x in arc]))
+
+
+def cap_margins(a: np.ndarray, c: np.ndarray, directions: np.ndarray) -> np.ndarray:
+    """Angular margin (rad) of unit directions inside every cap ``a_k + c_k . d > 0``.
+
+    ``a`` (k,), ``c`` (k, 3), ``directions`` (m, 3) -> (m,) the smallest, over ``k``, of the
+    angular distance to the cap's boundary circle, positive inside all caps. Since the
+    boundary of an intersection lies on the caps' circles, this is the distance to the
+    boundary of the safe region for directions inside it. A condition with ``c_k = 0`` is a
+    full sphere (margin ``pi``) or empty (``-pi``) by the sign of ``a_k``.
+    """
+    r = np.linalg.norm(c, axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(r > 0, -a / np.where(r > 0, r, 1.0), np.where(a > 0, -np.inf, np.inf))
+    if np.any(ratio >= 1.0):  # a condition that holds for no direction at all
+        return np.full(len(directions), -np.pi)
+    live = ratio > -1.0  # conditions that hold everywhere have no boundary
+    out = np.full(len(directions), np.pi)
+    if not np.any(live):
+        return out
+    axis = c[live] / r[live, None]
+    radius = np.arccos(ratio[live])
+    cosines = np.clip(directions @ axis.T, -1.0, 1.0)
+    return np.minimum(out, (radius - np.arccos(cosines)).min(axis=1))

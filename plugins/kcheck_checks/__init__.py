@@ -1,0 +1,1 @@
+"""kcheck's built-in checks, registered through the ``kcheck.checks`` entry points."""
