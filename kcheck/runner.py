@@ -83,7 +83,8 @@ def check_scene(
             if check_id not in known:
                 raise scene.error(
                     ("checks", check_id),
-                    f"options for unknown check `{check_id}`; installed: {', '.join(sorted(known))}",
+                    f"options for unknown check `{check_id}`; "
+                    f"installed: {', '.join(sorted(known))}",
                 )
         plan = []
         for lc in checks:
