@@ -121,7 +121,8 @@ def mesh_mass_properties(
         )
     if not mesh.is_winding_consistent:
         raise MeshError(path, "the mesh's face winding is inconsistent", field=field)
-    volume = float(mesh.volume)
+    with np.errstate(all="ignore"):  # trimesh divides by the volume before we can check it
+        volume = float(mesh.volume)
     if not np.isfinite(volume) or abs(volume) <= (1e-9 * extent) ** 3:
         raise MeshError(
             path, f"the mesh encloses (almost) no volume: {volume:.3e} m^3", field=field

@@ -1,0 +1,81 @@
+"""Shared test helpers: scenes written as real YAML files, and the CLI called in-process."""
+
+from __future__ import annotations
+
+import json
+import textwrap
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+from kcheck.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+FIXTURES = ROOT / "fixtures"
+
+
+@pytest.fixture(autouse=True)
+def _plain_terminal(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Reports in tests are plain text of a fixed width (as hatch's tests do)."""
+    monkeypatch.setenv("NO_COLOR", "1")
+    monkeypatch.setenv("COLUMNS", "120")
+    monkeypatch.delenv("FORCE_COLOR", raising=False)
+
+
+@pytest.fixture
+def write_scene(tmp_path: Path) -> Callable[..., Path]:
+    """Write a scene file (dedented YAML text) into tmp_path; return its path."""
+
+    def write(text: str, name: str = "scene.kcheck.yaml") -> Path:
+        path = tmp_path / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(textwrap.dedent(text).lstrip(), encoding="utf-8")
+        return path
+
+    return write
+
+
+@pytest.fixture
+def cli(capsys: pytest.CaptureFixture[str]) -> Callable[..., tuple[int, str, str]]:
+    """Run ``kcheck`` in-process; return (exit code, stdout, stderr)."""
+
+    def run(*args: str) -> tuple[int, str, str]:
+        try:
+            code = main(list(args))
+        except SystemExit as exc:  # argparse usage errors and --version
+            code = int(exc.code or 0)
+        out, err = capsys.readouterr()
+        return code, out, err
+
+    return run
+
+
+@pytest.fixture
+def cli_json(cli: Callable[..., tuple[int, str, str]]) -> Callable[..., tuple[int, dict]]:
+    """Run ``kcheck check --format json`` in-process; return (exit code, document)."""
+
+    def run(*args: str) -> tuple[int, dict]:
+        code, out, _ = cli("check", "--format", "json", *args)
+        return code, json.loads(out)
+
+    return run
+
+
+PLANAR_SCENE = """
+version: 1
+name: planar block (methods.md §7)
+units: mm
+body:
+  mass: 1
+  center_of_mass: [50, 30, 0]
+  inertia: 0.001
+supports:
+  - {name: y1, position: [20, 0, 0], normal: [0, 1, 0]}
+  - {name: y2, position: [80, 0, 0], normal: [0, 1, 0]}
+  - {name: x1, position: [0, 30, 0], normal: [1, 0, 0]}
+friction: 0.1
+load:
+  magnitude: 1
+  angle: 225
+"""

@@ -1,0 +1,57 @@
+"""YAML reading: YAML 1.2 numbers and booleans, duplicate keys, line numbers."""
+
+from __future__ import annotations
+
+import pytest
+
+from kcheck.errors import SceneError
+from kcheck.yamlio import load_yaml
+
+
+def test_exponent_without_dot_is_a_number(tmp_path):
+    # PyYAML (YAML 1.1) reads `1e3` as the string "1e3" (yaml/pyyaml#173).
+    path = tmp_path / "a.yaml"
+    path.write_text("a: 1e3\nb: -2.5E-3\nc: 7\nd: '1e3'\n")
+    data, _ = load_yaml(path)
+    assert data == {"a": 1000.0, "b": -0.0025, "c": 7, "d": "1e3"}
+    assert isinstance(data["c"], int)
+
+
+def test_yaml11_booleans_stay_strings(tmp_path):
+    path = tmp_path / "a.yaml"
+    path.write_text("a: yes\nb: on\nc: true\nd: no\n")
+    data, _ = load_yaml(path)
+    assert data == {"a": "yes", "b": "on", "c": True, "d": "no"}
+
+
+def test_duplicate_key_names_both_lines(tmp_path):
+    path = tmp_path / "a.yaml"
+    path.write_text("load:\n  magnitude: 1\n  magnitude: 2\n")
+    with pytest.raises(SceneError) as info:
+        load_yaml(path)
+    err = info.value
+    assert err.line == 3 and err.field == "load.magnitude"
+    assert "first given on line 2" in err.message
+
+
+def test_lines_of_nested_fields(tmp_path):
+    path = tmp_path / "a.yaml"
+    path.write_text("supports:\n  - name: a\n    normal: [1, 0, 0]\n  - name: b\n")
+    _, lines = load_yaml(path)
+    assert lines[("supports", 0, "normal")] == 3
+    assert lines[("supports", 1)] == 4
+
+
+def test_syntax_error_gives_line(tmp_path):
+    path = tmp_path / "a.yaml"
+    path.write_text("a: [1, 2\nb: 3\n")
+    with pytest.raises(SceneError) as info:
+        load_yaml(path)
+    assert info.value.line is not None and "YAML syntax error" in info.value.message
+
+
+def test_empty_file(tmp_path):
+    path = tmp_path / "a.yaml"
+    path.write_text("# nothing\n")
+    with pytest.raises(SceneError, match="empty"):
+        load_yaml(path)
