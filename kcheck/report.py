@@ -6,6 +6,7 @@ from whatever fields the cases carry, so a third-party check is shown like a bui
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 from typing import Any, TextIO
 
@@ -28,11 +29,12 @@ STYLE = {
 
 
 def make_console(color: str = "auto", file: TextIO | None = None, stderr: bool = False) -> Console:
-    """A console honouring ``--color`` (auto follows NO_COLOR, FORCE_COLOR and the TTY)."""
+    """A console honouring ``--color``: ``auto`` follows the TTY and FORCE_COLOR, and a
+    non-empty NO_COLOR turns off every ANSI style, not only colours (plain logs in CI)."""
     kwargs: dict[str, Any] = {"markup": False, "highlight": False, "emoji": False}
     if color == "always":
         kwargs["force_terminal"] = True
-    elif color == "never":
+    elif color == "never" or os.environ.get("NO_COLOR"):
         kwargs["no_color"] = True
         kwargs["color_system"] = None
     console = Console(file=file, stderr=stderr, **kwargs)

@@ -1,0 +1,58 @@
+"""Lean start-up: heavy modules are imported only where a scene needs them."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+from tests.conftest import PLANAR_SCENE
+
+HEAVY = ("trimesh", "scipy", "matplotlib")
+
+PROBE = """
+import json, sys
+from kcheck.cli import main
+code = main(sys.argv[1:])
+heavy = sorted(m for m in HEAVY if m in sys.modules)
+print(json.dumps({"code": code, "heavy": heavy}), file=sys.stderr)
+"""
+
+
+def _imported(*args: str) -> dict:
+    proc = subprocess.run(
+        [sys.executable, "-c", f"HEAVY = {HEAVY!r}\n{PROBE}", *args],
+        capture_output=True,
+        text=True,
+    )
+    return json.loads(proc.stderr.strip().splitlines()[-1])
+
+
+def test_schema_and_plugins_import_nothing_heavy():
+    assert _imported("schema")["heavy"] == []
+    assert _imported("plugins")["heavy"] == []
+
+
+def test_geometry_only_scene_reads_no_mesh(write_scene, tmp_path):
+    # No body: the analytical checks are skipped, maxwell needs geometry only, and the mesh
+    # library is never imported.
+    text = PLANAR_SCENE.replace(
+        "body:\n  mass: 1\n  center_of_mass: [50, 30, 0]\n  inertia: 0.001\n", ""
+    )
+    result = _imported("check", str(write_scene(text)), "--format", "json")
+    assert result == {"code": 0, "heavy": []}
+
+
+def test_explicit_mass_needs_no_mesh_library(write_scene):
+    # Explicit mass properties and no design direction: no trimesh (no mesh), no scipy
+    # (the limiting friction is only computed at a design direction).
+    text = PLANAR_SCENE.replace("  angle: 225\n", "")
+    assert _imported("check", str(write_scene(text)), "--format", "json")["heavy"] == []
+
+
+def test_mesh_scene_imports_trimesh_but_not_matplotlib(tmp_path):
+    from tests.conftest import FIXTURES
+
+    scene = FIXTURES / "planar-block" / "block.kcheck.yaml"
+    heavy = _imported("check", str(scene), "--format", "json")["heavy"]
+    assert "trimesh" in heavy and "matplotlib" not in heavy
