@@ -10,8 +10,8 @@ import trimesh
 
 from kcheck.errors import MeshError
 from kcheck.mass import MassProperties, combine, load_mesh, mesh_mass_properties
-from kcheck.runner import check_scene
 from kcheck.plugin import load_checks
+from kcheck.runner import check_scene
 
 RHO = 2700.0
 # Binary STL stores coordinates as float32: a relative precision of about 1e-7 per coordinate,
