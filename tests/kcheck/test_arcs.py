@@ -1,0 +1,70 @@
+"""Exact arc sets on the circle and caps on the sphere, against dense sampling."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from kcheck.arcs import FULL, TAU, cap_margins, contains, intersect, margin, positive_arc
+
+ANGLES = np.linspace(0, TAU, 200_001)
+
+
+def _member(arcs, angles=ANGLES):
+    return np.array([contains(arcs, a) for a in angles[::50]])
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_positive_arc_matches_sampling(seed):
+    rng = np.random.default_rng(seed)
+    a, b, c = rng.normal(size=3)
+    arcs = positive_arc(a, b, c)
+    sampled = (a + b * np.cos(ANGLES[::50]) + c * np.sin(ANGLES[::50])) > 0
+    mismatch = np.count_nonzero(_member(arcs) != sampled)
+    assert mismatch <= 2  # only samples within rounding of an arc end may differ
+    for start, end in arcs:
+        assert 0 <= start < TAU and start < end <= start + TAU
+
+
+def test_degenerate_arcs():
+    assert positive_arc(1.0, 0.0, 0.0) == FULL
+    assert positive_arc(-1.0, 0.0, 0.0) == ()
+    assert positive_arc(2.0, 1.0, 0.0) == FULL  # never reaches zero
+    assert positive_arc(-2.0, 1.0, 0.0) == ()
+    (arc,) = positive_arc(0.0, 1.0, 0.0)  # cos > 0: (-90, 90) deg, wrapping through 0
+    assert np.degrees(arc) == pytest.approx([270.0, 450.0])
+
+
+def test_intersection_across_zero_and_splitting():
+    wrap = ((np.radians(300), np.radians(400)),)  # 300..40 deg
+    band = ((np.radians(20), np.radians(320)),)
+    got = np.degrees(intersect(wrap, band))
+    assert got == pytest.approx(np.array([[20, 40], [300, 320]]))
+    assert intersect(wrap, ((np.radians(100), np.radians(200)),)) == ()
+    np.testing.assert_allclose(intersect(FULL, wrap), wrap)
+    # Two arcs meeting across 0 merge into one arc that wraps.
+    merged = intersect(((np.radians(350), np.radians(370)),), FULL)
+    np.testing.assert_allclose(np.degrees(merged), [[350, 370]])
+
+
+def test_margin_inside_and_outside():
+    arcs = ((np.radians(100), np.radians(160)),)
+    assert np.degrees(margin(arcs, np.radians(120))) == pytest.approx(20)
+    assert np.degrees(margin(arcs, np.radians(170))) == pytest.approx(-10)
+    assert np.degrees(margin(arcs, np.radians(-170))) == pytest.approx(-30)
+    assert margin(FULL, 1.0) == pytest.approx(np.pi) and margin((), 1.0) == pytest.approx(-np.pi)
+
+
+def test_cap_margin_against_great_circle_geometry():
+    # Condition d_z > cos(60 deg): a cap of angular radius 60 deg about +z (closed form).
+    a = np.array([-0.5])
+    c = np.array([[0.0, 0.0, 1.0]])
+    dirs = np.array([[0, 0, 1.0], [1, 0, 0.0], [np.sin(0.5), 0, np.cos(0.5)]])
+    np.testing.assert_allclose(
+        np.degrees(cap_margins(a, c, dirs)), [60, -30, 60 - np.degrees(0.5)], atol=1e-9
+    )
+    # A condition that always holds adds no boundary; one that never holds empties the map.
+    always = cap_margins(np.array([-0.5, 5.0]), np.array([[0, 0, 1.0], [1, 0, 0]]), dirs)
+    np.testing.assert_allclose(always, cap_margins(a, c, dirs))
+    never = cap_margins(np.array([-5.0]), np.array([[1.0, 0, 0]]), dirs)
+    assert np.all(never < 0)

@@ -1,0 +1,55 @@
+"""Twist kinematics: constraint rows, free twists, poles at infinity, Maxwell's measure."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from kcheck.kinematics import (
+    free_twist,
+    layout_singular_values,
+    maxwell_cos,
+    point_velocity,
+    wrenches,
+)
+
+
+def test_row_times_twist_is_normal_velocity():
+    rng = np.random.default_rng(1)
+    for dim, n in ((2, 3), (3, 6)):
+        p, nrm, twist = rng.normal(size=(5, dim)), rng.normal(size=(5, dim)), rng.normal(size=n)
+        np.testing.assert_allclose(
+            wrenches(p, nrm) @ twist, np.sum(nrm * point_velocity(twist, p), axis=1), atol=1e-12
+        )
+
+
+def test_planar_free_twist_is_rotation_about_the_pole():
+    # Normals of supports 0 and 1 meet at (1, 1): retracting 2 leaves a rotation about it.
+    p = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, -0.5]])
+    n = np.array([[0.0, 1.0], [1.0, 0.0], [1.0, 1.0]]) / np.array([[1], [1], [np.sqrt(2)]])
+    free = free_twist(p, n, 2)
+    assert np.linalg.norm(point_velocity(free.twist, np.array([1.0, 1.0]))) < 1e-12
+    assert n[2] @ point_velocity(free.twist, p[2]) < 0  # oriented to close the gap
+
+
+def test_parallel_normals_give_a_translation_without_special_case():
+    p = np.array([[0.2, 0.0], [0.8, 0.0], [0.0, 0.3]])
+    n = np.array([[0.0, 1.0], [0.0, 1.0], [1.0, 0.0]])
+    free = free_twist(p, n, 2)
+    np.testing.assert_allclose(free.twist, [0, -1, 0], atol=1e-15)  # w = 0, v = -x
+    assert free.closing == pytest.approx(1.0)
+
+
+def test_concurrent_normals_are_rank_deficient():
+    # Three normals through the origin: a rotation about it stays free with all supports.
+    angles = np.radians([90, 210, 330])
+    p = np.column_stack([np.cos(angles), np.sin(angles)])
+    s = layout_singular_values(p, -p)
+    assert s[-1] / s[0] < 1e-15
+    assert free_twist(p, -p, 0).closing < 1e-12  # retracting frees nothing that closes it
+
+
+def test_maxwell_cos_is_one_for_a_square_block_corner():
+    p = np.array([[0.2, 0.0], [0.8, 0.0], [0.0, 0.3]])
+    n = np.array([[0.0, 1.0], [0.0, 1.0], [1.0, 0.0]])
+    assert maxwell_cos(free_twist(p, n, 2), p[2], n[2]) == pytest.approx(1.0)
