@@ -205,3 +205,11 @@ def test_mass_command_bad_input(cli, tmp_path):
     assert code == 2 and "inverted" in err and "Traceback" not in err
     code, _, err = cli("mass", str(path), "--units", "m", "--material", "cheese")
     assert code == 2 and "unknown material" in err
+
+
+def test_units_are_never_guessed_from_the_file_name(tmp_path):
+    # trimesh would read "in" (inches) out of this name if asked to convert units
+    # (ecosystem notes, trimesh/units.py); kcheck scales by the declared unit only.
+    mesh = trimesh.creation.box(extents=(100.0, 100.0, 100.0))
+    props = _props(tmp_path, mesh, scale=1e-3, name="bracket_in_housing.stl")
+    assert props.mass == pytest.approx(RHO * 1e-3, rel=STL)  # a 0.1 m cube

@@ -170,3 +170,14 @@ def test_schema_is_draft07_and_lists_fields():
     assert {"version", "supports", "body", "load", "sweep"} <= set(schema["properties"])
     assert "$defs" not in schema and "SupportModel" in schema["definitions"]
     assert schema["additionalProperties"] is False
+
+
+def test_shipped_schema_is_current():
+    # docs/kcheck-scene.schema.json is what editors point at; regenerate with
+    # `kcheck schema > docs/kcheck-scene.schema.json` when the format changes.
+    import json
+
+    from tests.conftest import ROOT
+
+    shipped = json.loads((ROOT / "docs" / "kcheck-scene.schema.json").read_text())
+    assert shipped == scene_json_schema()
