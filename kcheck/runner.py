@@ -107,6 +107,13 @@ def check_scene(
                 ) from exc
     except SceneError as exc:
         return SceneResult(path=str(path), status=Status.ERROR, error=str(exc))
+    except Exception as exc:  # a bug must not take the batch down or print a traceback
+        return SceneResult(
+            path=str(path),
+            status=Status.ERROR,
+            error=f"{path}: internal error while reading the scene "
+            f"({type(exc).__name__}: {exc}); please report it",
+        )
 
     results = []
     written: list[str] = []
