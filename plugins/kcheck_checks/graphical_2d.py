@@ -1,0 +1,800 @@
+"""Graphical 2D: Koster's construction (methods.md §5) in twist form, mass-free.
+
+For every retracted support ``r`` the free twist ``xi_r`` of the two remaining supports (from
+:func:`kcheck.kinematics.free_twist`, oriented to close the gap) is a rotation about the pole
+``(-v_y, v_x) / w`` (homogeneous ``(-v_y, v_x, w)``; ``w = 0`` is the pole at infinity, a
+translation). No line intersections are computed, so parallel and nearly parallel normals need
+no special case.
+
+For a force of direction ``d`` (per unit force; ``arm = M_z / F`` in metres adds a torque) at
+the attachment point ``q``:
+
+* funnel (frictionless): ``xi_r . W(d) = w arm + d . u_r(q) > 0`` — the moment about the pole
+  has the needed sense; a half circle of directions (less or more with a torque);
+* friction: with forward-sliding friction the remaining reaction lines tilt to
+  ``n_j + mu_j t_j``; their free twist ``xi'_r`` is the rotation about the friction pole
+  ``P'`` where they meet, oriented so ``xi'_r . xi_r > 0`` (nondimensional metric);
+  ``xi'_r . W(d) > 0`` is the right moment sense about ``P'``. Directions the funnel allows
+  but this forbids are the jamming area: both contact forces inside their friction cones
+  balance the load.
+
+Safe per case = funnel ∩ friction; the check's safe set is the intersection over cases, exact
+in closed form (:mod:`kcheck.arcs`). The construction cannot see contact loss (methods.md
+§3, requirement 3), so its ranges contain those of ``analytical-2d``; where ``analytical-2d``'s
+forward ``lambda`` changes sign is exactly a friction boundary here (inertia plays no part at
+``lambda = 0``).
+
+Mass: the check declares ``needs_mass = False`` so it runs on scenes without a body. It needs
+only the attachment point: ``load.point`` when the scene gives one; otherwise the load acts at
+the centre of mass, which the check then takes from the body with
+:func:`kcheck.mass.body_mass_properties` (the runner's own function; explicit mass properties
+need no mesh). Without a load point and without a body it is skipped with that reason. With a
+load the construction ignores gravity (it is mass-free; ``analytical-2d`` includes it); with no
+load but gravity in the plane, the weight at the centre of mass is the force swept.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from pydantic import Field
+
+from kcheck.analysis import describe_ranges, ranges_deg, support_layout
+from kcheck.arcs import FULL, TAU, ArcSet, contains, intersect, margin, positive_arc
+from kcheck.dynamics import friction_directions
+from kcheck.errors import KcheckError
+from kcheck.kinematics import (
+    RANK_RTOL,
+    Frame,
+    FreeTwist,
+    free_twist,
+    layout_singular_values,
+    point_velocity,
+    wrenches,
+)
+from kcheck.plugin import Check, Inputs, Options
+from kcheck.result import CaseResult, CheckResult, Status
+from kcheck.scene import Scene
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+__all__ = [
+    "Graphical2D",
+    "GraphicalOptions",
+    "GraphicalCase",
+    "Attachment",
+    "attachment",
+    "homogeneous_pole",
+    "virtual_power",
+    "tilted_twist",
+    "condition_arc",
+    "complement",
+    "construct_case",
+]
+
+EPS = float(np.finfo(float).eps)
+# A rotation whose pole lies beyond 1e12 layout sizes is reported as a translation
+# (the same threshold as kcheck.analysis.motion_details).
+INFINITE_POLE = 1e-12
+
+
+class GraphicalOptions(Options):
+    """Options of the ``graphical-2d`` check."""
+
+    min_margin_deg: float = Field(
+        0.0, ge=0, description="Least angular distance of the design direction from a boundary"
+    )
+
+
+@dataclass(frozen=True)
+class Attachment:
+    """Where and how the swept force acts: point (m, 3), ``arm = M_z / F`` (m), design
+    direction (unit 3-vector or None), and notes for the result."""
+
+    point: np.ndarray
+    arm: float
+    design: np.ndarray | None
+    source: str
+    notes: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class GraphicalCase:
+    """The construction for one retracted support (nondimensional twists, arcs in radians)."""
+
+    retracted: int
+    keep: np.ndarray
+    free: FreeTwist
+    tilted: np.ndarray | None  # friction twist xi'_r, None when it cannot be oriented
+    sliding: np.ndarray  # (2,) bool per remaining support
+    funnel: ArcSet
+    friction: ArcSet
+    jamming: ArcSet
+    safe: ArcSet
+    error_rad: float
+
+
+# --- pure construction -------------------------------------------------------------------
+
+
+def homogeneous_pole(twist: np.ndarray) -> np.ndarray:
+    """Homogeneous pole ``(-v_y, v_x, w)`` of a planar twist ``(w, v_x, v_y)``."""
+    return np.array([-twist[2], twist[1], twist[0]])
+
+
+def virtual_power(twist: np.ndarray, point: np.ndarray, arm: float) -> tuple[float, np.ndarray]:
+    """``xi . W(d) = a + c . d`` for a unit force ``d`` at ``point`` with torque ``arm * |F|``.
+
+    Nondimensional: ``point`` and ``arm`` in layout lengths. ``c = u(point)``, ``a = w arm``.
+    """
+    return float(twist[0] * arm), point_velocity(twist, point)
+
+
+def tilted_twist(
+    points: np.ndarray, normals: np.ndarray, mu: np.ndarray, free: FreeTwist, keep: np.ndarray
+) -> tuple[np.ndarray | None, np.ndarray, float]:
+    """Free twist of the friction-tilted reaction lines ``n_j + mu_j t_j`` of the kept supports.
+
+    ``t_j`` opposes forward sliding under ``free``; a contact that does not slide keeps its
+    normal (friction undetermined, zero as in the thesis). Returns the twist oriented to
+    ``xi' . xi > 0`` (None if it is orthogonal to ``xi``), the sliding mask and the
+    determinacy (smallest over largest singular value) of the tilted rows.
+    """
+    t, sliding = friction_directions(free.twist, points[keep], +1)
+    forces = normals[keep] + mu[keep, None] * t
+    _, s, vt = np.linalg.svd(wrenches(points[keep], forces))
+    tilted = vt[-1]
+    determinacy = float(s[-1] / s[0]) if s[0] > 0 else 0.0
+    dot = float(tilted @ free.twist)
+    if abs(dot) <= 1e-9:
+        return None, sliding, determinacy
+    return (tilted if dot > 0 else -tilted), sliding, determinacy
+
+
+def condition_arc(
+    a: float, c: np.ndarray, e1: np.ndarray, e2: np.ndarray, coef_error: float
+) -> tuple[ArcSet, float]:
+    """Angles from ``e1`` towards ``e2`` where ``a + c . d > 0``, and the ends' error (rad).
+
+    The error is the coefficients' absolute error over the rate of change at the crossing.
+    """
+    b, s = float(c @ e1), float(c @ e2)
+    zero_tol = 64 * EPS * max(abs(a), abs(b), abs(s))
+    slope2 = b * b + s * s - a * a
+    error = coef_error / np.sqrt(slope2) if slope2 > 0 else 0.0
+    return positive_arc(a, b, s, zero_tol=zero_tol), float(error)
+
+
+def complement(arcs: ArcSet) -> ArcSet:
+    """The angles not in an arc set (boundaries belong to both)."""
+    if arcs == FULL:
+        return ()
+    if not arcs:
+        return FULL
+    gaps = [(arcs[i][1], arcs[i + 1][0]) for i in range(len(arcs) - 1)]
+    gaps.append((arcs[-1][1], arcs[0][0] + TAU))
+    out = []
+    for s, e in gaps:
+        if e > s:
+            shift = np.floor(s / TAU) * TAU
+            out.append((float(s - shift), float(e - shift)))
+    return tuple(sorted(out))
+
+
+def construct_case(
+    points: np.ndarray,
+    normals: np.ndarray,
+    mu: np.ndarray,
+    retracted: int,
+    q: np.ndarray,
+    arm: float,
+    e1: np.ndarray,
+    e2: np.ndarray,
+) -> GraphicalCase:
+    """Koster's construction for one retracted support (all inputs nondimensional)."""
+    keep = np.flatnonzero(np.arange(len(points)) != retracted)
+    free = free_twist(points, normals, retracted)
+    scale = 1.0 + float(np.linalg.norm(q)) + abs(arm)
+    # A null vector is perturbed by about eps over its singular-value gap.
+    a, c = virtual_power(free.twist, q, arm)
+    funnel, err_f = condition_arc(a, c, e1, e2, 8 * EPS / max(free.determinacy, EPS) * scale)
+    tilted, sliding, det_t = tilted_twist(points, normals, mu, free, keep)
+    if tilted is None:
+        friction: ArcSet = ()
+        err_t = 0.0
+    else:
+        at, ct = virtual_power(tilted, q, arm)
+        friction, err_t = condition_arc(at, ct, e1, e2, 8 * EPS / max(det_t, EPS) * scale)
+    return GraphicalCase(
+        retracted=retracted,
+        keep=keep,
+        free=free,
+        tilted=tilted,
+        sliding=sliding,
+        funnel=funnel,
+        friction=friction,
+        jamming=intersect(funnel, complement(friction)),
+        safe=intersect(funnel, friction),
+        error_rad=max(err_f, err_t),
+    )
+
+
+def union(*sets: ArcSet) -> ArcSet:
+    """Union of arc sets."""
+    return complement(intersect(*(complement(s) for s in sets)))
+
+
+# --- scene level ---------------------------------------------------------------------------
+
+
+def attachment(scene: Scene) -> Attachment | str:
+    """The swept force's attachment, or the reason the construction has none."""
+    load = scene.load
+    gravity = scene.gravity[:2]
+    has_weight = bool(np.any(gravity))
+    notes: list[str] = []
+    if load is not None and load.magnitude > 0:
+        point = load.point
+        if has_weight:
+            notes.append(
+                "gravity ignored: the construction is mass-free (analytical-2d includes it)"
+            )
+        arm = float(load.torque[2]) / load.magnitude
+        design, source = load.direction, "load"
+    elif has_weight:
+        if load is not None and load.torque[2] != 0:
+            return "a torque without a load magnitude needs the weight; give `load.magnitude`"
+        point, arm, source = None, 0.0, "weight"
+        design = np.append(gravity / np.linalg.norm(gravity), 0.0)
+    else:
+        return "needs a closing force: a load with a magnitude, or gravity in the plane"
+    if point is None:
+        if scene.body is None:
+            return (
+                "the force acts at the centre of mass, but the scene has no `body` to find it; "
+                "give `load.point` or a body"
+            )
+        from kcheck.mass import body_mass_properties
+
+        point = body_mass_properties(scene.body, scene.scale).center_of_mass
+        notes.append("force at the centre of mass")
+    return Attachment(np.asarray(point, float), arm, design, source, tuple(notes))
+
+
+def _pole_details(frame: Frame, twist: np.ndarray, prefix: str = "") -> dict[str, Any]:
+    """Pole in metres, or the translation direction when it lies at infinity."""
+    w, v = float(twist[0]), twist[1:]
+    if abs(w) <= INFINITE_POLE * float(np.linalg.norm(v)):
+        direction = v / np.linalg.norm(v)
+        return {
+            f"{prefix}pole": None,
+            f"{prefix}pole_at_infinity": True,
+            f"{prefix}translation_direction": direction.tolist(),
+            f"{prefix}sense": "translation",
+        }
+    h = homogeneous_pole(twist)
+    return {
+        f"{prefix}pole": (frame.origin[:2] + frame.length * h[:2] / h[2]).tolist(),
+        f"{prefix}pole_at_infinity": False,
+        f"{prefix}sense": "ccw" if w > 0 else "cw",
+    }
+
+
+def _outcome(case: GraphicalCase, angle: float | None) -> str:
+    if angle is None:
+        return "swept"
+    if not contains(case.funnel, angle):
+        return "wrong_sense"
+    return "closes" if contains(case.friction, angle) else "jams"
+
+
+def _case_result(
+    scene: Scene, frame: Frame, case: GraphicalCase, angle: float | None
+) -> CaseResult:
+    names = [s.name for s in scene.supports]
+    details: dict[str, Any] = {"determinacy": case.free.determinacy}
+    details.update(_pole_details(frame, case.free.twist))
+    details["funnel_deg"] = ranges_deg(case.funnel)
+    details["forbidden_deg"] = ranges_deg(complement(case.funnel))
+    diagnostics = []
+    if case.tilted is None:
+        diagnostics.append("friction twist orthogonal to the free motion: friction undetermined")
+    else:
+        details.update(_pole_details(frame, case.tilted, "friction_"))
+        details["friction_deg"] = ranges_deg(case.friction)
+        details["jamming_deg"] = ranges_deg(case.jamming)
+    stuck = [names[j] for j, s in zip(case.keep, case.sliding, strict=True) if not s]
+    if stuck:
+        details["friction_undetermined"] = stuck
+        diagnostics.append(
+            f"contact(s) {', '.join(stuck)} do not slide (the pole is on them): friction "
+            "direction undetermined, taken as zero"
+        )
+    if diagnostics:
+        details["diagnostic"] = "; ".join(diagnostics)
+    return CaseResult(
+        names[case.retracted],
+        _outcome(case, angle),
+        safe_ranges_deg=ranges_deg(case.safe),
+        details=details,
+    )
+
+
+def _pole_triangle(frame: Frame, cases: Sequence[GraphicalCase]) -> list[list[float] | None]:
+    """Poles of the three cases in metres (None at infinity)."""
+    out: list[list[float] | None] = []
+    for case in cases:
+        pole = _pole_details(frame, case.free.twist)["pole"]
+        out.append(pole)
+    return out
+
+
+@dataclass(frozen=True)
+class Construction:
+    """Everything the check computed, for the result and the picture."""
+
+    frame: Frame
+    points: np.ndarray
+    normals: np.ndarray
+    attachment: Attachment
+    cases: tuple[GraphicalCase, ...]
+    combined: ArcSet
+    e1: np.ndarray
+    e2: np.ndarray
+
+
+def construct(scene: Scene, where: Attachment) -> Construction | None:
+    """The construction of every case, or None when the layout is not determined."""
+    frame, points, normals = support_layout(scene)
+    singular = layout_singular_values(points, normals)
+    if not singular[-1] > RANK_RTOL * singular[0]:
+        return None
+    mu = np.array([s.friction for s in scene.supports])
+    q = frame.point(where.point)
+    arm = where.arm / frame.length
+    e1, e2 = scene.sweep.e1[:2], scene.sweep.e2[:2]
+    cases = tuple(
+        construct_case(points, normals, mu, r, q, arm, e1, e2) for r in range(len(points))
+    )
+    return Construction(
+        frame, points, normals, where, cases, intersect(*(c.safe for c in cases)), e1, e2
+    )
+
+
+class Graphical2D(Check):
+    """Koster's graphical construction for a planar coupling: poles, funnel, jamming areas."""
+
+    id = "graphical-2d"
+    summary = (
+        "Koster's construction (mass-free): poles and senses, frictionless funnel, friction "
+        "jamming areas, safe force-angle ranges"
+    )
+    applies_to = "planar scenes (3 supports) with a load point, or a body for the centre of mass"
+    needs_mass = False
+    options = GraphicalOptions
+
+    def skip_reason(self, scene: Scene) -> str | None:
+        """Planar scenes with a force whose attachment point is known."""
+        if scene.kind != "planar":
+            return "applies to planar (3-support) scenes; this one is spatial"
+        load = scene.load
+        if load is not None and load.magnitude > 0 and load.point is not None:
+            return None
+        has_force = (load is not None and load.magnitude > 0) or bool(np.any(scene.gravity[:2]))
+        if not has_force:
+            return "needs a closing force: a load with a magnitude, or gravity in the plane"
+        if scene.body is None:
+            return (
+                "the force acts at the centre of mass, but the scene has no `body` to find it; "
+                "give `load.point` or a body"
+            )
+        return None
+
+    def run(self, inputs: Inputs) -> CheckResult:
+        """Construct every case and intersect the safe ranges."""
+        scene, opts = inputs.scene, inputs.options
+        assert isinstance(opts, GraphicalOptions)
+        try:
+            where = attachment(scene)
+        except KcheckError as exc:
+            return CheckResult(self.id, Status.ERROR, f"cannot find the centre of mass: {exc}")
+        if isinstance(where, str):
+            return CheckResult(self.id, Status.SKIPPED, where)
+        built = construct(scene, where)
+        details: dict[str, Any] = {
+            "attachment_point": where.point[:2].tolist(),
+            "force": where.source,
+        }
+        if where.arm:
+            details["torque_arm_m"] = where.arm
+        if where.notes:
+            details["notes"] = list(where.notes)
+        if built is None:
+            return CheckResult(
+                self.id,
+                Status.FAIL,
+                "not determined: the three normals meet in one point (or are all parallel), "
+                "so a motion stays free with every support in place; no ranges",
+                cases=tuple(
+                    CaseResult(s.name, "undetermined", details={"diagnostic": "not determined"})
+                    for s in scene.supports
+                ),
+                details=details,
+            )
+        return _verdict(self.id, scene, built, opts.min_margin_deg, details)
+
+    def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
+        """The construction like the thesis's Figure 2.8 (needs the `plot` extra)."""
+        where = attachment(inputs.scene)
+        if isinstance(where, str):
+            return ()
+        built = construct(inputs.scene, where)
+        if built is None:
+            return ()
+        from kcheck.plotting import figure, save, slug
+
+        fig = figure(figsize=(8.5, 7.0))
+        ax = fig.add_subplot()
+        draw_construction(ax, inputs.scene, built, result)
+        return save(fig, directory, f"{slug(inputs.scene.name)}-graphical-2d")
+
+
+def _verdict(
+    check_id: str, scene: Scene, built: Construction, min_margin_deg: float, details: dict
+) -> CheckResult:
+    angle_deg = None
+    where = built.attachment
+    if where.design is not None:
+        d = where.design[:2]
+        angle_deg = float(np.degrees(np.arctan2(d @ built.e2, d @ built.e1)) % 360.0)
+    angle = None if angle_deg is None else float(np.radians(angle_deg))
+    results = tuple(_case_result(scene, built.frame, c, angle) for c in built.cases)
+    combined = built.combined
+    senses = [str(r.details["sense"]) for r in results]
+    details["senses"] = senses
+    parts = [f"safe force angles: {describe_ranges(combined)}"]
+    ok = bool(combined)
+    if not combined and senses[0] in ("ccw", "cw") and len(set(senses)) == 1:
+        details["pole_triangle"] = _pole_triangle(built.frame, built.cases)
+        details["requires"] = "torque_or_arm_outside_pole_triangle"
+        parts.append(
+            f"every pole needs the same sense ({senses[0]}): a pure rotation is needed — "
+            "a torque, or a force on an arm reaching outside the pole triangle"
+        )
+    if angle_deg is not None:
+        details["design_angle_deg"] = angle_deg
+        design_margin = float(np.degrees(margin(combined, angle)))  # type: ignore[arg-type]
+        details["design_margin_deg"] = design_margin
+        parts.append(f"design direction {angle_deg:.2f}° margin {design_margin:.2f}°")
+        if design_margin < min_margin_deg:
+            ok = False
+            parts.append(f"(required {min_margin_deg:g}°)")
+    error_deg = float(np.degrees(max(c.error_rad for c in built.cases)))
+    return CheckResult(
+        check_id,
+        Status.PASS if ok else Status.FAIL,
+        "; ".join(parts),
+        error_estimate=error_deg,
+        safe_ranges_deg=ranges_deg(combined),
+        cases=results,
+        details=details,
+    )
+
+
+# --- picture ---------------------------------------------------------------------------------
+
+
+LABEL_BOX = {"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8}
+SENSE_COLOURS = {"ccw": "tab:blue", "cw": "tab:purple", "translation": "tab:gray"}
+
+
+def _body_outline(scene: Scene, z: float) -> list[np.ndarray]:
+    """Polylines (m, (n, 2)) of the body's mesh cut at height ``z``; [] without a mesh."""
+    if scene.body is None or not scene.body.parts:
+        return []
+    from kcheck.mass import load_mesh
+
+    lines: list[np.ndarray] = []
+    for part in scene.body.parts:
+        try:
+            mesh = load_mesh(part.mesh, scene.scale, part.field)
+        except KcheckError:
+            continue
+        section = mesh.section(plane_origin=[0.0, 0.0, z], plane_normal=[0.0, 0.0, 1.0])
+        if section is not None:
+            lines.extend(np.asarray(d)[:, :2] for d in section.discrete)
+    return lines
+
+
+def _to_plot_angle(built: Construction, alpha: float) -> float:
+    """Sweep angle (rad) to the picture's angle from +x (deg)."""
+    d = np.cos(alpha) * built.e1 + np.sin(alpha) * built.e2
+    return float(np.degrees(np.arctan2(d[1], d[0])))
+
+
+def _wedges(
+    ax: Axes, built: Construction, centre: np.ndarray, radius: float, arcs: ArcSet, **style: Any
+) -> None:
+    from matplotlib.patches import Wedge
+
+    first = True
+    for s, e in arcs:
+        t1, t2 = _to_plot_angle(built, s), _to_plot_angle(built, e)
+        if np.cross(np.append(built.e1, 0), np.append(built.e2, 0))[2] < 0:
+            t1, t2 = t2, t1
+        if e - s >= TAU - 1e-12:
+            t1, t2 = 0.0, 360.0
+        elif t2 <= t1:
+            t2 += 360.0
+        kw = dict(style)
+        if not first:
+            kw.pop("label", None)
+        ax.add_patch(Wedge(tuple(centre), radius, t1, t2, **kw))
+        first = False
+
+
+def draw_construction(ax: Axes, scene: Scene, built: Construction, result: CheckResult) -> None:
+    """Figure 2.8-like construction: outline, supports, poles, funnel, jamming, safe fan."""
+    unit = scene.scale
+    frame = built.frame
+    to_plot = lambda x: np.asarray(x) / unit  # noqa: E731 - m to scene units
+    supports = np.array([s.position[:2] for s in scene.supports])
+    normals = built.normals
+    size = frame.length / unit
+    z = float(scene.supports[0].position[2])
+
+    outline = _body_outline(scene, z)
+    if outline:
+        for i, line in enumerate(outline):
+            ax.fill(
+                *to_plot(line).T,
+                color="0.92",
+                ec="0.35",
+                lw=1.2,
+                label="body (section at the supports)" if i == 0 else None,
+                zorder=0,
+            )
+    else:
+        hull = to_plot(np.vstack([supports, supports[:1]]))
+        ax.plot(*hull.T, color="0.5", ls=":", lw=1.0, label="support triangle (no mesh)")
+    extent = [to_plot(supports), to_plot(built.attachment.point[:2])[None]]
+    extent.extend(to_plot(line) for line in outline)
+
+    # Normal lines, support arrows.
+    for k, s in enumerate(scene.supports):
+        p = to_plot(s.position[:2])
+        n = normals[k]
+        ax.axline(tuple(p), tuple(p + n), color="0.6", lw=0.7, ls="--", zorder=1)
+        tail = p - 0.28 * size * n
+        ax.annotate(
+            "",
+            xy=tuple(p),
+            xytext=tuple(tail),
+            arrowprops=dict(arrowstyle="-|>", color="k", lw=1.8),
+            zorder=5,
+        )
+        ax.plot(*p, marker="^", color="k", ms=0, zorder=5)
+        ax.annotate(
+            s.name,
+            tuple(tail),
+            textcoords="offset points",
+            xytext=(-4, -12),
+            fontsize=10,
+            weight="bold",
+            ha="center",
+        )
+    ax.plot([], [], color="k", lw=1.8, label="support and normal (pushes the body)")
+
+    # Poles coloured by sense; poles at infinity as arrows at the edge.
+    bound = np.vstack(extent)
+    lo, hi = bound.min(axis=0), bound.max(axis=0)
+    span = float((hi - lo).max())
+    finite_poles = []
+    for case_result in result.cases:
+        pole = case_result.details.get("pole")
+        if pole is not None and np.all(np.abs(to_plot(pole) - (lo + hi) / 2) < 2.5 * span):
+            finite_poles.append(to_plot(pole))
+    if finite_poles:
+        bound = np.vstack([bound, *finite_poles])
+        lo, hi = bound.min(axis=0), bound.max(axis=0)
+        span = float((hi - lo).max())
+    centre = (lo + hi) / 2
+    half = 0.62 * span + 0.1 * size
+    seen: set[str] = set()
+    for case_result in result.cases:
+        d = case_result.details
+        sense = str(d.get("sense"))
+        colour = SENSE_COLOURS.get(sense, "k")
+        label = None
+        if sense not in seen:
+            label = {
+                "ccw": "pole, needs ccw rotation",
+                "cw": "pole, needs cw rotation",
+                "translation": "pole at infinity (translation)",
+            }.get(sense)
+            seen.add(sense)
+        name = f"P({case_result.retracted} out)"
+        pole = d.get("pole")
+        if pole is not None:
+            pp = to_plot(pole)
+            if np.all(np.abs(pp - centre) <= half):
+                ax.plot(*pp, "o", color=colour, ms=11, mec="k", zorder=6, label=label)
+                ax.annotate(
+                    f"{name} {'↺' if sense == 'ccw' else '↻'}",
+                    tuple(pp),
+                    textcoords="offset points",
+                    xytext=(8, 6),
+                    color=colour,
+                    fontsize=10,
+                    weight="bold",
+                    zorder=7,
+                    bbox=LABEL_BOX,
+                )
+                continue
+            direction = (pp - centre) / np.linalg.norm(pp - centre)
+            text = f"{name} far: ({pp[0]:.3g}, {pp[1]:.3g}) {'↺' if sense == 'ccw' else '↻'}"
+        elif d.get("translation_direction") is not None:
+            direction = np.asarray(d["translation_direction"])[:2]
+            text = f"{name} at ∞: translation"
+        else:
+            continue
+        # Off the centre line, so the arrow does not cover a support on the same axis.
+        side = np.array([-direction[1], direction[0]])
+        tip = centre + 0.9 * half * direction + 0.55 * half * side
+        ax.annotate(
+            "",
+            xy=tuple(tip),
+            xytext=tuple(tip - 0.25 * half * direction),
+            arrowprops=dict(arrowstyle="-|>", color=colour, lw=2.5),
+            zorder=6,
+        )
+        ax.plot([], [], color=colour, lw=2.5, label=label)
+        ax.annotate(
+            text,
+            tuple(tip - 0.12 * half * direction),
+            textcoords="offset points",
+            xytext=(0, 9),
+            color=colour,
+            fontsize=9,
+            weight="bold",
+            ha="center",
+            bbox=LABEL_BOX,
+        )
+
+    # Friction poles (hollow) where the tilted reaction lines meet.
+    first = True
+    for case_result in result.cases:
+        fp = case_result.details.get("friction_pole")
+        if fp is None:
+            continue
+        pp = to_plot(fp)
+        if np.all(np.abs(pp - centre) <= half):
+            colour = SENSE_COLOURS.get(str(case_result.details.get("friction_sense")), "k")
+            ax.plot(
+                *pp,
+                "o",
+                mfc="none",
+                mec=colour,
+                ms=9,
+                mew=1.5,
+                zorder=6,
+                label="friction pole P′ (tilted reactions)" if first else None,
+            )
+            first = False
+
+    # Direction sectors from the attachment point.
+    cases = built.cases
+    forbidden = union(*(complement(c.funnel) for c in cases))
+    funnel = intersect(*(c.funnel for c in cases))
+    jamming = intersect(funnel, union(*(complement(c.friction) for c in cases)))
+    q = to_plot(built.attachment.point[:2])
+    radius = 0.33 * span
+    _wedges(
+        ax,
+        built,
+        q,
+        radius,
+        forbidden,
+        fc=(0.85, 0.1, 0.1, 0.12),
+        ec="tab:red",
+        hatch="///",
+        lw=0.8,
+        label="forbidden: wrong rotation sense (funnel)",
+        zorder=3,
+    )
+    _wedges(
+        ax,
+        built,
+        q,
+        radius,
+        jamming,
+        fc=(1.0, 0.6, 0.0, 0.18),
+        ec="tab:orange",
+        hatch="\\\\",
+        lw=0.8,
+        label="jamming: friction holds the body",
+        zorder=3,
+    )
+    _wedges(
+        ax,
+        built,
+        q,
+        radius,
+        built.combined,
+        fc=(0.1, 0.7, 0.2, 0.45),
+        ec="tab:green",
+        lw=1.5,
+        label="safe force directions",
+        zorder=4,
+    )
+    for s, e in built.combined if built.combined != FULL else ():
+        for a in (s, e):
+            t = np.radians(_to_plot_angle(built, a))
+            tip = q + 1.08 * radius * np.array([np.cos(t), np.sin(t)])
+            ax.annotate(
+                f"{np.degrees(a) % 360:.1f}°",
+                tuple(tip),
+                ha="center",
+                va="center",
+                fontsize=9,
+                color="darkgreen",
+                weight="bold",
+                zorder=8,
+            )
+    ax.plot(*q, "o", color="k", ms=7, zorder=8, label="force attachment point")
+    design = built.attachment.design
+    if design is not None:
+        d = design[:2] / np.linalg.norm(design[:2])
+        ax.annotate(
+            "",
+            xy=tuple(q + 0.9 * radius * d),
+            xytext=tuple(q),
+            arrowprops=dict(arrowstyle="-|>", color="navy", lw=2.4),
+            zorder=9,
+        )
+        angle = result.details.get("design_angle_deg")
+        ax.plot([], [], color="navy", lw=2.4, label=f"design force direction ({angle:.1f}°)")
+
+    ax.set_xlim(centre[0] - half, centre[0] + half)
+    ax.set_ylim(centre[1] - half, centre[1] + half)
+    ax.set_aspect("equal")
+    ax.set_xlabel(f"x ({scene.units})")
+    ax.set_ylabel(f"y ({scene.units})")
+    ax.grid(True, lw=0.3, alpha=0.5)
+    verdict = result.status.value.upper()
+    ax.set_title(
+        f"{scene.name} — graphical 2D (Koster): {verdict}\nsafe: {describe_ranges(built.combined)}",
+        fontsize=11,
+    )
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    ax.text(
+        1.02,
+        0.0,
+        _case_summary(result, scene.scale, scene.units),
+        transform=ax.transAxes,
+        fontsize=8,
+        family="monospace",
+        va="bottom",
+        ha="left",
+    )
+
+
+def _case_summary(result: CheckResult, scale: float, units: str) -> str:
+    """Per retracted support: pole (scene units), sense and safe range, one line each."""
+    lines = ["retracted: pole, sense; safe °"]
+    for c in result.cases:
+        d = c.details
+        pole = d.get("pole")
+        where = "∞" if pole is None else f"({pole[0] / scale:.4g}, {pole[1] / scale:.4g}) {units}"
+        safe = (
+            "none"
+            if not c.safe_ranges_deg
+            else ", ".join(f"{s:.1f}–{e:.1f}" for s, e in c.safe_ranges_deg)
+        )
+        lines.append(f"{c.retracted}: {where}, {d.get('sense')}; {safe}")
+    return "\n".join(lines)
