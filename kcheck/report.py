@@ -112,7 +112,7 @@ def _case_table(check: CheckResult) -> Table:
     if notes:
         table.add_column("diagnostic", overflow="fold")
     for case in check.cases:
-        style = "green" if case.outcome in ("closes", "ok") else "red"
+        style = {"closes": "green", "ok": "green", "swept": "cyan"}.get(case.outcome, "red")
         row: list[Any] = [case.retracted, Text(case.outcome, style=style)]
         for attr, _ in present:
             value = getattr(case, attr)

@@ -211,7 +211,7 @@ class Scene:
 
     def error(self, path: FieldPath, message: str) -> SceneError:
         """A SceneError pointing at a field of this scene."""
-        return SceneError(self.path, message, field=format_path(path), line=self.line_of(path))
+        return _Fields(self.path, self.lines).error(path, message)
 
 
 def _line_of(lines: LineMap, path: FieldPath) -> int | None:
