@@ -232,38 +232,54 @@ def union(*sets: ArcSet) -> ArcSet:
 # --- scene level ---------------------------------------------------------------------------
 
 
-def attachment(scene: Scene) -> Attachment | str:
-    """The swept force's attachment, or the reason the construction has none."""
+def missing_force(scene: Scene) -> str | None:
+    """Why a planar scene gives the construction no force to sweep, or None (no mesh read)."""
+    load = scene.load
+    has_load = load is not None and load.magnitude > 0
+    if not has_load and not np.any(scene.gravity[:2]):
+        return "needs a closing force: a load with a magnitude, or gravity in the plane"
+    if not has_load and load is not None and load.torque[2] != 0:
+        return "a torque without a load magnitude needs the weight; give `load.magnitude`"
+    if (not has_load or load is None or load.point is None) and scene.body is None:
+        return (
+            "the force acts at the centre of mass, but the scene has no `body` to find it; "
+            "give `load.point` or a body"
+        )
+    return None
+
+
+def attachment(scene: Scene, point: np.ndarray | None = None) -> Attachment | str:
+    """The swept force's attachment, or the reason the construction has none.
+
+    ``point`` (m) overrides the attachment point, e.g. one already found in a result.
+    """
+    reason = missing_force(scene)
+    if reason is not None:
+        return reason
     load = scene.load
     gravity = scene.gravity[:2]
-    has_weight = bool(np.any(gravity))
     notes: list[str] = []
     if load is not None and load.magnitude > 0:
-        point = load.point
-        if has_weight:
+        point = load.point if point is None else point
+        if np.any(gravity):
             notes.append(
                 "gravity ignored: the construction is mass-free (analytical-2d includes it)"
             )
         arm = float(load.torque[2]) / load.magnitude
         design, source = load.direction, "load"
-    elif has_weight:
-        if load is not None and load.torque[2] != 0:
-            return "a torque without a load magnitude needs the weight; give `load.magnitude`"
-        point, arm, source = None, 0.0, "weight"
-        design = np.append(gravity / np.linalg.norm(gravity), 0.0)
     else:
-        return "needs a closing force: a load with a magnitude, or gravity in the plane"
+        arm, source = 0.0, "weight"
+        design = np.append(gravity / np.linalg.norm(gravity), 0.0)
     if point is None:
-        if scene.body is None:
-            return (
-                "the force acts at the centre of mass, but the scene has no `body` to find it; "
-                "give `load.point` or a body"
-            )
         from kcheck.mass import body_mass_properties
 
+        assert scene.body is not None
         point = body_mass_properties(scene.body, scene.scale).center_of_mass
         notes.append("force at the centre of mass")
-    return Attachment(np.asarray(point, float), arm, design, source, tuple(notes))
+    point = np.asarray(point, float)
+    if point.shape == (2,):
+        point = np.append(point, scene.supports[0].position[2])
+    return Attachment(point, arm, design, source, tuple(notes))
 
 
 def _pole_details(frame: Frame, twist: np.ndarray, prefix: str = "") -> dict[str, Any]:
@@ -382,18 +398,7 @@ class Graphical2D(Check):
         """Planar scenes with a force whose attachment point is known."""
         if scene.kind != "planar":
             return "applies to planar (3-support) scenes; this one is spatial"
-        load = scene.load
-        if load is not None and load.magnitude > 0 and load.point is not None:
-            return None
-        has_force = (load is not None and load.magnitude > 0) or bool(np.any(scene.gravity[:2]))
-        if not has_force:
-            return "needs a closing force: a load with a magnitude, or gravity in the plane"
-        if scene.body is None:
-            return (
-                "the force acts at the centre of mass, but the scene has no `body` to find it; "
-                "give `load.point` or a body"
-            )
-        return None
+        return missing_force(scene)
 
     def run(self, inputs: Inputs) -> CheckResult:
         """Construct every case and intersect the safe ranges."""
@@ -430,7 +435,8 @@ class Graphical2D(Check):
 
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
         """The construction like the thesis's Figure 2.8 (needs the `plot` extra)."""
-        where = attachment(inputs.scene)
+        point = result.details.get("attachment_point")
+        where = attachment(inputs.scene, None if point is None else np.asarray(point))
         if isinstance(where, str):
             return ()
         built = construct(inputs.scene, where)
@@ -438,7 +444,7 @@ class Graphical2D(Check):
             return ()
         from kcheck.plotting import figure, save, slug
 
-        fig = figure(figsize=(8.5, 7.0))
+        fig = figure(figsize=(9.5, 7.0))
         ax = fig.add_subplot()
         draw_construction(ax, inputs.scene, built, result)
         return save(fig, directory, f"{slug(inputs.scene.name)}-graphical-2d")
@@ -470,10 +476,17 @@ def _verdict(
         details["design_angle_deg"] = angle_deg
         design_margin = float(np.degrees(margin(combined, angle)))  # type: ignore[arg-type]
         details["design_margin_deg"] = design_margin
-        parts.append(f"design direction {angle_deg:.2f}° margin {design_margin:.2f}°")
-        if design_margin < min_margin_deg:
+        if not combined:
+            parts.append(f"design direction {angle_deg:.2f}° therefore unsafe")
             ok = False
-            parts.append(f"(required {min_margin_deg:g}°)")
+        elif design_margin < 0:
+            parts.append(f"design direction {angle_deg:.2f}° outside by {-design_margin:.2f}°")
+            ok = False
+        else:
+            parts.append(f"design direction {angle_deg:.2f}° margin {design_margin:.2f}°")
+            if design_margin < min_margin_deg:
+                ok = False
+                parts.append(f"(required {min_margin_deg:g}°)")
     error_deg = float(np.degrees(max(c.error_rad for c in built.cases)))
     return CheckResult(
         check_id,
@@ -637,7 +650,7 @@ def draw_construction(ax: Axes, scene: Scene, built: Construction, result: Check
                 )
                 continue
             direction = (pp - centre) / np.linalg.norm(pp - centre)
-            text = f"{name} far: ({pp[0]:.3g}, {pp[1]:.3g}) {'↺' if sense == 'ccw' else '↻'}"
+            text = f"{name} far: ({pp[0]:.4g}, {pp[1]:.4g}) {'↺' if sense == 'ccw' else '↻'}"
         elif d.get("translation_direction") is not None:
             direction = np.asarray(d["translation_direction"])[:2]
             text = f"{name} at ∞: translation"
@@ -654,15 +667,18 @@ def draw_construction(ax: Axes, scene: Scene, built: Construction, result: Check
             zorder=6,
         )
         ax.plot([], [], color=colour, lw=2.5, label=label)
+        # Text beside the arrow, on the side of the picture's centre line.
+        inward = -side
         ax.annotate(
             text,
             tuple(tip - 0.12 * half * direction),
             textcoords="offset points",
-            xytext=(0, 9),
+            xytext=tuple(10 * inward),
             color=colour,
             fontsize=9,
             weight="bold",
-            ha="center",
+            ha="right" if inward[0] < -0.5 else "left" if inward[0] > 0.5 else "center",
+            va="bottom" if inward[1] > 0.5 else "top" if inward[1] < -0.5 else "center",
             bbox=LABEL_BOX,
         )
 
@@ -766,11 +782,16 @@ def draw_construction(ax: Axes, scene: Scene, built: Construction, result: Check
     ax.set_xlabel(f"x ({scene.units})")
     ax.set_ylabel(f"y ({scene.units})")
     ax.grid(True, lw=0.3, alpha=0.5)
+    triangle = result.details.get("pole_triangle")
+    if triangle is not None and all(p is not None for p in triangle):
+        corners = to_plot(np.array([*triangle, triangle[0]]))
+        ax.plot(*corners.T, color="tab:blue", lw=1.2, ls="-.", label="pole triangle")
     verdict = result.status.value.upper()
-    ax.set_title(
-        f"{scene.name} — graphical 2D (Koster): {verdict}\nsafe: {describe_ranges(built.combined)}",
-        fontsize=11,
-    )
+    title = f"{scene.name} — graphical 2D (Koster): {verdict}\n"
+    title += f"safe force directions: {describe_ranges(built.combined)}"
+    if triangle is not None:
+        title += "\nall poles need one sense: a torque, or an arm outside the pole triangle"
+    ax.set_title(title, fontsize=11)
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     ax.text(
         1.02,
