@@ -281,11 +281,14 @@ def safe_arcs(affine: Affine, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, f
     error of its ends in radians: an unknown's error over its rate of change at the crossing.
     """
     b, c = affine.c @ e1, affine.c @ e2
-    zero_tol = 64 * EPS * max(float(np.abs(affine.a).max()), float(np.abs(affine.c).max()))
+    # Per unknown: a load term below rounding of that unknown's own size is no load term. A
+    # tolerance shared by all unknowns would erase the load term of a small unknown whenever
+    # another one is huge (e.g. a heavy body's weight on one support).
+    zero_tol = 64 * EPS * np.maximum(np.abs(affine.a), np.abs(affine.c).max(axis=1))
     arcs = intersect(
         *(
-            positive_arc(ak, bk, ck, zero_tol=zero_tol)
-            for ak, bk, ck in zip(affine.a, b, c, strict=True)
+            positive_arc(ak, bk, ck, zero_tol=float(tk))
+            for ak, bk, ck, tk in zip(affine.a, b, c, zero_tol, strict=True)
         )
     )
     slope2 = b**2 + c**2 - affine.a**2
