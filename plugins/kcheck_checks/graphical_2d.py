@@ -444,9 +444,21 @@ class Graphical2D(Check):
             return ()
         from kcheck.plotting import figure, save, slug
 
-        fig = figure(figsize=(9.5, 7.0))
-        ax = fig.add_subplot()
+        fig = figure(figsize=(10.5, 7.0))
+        ax, side = fig.subplots(1, 2, width_ratios=[2.6, 1.0])
         draw_construction(ax, inputs.scene, built, result)
+        side.axis("off")
+        side.legend(*ax.get_legend_handles_labels(), loc="upper left", fontsize=8, frameon=False)
+        side.text(
+            0.0,
+            0.0,
+            _case_summary(result, inputs.scene.scale, inputs.scene.units),
+            transform=side.transAxes,
+            fontsize=8,
+            family="monospace",
+            va="bottom",
+            ha="left",
+        )
         return save(fig, directory, f"{slug(inputs.scene.name)}-graphical-2d")
 
 
@@ -792,17 +804,6 @@ def draw_construction(ax: Axes, scene: Scene, built: Construction, result: Check
     if triangle is not None:
         title += "\nall poles need one sense: a torque, or an arm outside the pole triangle"
     ax.set_title(title, fontsize=11)
-    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
-    ax.text(
-        1.02,
-        0.0,
-        _case_summary(result, scene.scale, scene.units),
-        transform=ax.transAxes,
-        fontsize=8,
-        family="monospace",
-        va="bottom",
-        ha="left",
-    )
 
 
 def _case_summary(result: CheckResult, scale: float, units: str) -> str:

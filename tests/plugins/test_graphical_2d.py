@@ -13,9 +13,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from kcheck_checks.graphical_2d import Graphical2D, GraphicalOptions, construct
+from kcheck_checks.graphical_2d import (
+    Attachment,
+    Graphical2D,
+    GraphicalOptions,
+    attachment,
+    construct,
+)
 
-from kcheck.analysis import analyse
+from kcheck.analysis import analyse, support_layout
 from kcheck.arcs import TAU, ArcSet
 from kcheck.kinematics import point_velocity
 from kcheck.mass import body_mass_properties
@@ -143,18 +149,19 @@ def random_layout(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
 
 def inertia_metric(scene: Scene, twist_a: np.ndarray, twist_b: np.ndarray) -> float:
     """``xi_a^T M xi_b`` (nondimensional, unit mass) with M the body's mass matrix."""
-    built_frame = construct_frame(scene)
+    frame = support_layout(scene)[0]
     mass = body_mass_properties(scene.body, scene.scale)  # type: ignore[arg-type]
-    c = built_frame.point(mass.center_of_mass)
-    inertia = mass.inertia[2, 2] / (mass.mass * built_frame.length**2)
+    c = frame.point(mass.center_of_mass)
+    inertia = mass.inertia[2, 2] / (mass.mass * frame.length**2)
     ua, ub = point_velocity(twist_a, c), point_velocity(twist_b, c)
     return float(inertia * twist_a[0] * twist_b[0] + ua @ ub)
 
 
-def construct_frame(scene: Scene):  # noqa: ANN201 - a kcheck.kinematics.Frame
-    from kcheck.analysis import support_layout
-
-    return support_layout(scene)[0]
+def where_force_acts(scene: Scene) -> Attachment:
+    """The check's attachment of the swept force (the centre of mass by default)."""
+    found = attachment(scene)
+    assert not isinstance(found, str), found
+    return found
 
 
 # --- cross-checks with analytical-2d on random scenes ---------------------------------------
@@ -188,7 +195,7 @@ def test_graphical_contains_analytical_on_random_scenes(tmp_path: Path) -> None:
         mass = body_mass_properties(scene.body, scene.scale)  # type: ignore[arg-type]
         analysis = analyse(scene, mass)
         graphical = run_graphical(scene)
-        built = construct(scene, _attachment(scene))
+        built = construct(scene, where_force_acts(scene))
         assert built is not None and analysis.arcs is not None
         for r, case in enumerate(graphical.cases):
             if analysis.results[r].outcome in ("undetermined", "ill_conditioned"):
@@ -208,14 +215,6 @@ def test_graphical_contains_analytical_on_random_scenes(tmp_path: Path) -> None:
             nonempty += bool(analysis.arcs[r])
         assert subset(analysis.combined or (), arcs_rad(graphical.safe_ranges_deg or ()), 1e-9)
     assert checked >= 400 and nonempty >= 100 and skipped <= 0.05 * checked
-
-
-def _attachment(scene: Scene):  # noqa: ANN202 - kcheck_checks.graphical_2d.Attachment
-    from kcheck_checks.graphical_2d import attachment
-
-    where = attachment(scene)
-    assert not isinstance(where, str)
-    return where
 
 
 def test_forward_lambda_sign_changes_are_the_friction_boundaries(tmp_path: Path) -> None:
@@ -243,7 +242,9 @@ def test_forward_lambda_sign_changes_are_the_friction_boundaries(tmp_path: Path)
     assert worst < BOUNDARY_TOL_DEG, worst
 
 
-def _normal_line_intersection(p1, n1, p2, n2) -> np.ndarray:  # noqa: ANN001
+def _normal_line_intersection(
+    p1: np.ndarray, n1: np.ndarray, p2: np.ndarray, n2: np.ndarray
+) -> np.ndarray:
     """Where two normal lines meet (test-only reference, solved by hand)."""
     matrix = np.column_stack([n1, -n2])
     s = np.linalg.solve(matrix, p2 - p1)
