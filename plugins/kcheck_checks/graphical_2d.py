@@ -67,13 +67,18 @@ __all__ = [
     "Graphical2D",
     "GraphicalOptions",
     "GraphicalCase",
+    "Construction",
     "Attachment",
+    "missing_force",
     "attachment",
+    "construct",
+    "draw_construction",
     "homogeneous_pole",
     "virtual_power",
     "tilted_twist",
     "condition_arc",
     "complement",
+    "union",
     "construct_case",
 ]
 
@@ -362,6 +367,7 @@ class Construction:
     combined: ArcSet
     e1: np.ndarray
     e2: np.ndarray
+    sigma: float  # smallest over largest singular value of the scaled layout
 
 
 def construct(scene: Scene, where: Attachment) -> Construction | None:
@@ -377,9 +383,9 @@ def construct(scene: Scene, where: Attachment) -> Construction | None:
     cases = tuple(
         construct_case(points, normals, mu, r, q, arm, e1, e2) for r in range(len(points))
     )
-    return Construction(
-        frame, points, normals, where, cases, intersect(*(c.safe for c in cases)), e1, e2
-    )
+    combined = intersect(*(c.safe for c in cases))
+    sigma = float(singular[-1] / singular[0])
+    return Construction(frame, points, normals, where, cases, combined, e1, e2, sigma)
 
 
 class Graphical2D(Check):
@@ -475,6 +481,7 @@ def _verdict(
     combined = built.combined
     senses = [str(r.details["sense"]) for r in results]
     details["senses"] = senses
+    details["smallest_scaled_singular_value"] = built.sigma
     parts = [f"safe force angles: {describe_ranges(combined)}"]
     ok = bool(combined)
     if not combined and senses[0] in ("ccw", "cw") and len(set(senses)) == 1:

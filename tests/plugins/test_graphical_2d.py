@@ -430,3 +430,36 @@ def test_fixture_through_cli_with_plots(
     assert png.stat().st_size > 30_000
     text = svg.read_text(encoding="utf-8")
     assert "planar rectangular block" in text and "safe force directions" in text
+
+
+def test_weight_as_the_closing_force(write_scene: Callable[..., Path]) -> None:
+    """Without a load the weight at the centre of mass is swept; its direction is the design.
+
+    Reference, by hand: with y1 out the block turns ccw about (80, 30); y2 slides +x and x1
+    slides -y, so the tilted reaction lines (80, 0) + s (-mu, 1) and (0, 30) + t (1, mu) meet
+    at the friction pole P' = (80 - mu s, s) with s = (30 + 80 mu) / (1 + mu^2). The safe range
+    starts where the force line through the centre of mass (50, 30) passes through P'; it ends
+    at 180° + atan(1 / mu) (x1 out, a translation).
+    """
+    text = """
+    version: 1
+    name: block on a tilted table
+    units: mm
+    body: {mass: 1, center_of_mass: [50, 30, 0], inertia: 0.001}
+    supports:
+      - {name: y1, position: [20, 0, 0], normal: [0, 1, 0]}
+      - {name: y2, position: [80, 0, 0], normal: [0, 1, 0]}
+      - {name: x1, position: [0, 30, 0], normal: [1, 0, 0]}
+    friction: 0.1
+    gravity: [-6.9367, -6.9367, 0]
+    """
+    mu = 0.1
+    s = (30 + 80 * mu) / (1 + mu**2)
+    start = 180.0 + np.degrees(np.arctan2(s - 30.0, 80.0 - mu * s - 50.0))
+    end = 180.0 + np.degrees(np.arctan(1 / mu))
+    result = run_graphical(load_scene(write_scene(text)))
+    assert result.details["force"] == "weight"
+    np.testing.assert_allclose(result.safe_ranges_deg, [[start, end]], atol=1e-9)
+    assert result.details["design_margin_deg"] == pytest.approx(225.0 - start, abs=1e-9)
+    pole = np.asarray(result.cases[0].details["friction_pole"]) * 1e3
+    np.testing.assert_allclose(pole, [80 - mu * s, s], atol=1e-9)
