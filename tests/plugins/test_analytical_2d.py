@@ -399,3 +399,30 @@ def test_affine_form_equals_direct_solve() -> None:
                 b0, big_b = problem.load_basis()
                 single = solve_affine(k, b0 + big_b @ unit(a), np.zeros((3, 0)))
                 np.testing.assert_allclose(single.a, direct, rtol=1e-9, atol=1e-12)
+
+
+# --- partial ranges and pictures ----------------------------------------------------------------
+
+
+def test_partial_ranges_block(tmp_path: Path) -> None:
+    """x1 of the §7 block: lambda > 0 iff -cos(a) + mu sin(a) > 0, i.e. 90 - atan(mu) to
+    270 - atan(mu) deg; both normal forces positive iff F_y < 0 (180-360 deg), since the
+    moment balance fixes N1 / N2 = (0.03 + 0.03 mu) / (0.03 - 0.03 mu) > 0."""
+    x1 = case(run_check(write_scene(tmp_path, block_scene())), "x1")
+    t = np.degrees(np.arctan(0.1))
+    assert x1.details["desired_motion_deg"] == [[pytest.approx(90 - t), pytest.approx(270 - t)]]
+    assert x1.details["contacts_kept_deg"] == [[pytest.approx(180.0), pytest.approx(360.0)]]
+    assert "diagnostic" not in run_check(write_scene(tmp_path, block_scene())).details
+
+
+def test_plots_are_written(tmp_path: Path) -> None:
+    """`kcheck check --plots` writes the analytical-2d PNG and SVG for a planar scene."""
+    scene = write_scene(tmp_path, block_scene(name="Block §7"))
+    plots = tmp_path / "plots"
+    out = tmp_path / "out.json"
+    args = ["check", str(scene), "--select", "analytical-2d", "--plots", str(plots)]
+    assert main([*args, "--format", "json", "-o", str(out)]) == 0
+    png, svg = plots / "block-7-analytical-2d.png", plots / "block-7-analytical-2d.svg"
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
+    assert "<svg" in svg.read_text()[:2000]
+    assert sorted(json.loads(out.read_text())["scenes"][0]["plots"]) == sorted([str(png), str(svg)])
