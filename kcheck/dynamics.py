@@ -300,7 +300,9 @@ def safe_arcs(affine: Affine, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, f
 def limiting_friction(problem: Problem, case: Case, direction: np.ndarray | None) -> float | None:
     """Largest common friction coefficient for which the case still closes at ``direction``.
 
-    Every support gets the same ``mu``. The closing state can only change where ``lambda`` or
+    Every support gets the same ``mu``, except that supports the scene makes frictionless
+    (``friction: 0`` while others have friction: rollers, air bearings, the plane carrying a
+    planar body) stay frictionless. The closing state can only change where ``lambda`` or
     an ``N_j`` crosses zero or the system turns singular; with ``K(mu) = K0 + mu K1`` those are
     the real roots of ``det K(mu)`` and of ``det`` of ``K(mu)`` with one column replaced by
     the right-hand side (Cramer) — generalised eigenvalues (compare Patti & Vogels 2019).
@@ -312,9 +314,10 @@ def limiting_friction(problem: Problem, case: Case, direction: np.ndarray | None
     if not case.determined:
         return None
     twist, keep = case.free.twist, case.keep
-    zeros, ones = np.zeros(len(keep)), np.ones(len(keep))
+    zeros = np.zeros(len(keep))
+    rough = problem.friction[keep] > 0 if np.any(problem.friction > 0) else np.ones(len(keep))
     k0 = system_matrix(problem, twist, keep, zeros, +1)
-    k1 = system_matrix(problem, twist, keep, ones, +1) - k0
+    k1 = system_matrix(problem, twist, keep, np.asarray(rough, float), +1) - k0
     rhs = problem.wrench(direction)
 
     def closes(mu: float) -> bool:

@@ -125,6 +125,8 @@ def _refine(a: np.ndarray, c: np.ndarray, start: np.ndarray) -> np.ndarray:
         x0,
         jac=lambda x: np.array([0.0, 0.0, 0.0, -1.0]),
         method="SLSQP",
+        # The margin cannot exceed the smallest radius; beyond it cos(r - t) is not monotone.
+        bounds=[(-1.5, 1.5)] * 3 + [(t0, float(radius.min()))],
         constraints=[
             {"type": "ineq", "fun": constraints},
             {"type": "eq", "fun": lambda x: x[:3] @ x[:3] - 1.0},
