@@ -261,7 +261,8 @@ def _case_panel(ax: Axes, scene: Scene, analysis: Analysis, case: Case, result: 
             curves["forces"][:, k],
             curves["forward"],
             color=colour,
-            lw=1.6,
+            lw=1.8 if k == 0 else 1.4,
+            ls="-" if k == 0 else "-.",  # overlapping curves stay visible
             label=f"N {names[j]} (N)",
         )
     limit = float(np.abs(curves["forces"]).max()) * 1.15 or 1.0
