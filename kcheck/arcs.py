@@ -19,7 +19,10 @@ __all__ = [
     "FULL",
     "ArcSet",
     "positive_arc",
+    "affine_arcs",
     "intersect",
+    "complement",
+    "union",
     "contains",
     "margin",
     "to_degrees",
@@ -28,6 +31,7 @@ __all__ = [
 ]
 
 TAU = 2.0 * np.pi
+EPS = float(np.finfo(float).eps)
 ArcSet = tuple[tuple[float, float], ...]
 FULL: ArcSet = ((0.0, TAU),)
 
@@ -49,6 +53,33 @@ def positive_arc(a: float, b: float, c: float, *, zero_tol: float = 0.0) -> ArcS
     half = float(np.arccos(ratio))
     start = float((np.arctan2(c, b) - half) % TAU)
     return ((start, start + 2.0 * half),)
+
+
+def affine_arcs(
+    a: np.ndarray, c: np.ndarray, e1: np.ndarray, e2: np.ndarray, error: np.ndarray
+) -> tuple[ArcSet, float]:
+    """Angles (from ``e1`` towards ``e2``) where every ``a_k + c_k . d`` is positive.
+
+    ``a`` (k,), ``c`` (k, dim) and the absolute errors ``error`` (k,) of the coefficients.
+    Returns the arc set and an estimate of the error of its ends in radians: each condition's
+    error over its rate of change at the crossing, ``sqrt(b^2 + c^2 - a^2)``.
+    """
+    a = np.asarray(a, dtype=float)
+    b, s = c @ e1, c @ e2
+    # Per condition: a direction term below rounding of that condition's own size is no term.
+    # A tolerance shared by all would erase the direction term of a small unknown whenever
+    # another one is huge (e.g. a heavy body's weight on one support).
+    zero_tol = 64 * EPS * np.maximum(np.abs(a), np.abs(c).max(axis=1))
+    arcs = intersect(
+        *(
+            positive_arc(ak, bk, sk, zero_tol=float(tk))
+            for ak, bk, sk, tk in zip(a, b, s, zero_tol, strict=True)
+        )
+    )
+    slope2 = b**2 + s**2 - a**2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        err = np.where(slope2 > 0, error / np.sqrt(np.maximum(slope2, 0)), 0.0)
+    return arcs, float(np.nanmax(err)) if len(err) else 0.0
 
 
 def _intervals(arcs: ArcSet) -> list[tuple[float, float]]:
@@ -96,6 +127,27 @@ def intersect(*sets: ArcSet) -> ArcSet:
                     nxt.append((s, e))
         current = nxt
     return _from_intervals(current)
+
+
+def complement(arcs: ArcSet) -> ArcSet:
+    """The angles not in an arc set (boundaries belong to both)."""
+    if arcs == FULL:
+        return ()
+    if not arcs:
+        return FULL
+    gaps = [(arcs[i][1], arcs[i + 1][0]) for i in range(len(arcs) - 1)]
+    gaps.append((arcs[-1][1], arcs[0][0] + TAU))
+    out = []
+    for s, e in gaps:
+        if e > s:
+            shift = np.floor(s / TAU) * TAU
+            out.append((float(s - shift), float(e - shift)))
+    return tuple(sorted(out))
+
+
+def union(*sets: ArcSet) -> ArcSet:
+    """Union of arc sets."""
+    return complement(intersect(*(complement(s) for s in sets)))
 
 
 def contains(arcs: ArcSet, angle: float) -> bool:

@@ -20,7 +20,7 @@ from typing import Literal
 
 import numpy as np
 
-from kcheck.arcs import ArcSet, intersect, positive_arc
+from kcheck.arcs import ArcSet, affine_arcs
 from kcheck.kinematics import Frame, FreeTwist, free_twist, point_velocity, wrenches
 
 __all__ = [
@@ -278,23 +278,9 @@ def safe_arcs(affine: Affine, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, f
     """Force angles in the sweep plane where the case closes (every unknown positive).
 
     Returns the arc set (radians from ``e1`` towards ``e2``) and an estimate of the absolute
-    error of its ends in radians: an unknown's error over its rate of change at the crossing.
+    error of its ends in radians (:func:`kcheck.arcs.affine_arcs`).
     """
-    b, c = affine.c @ e1, affine.c @ e2
-    # Per unknown: a load term below rounding of that unknown's own size is no load term. A
-    # tolerance shared by all unknowns would erase the load term of a small unknown whenever
-    # another one is huge (e.g. a heavy body's weight on one support).
-    zero_tol = 64 * EPS * np.maximum(np.abs(affine.a), np.abs(affine.c).max(axis=1))
-    arcs = intersect(
-        *(
-            positive_arc(ak, bk, ck, zero_tol=float(tk))
-            for ak, bk, ck, tk in zip(affine.a, b, c, zero_tol, strict=True)
-        )
-    )
-    slope2 = b**2 + c**2 - affine.a**2
-    with np.errstate(divide="ignore", invalid="ignore"):
-        err = np.where(slope2 > 0, affine.error / np.sqrt(np.maximum(slope2, 0)), 0.0)
-    return arcs, float(np.nanmax(err)) if len(err) else 0.0
+    return affine_arcs(affine.a, affine.c, e1, e2, affine.error)
 
 
 def limiting_friction(problem: Problem, case: Case, direction: np.ndarray | None) -> float | None:

@@ -44,7 +44,17 @@ import numpy as np
 from pydantic import Field
 
 from kcheck.analysis import describe_ranges, ranges_deg, support_layout
-from kcheck.arcs import FULL, TAU, ArcSet, contains, intersect, margin, positive_arc
+from kcheck.arcs import (
+    FULL,
+    TAU,
+    ArcSet,
+    affine_arcs,
+    complement,
+    contains,
+    intersect,
+    margin,
+    union,
+)
 from kcheck.dynamics import friction_directions
 from kcheck.errors import KcheckError
 from kcheck.kinematics import (
@@ -164,31 +174,8 @@ def tilted_twist(
 def condition_arc(
     a: float, c: np.ndarray, e1: np.ndarray, e2: np.ndarray, coef_error: float
 ) -> tuple[ArcSet, float]:
-    """Angles from ``e1`` towards ``e2`` where ``a + c . d > 0``, and the ends' error (rad).
-
-    The error is the coefficients' absolute error over the rate of change at the crossing.
-    """
-    b, s = float(c @ e1), float(c @ e2)
-    zero_tol = 64 * EPS * max(abs(a), abs(b), abs(s))
-    slope2 = b * b + s * s - a * a
-    error = coef_error / np.sqrt(slope2) if slope2 > 0 else 0.0
-    return positive_arc(a, b, s, zero_tol=zero_tol), float(error)
-
-
-def complement(arcs: ArcSet) -> ArcSet:
-    """The angles not in an arc set (boundaries belong to both)."""
-    if arcs == FULL:
-        return ()
-    if not arcs:
-        return FULL
-    gaps = [(arcs[i][1], arcs[i + 1][0]) for i in range(len(arcs) - 1)]
-    gaps.append((arcs[-1][1], arcs[0][0] + TAU))
-    out = []
-    for s, e in gaps:
-        if e > s:
-            shift = np.floor(s / TAU) * TAU
-            out.append((float(s - shift), float(e - shift)))
-    return tuple(sorted(out))
+    """Angles from ``e1`` towards ``e2`` where ``a + c . d > 0``, and the ends' error (rad)."""
+    return affine_arcs(np.array([a]), c[None, :], e1, e2, np.array([coef_error]))
 
 
 def construct_case(
@@ -227,11 +214,6 @@ def construct_case(
         safe=intersect(funnel, friction),
         error_rad=max(err_f, err_t),
     )
-
-
-def union(*sets: ArcSet) -> ArcSet:
-    """Union of arc sets."""
-    return complement(intersect(*(complement(s) for s in sets)))
 
 
 # --- scene level ---------------------------------------------------------------------------
