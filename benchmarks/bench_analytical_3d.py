@@ -45,7 +45,7 @@ def main() -> None:
         assert scene.body is not None
         mass = body_mass_properties(scene.body, scene.scale)
         analysis = analyse(scene, mass)
-        _, a, c, _ = direction_caps(analysis.problem, analysis)
+        _, a, c, _, _ = direction_caps(analysis.problem, analysis)
         rows = [
             ("6 cases: outcome, forces, ranges, mu limit", partial(analyse, scene, mass), 50),
             ("safe fraction, 10^4 directions", partial(safe_fraction, a, c, 10_000), 30),
@@ -60,7 +60,7 @@ def main() -> None:
     scene = load_scene(ROOT / "fixtures" / SCENES[0])
     assert scene.body is not None
     analysis = analyse(scene, body_mass_properties(scene.body, scene.scale))
-    _, a, c, _ = direction_caps(analysis.problem, analysis)
+    _, a, c, _, _ = direction_caps(analysis.problem, analysis)
     reference = safe_fraction(a, c, 4_000_000).fraction
     print(f"safe fraction of {scene.name} (reference: 4e6 directions = {reference:.6f})")
     print(f"{'directions':>10} {'fraction':>10} {'estimate':>10} {'actual err':>11} {'time':>10}")

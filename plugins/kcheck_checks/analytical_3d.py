@@ -62,6 +62,7 @@ class SphereMap:
     robust_margin: float
     design_margin: float | None
     case_fractions: np.ndarray
+    boundary_error: float  # rad, estimated error of the cap boundaries (and so of margins)
 
 
 def direction_caps(
@@ -73,30 +74,42 @@ def direction_caps(
     whose magnitude is kept: the wrench ``[torque; |m g| d]`` about the centre of mass.
     """
     swept: Literal["load", "gravity"] = "load" if problem.load_scale > 0 else "gravity"
-    a_all, c_all, owner = [], [], []
+    a_all, c_all, owner, err_all = [], [], [], []
     for i, case in enumerate(analysis.cases):
         if case.forward is None or not case.well_conditioned:
             continue
         if swept == "load":
-            a, c = case.forward.a, case.forward.c
+            a, c, err = case.forward.a, case.forward.c, case.forward.error
         else:
             weight = float(np.linalg.norm(problem.gravity))
             b0 = np.concatenate([problem.torque, np.zeros(3)])
             big_b = np.vstack([np.zeros((3, 3)), weight * np.eye(3)])
             affine = solve_affine(case.forward.matrix, b0, big_b)
-            a, c = affine.a, affine.c
+            a, c, err = affine.a, affine.c, affine.error
         a_all.append(a)
         c_all.append(c)
         owner.append(np.full(len(a), i))
+        err_all.append(err)
     if not a_all:
-        return swept, np.zeros(0), np.zeros((0, 3)), np.zeros(0, int)
-    return swept, np.concatenate(a_all), np.vstack(c_all), np.concatenate(owner)
+        return swept, np.zeros(0), np.zeros((0, 3)), np.zeros(0, int), np.zeros(0)
+    a_cat, c_cat = np.concatenate(a_all), np.vstack(c_all)
+    return swept, a_cat, c_cat, np.concatenate(owner), _boundary_error(a_cat, c_cat, err_all)
+
+
+def _boundary_error(a: np.ndarray, c: np.ndarray, errors: list[np.ndarray]) -> float:
+    """Angular error (rad) of the cap boundaries: each condition's coefficient error over its
+    rate of change across the boundary, ``sqrt(|c|^2 - a^2)`` (as for the sweep-plane arcs)."""
+    slope2 = np.sum(c * c, axis=1) - a * a
+    err = np.concatenate(errors)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        per_cap = np.where(slope2 > 0, err / np.sqrt(np.maximum(slope2, 0)), 0.0)
+    return float(np.nanmax(per_cap)) if len(per_cap) else 0.0
 
 
 def sphere_map(scene: Scene, analysis: Analysis, points: int) -> SphereMap | None:
     """The safe-direction map of a spatial scene, or None when no case can be mapped."""
     problem = analysis.problem
-    swept, a, c, owner = direction_caps(problem, analysis)
+    swept, a, c, owner, boundary_error = direction_caps(problem, analysis)
     if not len(a):
         return None
     design = None
@@ -123,6 +136,7 @@ def sphere_map(scene: Scene, analysis: Analysis, points: int) -> SphereMap | Non
         robust_margin=robust_margin,
         design_margin=design_margin,
         case_fractions=case_fractions,
+        boundary_error=boundary_error,
     )
 
 
@@ -197,6 +211,8 @@ def spatial_result(
         message="; ".join(parts),
         cases=cases,
         details=details,
+        # Degrees: the sweep-plane range ends and the sphere map's margins, whichever is worse.
+        error_estimate=max(base.error_estimate or 0.0, smap.boundary_error * deg),
     )
     return result, smap
 

@@ -447,3 +447,12 @@ def test_result_is_immutable_json() -> None:
     assert all("closing_solid_angle_fraction" in c for c in out["cases"])
     with pytest.raises(dataclasses.FrozenInstanceError):
         result.status = Status.FAIL  # type: ignore[misc]
+
+
+def test_gravity_only_scene_still_estimates_its_error(cli_json) -> None:
+    # With no load to sweep there are no range ends; the error estimate then comes from the
+    # sphere map's cap boundaries (coefficient error over the slope), never a bare zero.
+    scene = Path(__file__).resolve().parents[2] / "fixtures" / "thesis-block-5-2"
+    code, doc = cli_json(str(scene))
+    check = next(c for c in doc["scenes"][0]["checks"] if c["id"] == "analytical-3d")
+    assert code == 0 and 0 < check["error_estimate"] < 1e-9
