@@ -147,7 +147,8 @@ def analyse(scene: Scene, mass: MassProperties) -> Analysis:
             details["diagnostic"] = (
                 "the free motion is not unique (the remaining normals are degenerate)"
                 if case.free.determinacy <= 1e-10
-                else "removing this support frees no motion that closes its gap"
+                else "the layout is singular (e.g. normals through one point): the motion "
+                "freed by removing this support does not move it towards the support"
             )
             results.append(CaseResult(names[r], "undetermined", details=details))
             arcs.append(())
