@@ -27,6 +27,8 @@ __all__ = [
     "margin",
     "to_degrees",
     "boundary_angles",
+    "cap_geometry",
+    "cap_margin_matrix",
     "cap_margins",
 ]
 
@@ -183,6 +185,35 @@ def boundary_angles(arcs: ArcSet) -> np.ndarray:
     return np.sort(np.array([x % TAU for arc in arcs for x in arc]))
 
 
+def cap_geometry(a: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Geometry of the caps ``a_k + c_k . d > 0``: ``(ratio, axes, radius)``.
+
+    ``ratio`` (k,) is ``-a_k / |c_k|``, the cosine of the angular radius (``-inf`` for a
+    condition that holds everywhere with ``c_k = 0``, ``+inf`` for one that holds nowhere);
+    ``axes`` (k, 3) the unit cap axes (zero where ``c_k = 0``); ``radius`` (k,) the angular
+    radius in rad, ``arccos`` of the ratio clipped to [-1, 1].
+    """
+    r = np.linalg.norm(c, axis=1)
+    safe = np.where(r > 0, r, 1.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(r > 0, -a / safe, np.where(a > 0, -np.inf, np.inf))
+    axes = np.where(r[:, None] > 0, c / safe[:, None], 0.0)
+    return ratio, axes, np.arccos(np.clip(ratio, -1.0, 1.0))
+
+
+def cap_margin_matrix(a: np.ndarray, c: np.ndarray, directions: np.ndarray) -> np.ndarray:
+    """Signed angular margin (rad) of each direction (m, 3) inside each cap: (m, k).
+
+    Positive inside the cap; ``pi`` for a condition that holds everywhere (no boundary),
+    ``-pi`` for one that holds nowhere.
+    """
+    ratio, axes, radius = cap_geometry(a, c)
+    out = radius[None, :] - np.arccos(np.clip(directions @ axes.T, -1.0, 1.0))
+    out[:, ratio <= -1.0] = np.pi
+    out[:, ratio >= 1.0] = -np.pi
+    return out
+
+
 def cap_margins(a: np.ndarray, c: np.ndarray, directions: np.ndarray) -> np.ndarray:
     """Angular margin (rad) of unit directions inside every cap ``a_k + c_k . d > 0``.
 
@@ -192,16 +223,6 @@ def cap_margins(a: np.ndarray, c: np.ndarray, directions: np.ndarray) -> np.ndar
     boundary of the safe region for directions inside it. A condition with ``c_k = 0`` is a
     full sphere (margin ``pi``) or empty (``-pi``) by the sign of ``a_k``.
     """
-    r = np.linalg.norm(c, axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(r > 0, -a / np.where(r > 0, r, 1.0), np.where(a > 0, -np.inf, np.inf))
-    if np.any(ratio >= 1.0):  # a condition that holds for no direction at all
-        return np.full(len(directions), -np.pi)
-    live = ratio > -1.0  # conditions that hold everywhere have no boundary
-    out = np.full(len(directions), np.pi)
-    if not np.any(live):
-        return out
-    axis = c[live] / r[live, None]
-    radius = np.arccos(ratio[live])
-    cosines = np.clip(directions @ axis.T, -1.0, 1.0)
-    return np.minimum(out, (radius - np.arccos(cosines)).min(axis=1))
+    if len(a) == 0:
+        return np.full(len(directions), np.pi)
+    return cap_margin_matrix(a, c, directions).min(axis=1)

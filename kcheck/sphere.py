@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kcheck.arcs import cap_margins
+from kcheck.arcs import cap_geometry, cap_margins
 
 __all__ = [
     "GOLDEN_ANGLE",
@@ -23,7 +23,6 @@ __all__ = [
     "SafeFraction",
     "safe_fraction",
     "cap_fraction",
-    "cap_margin_matrix",
     "most_robust_direction",
     "to_lon_lat",
     "from_lon_lat",
@@ -80,23 +79,6 @@ def cap_fraction(a: float, c: np.ndarray) -> float:
     return 0.5 * (1.0 - cos_radius)
 
 
-def cap_margin_matrix(a: np.ndarray, c: np.ndarray, directions: np.ndarray) -> np.ndarray:
-    """Signed angular margin (rad) of each direction (m, 3) inside each cap: (m, k).
-
-    The per-cap terms whose minimum over caps is :func:`kcheck.arcs.cap_margins`: ``pi`` for a
-    condition that holds everywhere, ``-pi`` for one that holds nowhere.
-    """
-    r = np.linalg.norm(c, axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(r > 0, -a / np.where(r > 0, r, 1.0), np.where(a > 0, -np.inf, np.inf))
-    axes = np.where(r[:, None] > 0, c / np.where(r > 0, r, 1.0)[:, None], 0.0)
-    radius = np.arccos(np.clip(ratio, -1.0, 1.0))
-    out = radius[None, :] - np.arccos(np.clip(directions @ axes.T, -1.0, 1.0))
-    out[:, ratio <= -1.0] = np.pi
-    out[:, ratio >= 1.0] = -np.pi
-    return out
-
-
 def _refine(a: np.ndarray, c: np.ndarray, start: np.ndarray) -> np.ndarray:
     """Maximise the smallest cap margin from ``start`` (SLSQP on the epigraph form).
 
@@ -105,14 +87,11 @@ def _refine(a: np.ndarray, c: np.ndarray, start: np.ndarray) -> np.ndarray:
     """
     from scipy.optimize import minimize
 
-    r = np.linalg.norm(c, axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = -a / r
-    live = (r > 0) & (ratio > -1.0) & (ratio < 1.0)
+    ratio, axes, radius = cap_geometry(a, c)
+    live = (ratio > -1.0) & (ratio < 1.0)
     if not np.any(live):
         return start
-    axes = c[live] / r[live, None]
-    radius = np.arccos(ratio[live])
+    axes, radius = axes[live], radius[live]
     t0 = float(cap_margins(a, c, start[None])[0])
     x0 = np.append(start, t0)
 

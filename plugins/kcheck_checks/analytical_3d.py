@@ -19,14 +19,13 @@ import numpy as np
 from pydantic import Field
 
 from kcheck.analysis import Analysis, analyse, closing_force_reason, describe_ranges
-from kcheck.arcs import cap_margins
+from kcheck.arcs import cap_margin_matrix, cap_margins
 from kcheck.dynamics import Problem, solve_affine
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult, Status
 from kcheck.scene import Scene
 from kcheck.sphere import (
     SafeFraction,
-    cap_margin_matrix,
     fibonacci_sphere,
     most_robust_direction,
     safe_fraction,

@@ -10,10 +10,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from kcheck.arcs import cap_margins
+from kcheck.arcs import cap_margin_matrix, cap_margins
 from kcheck.sphere import (
     cap_fraction,
-    cap_margin_matrix,
     fibonacci_sphere,
     most_robust_direction,
     safe_fraction,
