@@ -56,14 +56,18 @@ class SafeFraction:
     points: int
 
 
-def safe_fraction(a: np.ndarray, c: np.ndarray, n: int = 20000) -> SafeFraction:
+def safe_fraction(
+    a: np.ndarray, c: np.ndarray, n: int = 20000, *, margins: np.ndarray | None = None
+) -> SafeFraction:
     """Fraction of all directions inside every cap ``a_k + c_k . d > 0``.
 
     Each of ``n`` Fibonacci points is classified exactly; only the cells cut by a boundary are
     uncertain. The error estimate is half the fraction of points within one grid spacing of a
     boundary: a band one spacing wide about the boundary, the area of the cut cells.
+    ``margins`` (n,): the margins of the ``n`` Fibonacci points when already computed.
     """
-    margins = cap_margins(a, c, fibonacci_sphere(n))
+    if margins is None:
+        margins = cap_margins(a, c, fibonacci_sphere(n))
     h = grid_spacing(n)
     inside = np.count_nonzero(margins > 0)
     near = np.count_nonzero(np.abs(margins) < h)
@@ -117,14 +121,18 @@ def _refine(a: np.ndarray, c: np.ndarray, start: np.ndarray) -> np.ndarray:
     return start if not np.all(np.isfinite(d)) or norm == 0 else d / norm
 
 
-def most_robust_direction(a: np.ndarray, c: np.ndarray, n: int = 20000) -> tuple[np.ndarray, float]:
+def most_robust_direction(
+    a: np.ndarray, c: np.ndarray, n: int = 20000, *, margins: np.ndarray | None = None
+) -> tuple[np.ndarray, float]:
     """Direction deepest inside every cap and its margin (rad): grid argmax, then refined.
 
     The refined point replaces the grid's best only if its exact margin is larger, so the
     result is never worse than the grid's (within one grid spacing of the optimum).
+    ``margins`` (n,): the margins of the ``n`` Fibonacci points when already computed.
     """
     points = fibonacci_sphere(n)
-    margins = cap_margins(a, c, points)
+    if margins is None:
+        margins = cap_margins(a, c, points)
     best = points[int(np.argmax(margins))]
     best_margin = float(margins.max())
     if best_margin > 0:

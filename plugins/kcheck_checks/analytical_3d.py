@@ -116,10 +116,11 @@ def sphere_map(scene: Scene, analysis: Analysis, points: int) -> SphereMap | Non
         design = analysis.design
     elif np.any(scene.gravity):
         design = scene.gravity / np.linalg.norm(scene.gravity)
-    robust, robust_margin = most_robust_direction(a, c, points)
+    # One evaluation of the grid serves the fraction, the robust search and the case shares.
+    per_cap = cap_margin_matrix(a, c, fibonacci_sphere(points))
+    margins = per_cap.min(axis=1)
+    robust, robust_margin = most_robust_direction(a, c, points, margins=margins)
     design_margin = None if design is None else float(cap_margins(a, c, design[None])[0])
-    directions = fibonacci_sphere(points)
-    per_cap = cap_margin_matrix(a, c, directions)
     cases = np.unique(owner)
     case_fractions = np.full(len(analysis.cases), np.nan)
     for i in cases:
@@ -130,7 +131,7 @@ def sphere_map(scene: Scene, analysis: Analysis, points: int) -> SphereMap | Non
         c=c,
         owner=owner,
         design=design,
-        fraction=safe_fraction(a, c, points),
+        fraction=safe_fraction(a, c, points, margins=margins),
         robust=robust,
         robust_margin=robust_margin,
         design_margin=design_margin,
