@@ -59,6 +59,7 @@ class Check:
     * ``summary``: one line saying what it checks;
     * ``applies_to``: one line saying which scenes it applies to;
     * ``needs_mass``: whether it needs the body's mass properties (only then are meshes read);
+      a check whose need depends on the scene overrides ``needs_mass_for``;
     * ``options``: a pydantic model of its options.
 
     ``run`` returns an immutable :class:`~kcheck.result.CheckResult` and never prints.
@@ -73,6 +74,14 @@ class Check:
     def skip_reason(self, scene: Scene) -> str | None:
         """Why this check does not apply to a scene, or None when it does."""
         return None
+
+    def needs_mass_for(self, scene: Scene) -> bool:
+        """Whether this check needs mass properties for a scene (``needs_mass`` by default).
+
+        The runner computes them once per scene for every check that needs them, and reports
+        a bad mesh as an input error of the scene.
+        """
+        return self.needs_mass
 
     def run(self, inputs: Inputs) -> CheckResult:
         """Check one scene."""

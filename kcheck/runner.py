@@ -1,7 +1,7 @@
 """Run checks over scene files: discovery, option validation, lazy mass properties, timing.
 
 Nothing a check does not need is computed: mass properties (and so trimesh and every mesh
-read) only when an applicable check declares ``needs_mass``.
+read) only when an applicable check needs them (``Check.needs_mass_for``), and then once.
 """
 
 from __future__ import annotations
@@ -91,7 +91,7 @@ def check_scene(
             options = _options(scene, lc)
             plan.append((lc, options, lc.check.skip_reason(scene)))
         mass = None
-        if any(reason is None and lc.check.needs_mass for lc, _, reason in plan):
+        if any(reason is None and lc.check.needs_mass_for(scene) for lc, _, reason in plan):
             if scene.body is None:
                 raise scene.error(
                     ("body",),
@@ -121,7 +121,7 @@ def check_scene(
         if reason is not None:
             results.append(CheckResult(lc.spec.name, Status.SKIPPED, reason))
             continue
-        inputs = Inputs(scene, mass if lc.check.needs_mass else None, options)
+        inputs = Inputs(scene, mass if lc.check.needs_mass_for(scene) else None, options)
         start = time.perf_counter()
         try:
             result = lc.check.run(inputs)

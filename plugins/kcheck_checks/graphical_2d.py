@@ -26,9 +26,9 @@ forward ``lambda`` changes sign is exactly a friction boundary here (inertia pla
 
 Mass: the check declares ``needs_mass = False`` so it runs on scenes without a body. It needs
 only the attachment point: ``load.point`` when the scene gives one; otherwise the load acts at
-the centre of mass, which the check then takes from the body with
-:func:`kcheck.mass.body_mass_properties` (the runner's own function; explicit mass properties
-need no mesh). Without a load point and without a body it is skipped with that reason. With a
+the centre of mass, and ``needs_mass_for`` asks the runner for the mass properties (computed
+once per scene, shared with the other checks; explicit mass properties need no mesh). Without
+a load point and without a body it is skipped with that reason. With a
 load the construction ignores gravity (it is mass-free; ``analytical-2d`` includes it); with no
 load but gravity in the plane, the weight at the centre of mass is the force swept.
 """
@@ -235,10 +235,19 @@ def missing_force(scene: Scene) -> str | None:
     return None
 
 
-def attachment(scene: Scene, point: np.ndarray | None = None) -> Attachment | str:
+def needs_centre_of_mass(scene: Scene) -> bool:
+    """Whether the swept force acts at the centre of mass (no load point, or the weight)."""
+    load = scene.load
+    return load is None or load.magnitude <= 0 or load.point is None
+
+
+def attachment(
+    scene: Scene, point: np.ndarray | None = None, com: np.ndarray | None = None
+) -> Attachment | str:
     """The swept force's attachment, or the reason the construction has none.
 
-    ``point`` (m) overrides the attachment point, e.g. one already found in a result.
+    ``point`` (m) overrides the attachment point, e.g. one already found in a result; ``com``
+    (m) is the centre of mass, used when the force acts there.
     """
     reason = missing_force(scene)
     if reason is not None:
@@ -258,10 +267,9 @@ def attachment(scene: Scene, point: np.ndarray | None = None) -> Attachment | st
         arm, source = 0.0, "weight"
         design = np.append(gravity / np.linalg.norm(gravity), 0.0)
     if point is None:
-        from kcheck.mass import body_mass_properties
-
-        assert scene.body is not None
-        point = body_mass_properties(scene.body, scene.scale).center_of_mass
+        if com is None:
+            return "the force acts at the centre of mass, which is not known"
+        point = com
         notes.append("force at the centre of mass")
     point = np.asarray(point, float)
     if point.shape == (2,):
@@ -388,14 +396,15 @@ class Graphical2D(Check):
             return "applies to planar (3-support) scenes; this one is spatial"
         return missing_force(scene)
 
+    def needs_mass_for(self, scene: Scene) -> bool:
+        """Only for the centre of mass, when the force acts there."""
+        return needs_centre_of_mass(scene)
+
     def run(self, inputs: Inputs) -> CheckResult:
         """Construct every case and intersect the safe ranges."""
         scene, opts = inputs.scene, inputs.options
         assert isinstance(opts, GraphicalOptions)
-        try:
-            where = attachment(scene)
-        except KcheckError as exc:
-            return CheckResult(self.id, Status.ERROR, f"cannot find the centre of mass: {exc}")
+        where = attachment(scene, com=None if inputs.mass is None else inputs.mass.center_of_mass)
         if isinstance(where, str):
             return CheckResult(self.id, Status.SKIPPED, where)
         built = construct(scene, where)
@@ -424,7 +433,8 @@ class Graphical2D(Check):
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
         """The construction like the thesis's Figure 2.8 (needs the `plot` extra)."""
         point = result.details.get("attachment_point")
-        where = attachment(inputs.scene, None if point is None else np.asarray(point))
+        com = None if inputs.mass is None else inputs.mass.center_of_mass
+        where = attachment(inputs.scene, None if point is None else np.asarray(point), com)
         if isinstance(where, str):
             return ()
         built = construct(inputs.scene, where)

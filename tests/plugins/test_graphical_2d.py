@@ -75,10 +75,14 @@ def planar_yaml(
 
 
 def run_graphical(scene: Scene, min_margin_deg: float = 0.0) -> CheckResult:
-    """The check exactly as the runner calls it (no mass: needs_mass is False)."""
+    """The check exactly as the runner calls it: mass properties only when it asks for them."""
     check = Graphical2D()
     assert check.skip_reason(scene) is None
-    return check.run(Inputs(scene, None, GraphicalOptions(min_margin_deg=min_margin_deg)))
+    mass = None
+    if check.needs_mass_for(scene):
+        assert scene.body is not None
+        mass = body_mass_properties(scene.body, scene.scale)
+    return check.run(Inputs(scene, mass, GraphicalOptions(min_margin_deg=min_margin_deg)))
 
 
 def arcs_rad(ranges_deg: Sequence[Sequence[float]]) -> ArcSet:
@@ -159,7 +163,10 @@ def inertia_metric(scene: Scene, twist_a: np.ndarray, twist_b: np.ndarray) -> fl
 
 def where_force_acts(scene: Scene) -> Attachment:
     """The check's attachment of the swept force (the centre of mass by default)."""
-    found = attachment(scene)
+    com = None
+    if Graphical2D().needs_mass_for(scene):
+        com = body_mass_properties(scene.body, scene.scale).center_of_mass  # type: ignore[arg-type]
+    found = attachment(scene, com=com)
     assert not isinstance(found, str), found
     return found
 
@@ -395,7 +402,7 @@ def test_mass_free_scene_and_skip_reasons(write_scene: Callable[..., Path]) -> N
     points = np.array([[20.0, 0.0], [80.0, 0.0], [0.0, 30.0]])
     normals = np.array([[0.0, 1.0], [0.0, 1.0], [1.0, 0.0]])
     scene = load_scene(write_scene(planar_yaml(points, normals, [0.1] * 3, load_point=[50, 30])))
-    assert scene.body is None and Graphical2D.needs_mass is False
+    assert scene.body is None and Graphical2D().needs_mass_for(scene) is False
     assert run_graphical(scene).status is Status.PASS
     no_point = load_scene(write_scene(planar_yaml(points, normals, [0.1] * 3), "b.kcheck.yaml"))
     reason = Graphical2D().skip_reason(no_point)
@@ -463,3 +470,55 @@ def test_weight_as_the_closing_force(write_scene: Callable[..., Path]) -> None:
     assert result.details["design_margin_deg"] == pytest.approx(225.0 - start, abs=1e-9)
     pole = np.asarray(result.cases[0].details["friction_pole"]) * 1e3
     np.testing.assert_allclose(pole, [80 - mu * s, s], atol=1e-9)
+
+
+def test_centre_of_mass_comes_from_the_runner_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The force acts at the centre of mass: the runner reads the mesh once for every check."""
+    import kcheck.mass
+    from kcheck.plugin import load_checks
+    from kcheck.runner import check_scene
+
+    calls: list[Path] = []
+    original = kcheck.mass.load_mesh
+
+    def counting(path: Path, scale: float, field: object) -> object:
+        calls.append(path)
+        return original(path, scale, field)
+
+    monkeypatch.setattr(kcheck.mass, "load_mesh", counting)
+    scene = Path(__file__).resolve().parents[2] / "fixtures" / "planar-block" / "block.kcheck.yaml"
+    result = check_scene(scene, load_checks())
+    statuses = {c.id: c.status for c in result.checks}
+    assert statuses["graphical-2d"] is Status.PASS and statuses["analytical-2d"] is Status.PASS
+    assert len(calls) == 1
+
+
+def test_bad_mesh_is_an_input_error_for_graphical_alone(
+    write_scene: Callable[..., Path], tmp_path: Path
+) -> None:
+    """Without a load point the construction needs the centre of mass: an inverted mesh is
+    then the scene's input error (field and line), not a crashed check."""
+    import trimesh
+
+    from kcheck.plugin import load_checks
+    from kcheck.runner import check_scene
+
+    mesh = trimesh.creation.box(extents=(100.0, 60.0, 20.0))
+    mesh.invert()
+    mesh.export(tmp_path / "inv.stl")
+    path = write_scene(
+        """
+        version: 1
+        units: mm
+        body: {mesh: inv.stl, material: aluminium}
+        supports:
+          - {name: y1, position: [20, 0, 10], normal: [0, 1, 0]}
+          - {name: y2, position: [80, 0, 10], normal: [0, 1, 0]}
+          - {name: x1, position: [0, 30, 10], normal: [1, 0, 0]}
+        load: {magnitude: 1, angle: 225}
+        """
+    )
+    only = [lc for lc in load_checks() if lc.spec.name == "graphical-2d"]
+    result = check_scene(path, only)
+    assert result.status is Status.ERROR and result.checks == ()
+    assert f"{path}:3: field `body.mesh`:" in result.error and "inverted" in result.error
