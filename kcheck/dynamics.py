@@ -36,6 +36,7 @@ __all__ = [
     "solve_affine",
     "analyse_case",
     "outcome",
+    "outcomes",
     "safe_arcs",
     "limiting_friction",
 ]
@@ -254,24 +255,37 @@ def analyse_case(problem: Problem, retracted: int) -> Case:
     return Case(retracted, keep, free, sliding, fwd, bwd)
 
 
-def outcome(case: Case, direction: np.ndarray | None) -> tuple[Outcome, np.ndarray | None]:
-    """Outcome for one force direction, and the unknowns of the assumption that holds.
+def _decide(forward: np.ndarray, backward_lambda: np.ndarray) -> np.ndarray:
+    """The outcome rule on forward unknowns (..., n) and the backward ``lambda`` (...,).
 
     Forward first: ``lambda > 0`` with all ``N > 0`` closes, with some ``N <= 0`` loses
     contact; else backward: ``lambda < 0`` opens; else friction holds the body: jams.
     """
+    closing = np.where(np.all(forward[..., 1:] > 0, axis=-1), "closes", "loses_contact")
+    held = np.where(backward_lambda < 0, "opens", "jams")
+    return np.where(forward[..., 0] > 0, closing, held)
+
+
+def outcome(case: Case, direction: np.ndarray | None) -> tuple[Outcome, np.ndarray | None]:
+    """Outcome for one force direction (or gravity and torque alone), and the unknowns of the
+    assumption that holds (:func:`_decide`)."""
     if not case.determined:
         return "undetermined", None
     if not case.well_conditioned:
         return "ill_conditioned", None
     assert case.forward is not None and case.backward is not None
-    x = case.forward.at(direction)
-    if x[0] > 0:
-        return ("closes" if np.all(x[1:] > 0) else "loses_contact"), x
-    xb = case.backward.at(direction)
-    if xb[0] < 0:
-        return "opens", xb
-    return "jams", x
+    x, xb = case.forward.at(direction), case.backward.at(direction)
+    state = str(_decide(x, xb[0]))
+    return state, (xb if state == "opens" else x)  # type: ignore[return-value]
+
+
+def outcomes(case: Case, directions: np.ndarray) -> np.ndarray:
+    """Outcome (m,) for each unit force direction (m, dim) of a determined, well-conditioned
+    case: :func:`outcome` vectorised over directions."""
+    assert case.forward is not None and case.backward is not None
+    forward = case.forward.a + directions @ case.forward.c.T
+    backward_lambda = case.backward.a[0] + directions @ case.backward.c[0]
+    return _decide(forward, backward_lambda)
 
 
 def safe_arcs(affine: Affine, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, float]:

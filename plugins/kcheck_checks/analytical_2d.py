@@ -11,8 +11,8 @@ import numpy as np
 from pydantic import Field
 
 from kcheck.analysis import Analysis, analyse, closing_force_reason, describe_ranges, ranges_deg
-from kcheck.arcs import ArcSet, intersect, positive_arc
-from kcheck.dynamics import Affine, Case
+from kcheck.arcs import ArcSet, affine_arcs
+from kcheck.dynamics import Affine, Case, outcomes
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Status
 from kcheck.scene import Scene
@@ -139,13 +139,9 @@ class Analytical2D(Check):
 def partial_ranges(affine: Affine, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, ArcSet]:
     """Force angles (rad) where the forward-sliding ``lambda > 0`` (the body moves the desired
     way, thesis Figure 2.17) and where every normal force is positive (Figures 2.18-2.20)."""
-    b, c = affine.c @ e1, affine.c @ e2
-    tol = 64 * np.finfo(float).eps * np.maximum(np.abs(affine.a), np.hypot(b, c))
-    arcs = [
-        positive_arc(float(a), float(bk), float(ck), zero_tol=float(t))
-        for a, bk, ck, t in zip(affine.a, b, c, tol, strict=True)
-    ]
-    return arcs[0], intersect(*arcs[1:])
+    motion, _ = affine_arcs(affine.a[:1], affine.c[:1], e1, e2, affine.error[:1])
+    contact, _ = affine_arcs(affine.a[1:], affine.c[1:], e1, e2, affine.error[1:])
+    return motion, contact
 
 
 def with_partial_ranges(result: CheckResult, analysis: Analysis, scene: Scene) -> CheckResult:
@@ -184,20 +180,13 @@ def _curves(case: Case, analysis: Analysis, scene: Scene, deg: np.ndarray) -> di
     problem = analysis.problem
     rad = np.radians(deg)
     d = np.cos(rad)[:, None] * scene.sweep.e1[:2] + np.sin(rad)[:, None] * scene.sweep.e2[:2]
-    assert case.forward is not None and case.backward is not None
+    assert case.forward is not None
     fwd = case.forward.a[None, :] + d @ case.forward.c.T
-    bwd_lambda = case.backward.a[None, 0] + d @ case.backward.c[0]
-    forward = fwd[:, 0] > 0
-    state = np.where(
-        forward,
-        np.where(np.all(fwd[:, 1:] > 0, axis=1), "closes", "loses_contact"),
-        np.where(bwd_lambda < 0, "opens", "jams"),
-    )
     return {
         "accel": fwd[:, 0] * problem.acceleration_scale() * case.free.closing,
         "forces": fwd[:, 1:] * problem.frame.force,
-        "state": state,
-        "forward": forward,
+        "state": outcomes(case, d),
+        "forward": fwd[:, 0] > 0,
     }
 
 
