@@ -4,7 +4,16 @@ from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["FieldPath", "KcheckError", "SceneError", "MeshError", "PluginError", "format_path"]
+__all__ = [
+    "FieldPath",
+    "KcheckError",
+    "SceneError",
+    "SceneErrors",
+    "MeshError",
+    "PluginError",
+    "UsageError",
+    "format_path",
+]
 
 FieldPath = tuple[str | int, ...]
 
@@ -34,18 +43,50 @@ class SceneError(KcheckError):
         *,
         field: str | FieldPath | None = None,
         line: int | None = None,
+        column: int | None = None,
     ) -> None:
         self.path = str(path)
         self.where: FieldPath | None = field if isinstance(field, tuple) else None
         self.field = format_path(field) if isinstance(field, tuple) else field
         self.line = line
+        self.column = column
         self.message = message
         super().__init__(str(self))
 
     def __str__(self) -> str:
         where = self.path if self.line is None else f"{self.path}:{self.line}"
+        if self.line is not None and self.column is not None:
+            where += f":{self.column}"
         what = f"field `{self.field}`: " if self.field else ""
         return f"{where}: {what}{self.message}"
+
+    def all(self) -> tuple[SceneError, ...]:
+        """Every error this one stands for (itself; :class:`SceneErrors` holds several)."""
+        return (self,)
+
+
+class SceneErrors(SceneError):
+    """Several input errors of one file, reported together (the first one leads)."""
+
+    def __init__(self, errors: list[SceneError]) -> None:
+        if not errors:
+            raise ValueError("SceneErrors needs at least one error")
+        self.errors = tuple(e for err in errors for e in err.all())
+        first = self.errors[0]
+        super().__init__(
+            first.path,
+            first.message,
+            field=first.where or first.field,
+            line=first.line,
+            column=first.column,
+        )
+
+    def __str__(self) -> str:
+        return "\n".join(SceneError.__str__(e) for e in self.errors)
+
+    def all(self) -> tuple[SceneError, ...]:
+        """Every error of the file, in file order."""
+        return self.errors
 
 
 class MeshError(SceneError):
@@ -54,3 +95,7 @@ class MeshError(SceneError):
 
 class PluginError(KcheckError):
     """A check plugin that cannot be loaded or declares itself wrongly."""
+
+
+class UsageError(KcheckError):
+    """A bad command line or configuration (exit code 2, no scene involved)."""

@@ -19,7 +19,7 @@ from kcheck.errors import PluginError
 
 if TYPE_CHECKING:
     from kcheck.mass import MassProperties
-    from kcheck.result import CheckResult
+    from kcheck.result import CheckResult, Severity
     from kcheck.scene import Scene
 
 __all__ = [
@@ -60,7 +60,9 @@ class Check:
     * ``applies_to``: one line saying which scenes it applies to;
     * ``needs_mass``: whether it needs the body's mass properties (only then are meshes read);
       a check whose need depends on the scene overrides ``needs_mass_for``;
-    * ``options``: a pydantic model of its options.
+    * ``options``: a pydantic model of its options;
+    * ``severity``: ``error`` (a failure fails the run) or ``warning`` (shown; fails the run
+      only with ``--strict``); scenes and configuration may override it per check.
 
     ``run`` returns an immutable :class:`~kcheck.result.CheckResult` and never prints.
     """
@@ -70,6 +72,7 @@ class Check:
     applies_to: ClassVar[str]
     needs_mass: ClassVar[bool] = False
     options: ClassVar[type[Options]] = Options
+    severity: ClassVar[Severity] = "error"
 
     def skip_reason(self, scene: Scene) -> str | None:
         """Why this check does not apply to a scene, or None when it does."""

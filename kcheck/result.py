@@ -1,4 +1,10 @@
-"""Immutable results and their documented, versioned JSON form (SI units, angles in degrees)."""
+"""Immutable results and their documented, versioned JSON form (SI units, angles in degrees).
+
+A check's verdict comes with located :class:`Finding` objects: one sentence each saying why
+it failed (or what a warning is about) and, where the check can tell, what to change. The
+runner fills in each finding's line from the scene file, so every output format (text, JSON,
+SARIF, JUnit, GitHub annotations, ...) can point at the offending support or field.
+"""
 
 from __future__ import annotations
 
@@ -7,14 +13,19 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
+
+from kcheck.errors import FieldPath, format_path
 
 if TYPE_CHECKING:
     from kcheck.mass import MassProperties
 
 __all__ = [
     "JSON_FORMAT_VERSION",
+    "Severity",
+    "SEVERITIES",
     "Status",
+    "Finding",
     "CaseResult",
     "CheckResult",
     "SceneResult",
@@ -24,16 +35,60 @@ __all__ = [
 ]
 
 #: Version of the JSON result layout; bumped when a name or meaning changes.
-JSON_FORMAT_VERSION = 1
+JSON_FORMAT_VERSION = 2
+
+#: How much a failing check matters: ``error`` fails the run, ``warning`` is shown and fails
+#: it only with ``--strict`` (or ``fail_on = "warning"``).
+Severity = Literal["error", "warning"]
+SEVERITIES: tuple[Severity, ...] = ("error", "warning")
 
 
 class Status(str, enum.Enum):
-    """Verdict of a check or scene."""
+    """Verdict of a check or scene.
+
+    A check is ``pass``, ``fail``, ``skipped`` or ``error`` (it crashed). A scene is ``pass``,
+    ``warn`` (only checks of severity ``warning`` failed, or the scene has sanity warnings),
+    ``fail`` (a check of severity ``error`` failed) or ``error`` (bad input, or a crash).
+    """
 
     PASS = "pass"
+    WARN = "warn"
     FAIL = "fail"
     SKIPPED = "skipped"
     ERROR = "error"
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One located, human-readable reason: why a check failed, what a warning is about, or
+    what is wrong with the input.
+
+    ``message`` is a sentence for an engineer ("retract y1 → jams at μ = 0.6; it closes for
+    μ ≤ 0.122"); ``hint`` says what to change, when the check can tell; ``code`` is a stable
+    short id (``jams``, ``loses-contact``, ``units-slip``) for machine formats (SARIF rule ids);
+    ``field`` is the scene field it concerns, e.g. ``("supports", 2)``; ``line`` and ``column``
+    (1-based) are filled in by the runner from the scene file.
+    """
+
+    message: str
+    code: str | None = None
+    field: FieldPath | None = None
+    hint: str | None = None
+    line: int | None = None
+    column: int | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        """JSON form: ``field`` rendered like ``supports[2].normal``; None fields omitted."""
+        out: dict[str, Any] = {"message": self.message}
+        if self.code is not None:
+            out["code"] = self.code
+        if self.field is not None:
+            out["field"] = format_path(self.field)
+        for name in ("hint", "line", "column"):
+            value = getattr(self, name)
+            if value is not None:
+                out[name] = value
+        return out
 
 
 Ranges = tuple[tuple[float, float], ...]
@@ -59,8 +114,14 @@ def to_json_value(value: Any) -> Any:
 
 
 def ranges_json(ranges: Ranges) -> list[list[float]]:
-    """Arc ranges in degrees as JSON lists."""
-    return [[float(s), float(e)] for s, e in ranges]
+    """Arc ranges in degrees as JSON lists ``[start, end]``, both in [0, 360).
+
+    The range runs counter-clockwise from ``start`` to ``end``; ``end < start`` means it passes
+    through 0°. The full circle is ``[0, 360]``. (:func:`kcheck.fmt.normalise_range`.)
+    """
+    from kcheck.fmt import normalise_range
+
+    return [list(normalise_range(s, e)) for s, e in ranges]
 
 
 @dataclass(frozen=True)
@@ -103,8 +164,10 @@ class CaseResult:
 class CheckResult:
     """Result of one check on one scene.
 
-    ``error_estimate`` bounds the numerical error of what the check reports, in the unit its
-    documentation states (degrees for safe ranges). ``runtime_s`` is measured by the runner.
+    ``message`` is the one-line verdict; ``findings`` say why it failed (one per reason,
+    located). ``error_estimate`` estimates the numerical error of what the check reports, in
+    the unit its documentation states (degrees for safe ranges); None where no estimate
+    means anything. ``runtime_s`` and ``severity`` are set by the runner.
     """
 
     id: str
@@ -115,19 +178,25 @@ class CheckResult:
     safe_ranges_deg: Ranges | None = None
     cases: tuple[CaseResult, ...] = ()
     details: Mapping[str, Any] = field(default_factory=dict)
+    findings: tuple[Finding, ...] = ()
+    severity: Severity = "error"
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "details", _frozen(self.details))
         object.__setattr__(self, "cases", tuple(self.cases))
+        object.__setattr__(self, "findings", tuple(self.findings))
 
     def to_json(self) -> dict[str, Any]:
         """JSON form; fields the check has no use for are omitted."""
         out: dict[str, Any] = {
             "id": self.id,
             "status": self.status.value,
+            "severity": self.severity,
             "message": self.message,
             "runtime_s": self.runtime_s,
         }
+        if self.findings:
+            out["findings"] = [f.to_json() for f in self.findings]
         if self.error_estimate is not None:
             out["error_estimate"] = to_json_value(self.error_estimate)
         if self.safe_ranges_deg is not None:
@@ -140,7 +209,12 @@ class CheckResult:
 
 @dataclass(frozen=True)
 class SceneResult:
-    """Everything kcheck found about one scene file."""
+    """Everything kcheck found about one scene file.
+
+    ``errors`` are the input errors (every one found, located); ``error`` is the first, as
+    text. ``warnings`` are sanity warnings about the scene (a units slip, reversed normals).
+    ``units`` is the scene's length unit, for reports (JSON stays SI).
+    """
 
     path: str
     status: Status
@@ -151,6 +225,10 @@ class SceneResult:
     checks: tuple[CheckResult, ...] = ()
     notes: tuple[str, ...] = ()
     plots: tuple[str, ...] = ()
+    errors: tuple[Finding, ...] = ()
+    warnings: tuple[Finding, ...] = ()
+    units: str | None = None
+    runtime_s: float = 0.0
 
     def to_json(self) -> dict[str, Any]:
         """JSON form of one scene."""
@@ -164,7 +242,13 @@ class SceneResult:
             if self.mass_properties is None
             else to_json_value(self.mass_properties.to_json()),
             "checks": [c.to_json() for c in self.checks],
+            "warnings": [w.to_json() for w in self.warnings],
+            "runtime_s": self.runtime_s,
         }
+        if self.errors:
+            out["errors"] = [e.to_json() for e in self.errors]
+        if self.units is not None:
+            out["units"] = self.units
         if self.notes:
             out["notes"] = list(self.notes)
         if self.plots:

@@ -2,23 +2,42 @@
 
 Nothing a check does not need is computed: mass properties (and so trimesh and every mesh
 read) only when an applicable check needs them (``Check.needs_mass_for``), and then once.
+:func:`run_batch` yields scene results in the order of the files, whatever runs them, so a
+report can print each scene as it finishes.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import time
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from pydantic import ValidationError
 
 from kcheck.errors import SceneError
 from kcheck.plugin import Inputs, LoadedCheck, Options
-from kcheck.result import CheckResult, SceneResult, Status
+from kcheck.result import CheckResult, Finding, SceneResult, Severity, Status
 from kcheck.scene import SCENE_GLOB, Scene, _describe_pydantic, load_scene
 
-__all__ = ["discover", "check_scene", "scene_status"]
+__all__ = ["Settings", "discover", "check_scene", "run_batch", "scene_status"]
+
+#: Key of a check's options in a scene that sets the check's severity, not an option.
+SEVERITY_KEY = "severity"
+
+
+@dataclass(frozen=True)
+class Settings:
+    """How scenes are checked: everything a worker needs besides the file and the checks.
+
+    ``severities`` overrides a check's default severity (from configuration or the command
+    line); a scene's own ``checks: {id: {severity: ...}}`` wins over both.
+    """
+
+    allow_outside: bool = False
+    plots: Path | None = None
+    severities: Mapping[str, Severity] = field(default_factory=dict)
 
 
 def discover(paths: Iterable[Path | str]) -> tuple[list[Path], list[SceneResult]]:
@@ -42,28 +61,60 @@ def discover(paths: Iterable[Path | str]) -> tuple[list[Path], list[SceneResult]
     return [p.relative_to(cwd) if p.is_relative_to(cwd) else p for p in unique], errors
 
 
-def _error(path: Path, message: str) -> SceneResult:
-    return SceneResult(path=str(path), status=Status.ERROR, error=message)
+def _error(path: Path, message: str, errors: tuple[Finding, ...] = ()) -> SceneResult:
+    return SceneResult(
+        path=str(path),
+        status=Status.ERROR,
+        error=message,
+        errors=errors or (Finding(message),),
+    )
 
 
-def scene_status(checks: Sequence[CheckResult]) -> Status:
-    """A scene errs if a check erred, fails if one failed, and passes otherwise."""
-    states = {c.status for c in checks}
-    if Status.ERROR in states:
+def _input_error(path: Path, exc: SceneError) -> SceneResult:
+    """An error result listing every input error of the file, each located."""
+    findings = tuple(
+        Finding(e.message, field=e.where, line=e.line, column=e.column) for e in exc.all()
+    )
+    return _error(path, str(exc.all()[0]), findings)
+
+
+def scene_status(checks: Sequence[CheckResult], warnings: Sequence[Finding] = ()) -> Status:
+    """``error`` if a check erred; ``fail`` if a check of severity ``error`` failed; ``warn``
+    if only checks of severity ``warning`` failed or the scene has warnings; else ``pass``."""
+    if any(c.status is Status.ERROR for c in checks):
         return Status.ERROR
-    if Status.FAIL in states:
+    failed = [c for c in checks if c.status is Status.FAIL]
+    if any(c.severity == "error" for c in failed):
         return Status.FAIL
+    if failed or warnings:
+        return Status.WARN
     return Status.PASS
 
 
-def _options(scene: Scene, lc: LoadedCheck) -> Options:
-    raw = scene.check_options.get(lc.spec.name, {})
+def _options(scene: Scene, lc: LoadedCheck) -> tuple[Options, Severity | None]:
+    raw = dict(scene.check_options.get(lc.spec.name, {}))
+    severity = raw.pop(SEVERITY_KEY, None)
+    if severity is not None and severity not in ("error", "warning"):
+        raise scene.error(
+            ("checks", lc.spec.name, SEVERITY_KEY),
+            f"expected `error` or `warning`, got {severity!r}",
+        )
     try:
-        return lc.check.options.model_validate(raw)
+        return lc.check.options.model_validate(raw), severity
     except ValidationError as exc:
         err = exc.errors(include_url=False)[0]
         where = ("checks", lc.spec.name, *err["loc"])
         raise scene.error(where, _describe_pydantic(err)) from None
+
+
+def _locate(scene: Scene, findings: Sequence[Finding]) -> tuple[Finding, ...]:
+    """Findings with the line of their field in the scene file filled in."""
+    return tuple(
+        dataclasses.replace(f, line=scene.line_of(f.field))
+        if f.field is not None and f.line is None
+        else f
+        for f in findings
+    )
 
 
 def check_scene(
@@ -72,12 +123,16 @@ def check_scene(
     *,
     allow_outside: bool = False,
     plots: Path | None = None,
+    settings: Settings | None = None,
 ) -> SceneResult:
     """Load one scene and run every check on it; bad input becomes an error result."""
     from kcheck.mass import body_mass_properties
 
+    if settings is None:
+        settings = Settings(allow_outside=allow_outside, plots=plots)
+    started = time.perf_counter()
     try:
-        scene = load_scene(path, allow_outside=allow_outside)
+        scene = load_scene(path, allow_outside=settings.allow_outside)
         known = {lc.spec.name for lc in checks}
         for check_id in scene.check_options:
             if check_id not in known:
@@ -88,10 +143,11 @@ def check_scene(
                 )
         plan = []
         for lc in checks:
-            options = _options(scene, lc)
-            plan.append((lc, options, lc.check.skip_reason(scene)))
+            options, severity = _options(scene, lc)
+            severity = severity or settings.severities.get(lc.spec.name) or lc.check.severity
+            plan.append((lc, options, severity, lc.check.skip_reason(scene)))
         mass = None
-        if any(reason is None and lc.check.needs_mass_for(scene) for lc, _, reason in plan):
+        if any(reason is None and lc.check.needs_mass_for(scene) for lc, _, _, reason in plan):
             if scene.body is None:
                 raise scene.error(
                     ("body",),
@@ -106,20 +162,20 @@ def check_scene(
                     scene.path, f"{exc.path}: {exc.message}", field=where, line=scene.line_of(where)
                 ) from exc
     except SceneError as exc:
-        return SceneResult(path=str(path), status=Status.ERROR, error=str(exc))
+        return _input_error(path, exc)
     except Exception as exc:  # a bug must not take the batch down or print a traceback
-        return SceneResult(
-            path=str(path),
-            status=Status.ERROR,
-            error=f"{path}: internal error while reading the scene "
+        return _error(
+            path,
+            f"{path}: internal error while reading the scene "
             f"({type(exc).__name__}: {exc}); please report it",
         )
 
     results = []
     written: list[str] = []
-    for lc, options, reason in plan:
+    notes = scene.notes
+    for lc, options, severity, reason in plan:
         if reason is not None:
-            results.append(CheckResult(lc.spec.name, Status.SKIPPED, reason))
+            results.append(CheckResult(lc.spec.name, Status.SKIPPED, reason, severity=severity))
             continue
         inputs = Inputs(scene, mass if lc.check.needs_mass_for(scene) else None, options)
         start = time.perf_counter()
@@ -131,16 +187,19 @@ def check_scene(
                 Status.ERROR,
                 f"check {lc.spec.display_name} crashed: {type(exc).__name__}: {exc}",
             )
-        result = dataclasses.replace(result, runtime_s=time.perf_counter() - start)
+        result = dataclasses.replace(
+            result,
+            runtime_s=time.perf_counter() - start,
+            severity=severity,
+            findings=_locate(scene, result.findings),
+        )
         results.append(result)
-        if plots is not None and result.status in (Status.PASS, Status.FAIL):
+        if settings.plots is not None and result.status in (Status.PASS, Status.FAIL):
             try:
-                files = lc.check.plot(inputs, result, plots)
+                files = lc.check.plot(inputs, result, settings.plots)
             except ImportError as exc:
                 files = ()
-                scene = dataclasses.replace(
-                    scene, notes=(*scene.notes, f"plots need the `plot` extra ({exc})")
-                )
+                notes = (*notes, f"plots need the `plot` extra ({exc})")
             written.extend(str(f) for f in files)
     return SceneResult(
         path=str(path),
@@ -149,6 +208,16 @@ def check_scene(
         kind=scene.kind,
         mass_properties=mass,
         checks=tuple(results),
-        notes=scene.notes + (mass.notes if mass is not None else ()),
+        notes=notes + (mass.notes if mass is not None else ()),
         plots=tuple(written),
+        units=scene.units,
+        runtime_s=time.perf_counter() - started,
     )
+
+
+def run_batch(
+    files: Sequence[Path], checks: Sequence[LoadedCheck], settings: Settings
+) -> Iterator[SceneResult]:
+    """Check scene files one after another, yielding each result as it is done, in order."""
+    for path in files:
+        yield check_scene(path, checks, settings=settings)

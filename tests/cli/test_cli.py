@@ -24,7 +24,7 @@ def test_fixtures_run_and_report(cli):
 def test_json_document_layout(cli_json, write_scene):
     code, doc = cli_json(str(write_scene(PLANAR_SCENE)))
     assert code == 0
-    assert doc["kcheck_version"] == __version__ and doc["format_version"] == 1
+    assert doc["kcheck_version"] == __version__ and doc["format_version"] == 2
     (scene,) = doc["scenes"]
     assert scene["status"] == "pass" and scene["error"] is None and scene["kind"] == "planar"
     assert scene["mass_properties"]["source"] == "explicit"
@@ -43,8 +43,8 @@ def test_json_document_layout(cli_json, write_scene):
         "cases",
     }
     assert a2["runtime_s"] > 0 and a2["error_estimate"] < 1e-9
-    for start, end in a2["safe_ranges_deg"]:
-        assert 0 <= start < 360 and start < end <= start + 360
+    for start, end in a2["safe_ranges_deg"]:  # both in [0, 360); end < start wraps through 0
+        assert 0 <= start < 360 and 0 <= end < 360 and start != end
     x1 = next(c for c in a2["cases"] if c["retracted"] == "x1")
     # methods.md §7: N1 = 0.388909 N, N2 = 0.318198 N, a = 0.636396 m/s^2 at 225 deg.
     assert x1["outcome"] == "closes"

@@ -7,6 +7,7 @@ from whatever fields the cases carry, so a third-party check is shown like a bui
 from __future__ import annotations
 
 import os
+import sys
 from collections.abc import Sequence
 from typing import Any, TextIO
 
@@ -16,12 +17,14 @@ from rich.table import Table
 from rich.text import Text
 
 from kcheck.mass import MassProperties, principal_axes
+from kcheck.report import ReportOptions
 from kcheck.result import CheckResult, SceneResult, Status
 
-__all__ = ["make_console", "render", "render_mass"]
+__all__ = ["TextReporter", "make_console", "render", "render_mass"]
 
 STYLE = {
     Status.PASS: "bold green",
+    Status.WARN: "bold yellow",
     Status.FAIL: "bold red",
     Status.ERROR: "bold magenta",
     Status.SKIPPED: "dim",
@@ -167,6 +170,11 @@ def render(console: Console, scenes: Sequence[SceneResult]) -> None:
     """The whole report: every scene, then a summary across scenes."""
     for scene in scenes:
         render_scene(console, scene)
+    render_summary(console, scenes)
+
+
+def render_summary(console: Console, scenes: Sequence[SceneResult]) -> None:
+    """A table of every scene's verdict and the counts."""
     counts = {s: sum(1 for x in scenes if x.status is s) for s in Status}
     summary = Table(title="Summary", show_header=True, header_style="bold")
     summary.add_column("scene")
@@ -179,6 +187,26 @@ def render(console: Console, scenes: Sequence[SceneResult]) -> None:
         )
     console.print(summary)
     console.print(
-        f"{len(scenes)} scene(s): {counts[Status.PASS]} passed, {counts[Status.FAIL]} failed, "
-        f"{counts[Status.ERROR]} with errors"
+        f"{len(scenes)} scene(s): {counts[Status.PASS]} passed, {counts[Status.WARN]} with "
+        f"warnings, {counts[Status.FAIL]} failed, {counts[Status.ERROR]} with errors"
     )
+
+
+class TextReporter:
+    """The terminal report: each scene as it finishes, then the summary."""
+
+    def __init__(self, stream: TextIO, options: ReportOptions) -> None:
+        color = "never" if options.to_file else options.color
+        self.console = make_console(color, file=None if stream is sys.stdout else stream)
+        self.options = options
+
+    def start(self, total: int) -> None:
+        """Nothing before the first scene."""
+
+    def scene(self, result: SceneResult) -> None:
+        """Print one scene."""
+        render_scene(self.console, result)
+
+    def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
+        """Print the summary."""
+        render_summary(self.console, results)

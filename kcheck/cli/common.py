@@ -1,0 +1,42 @@
+"""What every command shares: exit codes, the argument parser class, writing output."""
+
+from __future__ import annotations
+
+import argparse
+import enum
+import sys
+from pathlib import Path
+
+__all__ = ["ExitCode", "Parser", "write_text", "fail"]
+
+
+class ExitCode(enum.IntEnum):
+    """Process exit status (ruff, mypy and sqlfluff use the same three)."""
+
+    OK = 0
+    CHECKS_FAILED = 1
+    USAGE_OR_INPUT = 2
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with kcheck's usage-error exit code."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        self.print_usage(sys.stderr)
+        print(f"kcheck: error: {message}", file=sys.stderr)
+        raise SystemExit(ExitCode.USAGE_OR_INPUT)
+
+
+def fail(message: str) -> int:
+    """Print a usage or input error on stderr; return exit code 2."""
+    print(f"kcheck: error: {message}", file=sys.stderr)
+    return ExitCode.USAGE_OR_INPUT
+
+
+def write_text(text: str, output: Path | None) -> None:
+    """Write a document to stdout, or to a file (its folder created)."""
+    if output is None:
+        sys.stdout.write(text)
+    else:
+        output.parent.mkdir(parents=True, exist_ok=True)
+        output.write_text(text, encoding="utf-8")

@@ -1,0 +1,108 @@
+"""How numbers are written for people: angles and ranges, lengths in the scene's units, and
+numerical noise cleaned away. Checks use it for their messages, every report for its tables,
+so one convention holds everywhere.
+
+Angle convention: degrees, counter-clockwise about the sweep plane's normal from its zero
+direction (a planar scene: from +x towards +y). A range ``[start, end]`` runs counter-clockwise
+from ``start`` to ``end``, both in [0°, 360°); a range that passes 0° is written
+"292.41°–5.00° (through 0°)". The full circle is ``[0, 360]``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+
+import numpy as np
+
+__all__ = [
+    "FULL_TURN",
+    "normalise_range",
+    "format_angle",
+    "format_range",
+    "format_ranges",
+    "clean",
+    "format_number",
+    "format_length",
+    "format_vector",
+]
+
+FULL_TURN = 360.0
+# Relative size below which an entry counts as rounding noise of the largest one.
+NOISE_RTOL = 1e-9
+
+
+def normalise_range(start: float, end: float) -> tuple[float, float]:
+    """A range in degrees as ``(start, end)`` both in [0, 360); ``(0, 360)`` for a full turn.
+
+    ``end < start`` afterwards means the range passes through 0°.
+    """
+    width = end - start
+    if width >= FULL_TURN - 1e-9:
+        return 0.0, FULL_TURN
+    s = float(start % FULL_TURN)
+    e = float(end % FULL_TURN)
+    # Rounding can put an end a hair below 360: keep it in [0, 360).
+    return (0.0 if s >= FULL_TURN else s), (0.0 if e >= FULL_TURN else e)
+
+
+def format_angle(value: float, decimals: int = 2) -> str:
+    """An angle in degrees, e.g. ``292.41°``; ``-0.00`` is written ``0.00``."""
+    text = f"{value:.{decimals}f}"
+    if float(text) == 0.0:
+        text = f"{0.0:.{decimals}f}"
+    return text + "°"
+
+
+def format_range(start: float, end: float, decimals: int = 2) -> str:
+    """One range, e.g. ``292.41°–5.00° (through 0°)`` or ``every direction``."""
+    s, e = normalise_range(start, end)
+    if e == FULL_TURN:
+        return "every direction"
+    text = f"{format_angle(s, decimals)}–{format_angle(e, decimals)}"
+    return text + (" (through 0°)" if e < s else "")
+
+
+def format_ranges(ranges: Iterable[Sequence[float]] | None, decimals: int = 2) -> str:
+    """A set of ranges, comma-separated; ``none`` when empty, ``–`` when not computed."""
+    if ranges is None:
+        return "–"
+    parts = [format_range(r[0], r[1], decimals) for r in ranges]
+    return ", ".join(parts) if parts else "none"
+
+
+def clean(values: np.ndarray | Sequence[float] | float, scale: float | None = None) -> np.ndarray:
+    """Values with rounding noise set to exactly zero.
+
+    An entry counts as noise when its magnitude is below ``NOISE_RTOL`` times ``scale``
+    (default: the largest magnitude among ``values``); ``-0.0`` becomes ``0.0``.
+    """
+    array = np.array(values, dtype=float, copy=True)
+    finite = np.isfinite(array)
+    if scale is None:
+        scale = float(np.abs(array[finite]).max()) if np.any(finite) else 0.0
+    array[finite & (np.abs(array) <= NOISE_RTOL * scale)] = 0.0
+    return array + 0.0  # turns -0.0 into 0.0
+
+
+def format_number(value: float | None, digits: int = 4) -> str:
+    """A number with ``digits`` significant digits; ``–`` for None, ``∞`` for infinity."""
+    if value is None:
+        return "–"
+    if isinstance(value, float) and not math.isfinite(value):
+        return "–" if math.isnan(value) else ("∞" if value > 0 else "-∞")
+    if value == 0:
+        return "0"
+    return f"{value:.{digits}g}"
+
+
+def format_length(value_m: float, scale: float, units: str, decimals: int | None = None) -> str:
+    """A length given in metres, written in the scene's units (``scale`` metres per unit)."""
+    value = value_m / scale
+    text = format_number(value) if decimals is None else f"{value:.{decimals}f}"
+    return f"{text} {units}"
+
+
+def format_vector(values: Sequence[float] | np.ndarray, digits: int = 4) -> str:
+    """A vector with noise cleaned, e.g. ``(0, 1, 0)``."""
+    return "(" + ", ".join(format_number(float(v), digits) for v in clean(values)) + ")"
