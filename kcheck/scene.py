@@ -20,7 +20,10 @@ from kcheck.yamlio import FieldPath, LineMap, format_path, load_yaml
 
 __all__ = [
     "SCENE_GLOB",
+    "Surface",
+    "ContactGeometry",
     "Support",
+    "Preload",
     "Load",
     "Sweep",
     "Part",
@@ -111,13 +114,61 @@ class SceneModel(_Model):
 
 
 @dataclass(frozen=True)
+class Surface:
+    """Local shape of one of the two surfaces touching at a contact, for contact mechanics.
+
+    ``radii``: the two principal radii of curvature in m; positive for a convex surface (a
+    ball, a pin), negative for a concave one (a conformal groove), ``inf`` where it is flat in
+    that direction. ``direction``: unit 3-vector in the contact's tangent plane along which
+    the first radius is measured (None when both radii are equal).
+    """
+
+    radii: tuple[float, float]
+    direction: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class ContactGeometry:
+    """Where a support came from and the shapes that touch there (coupling shorthands).
+
+    ``coupling`` is the coupling entry's name and ``kind`` its type (``ball-vee``, ...);
+    ``index`` the contact's number ``k`` in the support name ``<coupling>.<k>``. ``ball_center``
+    (m) and ``ball_radius`` (m) describe the ball; ``ball_on`` says which side carries it.
+    ``body`` and ``base`` are the body's and the base's surfaces at the contact.
+    ``line_contact`` marks a line contact modelled by points (``ball-cone``).
+    """
+
+    coupling: str
+    kind: str
+    index: int
+    ball_center: np.ndarray
+    ball_radius: float
+    ball_on: Literal["body", "base"]
+    body: Surface
+    base: Surface
+    line_contact: bool = False
+
+
+@dataclass(frozen=True)
 class Support:
-    """A point support: contact point (m), unit normal into the body, Coulomb coefficient."""
+    """A point support: contact point (m), unit normal into the body, Coulomb coefficient,
+    and the contact's geometry when a coupling shorthand made it (None for explicit ones)."""
 
     name: str
     position: np.ndarray
     normal: np.ndarray
     friction: float
+    geometry: ContactGeometry | None = None
+
+
+@dataclass(frozen=True)
+class Preload:
+    """A fixed force on the body (a spring, a magnet): point (m) and force vector (N). It acts
+    with gravity, beside the swept closing load."""
+
+    name: str
+    point: np.ndarray
+    force: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -192,6 +243,7 @@ class Scene:
     check_options: Mapping[str, Mapping[str, Any]]
     lines: LineMap = field(repr=False)
     notes: tuple[str, ...] = ()
+    preloads: tuple[Preload, ...] = ()
 
     @property
     def dim(self) -> int:
