@@ -66,6 +66,10 @@ EPS = float(np.finfo(float).eps)
 FACET_TOL = 1e-10
 Pyramid = Literal["inscribed", "circumscribed"]
 PERCEPTRON_STEPS = 50
+# Least margin (cosine) by which a direction must be inside a cone to count as interior.
+POINTED = 1e-6
+# Margin (cosine) from which a perceptron direction is used without the linear programme.
+WELL_INSIDE = 0.05
 
 
 @dataclass(frozen=True)
@@ -217,29 +221,54 @@ def pointing(vectors: np.ndarray) -> np.ndarray | None:
     """A direction ``h`` with ``vectors @ h > 0`` (the cone they span is pointed), or None.
 
     Perceptron steps from the mean of the unit vectors first (enough for most cones), else a
-    linear programme (scipy HiGHS) maximising the smallest ``v . h`` over ``|h_i| <= 1``.
+    linear programme maximising the smallest ``v . h`` over ``|h_i| <= 1``.
     """
     unit = vectors / np.linalg.norm(vectors, axis=1, keepdims=True)
     h = unit.mean(axis=0)
     # Perceptron steps towards the violated vectors: converges when the cone is pointed with
-    # some margin, at the cost of a few matrix-vector products.
+    # some margin, at the cost of a few matrix-vector products. A direction barely inside
+    # makes a badly scaled section, so a small margin goes on to the linear programme.
     for _ in range(PERCEPTRON_STEPS):
         side = unit @ h
-        bad = side <= 1e-6 * np.linalg.norm(h)
+        bad = side <= WELL_INSIDE * np.linalg.norm(h)
         if not np.any(bad):
             return h
         h = h + unit[bad].mean(axis=0)
-    from scipy.optimize import linprog
-
     n = vectors.shape[1]
-    res = linprog(
-        np.append(np.zeros(n), -1.0),
-        A_ub=np.column_stack([-vectors, np.ones(len(vectors))]),
-        b_ub=np.zeros(len(vectors)),
-        bounds=[(-1.0, 1.0)] * n + [(None, 1.0)],
-        method="highs",
+    # maximise t subject to unit @ h >= t, |h_i| <= 1, t <= 1 (an LP, solved by clarabel:
+    # a tenth of scipy's per-call overhead, and already imported for the conic problems).
+    rows = np.vstack(
+        [
+            np.column_stack([-unit, np.ones(len(unit))]),
+            np.hstack([np.eye(n), np.zeros((n, 1))]),
+            np.hstack([-np.eye(n), np.zeros((n, 1))]),
+            np.append(np.zeros(n), 1.0),
+        ]
     )
-    return res.x[:n] if res.status == 0 and res.x[n] > 1e-9 else None
+    rhs = np.concatenate([np.zeros(len(unit)), np.ones(2 * n), [1.0]])
+    x = _solve_lp(np.append(np.zeros(n), -1.0), rows, rhs)
+    # A margin below 1e-6 is within the solver's tolerances: not pointed (flat).
+    return x[:n] if x is not None and x[n] > POINTED else None
+
+
+def _solve_lp(cost: np.ndarray, rows: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
+    """Minimise ``cost . x`` subject to ``rows @ x <= rhs`` with clarabel; None unless solved."""
+    import clarabel
+    from scipy import sparse
+
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    n = len(cost)
+    solver = clarabel.DefaultSolver(
+        sparse.csc_matrix((n, n)),
+        cost,
+        sparse.csc_matrix(rows),
+        rhs,
+        [clarabel.NonnegativeConeT(len(rhs))],
+        settings,
+    )
+    solution = solver.solve()
+    return np.asarray(solution.x) if str(solution.status) == "Solved" else None
 
 
 def _section(vectors: np.ndarray, h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -250,21 +279,79 @@ def _section(vectors: np.ndarray, h: np.ndarray) -> tuple[np.ndarray, np.ndarray
 
 
 def _hull_facets(generators: np.ndarray) -> np.ndarray:
-    """Facet normals of the cone: of a section when it is pointed, else of
-    ``conv({0} u generators)`` through the origin (a cone containing a line)."""
+    """Facet normals of the cone spanned by the generators (four or more dimensions).
+
+    A pointed cone: the facets of a section (qhull). A cone containing a line (two supports
+    squeezing the body between them inside their friction cones): its facets are those of
+    its projection onto the complement of that lineality space.
+    """
+    h = pointing(generators)
+    if h is not None:
+        return _section_facets(generators, h)
+    lineality = _lineality(generators)
+    n = generators.shape[1]
+    if lineality.shape[1] == n:
+        return np.zeros((0, n))
+    basis = np.linalg.svd(np.eye(n) - lineality @ lineality.T)[0][:, : n - lineality.shape[1]]
+    reduced = generators @ basis
+    reduced = reduced[np.linalg.norm(reduced, axis=1) > FACET_TOL]
+    k = basis.shape[1]
+    if k == 1:
+        return np.sign(reduced[:1, 0])[:, None] * basis.T
+    if k == 2:
+        angles = np.arctan2(reduced[:, 1], reduced[:, 0])
+        rays = reduced[[int(np.argmin(angles)), int(np.argmax(angles))]]
+        facets = np.column_stack([-rays[:, 1], rays[:, 0]])
+    elif k == 3:
+        i, j = np.triu_indices(len(reduced), 1)
+        facets = np.cross(reduced[i], reduced[j])
+        facets = facets[np.linalg.norm(facets, axis=1) > FACET_TOL]
+    else:
+        h = pointing(reduced)
+        if h is None:  # numerically borderline: no trustworthy facets
+            return np.zeros((0, n))
+        facets = _section_facets(reduced, h)
+    normals = facets @ basis.T
+    return normals / np.linalg.norm(normals, axis=1, keepdims=True)
+
+
+def _section_facets(generators: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """Facet normals of a pointed cone (``generators @ h > 0``) from qhull on a section."""
     from scipy.spatial import ConvexHull
 
-    h = pointing(generators)
-    if h is None:
-        points = np.vstack([np.zeros(generators.shape[1]), generators])
-        hull = ConvexHull(points, qhull_options="QJ")
-        through_origin = np.abs(hull.equations[:, -1]) <= 1e3 * FACET_TOL
-        return hull.equations[through_origin, :-1]
     y, q = _section(generators, h)
     eq = ConvexHull(y, qhull_options="QJ").equations
     # e . y + o <= 0 inside, with y = Q^T x on h . x = 1: (Q e + o h) . x <= 0.
     normals = -(eq[:, :-1] @ q.T) - eq[:, -1:] * h[None, :]
     return normals / np.linalg.norm(normals, axis=1, keepdims=True)
+
+
+def _lineality(generators: np.ndarray) -> np.ndarray:
+    """Orthonormal basis (n, l) of the largest subspace inside the cone: the span of the
+    generators that take part in a positive dependency ``sum lambda_i g_i = 0`` (an LP)."""
+    g, n = generators.shape
+    # Variables lambda (g), t (g): maximise sum t with 0 <= t <= lambda, t <= 1,
+    # G^T lambda = 0 (as two inequalities), lambda <= 1e6 (bounded).
+    eye, zero = np.eye(g), np.zeros((g, g))
+    rows = np.vstack(
+        [
+            np.hstack([-eye, eye]),
+            np.hstack([zero, eye]),
+            np.hstack([zero, -eye]),
+            np.hstack([-eye, zero]),
+            np.hstack([eye, zero]),
+            np.hstack([generators.T, np.zeros((n, g))]),
+            np.hstack([-generators.T, np.zeros((n, g))]),
+        ]
+    )
+    rhs = np.concatenate([np.zeros(g), np.ones(g), np.zeros(2 * g), np.full(g, 1e6)])
+    rhs = np.concatenate([rhs, np.full(2 * n, 1e-9)])
+    x = _solve_lp(np.concatenate([np.zeros(g), -np.ones(g)]), rows, rhs)
+    inside = x[g:] > 1e-6 if x is not None else np.zeros(g, bool)
+    if not np.any(inside):
+        return np.zeros((n, 0))
+    u, s, _ = np.linalg.svd(generators[inside].T, full_matrices=False)
+    return u[:, s > FACET_TOL * s[0]]
 
 
 def essential_rows(rows: np.ndarray) -> np.ndarray | None:
@@ -282,9 +369,13 @@ def essential_rows(rows: np.ndarray) -> np.ndarray | None:
     if rank <= 2:
         y = _section(reduced, h)[0][:, 0] if rank == 2 else np.zeros(len(rows))
         return np.unique([int(np.argmin(y)), int(np.argmax(y))])
-    from scipy.spatial import ConvexHull
+    from scipy.spatial import ConvexHull, QhullError
 
-    return np.sort(ConvexHull(_section(reduced, h)[0], qhull_options="QJ").vertices)
+    points = _section(reduced, h)[0]
+    try:  # exact arithmetic first: joggling is relative to the spread of the points
+        return np.sort(ConvexHull(points).vertices)
+    except QhullError:
+        return np.sort(ConvexHull(points, qhull_options="QJ").vertices)
 
 
 # --- equilibrium sets over the swept direction ------------------------------------------------
@@ -373,9 +464,14 @@ def forward_limit(
     normal /= size
     if normal @ twist < 0:
         normal = -normal
-    side = normal @ edge_wrenches(points, friction_edges(normals, mu[keep])).T
-    if not np.all(side >= -FACET_TOL):
+    facets = cone_facets(edge_wrenches(points, friction_edges(normals, mu[keep])))
+    if isinstance(facets, str):
         return None
+    match = facets @ normal
+    if not match.max() > 1.0 - 1e-9:
+        return None
+    # The cone's own facet row, so that its arc ends are bit-identical to the held set's.
+    normal = facets[int(np.argmax(match))]
     return float(-(normal @ statics.fixed)), -(statics.swept.T @ normal)
 
 

@@ -50,6 +50,7 @@ __all__ = [
     "jam_statics",
     "analyse_jamming",
     "case_arcs",
+    "tidy",
     "CaseArcs",
     "least_holding_friction",
     "held_at",
@@ -209,6 +210,20 @@ class CaseArcs:
     error: float  # rad: rounding (planar) or the inscribed/circumscribed band (spatial)
 
 
+# Arcs shorter than this (rad) are rounding slivers between sets that share an end; gaps
+# shorter than it are joins (the same end computed through a different wrap of 2 pi).
+SLIVER = 1e-12
+
+
+def tidy(arcs: ArcSet, tol: float = SLIVER) -> ArcSet:
+    """An arc set with slivers dropped and near-touching arcs joined (both below ``tol``)."""
+    kept = [(s, e) for s, e in arcs if e - s > tol]
+    if not kept:
+        return ()
+    gaps = complement(tuple(kept))
+    return complement(tuple((s, e) for s, e in gaps if e - s > tol))
+
+
 def _condition_arcs(condition: tuple[float, np.ndarray], e1: np.ndarray, e2: np.ndarray) -> ArcSet:
     a, c = condition
     return positive_arc(a, float(c @ e1), float(c @ e2))
@@ -220,7 +235,7 @@ def case_arcs(case: JamCase, e1: np.ndarray, e2: np.ndarray) -> CaseArcs:
     closing = _condition_arcs(case.closing, e1, e2)
     lifts = None
     if case.limit is not None:
-        lifts = intersect(closing, _condition_arcs(case.limit, e1, e2), complement(held))
+        lifts = tidy(intersect(closing, _condition_arcs(case.limit, e1, e2), complement(held)))
     if case.held_inner is not None:
         inner, _ = case.held_inner.arcs(e1, e2)
         band = intersect(held, complement(inner))
@@ -228,8 +243,8 @@ def case_arcs(case: JamCase, e1: np.ndarray, e2: np.ndarray) -> CaseArcs:
     return CaseArcs(
         held=held,
         closing=closing,
-        jamming=intersect(held, closing),
-        holding_open=intersect(held, complement(closing)),
+        jamming=tidy(intersect(held, closing)),
+        holding_open=tidy(intersect(held, complement(closing))),
         lifts_off=lifts,
         error=error,
     )
