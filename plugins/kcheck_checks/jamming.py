@@ -162,10 +162,14 @@ def jamming_result(
         if angle is not None:
             design_margin = float(np.degrees(margin(jam_free, angle)))
             details["design_margin_deg"] = design_margin
-            parts.append(f"margin {format_angle(design_margin)} to a held direction")
+            if design_margin < 0:
+                parts.append(f"it lies {format_angle(-design_margin)} inside a held range")
+            else:
+                parts.append(f"margin {format_angle(design_margin)} to a held direction")
             if design_margin < options.min_margin_deg:
                 ok = False
-                parts.append(f"(required {options.min_margin_deg:g}°)")
+                if options.min_margin_deg > 0:
+                    parts.append(f"(required {options.min_margin_deg:g}°)")
     else:
         if smap is None:
             ok = ok and bool(safe)
