@@ -266,7 +266,8 @@ def least_holding_friction(
     statics = analysis.statics
     rough = rough_supports(statics.friction).astype(float)
     start = max(float(statics.friction.max()), 0.05)
-    return least_friction(lambda mu: held_at(analysis, case, design, mu * rough), start)
+    # Within 1e-4 (relative): messages show three significant digits.
+    return least_friction(lambda mu: held_at(analysis, case, design, mu * rough), start, rtol=1e-4)
 
 
 # --- the sphere of directions (spatial) -----------------------------------------------------
