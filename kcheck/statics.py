@@ -468,7 +468,7 @@ def forward_limit(
     if isinstance(facets, str):
         return None
     match = facets @ normal
-    if not match.max() > 1.0 - 1e-9:
+    if not match.max() > 1.0 - 1e-11:
         return None
     # The cone's own facet row, so that its arc ends are bit-identical to the held set's.
     normal = facets[int(np.argmax(match))]

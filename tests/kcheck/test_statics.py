@@ -85,7 +85,12 @@ def test_cone_kinds() -> None:
     assert cone_facets(g) == "everywhere"
 
 
-def _random_planar(rng: np.random.Generator):
+def random_planar(
+    rng: np.random.Generator, mu_max: float = 0.5, preload: bool = True, torque_share: float = 1.0
+):
+    """Three supports in a 100 mm box with random normals (away from concurrency), friction
+    up to ``mu_max``, a load at a random point; a random preload (``preload``) and, in a
+    share ``torque_share`` of the scenes, a torque."""
     while True:
         points = rng.uniform(0, 0.1, (3, 2))
         angles = rng.uniform(0, TAU, 3)
@@ -93,17 +98,19 @@ def _random_planar(rng: np.random.Generator):
         s = np.linalg.svd(wrenches(points / 0.1, normals), compute_uv=False)
         if s[-1] > 1e-3 * s[0]:
             break
+    fixed = ((np.append(rng.uniform(0, 0.1, 2), 0), np.append(rng.normal(size=2), 0)),)
+    torque = rng.normal() * 0.03 if rng.uniform() < torque_share else 0.0
     return build_statics(
         points=np.column_stack([points, np.zeros(3)]),
         normals=np.column_stack([normals, np.zeros(3)]),
-        friction=rng.uniform(0, 0.5, 3),
+        friction=rng.uniform(0, mu_max, 3),
         names=("a", "b", "c"),
         dim=2,
         force=1.0,
         swept_point=np.append(rng.uniform(0, 0.1, 2), 0),
         swept_magnitude=1.0,
-        fixed_forces=((np.append(rng.uniform(0, 0.1, 2), 0), np.append(rng.normal(size=2), 0)),),
-        torque=np.array([0, 0, rng.normal() * 0.02]),
+        fixed_forces=fixed if preload else (),
+        torque=np.array([0, 0, torque]),
     )
 
 
@@ -115,7 +122,7 @@ def test_planar_held_arcs_against_nonnegative_least_squares() -> None:
     directions = np.column_stack([np.cos(angles), np.sin(angles)])
     compared = held_count = 0
     for _ in range(60):
-        statics = _random_planar(rng)
+        statics = random_planar(rng)
         for r in range(3):
             keep = np.flatnonzero(np.arange(3) != r)
             held, _ = equilibria(statics, keep).arcs(E1, E2)

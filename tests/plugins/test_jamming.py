@@ -26,6 +26,7 @@ from kcheck.plugin import Inputs
 from kcheck.scene import load_scene
 from kcheck.sphere import fibonacci_sphere
 from kcheck.statics import build_statics, equilibrium_forces
+from tests.kcheck.test_statics import random_planar
 
 ROOT = Path(__file__).resolve().parents[2]
 BOUNDARY_TOL_DEG = 1e-9
@@ -54,30 +55,6 @@ def measure(arcs: ArcSet) -> float:
     return float(sum(e - s for s, e in arcs))
 
 
-def random_planar(rng: np.random.Generator):
-    """Three supports in a 100 mm box with random normals (away from concurrency), random
-    friction up to 0.3, a load at a random point, every other scene with a torque."""
-    while True:
-        points = rng.uniform(0, 0.1, (3, 2))
-        angles = rng.uniform(0, TAU, 3)
-        normals = np.column_stack([np.cos(angles), np.sin(angles)])
-        s = np.linalg.svd(wrenches(points / 0.1, normals), compute_uv=False)
-        if s[-1] > 1e-3 * s[0]:
-            break
-    torque = rng.normal() * 0.03 if rng.uniform() < 0.5 else 0.0
-    return build_statics(
-        points=np.column_stack([points, np.zeros(3)]),
-        normals=np.column_stack([normals, np.zeros(3)]),
-        friction=rng.uniform(0, 0.3, 3),
-        names=("a", "b", "c"),
-        dim=2,
-        force=1.0,
-        swept_point=np.append(rng.uniform(0, 0.1, 2), 0),
-        swept_magnitude=1.0,
-        torque=np.array([0, 0, torque]),
-    )
-
-
 def test_planar_jamming_reproduces_graphical_on_random_scenes() -> None:
     """On 500 random scenes, every case where Koster's forward friction limit is a facet of
     the contact-wrench cone: graphical-2d's jamming arcs are exactly the statics' jamming
@@ -89,7 +66,8 @@ def test_planar_jamming_reproduces_graphical_on_random_scenes() -> None:
     counts: Counter[str] = Counter()
     worst = 0.0
     for _ in range(500):
-        statics = random_planar(rng)
+        # Graphical-2d has no preloads; half the scenes have a torque.
+        statics = random_planar(rng, mu_max=0.3, preload=False, torque_share=0.5)
         arm = float(statics.fixed[0])
         q = statics.swept[0, ::-1] * np.array([1.0, -1.0])  # moment row (-q_y, q_x) -> q
         analysis = analyse_jamming(statics, "load", None)
