@@ -13,11 +13,11 @@ import pytest
 from scipy.optimize import nnls
 
 from kcheck.arcs import TAU, contains
+from kcheck.cones import cone_facets
 from kcheck.kinematics import free_twist, wrenches
 from kcheck.statics import (
     build_statics,
     closing_condition,
-    cone_facets,
     edge_wrenches,
     equilibria,
     equilibrium_forces,
