@@ -8,7 +8,7 @@ import sys
 
 from tests.conftest import PLANAR_SCENE
 
-HEAVY = ("trimesh", "scipy", "matplotlib")
+HEAVY = ("trimesh", "scipy", "matplotlib", "clarabel")
 
 PROBE = """
 import json, sys
@@ -56,3 +56,12 @@ def test_mesh_scene_imports_trimesh_but_not_matplotlib(tmp_path):
     scene = FIXTURES / "planar-block" / "block.kcheck.yaml"
     heavy = _imported("check", str(scene), "--format", "json")["heavy"]
     assert "trimesh" in heavy and "matplotlib" not in heavy
+
+
+def test_conic_solver_only_for_spatial_jamming():
+    from tests.conftest import FIXTURES
+
+    planar = _imported("check", str(FIXTURES / "planar-block" / "block.kcheck.yaml"))["heavy"]
+    assert "clarabel" not in planar
+    spatial = _imported("check", str(FIXTURES / "three-groove" / "coupling.kcheck.yaml"))["heavy"]
+    assert "clarabel" in spatial

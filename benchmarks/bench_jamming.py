@@ -1,0 +1,144 @@
+"""Benchmark of the jamming check: cost per scene, and the conic solver against pyramid LPs.
+
+Run: ``python benchmarks/bench_jamming.py`` (medians of repeated runs, warm). Prints the tables
+recorded in docs/performance.md.
+"""
+
+from __future__ import annotations
+
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from kcheck_checks.jamming import Jamming, JammingOptions
+from kcheck_checks.jamming_cases import analyse_jamming, case_arcs, jam_map, jam_statics
+from scipy.optimize import linprog
+
+from kcheck.mass import body_mass_properties
+from kcheck.plugin import Inputs
+from kcheck.scene import load_scene
+from kcheck.statics import (
+    edge_wrenches,
+    equilibrium_forces,
+    friction_edges,
+    holds_exactly,
+    least_friction,
+)
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENES = {
+    "planar-block": ROOT / "fixtures" / "planar-block" / "block.kcheck.yaml",
+    "three-groove": ROOT / "fixtures" / "three-groove" / "coupling.kcheck.yaml",
+    "block-321": ROOT / "fixtures" / "block-321" / "block.kcheck.yaml",
+}
+
+
+def median_ms(fn, repeat: int = 7) -> float:
+    fn()
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return 1e3 * statistics.median(times)
+
+
+def check_cost() -> None:
+    print("| scene | pyramid sides | whole check | plane band error | sphere band error |")
+    print("|---|---|---|---|---|")
+    for name, path in SCENES.items():
+        scene = load_scene(path)
+        assert scene.body is not None
+        mass = body_mass_properties(scene.body, scene.scale)
+        sides = (8,) if scene.kind == "planar" else (4, 6, 8, 12, 16)
+        for m in sides:
+            inputs = Inputs(scene, mass, JammingOptions(pyramid_edges=m))
+            ms = median_ms(lambda inputs=inputs: Jamming().run(inputs), 5)
+            statics, swept, design = jam_statics(scene, mass)
+            analysis = analyse_jamming(statics, swept, design, m)
+            e1, e2 = scene.sweep.e1[: scene.dim], scene.sweep.e2[: scene.dim]
+            plane = max(np.degrees(case_arcs(c, e1, e2).error) for c in analysis.cases)
+            sphere = "–" if scene.kind == "planar" else f"{jam_map(analysis, 20000).error_deg:.2f}°"
+            label = "exact" if scene.kind == "planar" else str(m)
+            print(f"| {name} | {label} | {ms:.1f} ms | {plane:.2g}° | {sphere} |")
+
+
+def lp_holds(generators: np.ndarray, wrench: np.ndarray) -> bool:
+    """Feasibility of ``G^T lambda = -W, lambda >= 0`` with scipy HiGHS."""
+    res = linprog(
+        np.zeros(len(generators)),
+        A_eq=generators.T,
+        b_eq=-wrench,
+        bounds=[(0, None)] * len(generators),
+        method="highs",
+    )
+    return res.status == 0
+
+
+def solver_comparison() -> None:
+    scene = load_scene(SCENES["three-groove"])
+    assert scene.body is not None
+    mass = body_mass_properties(scene.body, scene.scale)
+    statics, _, _ = jam_statics(scene, mass)
+    keep = np.arange(1, 6)
+    rng = np.random.default_rng(1)
+    dirs = rng.normal(size=(40, 3))
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    rough = np.ones(6)
+
+    def exact(d: np.ndarray, mu: float) -> bool:
+        return holds_exactly(statics, keep, statics.wrench(d), mu * rough)
+
+    reference = [least_friction(lambda mu, d=d: exact(d, mu), 0.3, rtol=1e-9) for d in dirs]
+    print("| method | least friction: largest relative error | time per feasibility solve |")
+    print("|---|---|---|")
+    w = statics.wrench(dirs[0])
+    t_exact = median_ms(lambda: equilibrium_forces(statics, keep, w), 21)
+    found = [least_friction(lambda mu, d=d: exact(d, mu), 0.3, rtol=1e-6) for d in dirs]
+    err = max(abs(f - r) / r for f, r in zip(found, reference, strict=True) if r)
+    print(
+        f"| clarabel, exact second-order cones | {err:.1e} (bisection to 1e-6) | {t_exact:.2f} ms |"
+    )
+    for m in (8, 16, 32):
+        for pyramid in ("inscribed", "circumscribed"):
+
+            def poly(d: np.ndarray, mu: float, m: int = m, pyramid: str = pyramid) -> bool:
+                forces = friction_edges(statics.normals[keep], mu * rough[keep], m, pyramid)
+                g = edge_wrenches(statics.points[keep], forces)
+                return lp_holds(g, statics.wrench(d))
+
+            g = edge_wrenches(
+                statics.points[keep], friction_edges(statics.normals[keep], 0.3 * rough[keep], m)
+            )
+            t_lp = median_ms(lambda g=g: lp_holds(g, w), 21)
+            got = [least_friction(lambda mu, d=d: poly(d, mu), 0.3, rtol=1e-6) for d in dirs]
+            err = max(abs(f - r) / r for f, r in zip(got, reference, strict=True) if r)
+            print(f"| HiGHS LP, {pyramid} {m}-sided pyramids | {err:.1e} | {t_lp:.2f} ms |")
+
+
+def import_times() -> None:
+    for module in ("clarabel", "scipy.optimize", "scipy.spatial"):
+        code = (
+            f"import time; t = time.perf_counter(); import {module}; print(time.perf_counter() - t)"
+        )
+        runs = [
+            float(
+                subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout
+            )
+            for _ in range(5)
+        ]
+        print(f"| import {module} | {1e3 * statistics.median(runs):.0f} ms |")
+
+
+if __name__ == "__main__":
+    import os
+
+    print(f"load average {os.getloadavg()[0]:.2f}")
+    check_cost()
+    print()
+    solver_comparison()
+    print()
+    import_times()

@@ -1,0 +1,304 @@
+"""Jamming: can friction hold the body where it is when a support is retracted?
+
+For every retracted support the check asks whether a static equilibrium exists in which the
+external wrench (load, weight, preloads, torque) is balanced by the remaining supports with
+every contact force inside its friction cone (:mod:`kcheck.statics`). If so, the body may stay
+put whatever the forward dynamics say. Outcomes per case at the design direction:
+
+* ``jams``: an equilibrium exists and, without friction, the body would close the gap;
+* ``holds``: an equilibrium exists although, without friction, the load would open the gap;
+* ``moves``: no equilibrium: friction cannot hold the body.
+
+Planar scenes are exact. Spatial scenes decide the design direction exactly (second-order
+cones, clarabel) and bound the maps between inscribed and circumscribed pyramids.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from pydantic import Field
+
+from kcheck.analysis import ranges_deg
+from kcheck.arcs import FULL, TAU, ArcSet, complement, intersect, margin
+from kcheck.fmt import format_angle, format_number, format_ranges
+from kcheck.plugin import Check, Inputs, Options
+from kcheck.result import CaseResult, CheckResult, Finding, Status
+from kcheck.scene import Scene
+from kcheck.statics import PYRAMID_EDGES
+from kcheck_checks.jamming_cases import (
+    CaseArcs,
+    JamAnalysis,
+    JamMap,
+    analyse_jamming,
+    case_arcs,
+    closing_force_missing,
+    held_at,
+    jam_map,
+    jam_statics,
+    least_holding_friction,
+    needs_body,
+)
+
+__all__ = ["Jamming", "JammingOptions", "jamming_result", "run_jamming"]
+
+
+class JammingOptions(Options):
+    """Options of the ``jamming`` check."""
+
+    min_margin_deg: float = Field(
+        0.0, ge=0, description="Least angular distance of the design direction from a held one"
+    )
+    pyramid_edges: int = Field(
+        PYRAMID_EDGES, ge=4, le=64, description="Sides of the pyramids bounding a spatial cone"
+    )
+    sphere_points: int = Field(
+        20000, ge=100, le=1_000_000, description="Fibonacci directions of the spatial map"
+    )
+
+
+def _ranges(arcs: ArcSet) -> list[list[float]]:
+    return [list(r) for r in ranges_deg(arcs)]
+
+
+def _text(arcs: ArcSet) -> str:
+    return format_ranges(ranges_deg(arcs))
+
+
+def _case(
+    analysis: JamAnalysis, r: int, arcs: CaseArcs | None, angle: float | None
+) -> tuple[CaseResult, float | None]:
+    """Result of one case and its least holding friction at the design direction."""
+    statics, case = analysis.statics, analysis.cases[r]
+    name = statics.names[r]
+    details: dict[str, Any] = {"determinacy": case.free.determinacy}
+    if not case.determined:
+        details["diagnostic"] = (
+            "the free motion is not unique (the remaining normals are degenerate)"
+            if case.free.determinacy <= 1e-10
+            else "removing this support frees no motion that closes its gap"
+        )
+        return CaseResult(name, "undetermined", details=details), None
+    if arcs is not None:
+        details["held_deg"] = _ranges(arcs.held)
+        details["closing_deg"] = _ranges(arcs.closing)
+        details["jamming_deg"] = _ranges(arcs.jamming)
+        details["holds_opening_deg"] = _ranges(arcs.holding_open)
+        if statics.dim == 2:
+            if arcs.lifts_off is None:
+                details["friction_pole_construction"] = "not applicable"
+                details["diagnostic"] = (
+                    "the rotation about the friction pole presses into a remaining contact: "
+                    "Koster's friction-pole construction does not describe the equilibria here"
+                )
+            else:
+                details["lifts_off_deg"] = _ranges(arcs.lifts_off)
+    if case.held.kind != "cone":
+        details["held_everywhere" if case.held.kind == "everywhere" else "held_nowhere"] = True
+    outcome, mu_least = "swept", None
+    design = analysis.design
+    if design is not None:
+        mu_least = least_holding_friction(analysis, case, design)
+        details["holding_friction"] = mu_least
+        a, c = case.closing
+        held = held_at(analysis, case, design, statics.friction)
+        outcome = ("jams" if a + c @ design > 0 else "holds") if held else "moves"
+    safe = None if arcs is None else ranges_deg(complement(arcs.held))
+    return CaseResult(
+        name, outcome, limiting_friction=None, safe_ranges_deg=safe, details=details
+    ), mu_least
+
+
+def jamming_result(
+    check_id: str, scene: Scene, analysis: JamAnalysis, options: JammingOptions
+) -> tuple[CheckResult, JamMap | None]:
+    """Verdict: fail when friction can hold the body at the design direction in some case,
+    or, without one, when no swept direction closes every case free of jamming."""
+    dim = analysis.statics.dim
+    e1, e2 = scene.sweep.e1[:dim], scene.sweep.e2[:dim]
+    design = analysis.design
+    angle = None
+    if design is not None and (dim == 2 or abs(float(design @ scene.sweep.normal)) < 1e-9):
+        angle = float(np.arctan2(design @ e2, design @ e1) % TAU)
+    all_arcs = [case_arcs(c, e1, e2) if c.determined else None for c in analysis.cases]
+    results, least = [], []
+    for r in range(len(analysis.cases)):
+        res, mu = _case(analysis, r, all_arcs[r], angle)
+        results.append(res)
+        least.append(mu)
+    determined = [a for a in all_arcs if a is not None]
+    jam_free = intersect(*(complement(a.held) for a in determined))
+    safe = intersect(*(intersect(a.closing, complement(a.held)) for a in determined))
+    error_deg = float(np.degrees(max((a.error for a in determined), default=0.0)))
+    details: dict[str, Any] = {
+        "swept_direction": analysis.swept,
+        "jam_free_deg": _ranges(jam_free),
+        "pyramid_edges": analysis.edges if dim == 3 else None,
+    }
+    if dim == 2:
+        details.pop("pyramid_edges")
+    smap = jam_map(analysis, options.sphere_points) if dim == 3 else None
+    findings: list[Finding] = []
+    undetermined = [r for r in results if r.outcome == "undetermined"]
+    for r, res in enumerate(results):
+        if res.outcome in ("jams", "holds") or (design is None and all_arcs[r] is not None):
+            finding = _finding(scene, analysis, r, all_arcs[r], least[r], res.outcome)
+            if finding is not None:
+                findings.append(finding)
+    held_at_design = [r for r in results if r.outcome in ("jams", "holds")]
+    parts: list[str] = []
+    ok = not undetermined and not held_at_design
+    if design is not None:
+        if held_at_design:
+            parts.append(
+                "friction can hold the body at the design direction: "
+                + ", ".join(f"retract {r.retracted} ({r.outcome})" for r in held_at_design)
+            )
+        else:
+            parts.append("friction cannot hold the body at the design direction in any case")
+        if angle is not None:
+            design_margin = float(np.degrees(margin(jam_free, angle)))
+            details["design_margin_deg"] = design_margin
+            if design_margin < 0:
+                parts.append(f"it lies {format_angle(-design_margin)} inside a held range")
+            else:
+                parts.append(f"margin {format_angle(design_margin)} to a held direction")
+            if design_margin < options.min_margin_deg:
+                ok = False
+                if options.min_margin_deg > 0:
+                    parts.append(f"(required {options.min_margin_deg:g}°)")
+    else:
+        if smap is None:
+            ok = ok and bool(safe)
+            parts.append(f"closing and jam-free force angles: {_text(safe)}")
+        else:
+            ok = ok and smap.safe > 0
+    if undetermined:
+        parts.append("no answer for " + ", ".join(r.retracted for r in undetermined))
+    parts.append(f"jam-free in the sweep plane: {_text(jam_free)}")
+    if smap is not None:
+        details.update(
+            {
+                "sphere_points": smap.points,
+                "jam_free_solid_angle_fraction": smap.jam_free,
+                "jam_free_solid_angle_fraction_upper": smap.jam_free_upper,
+                "safe_solid_angle_fraction": smap.safe,
+                "polyhedral_error_deg": smap.error_deg,
+            }
+        )
+        what = "force" if analysis.swept == "load" else "gravity"
+        parts.append(
+            f"{what} directions free of jamming: {100 * smap.jam_free:.1f}%–"
+            f"{100 * smap.jam_free_upper:.1f}% of the sphere"
+        )
+        results = [_with_map_share(res, smap, i, analysis) for i, res in enumerate(results)]
+    return (
+        CheckResult(
+            check_id,
+            Status.PASS if ok else Status.FAIL,
+            "; ".join(parts),
+            error_estimate=error_deg if smap is None else max(error_deg, smap.error_deg),
+            safe_ranges_deg=ranges_deg(safe),
+            cases=tuple(results),
+            details=details,
+            findings=tuple(findings),
+        ),
+        smap,
+    )
+
+
+def _with_map_share(res: CaseResult, smap: JamMap, i: int, analysis: JamAnalysis) -> CaseResult:
+    import dataclasses
+
+    determined = [k for k, c in enumerate(analysis.cases) if c.determined]
+    if i not in determined:
+        return res
+    k = determined.index(i)
+    details = {
+        **res.details,
+        "held_solid_angle_fraction": float(smap.held[k]),
+        "held_solid_angle_fraction_lower": float(smap.held_inner[k]),
+    }
+    return dataclasses.replace(res, details=details)
+
+
+def _finding(
+    scene: Scene,
+    analysis: JamAnalysis,
+    r: int,
+    arcs: CaseArcs | None,
+    least: float | None,
+    outcome: str,
+) -> Finding | None:
+    """Why case ``r`` fails: friction can hold the body (at the design, or somewhere)."""
+    statics = analysis.statics
+    names = statics.names
+    others = ", ".join(names[j] for j in analysis.cases[r].keep)
+    what = "load" if analysis.swept == "load" else "gravity"
+    where = ""
+    if arcs is not None and arcs.held:
+        where = f" for {what} angles {_text(arcs.held)}"
+    if analysis.design is None:
+        if arcs is None or not arcs.jamming:
+            return None
+        message = f"retract {names[r]} → friction can hold the body{where}"
+        hint = f"keep the {what} direction out of {_text(arcs.held)}"
+        return Finding(message, code="jams", field=("supports", r), hint=hint)
+    mu = float(statics.friction[analysis.cases[r].keep].max())
+    held = "against a closing load" if outcome == "jams" else "although the load opens it"
+    message = (
+        f"retract {names[r]} → friction can hold the body at the design direction, {held}"
+        f"{where} (equilibrium exists for μ ≥ {format_number(least, 3)}; the scene has μ = "
+        f"{format_number(mu, 3)})"
+    )
+    hint = f"lower the friction at {others} below {format_number(least, 3)}"
+    if arcs is not None and arcs.held != FULL:
+        hint += f", or turn the {what} out of {_text(arcs.held)}"
+    elif statics.dim == 3:
+        hint += f", or turn the {what} away from the held directions (see the sphere map)"
+    return Finding(message, code=outcome, field=("supports", r), hint=hint)
+
+
+def run_jamming(inputs: Inputs) -> tuple[CheckResult, JamAnalysis | None, JamMap | None]:
+    """The check's computation, shared by ``run`` and ``plot``."""
+    scene, opts = inputs.scene, inputs.options
+    assert isinstance(opts, JammingOptions)
+    statics, swept, design = jam_statics(scene, inputs.mass)
+    analysis = analyse_jamming(statics, swept, design, opts.pyramid_edges)
+    result, smap = jamming_result(Jamming.id, scene, analysis, opts)
+    return result, analysis, smap
+
+
+class Jamming(Check):
+    """Static equilibrium with friction per retracted support: can the body stay put?"""
+
+    id = "jamming"
+    summary = (
+        "static equilibrium with Coulomb friction per retracted support: where friction can "
+        "hold the body, and the least friction that does"
+    )
+    applies_to = "planar and spatial scenes with a closing force (a body when weight matters)"
+    needs_mass = False
+    options = JammingOptions
+
+    def skip_reason(self, scene: Scene) -> str | None:
+        """Scenes with a closing force whose point (and weight) is known."""
+        return closing_force_missing(scene)
+
+    def needs_mass_for(self, scene: Scene) -> bool:
+        """Only when the weight or the centre of mass enters the balance."""
+        return needs_body(scene)
+
+    def run(self, inputs: Inputs) -> CheckResult:
+        """Every retracted case: held directions, outcome and least friction at the design."""
+        return run_jamming(inputs)[0]
+
+    def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
+        """Sweep circle per case (planar) or sphere map (spatial); needs the `plot` extra."""
+        from kcheck_checks.plots_jamming import plot_jamming
+
+        _, analysis, smap = run_jamming(inputs)
+        return plot_jamming(inputs.scene, analysis, smap, result, directory)

@@ -1,0 +1,201 @@
+"""kcheck.statics against closed forms and brute force.
+
+References: the block of methods.md §7 (a block on a plane holds iff ``tan(theta) <= mu``,
+§1.1), non-negative least squares (scipy ``nnls``: is ``-W`` a non-negative combination of
+the edge wrenches?) as an independent cone-membership test, and force-by-force checks of the
+conic solver's equilibria.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import nnls
+
+from kcheck.arcs import TAU, contains
+from kcheck.cones import cone_facets
+from kcheck.kinematics import free_twist, wrenches
+from kcheck.statics import (
+    build_statics,
+    closing_condition,
+    edge_wrenches,
+    equilibria,
+    equilibrium_forces,
+    friction_edges,
+    holds,
+    holds_exactly,
+    least_friction,
+)
+
+MU = 0.1
+E1, E2 = np.array([1.0, 0.0]), np.array([0.0, 1.0])
+
+
+def planar_block(mu: float = MU):
+    """methods.md §7: y1 (20, 0), y2 (80, 0) normal +y, x1 (0, 30) normal +x, load at the
+    centre of mass (50, 30) mm."""
+    return build_statics(
+        points=np.array([[0.02, 0, 0], [0.08, 0, 0], [0, 0.03, 0]]),
+        normals=np.array([[0, 1.0, 0], [0, 1.0, 0], [1.0, 0, 0]]),
+        friction=np.full(3, mu),
+        names=("y1", "y2", "x1"),
+        dim=2,
+        force=1.0,
+        swept_point=np.array([0.05, 0.03, 0]),
+        swept_magnitude=1.0,
+    )
+
+
+def test_block_on_two_supports_holds_within_the_friction_angle() -> None:
+    """Retract x1: the block rests on y1 and y2; it is held iff the load lies within
+    atan(mu) of straight down (and its line passes between the supports, which it does)."""
+    statics = planar_block()
+    keep = np.array([0, 1])
+    held, error = equilibria(statics, keep).arcs(E1, E2)
+    half = np.degrees(np.arctan(MU))
+    assert len(held) == 1
+    start, end = np.degrees(held[0])
+    assert start == pytest.approx(270 - half, abs=1e-9)
+    assert end == pytest.approx(270 + half, abs=1e-9)
+    assert np.degrees(error) < 1e-9
+    # Without friction the free motion (translation along -x) closes for F_x < 0.
+    a, c = closing_condition(statics, free_twist(statics.points, statics.normals, 2).twist)
+    assert a == 0.0 and c[0] < 0 and abs(c[1]) < 1e-15
+
+
+def test_least_friction_is_the_tangent_of_the_load_angle() -> None:
+    statics = planar_block()
+    keep = np.array([0, 1])
+    theta = np.radians(5.0)
+    d = np.array([-np.sin(theta), -np.cos(theta)])
+    wrench = statics.wrench(d)
+    found = least_friction(lambda mu: holds(statics, keep, wrench, np.full(3, mu)), 0.05)
+    assert found == pytest.approx(np.tan(theta), rel=2e-6)
+    assert found >= np.tan(theta)
+
+
+def test_cone_kinds() -> None:
+    statics = planar_block(mu=0.0)
+    assert equilibria(statics, np.array([0, 1])).kind == "flat"  # frictionless: a line only
+    # Two opposed supports with friction 2 (cones wider than 90°) hold any load.
+    g = edge_wrenches(
+        np.array([[0.0, 0.0], [0.0, 1.0]]),
+        friction_edges(np.array([[0, 1.0], [0, -1.0]]), np.array([2.0, 2.0])),
+    )
+    assert cone_facets(g) == "everywhere"
+
+
+def random_planar(
+    rng: np.random.Generator, mu_max: float = 0.5, preload: bool = True, torque_share: float = 1.0
+):
+    """Three supports in a 100 mm box with random normals (away from concurrency), friction
+    up to ``mu_max``, a load at a random point; a random preload (``preload``) and, in a
+    share ``torque_share`` of the scenes, a torque."""
+    while True:
+        points = rng.uniform(0, 0.1, (3, 2))
+        angles = rng.uniform(0, TAU, 3)
+        normals = np.column_stack([np.cos(angles), np.sin(angles)])
+        s = np.linalg.svd(wrenches(points / 0.1, normals), compute_uv=False)
+        if s[-1] > 1e-3 * s[0]:
+            break
+    fixed = ((np.append(rng.uniform(0, 0.1, 2), 0), np.append(rng.normal(size=2), 0)),)
+    torque = rng.normal() * 0.03 if rng.uniform() < torque_share else 0.0
+    return build_statics(
+        points=np.column_stack([points, np.zeros(3)]),
+        normals=np.column_stack([normals, np.zeros(3)]),
+        friction=rng.uniform(0, mu_max, 3),
+        names=("a", "b", "c"),
+        dim=2,
+        force=1.0,
+        swept_point=np.append(rng.uniform(0, 0.1, 2), 0),
+        swept_magnitude=1.0,
+        fixed_forces=fixed if preload else (),
+        torque=np.array([0, 0, torque]),
+    )
+
+
+def test_planar_held_arcs_against_nonnegative_least_squares() -> None:
+    """Membership of every 2° direction in 60 random scenes (with a preload and a torque),
+    away from the arc ends, equals nnls's answer."""
+    rng = np.random.default_rng(3)
+    angles = np.radians(np.arange(0, 360, 2.0)) + 1e-3
+    directions = np.column_stack([np.cos(angles), np.sin(angles)])
+    compared = held_count = 0
+    for _ in range(60):
+        statics = random_planar(rng)
+        for r in range(3):
+            keep = np.flatnonzero(np.arange(3) != r)
+            held, _ = equilibria(statics, keep).arcs(E1, E2)
+            ends = np.array([x % TAU for arc in held for x in arc])
+            g = edge_wrenches(
+                statics.points[keep], friction_edges(statics.normals[keep], statics.friction[keep])
+            )
+            for alpha, d in zip(angles, directions, strict=True):
+                if len(ends) and np.min(np.abs((alpha - ends + np.pi) % TAU - np.pi)) < 1e-6:
+                    continue
+                residual = nnls(g.T, -statics.wrench(d))[1]
+                expected = residual < 1e-9 * (1 + np.linalg.norm(statics.wrench(d)))
+                assert contains(held, alpha) == expected
+                compared += 1
+                held_count += expected
+    assert compared > 30000 and held_count > 1500
+
+
+def spatial_block(mu: float):
+    """A 100 x 60 x 40 mm block on z1-z3 (+z), y1, y2 (+y) and x1 (+x), load at the centre."""
+    points = np.array(
+        [[0.02, 0.01, 0], [0.08, 0.01, 0], [0.05, 0.05, 0], [0.02, 0, 0.02], [0.08, 0, 0.02],
+         [0, 0.03, 0.02]]
+    )  # fmt: skip
+    normals = np.array([[0, 0, 1.0]] * 3 + [[0, 1.0, 0]] * 2 + [[1.0, 0, 0]])
+    return build_statics(
+        points=points,
+        normals=normals,
+        friction=np.full(6, mu),
+        names=("z1", "z2", "z3", "y1", "y2", "x1"),
+        dim=3,
+        force=1.0,
+        swept_point=np.array([0.05, 0.03, 0.02]),
+        swept_magnitude=1.0,
+    )
+
+
+@pytest.mark.parametrize("theta_deg", [3.0, 8.0, 15.0])
+def test_spatial_least_friction_between_fine_pyramids(theta_deg: float) -> None:
+    """Retract x1, load in the xz-plane at theta from -z towards -x. Reference: 32-sided
+    inscribed and circumscribed pyramids (polyhedral facets, no conic solver) bracket the
+    circular cones, so the exact least friction lies between theirs (0.5 % apart). It is at
+    most tan(theta), what the z supports alone need: friction at the z supports pressing the
+    body onto y1, y2 lets those carry part of the load (a wedge)."""
+    statics = spatial_block(MU)
+    keep = np.arange(5)
+    theta = np.radians(theta_deg)
+    wrench = statics.wrench(np.array([-np.sin(theta), 0.0, -np.cos(theta)]))
+    found = least_friction(lambda mu: holds_exactly(statics, keep, wrench, np.full(6, mu)), 0.1)
+    assert found is not None and found <= np.tan(theta) * (1 + 1e-6)
+    assert holds_exactly(statics, keep, wrench) == (found <= MU)
+    # inscribed(m) <= exact <= circumscribed(m), and circumscribed(mu) = inscribed(mu / cos).
+    m, tol = 32, 1e-5
+    assert holds(statics, keep, wrench, np.full(6, found), edges=m)
+    assert not holds(
+        statics, keep, wrench, np.full(6, found * (1 - tol)), edges=m, pyramid="inscribed"
+    )
+    assert not holds(
+        statics, keep, wrench, np.full(6, found * np.cos(np.pi / m) * (1 - tol)), edges=m
+    )
+
+
+def test_conic_solver_forces_balance_and_lie_in_the_cones() -> None:
+    """The equilibrium clarabel returns, checked force by force (not trusting its status)."""
+    statics = spatial_block(MU)
+    keep = np.arange(5)
+    d = np.array([-0.05, -0.02, -1.0])
+    d /= np.linalg.norm(d)
+    forces = equilibrium_forces(statics, keep, statics.wrench(d))
+    assert forces is not None
+    balance = wrenches(statics.points[keep], forces).sum(axis=0) + statics.wrench(d)
+    assert np.abs(balance).max() < 1e-7
+    normal = np.sum(forces * statics.normals[keep], axis=1)
+    tangential = np.linalg.norm(forces - normal[:, None] * statics.normals[keep], axis=1)
+    assert np.all(normal >= -1e-8) and np.all(tangential <= MU * normal + 1e-7)
+    assert equilibrium_forces(statics, keep, statics.wrench(np.array([0, 0, 1.0]))) is None

@@ -1,0 +1,244 @@
+"""jamming: the statics check against graphical-2d, analytical-3d and closed forms.
+
+References: graphical-2d's construction (Koster's friction poles: an SVD null vector of the
+tilted reaction rows, an independent computation of the same boundary as the statics' facet
+of the contact-wrench cone), analytical-3d's forward dynamics (kcheck.dynamics), the conic
+solver's equilibria checked force by force, and the block of methods.md §7.
+"""
+
+from __future__ import annotations
+
+import json
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+import pytest
+from kcheck_checks.graphical_2d import construct_case
+from kcheck_checks.jamming import Jamming, JammingOptions
+from kcheck_checks.jamming_cases import analyse_jamming, case_arcs, tidy
+
+from kcheck.arcs import TAU, ArcSet, complement, intersect, union
+from kcheck.dynamics import analyse_case, build_problem, outcomes
+from kcheck.kinematics import wrenches
+from kcheck.mass import body_mass_properties
+from kcheck.plugin import Inputs
+from kcheck.scene import load_scene
+from kcheck.sphere import fibonacci_sphere
+from kcheck.statics import build_statics, equilibrium_forces
+from tests.kcheck.test_statics import random_planar
+
+ROOT = Path(__file__).resolve().parents[2]
+BOUNDARY_TOL_DEG = 1e-9
+E1, E2 = np.array([1.0, 0.0]), np.array([0.0, 1.0])
+
+
+def ends_deg(arcs: ArcSet) -> np.ndarray:
+    """Arc ends in degrees [0, 360), sorted; none for the full circle."""
+    if len(arcs) == 1 and arcs[0][1] - arcs[0][0] >= TAU - 1e-15:
+        return np.zeros(0)
+    return np.sort(np.degrees([x % TAU for arc in arcs for x in arc]) % 360.0)
+
+
+def gap_deg(x: np.ndarray, y: np.ndarray) -> float:
+    """Largest circular distance between matched sorted angle lists (deg)."""
+    if len(x) != len(y):
+        return float("inf")
+    if not len(x):
+        return 0.0
+    return min(
+        float(np.abs((np.roll(y, s) - x + 180.0) % 360.0 - 180.0).max()) for s in range(len(y))
+    )
+
+
+def measure(arcs: ArcSet) -> float:
+    return float(sum(e - s for s, e in arcs))
+
+
+def test_planar_jamming_reproduces_graphical_on_random_scenes() -> None:
+    """On 500 random scenes, every case where Koster's forward friction limit is a facet of
+    the contact-wrench cone: graphical-2d's jamming arcs are exactly the statics' jamming
+    arcs plus its lift-off arcs (ends to 1e-9°), and the jamming arcs lie inside them. In the
+    other cases the rotation about the friction pole presses into a contact and the
+    construction does not describe the equilibria (counted; the statics is checked against
+    nnls in tests/kcheck/test_statics.py)."""
+    rng = np.random.default_rng(2003)
+    counts: Counter[str] = Counter()
+    worst = 0.0
+    for _ in range(500):
+        # Graphical-2d has no preloads; half the scenes have a torque.
+        statics = random_planar(rng, mu_max=0.3, preload=False, torque_share=0.5)
+        arm = float(statics.fixed[0])
+        q = statics.swept[0, ::-1] * np.array([1.0, -1.0])  # moment row (-q_y, q_x) -> q
+        analysis = analyse_jamming(statics, "load", None)
+        for case in analysis.cases:
+            reference = construct_case(
+                statics.points, statics.normals, statics.friction, case.retracted, q, arm, E1, E2
+            )
+            arcs = case_arcs(case, E1, E2)
+            assert gap_deg(ends_deg(arcs.closing), ends_deg(reference.funnel)) < BOUNDARY_TOL_DEG
+            if arcs.lifts_off is None:
+                counts["construction not applicable"] += 1
+                continue
+            both = tidy(union(arcs.jamming, arcs.lifts_off))
+            gap = gap_deg(ends_deg(both), ends_deg(reference.jamming))
+            worst = max(worst, gap)
+            outside = intersect(arcs.jamming, complement(reference.jamming))
+            assert measure(outside) < 1e-12
+            counts["regular"] += 1
+            counts["jamming arcs"] += bool(arcs.jamming)
+            counts["lift-off arcs"] += bool(arcs.lifts_off)
+            counts["equal without lift-off"] += not arcs.lifts_off
+    assert worst < BOUNDARY_TOL_DEG, worst
+    assert counts["regular"] >= 0.85 * 1500, counts
+    assert counts["jamming arcs"] >= 500 and counts["lift-off arcs"] >= 300, counts
+    assert counts["equal without lift-off"] >= 500, counts
+
+
+def random_spatial(rng: np.random.Generator, mu_max: float):
+    """Six supports on a 100 mm box, normals roughly towards the centre of mass (pushing the
+    body), a random load point and inertia; statics and dynamics of the same layout."""
+    com = rng.uniform(0.03, 0.07, 3)
+    points = rng.uniform(0, 0.1, (6, 3))
+    normals = (com - points) / np.linalg.norm(com - points, axis=1, keepdims=True)
+    normals += 0.6 * rng.normal(size=(6, 3))
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    cloud = rng.normal(size=(8, 3)) * 0.05
+    cloud -= cloud.mean(axis=0)
+    inertia = sum(np.dot(r, r) * np.eye(3) - np.outer(r, r) for r in cloud) / 8
+    mu = rng.uniform(0, mu_max, 6)
+    q = rng.uniform(0, 0.1, 3)
+    names = tuple(f"s{i}" for i in range(6))
+    common = dict(points=points, normals=normals, friction=mu, names=names, dim=3)
+    problem = build_problem(
+        **common, mass=1.0, com=com, inertia=inertia, gravity=np.zeros(3),
+        load_magnitude=1.0, load_point=q, torque=np.zeros(3),
+    )  # fmt: skip
+    statics = build_statics(**common, force=1.0, swept_point=q, swept_magnitude=1.0)
+    return problem, statics
+
+
+def test_spatial_jam_free_region_contains_the_closing_region() -> None:
+    """200 random spatial scenes (mu <= 0.3), 100 directions each, every retracted case.
+
+    * The pyramid bounds (square pyramids here, to keep the test fast) are consistent:
+      inscribed-held implies circumscribed-held, and the exact conic decision lies between
+      them (sampled).
+    * Where the forward dynamics close and the circumscribed pyramids say "held", the exact
+      decision settles it. Where friction can hold the body although the dynamics close
+      (lambda > 0, every N > 0), rigid-body Coulomb friction has two consistent answers —
+      sliding shut and staying wedged. Each such direction is verified force by force
+      (balance and cones, not trusting the solver's status) and counted; everywhere else the
+      jam-free region contains the closing region.
+    """
+    directions = fibonacci_sphere(100)
+    counts: Counter[str] = Counter()
+    for seed in range(200):
+        problem, statics = random_spatial(np.random.default_rng(seed), 0.3)
+        analysis = analyse_jamming(statics, "load", None, edges=4)
+        for jc in analysis.cases:
+            case = analyse_case(problem, jc.retracted)
+            if not case.determined or not case.well_conditioned:
+                counts["undetermined"] += 1
+                continue
+            assert jc.held_inner is not None
+            closes = outcomes(case, directions) == "closes"
+            outer = jc.held.contains(directions)
+            inner = jc.held_inner.contains(directions)
+            assert not np.any(inner & ~outer)
+            counts["closing directions"] += int(closes.sum())
+            counts["held (inscribed)"] += int(inner.sum())
+            for k in (int(np.argmax(inner)), int(np.argmin(outer))):  # one held, one free
+                if inner[k] or not outer[k]:
+                    exact = equilibrium_forces(statics, jc.keep, statics.wrench(directions[k]))
+                    assert (exact is not None) == bool(inner[k])
+            for d in directions[closes & outer]:
+                forces = equilibrium_forces(statics, jc.keep, statics.wrench(d))
+                if forces is None:
+                    counts["closing, circumscribed pyramids only"] += 1
+                    continue
+                normals = statics.normals[jc.keep]
+                fn = np.sum(forces * normals, axis=1)
+                ft = np.linalg.norm(forces - fn[:, None] * normals, axis=1)
+                balance = wrenches(statics.points[jc.keep], forces).sum(0) + statics.wrench(d)
+                assert np.abs(balance).max() < 1e-7
+                assert np.all(ft <= statics.friction[jc.keep] * fn + 1e-7)
+                counts["two consistent answers"] += 1
+    assert counts["closing directions"] > 500 and counts["held (inscribed)"] > 5000, counts
+    assert counts["undetermined"] < 0.05 * 1200, counts
+
+
+# --- the check on scene files ------------------------------------------------------------------
+
+PLANAR = """
+version: 1
+name: planar block (methods.md §7)
+units: mm
+body: {{mass: 1, center_of_mass: [50, 30, 0], inertia: 0.001}}
+supports:
+  - {{name: y1, position: [20, 0, 0], normal: [0, 1, 0]}}
+  - {{name: y2, position: [80, 0, 0], normal: [0, 1, 0]}}
+  - {{name: x1, position: [0, 30, 0], normal: [1, 0, 0]}}
+friction: 0.1
+load: {{magnitude: 1, angle: {angle}}}
+"""
+
+
+def test_design_direction_held_fails_with_located_finding(cli_json, write_scene) -> None:
+    """At 265° the block on y1, y2 is held (within atan(0.1) = 5.71° of straight down): the
+    check fails, names x1's case and the least friction tan(5°) = 0.0875."""
+    code, doc = cli_json(str(write_scene(PLANAR.format(angle=265))), "--select", "jamming")
+    check = next(c for c in doc["scenes"][0]["checks"] if c["id"] == "jamming")
+    assert check["status"] == "fail"
+    x1 = next(c for c in check["cases"] if c["retracted"] == "x1")
+    assert x1["outcome"] == "jams"
+    assert x1["holding_friction"] == pytest.approx(np.tan(np.radians(5.0)), rel=1e-4)
+    assert x1["held_deg"] == [pytest.approx([264.2894, 275.7106], abs=1e-4)]
+    assert x1["jamming_deg"] == [pytest.approx([264.2894, 270.0], abs=1e-4)]
+    assert x1["holds_opening_deg"] == [pytest.approx([270.0, 275.7106], abs=1e-4)]
+    (finding,) = check["findings"]
+    assert finding["code"] == "jams" and finding["field"] == "supports[2]"
+    assert finding["line"] == 8 and "0.0875" in finding["message"] and "x1" in finding["message"]
+    assert "y1, y2" in finding["hint"]
+
+
+def test_design_direction_free_passes(cli_json, write_scene) -> None:
+    code, doc = cli_json(str(write_scene(PLANAR.format(angle=225))), "--select", "jamming")
+    check = doc["scenes"][0]["checks"][0]
+    assert check["status"] == "pass" and code == 0
+    assert {c["outcome"] for c in check["cases"]} == {"moves"}
+    assert check["design_margin_deg"] == pytest.approx(225 - 196.2, abs=0.01)
+
+
+def test_mass_only_when_the_weight_or_centre_of_mass_matters(write_scene) -> None:
+    check = Jamming()
+    point = PLANAR.format(angle=265).replace("magnitude: 1,", "magnitude: 1, point: [50, 30, 0],")
+    assert not check.needs_mass_for(load_scene(write_scene(point)))
+    assert check.needs_mass_for(load_scene(write_scene(PLANAR.format(angle=265))))
+    no_body = point.replace("body: {mass: 1, center_of_mass: [50, 30, 0], inertia: 0.001}\n", "")
+    scene = load_scene(write_scene(no_body + "gravity: [0, -9.81, 0]\n"))
+    assert "no `body`" in (check.skip_reason(scene) or "")
+    result = check.run(Inputs(load_scene(write_scene(point)), None, JammingOptions()))
+    assert result.status.value == "fail"
+
+
+def test_spatial_fixture_runs_with_map_and_exact_design(cli_json) -> None:
+    path = ROOT / "fixtures" / "three-groove" / "coupling.kcheck.yaml"
+    code, doc = cli_json(str(path))
+    check = next(c for c in doc["scenes"][0]["checks"] if c["id"] == "jamming")
+    json.dumps(check)
+    assert check["status"] == "pass"
+    lo, hi = check["jam_free_solid_angle_fraction"], check["jam_free_solid_angle_fraction_upper"]
+    assert 0 < lo <= hi < 1 and check["polyhedral_error_deg"] > 0
+    for case in check["cases"]:
+        assert case["outcome"] == "moves"
+        assert case["held_solid_angle_fraction_lower"] <= case["held_solid_angle_fraction"]
+
+
+def test_spatial_plots_are_written(tmp_path: Path) -> None:
+    scene = load_scene(ROOT / "fixtures" / "three-groove" / "coupling.kcheck.yaml")
+    assert scene.body is not None
+    inputs = Inputs(scene, body_mass_properties(scene.body, scene.scale), JammingOptions())
+    result = Jamming().run(inputs)
+    paths = Jamming().plot(inputs, result, tmp_path)
+    assert paths and all(p.stat().st_size > 10_000 for p in paths)
