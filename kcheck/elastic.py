@@ -90,7 +90,8 @@ MATERIALS: dict[str, Material] = {
             ring_crack(800 * _MPA, 0.26),
             "ring crack, flexural strength 800 MPa",
             "E, nu: SKF super-precision bearings catalogue, table 1 (bearing-grade silicon "
-            "nitride); flexural strength: typical HIP bearing-grade Si3N4 (ASTM F2094 class)",
+            "nitride); flexural strength: a typical datasheet value of hot-isostatically pressed "
+            "bearing-grade Si3N4 (not a specification minimum)",
         ),
         Material(
             "alumina",

@@ -150,7 +150,10 @@ def _contact_json(
         "seat_material": contacts.seat[i].name,
         "contact_modulus": float(contacts.modulus[i]),
         "curvature_sums": [float(contacts.sum_a[i]), float(contacts.sum_b[i])],
-        "major_axis": contacts.major_axis[i].tolist(),
+        # a circle has no major axis
+        "major_axis": None
+        if contacts.sum_b[i] - contacts.sum_a[i] <= 1e-12 * contacts.sum_b[i]
+        else contacts.major_axis[i].tolist(),
         "normal_force": float(seated.force[i]),
         "semi_axes": [float(seated.a[i]), float(seated.b[i])],
         "max_pressure": float(seated.max_pressure[i]),
@@ -251,8 +254,10 @@ def _stress_findings(
                 f"({100 * utilisation[i]:.0f} %)",
                 "contact-stress",
                 _support_field(scene, i),
-                "use a larger ball, a conformal groove or cylinder (larger contact radii), a "
-                "harder seat material, or less preload",
+                # p0 ~ (P / R^2)^(1/3): radii u^(3/2) times larger or a force u^3 times smaller
+                f"to get below it: contact radii {utilisation[i] ** 1.5:.2g}x larger (a larger "
+                f"ball, a conformal groove or cylinder), {utilisation[i] ** 3:.2g}x less force, "
+                "or a harder material",
             )
         )
     return out
@@ -319,6 +324,7 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
         axis_k = 1.0 / np.diag(compliance)
         details["error_point"] = error_point.tolist()
         details["point_stiffness"] = axis_k.tolist()
+        details["point_compliance"] = compliance.tolist()
         parts.append(
             f"stiffness at {format_vector(error_point / scene.scale)} {scene.units}: "
             + "/".join(_stiffness_text(k) for k in axis_k)

@@ -159,8 +159,13 @@ def test_lifting_off_and_opening_are_findings(tmp_path):
     assert "error_motion" not in result.details
 
 
-def test_explicit_supports_are_skipped_with_the_reason():
-    result = check_scene(FIXTURES / "three-groove" / "coupling.kcheck.yaml", load_checks())
+def test_explicit_supports_are_skipped_with_the_reason(tmp_path):
+    folder = tmp_path / "tg"
+    shutil.copytree(FIXTURES / "three-groove", folder)
+    scene = folder / "coupling.kcheck.yaml"
+    # only the hertz check: the fixture's options for the others go
+    scene.write_text(scene.read_text().split("checks:")[0], encoding="utf-8")
+    result = check_scene(scene, [lc for lc in load_checks() if lc.spec.name == "hertz"])
     (check,) = [c for c in result.checks if c.id == "hertz"]
     assert check.status is Status.SKIPPED
     assert "g1a, g1b, g2a, g2b, ..." in check.message and "couplings:" in check.message
@@ -235,3 +240,26 @@ def test_slocum_spreadsheet_example(tmp_path):
     sink = seated["approach"] / np.cos(np.radians(45.0))
     assert sink * 1e3 == pytest.approx(0.0307, abs=1e-4)
     assert sink * np.cos(np.radians(45.0)) ** 2 * 1e3 == pytest.approx(0.015, abs=5e-4)
+
+
+def test_hint_scales_the_radii_to_the_allowable(tmp_path):
+    # p0 ~ (P E*^2 / R^2)^(1/3): radii u^(3/2) times larger bring utilisation u down to 1.
+    # Preloads at the ball centres keep the contact forces whatever the ball radius.
+    def run(radius):
+        scene = coupling_scene(tmp_path, three_vee(0.05, radius, BETA))
+        scene = with_preloads(scene, _ball_preloads(scene, [0, 0, -200.0]))
+        return _run(scene, seat_material="aluminium-6061-t6")
+
+    result = run(BALL)
+    u = result.details["max_utilisation"]
+    assert u > 1 and f"radii {u**1.5:.2g}x larger" in result.findings[0].hint
+    assert run(BALL * u**1.5).details["max_utilisation"] == pytest.approx(1.0, rel=1e-10)
+
+
+def test_picture(three_vee_scene, tmp_path):
+    pytest.importorskip("matplotlib")
+    options = HertzOptions(disturbing_force=[5.0, 0, 0], error_point=[0, 0, 30.0])
+    inputs = Inputs(three_vee_scene, None, options)
+    result = Hertz().run(inputs)
+    files = Hertz().plot(inputs, result, tmp_path / "plots")
+    assert [f.suffix for f in files] == [".png", ".svg"] and all(f.stat().st_size for f in files)
