@@ -226,6 +226,7 @@ def ellipse_ratio(ratio: np.ndarray | float) -> np.ndarray:
     side = np.zeros_like(goal)
     t = hi
     for _ in range(200):
+        t_old = t
         t = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
         f = _log_ratio(np.exp(t)) - goal
         pos = f > 0
@@ -235,7 +236,7 @@ def ellipse_ratio(ratio: np.ndarray | float) -> np.ndarray:
         lo, f_lo = np.where(pos, t, lo), np.where(pos, f, f_lo)
         hi, f_hi = np.where(pos, hi, t), np.where(pos, f_hi, f)
         side = np.where(pos, 1.0, -1.0)
-        if np.all(np.abs(hi - lo) <= 4 * EPS * np.maximum(1.0, np.abs(t))) or np.all(f == 0):
+        if np.all((np.abs(t - t_old) <= 4 * EPS * (1.0 + np.abs(t))) | (f == 0)):
             break
     out[todo] = np.exp(t)
     return out.reshape(np.shape(ratio))

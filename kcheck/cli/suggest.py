@@ -126,10 +126,11 @@ def run(args: argparse.Namespace) -> int:
     """Load the scene, search, print the candidates; write the picture and scene if asked."""
     import numpy as np
 
+    from kcheck.candidates import BoxSampler, SuggestError, SurfaceSampler
     from kcheck.errors import KcheckError
     from kcheck.mass import body_mass_properties
     from kcheck.scene import load_scene
-    from kcheck.suggest import BoxSampler, SuggestError, SurfaceSampler, search, with_load
+    from kcheck.suggest import search, with_load
 
     problem = _usage(args)
     if problem:

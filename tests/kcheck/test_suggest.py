@@ -16,14 +16,12 @@ import pytest
 
 from kcheck.analysis import problem_for
 from kcheck.arcs import cap_margins
+from kcheck.candidates import BoxSampler, SuggestError, SurfaceSampler
 from kcheck.dynamics import analyse_case
 from kcheck.mass import body_mass_properties
 from kcheck.scene import load_scene
 from kcheck.sphere import fibonacci_sphere, most_robust_direction
 from kcheck.suggest import (
-    BoxSampler,
-    SuggestError,
-    SurfaceSampler,
     caps_at,
     point_caps,
     point_margins,
