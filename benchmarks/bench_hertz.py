@@ -9,11 +9,8 @@ root.
 
 from __future__ import annotations
 
-import statistics
 import sys
 import tempfile
-import time
-from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -21,6 +18,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from bench_analytical_3d import median_time  # noqa: E402 (the benchmarks' one timer)
 from kcheck_checks.hertz import Hertz  # noqa: E402
 from kcheck_checks.hertz_materials import HertzOptions  # noqa: E402
 
@@ -28,17 +26,6 @@ from kcheck.hertz import contact_modulus, hertz  # noqa: E402
 from kcheck.plugin import Inputs  # noqa: E402
 from kcheck.scene import Preload  # noqa: E402
 from tests.couplings import coupling_scene, kelvin, three_vee, with_preloads  # noqa: E402
-
-
-def median_time(fn: Callable[[], object], repeats: int) -> float:
-    """Median wall time (s) of ``repeats`` calls after one warm-up call."""
-    fn()
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
 
 
 def main() -> None:

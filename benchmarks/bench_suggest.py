@@ -12,12 +12,10 @@ the best of a large run (20 000 points, 2000 directions). Also: the least-force 
 
 from __future__ import annotations
 
-import statistics
-import time
-from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
+from bench_analytical_3d import median_time  # the benchmarks' one timer
 
 from kcheck.analysis import problem_for
 from kcheck.candidates import SurfaceSampler
@@ -33,17 +31,6 @@ from kcheck.suggest import (
 )
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def median_time(fn: Callable[[], object], repeats: int) -> tuple[float, object]:
-    """Median wall time (s) of ``repeats`` calls after one warm-up call, and the last result."""
-    result = fn()
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        result = fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times), result
 
 
 def main() -> None:
@@ -83,7 +70,8 @@ def main() -> None:
                 sampler = SurfaceSampler(scene, 0)
                 return search(scene, mass, sampler, points, directions=directions, jobs=jobs)
 
-            t, found = median_time(run, repeats)
+            t = median_time(run, repeats)
+            found = run()
             best = float(np.degrees(found.best[0].margin))  # type: ignore[attr-defined]
             print(
                 f"{name:<14} {points:>7} {directions:>5} {jobs:>4} {1e3 * t:>7.0f} ms "
@@ -92,7 +80,8 @@ def main() -> None:
     block10 = with_load(block, block.load.point, block.load.direction, 10.0)
     found = search(block10, block_mass, SurfaceSampler(block10, 0), 2000, directions=500)
     pts = found.points[np.argsort(-found.margins)[:200]]
-    t, least = median_time(lambda: least_force(block10, block_mass, pts, start=10.0), 3)
+    t = median_time(lambda: least_force(block10, block_mass, pts, start=10.0), 3)
+    least = least_force(block10, block_mass, pts, start=10.0)
     print(f"least force of block-321 from 10 N (200 points, 500 dirs): {least:.3g} N, {t:.2f} s")
 
 
