@@ -310,6 +310,11 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
         for i, s in enumerate(scene.supports)
     ]
     details["max_utilisation"] = float(utilisation.max())
+    # Hertz theory assumes contacts small against the radii (half-space, small strains).
+    size = float(np.max(worst.a * 2.0 * contacts.sum_b))
+    large = f"contacts large against their radii (a/R up to {size:.2g}): Hertz is approximate"
+    if size > 0.1:
+        details.setdefault("notes", []).append(large)
     findings = _contact_findings(scene, forces)
     findings += _stress_findings(scene, contacts, worst, utilisation, options.safety_factor)
     i = int(np.argmax(utilisation))
@@ -317,6 +322,8 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
         f"peak contact pressure {_pressure(worst.max_pressure[i])} at {scene.supports[i].name} "
         f"({100 * utilisation[i]:.0f} % of {_pressure(allowable[i])} allowed)"
     ]
+    if size > 0.1:
+        parts.append(large)
     big_k = stiffness_matrix(seat, seated.stiffness)
     details["stiffness_matrix"] = big_k.tolist()
     compliance = None if np.any(forces.lifted) else point_compliance(seat, big_k, error_point)

@@ -45,18 +45,13 @@ class HertzOptions(Options):
     )
     ball_material: str = Field("52100", description="Material of every ball (see docs)")
     seat_material: str = Field("52100", description="Material of every seat (groove, flat, ...)")
+    # pydantic copies mutable defaults per instance
     couplings: dict[str, CouplingMaterials] = Field(
-        default_factory=dict, description="Materials per coupling name, overriding the above"
+        {}, description="Materials per coupling name, overriding the above"
     )
-    materials: dict[str, MaterialModel] = Field(
-        default_factory=dict, description="Custom materials by name, usable above"
-    )
-    disturbing_force: Vec3 = Field(
-        default_factory=lambda: [0.0, 0.0, 0.0], min_length=3, max_length=3, description="N"
-    )
-    disturbing_torque: Vec3 = Field(
-        default_factory=lambda: [0.0, 0.0, 0.0], min_length=3, max_length=3, description="N m"
-    )
+    materials: dict[str, MaterialModel] = Field({}, description="Custom materials by name")
+    disturbing_force: Vec3 = Field([0.0, 0.0, 0.0], min_length=3, max_length=3, description="N")
+    disturbing_torque: Vec3 = Field([0.0, 0.0, 0.0], min_length=3, max_length=3, description="N m")
     disturbing_point: Vec3 | None = Field(
         None,
         min_length=3,

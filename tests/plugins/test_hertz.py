@@ -263,3 +263,13 @@ def test_picture(three_vee_scene, tmp_path):
     result = Hertz().run(inputs)
     files = Hertz().plot(inputs, result, tmp_path / "plots")
     assert [f.suffix for f in files] == [".png", ".svg"] and all(f.stat().st_size for f in files)
+
+
+def test_large_contacts_are_flagged(tmp_path):
+    # a PLA ball pressed hard: a/R = a * 2B, large, so Hertz theory (half-spaces) is approximate
+    scene = coupling_scene(tmp_path, three_vee(0.05, BALL, BETA))
+    scene = with_preloads(scene, _ball_preloads(scene, [0, 0, -2000.0]))
+    result = _run(scene, ball_material="pla", seat_material="pla")
+    sizes = [c["semi_axes"][0] / BALL for c in result.details["contacts"]]
+    assert max(sizes) > 0.1
+    assert f"a/R up to {max(sizes):.2g}" in result.message and result.details["notes"]
