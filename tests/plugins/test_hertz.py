@@ -273,3 +273,20 @@ def test_large_contacts_are_flagged(tmp_path):
     sizes = [c["semi_axes"][0] / BALL for c in result.details["contacts"]]
     assert max(sizes) > 0.1
     assert f"a/R up to {max(sizes):.2g}" in result.message and result.details["notes"]
+
+
+def test_singular_layout_is_reported_not_solved(tmp_path):
+    # six balls on flats whose normals all pass through one point: rotations about it are free
+    from tests.couplings import BALL_FLAT, ball_contacts
+
+    apex = np.array([0.0, 0.0, 0.08])
+    contacts = []
+    for k in range(6):
+        phi = np.radians(60.0 * k)
+        centre = 0.05 * np.array([np.cos(phi), np.sin(phi), 0.0])
+        contacts += ball_contacts(f"b{k}", "ball-flat", centre, BALL, [apex - centre], [BALL_FLAT])
+    scene = coupling_scene(tmp_path, contacts)
+    scene = with_preloads(scene, _ball_preloads(scene, [0, 0, -10.0]))
+    result = _run(scene)
+    assert result.status is Status.FAIL and "singular" in result.message
+    assert result.details["condition"] > 1e12 and "contacts" not in result.details
