@@ -58,7 +58,10 @@ def add_parser(sub: Any) -> None:
         help="a friction range: the margin must hold at every sampled coefficient in it",
     )
     p.add_argument(
-        "--friction-samples", type=int, default=5, help="coefficients sampled in the range"
+        "--friction-samples",
+        type=int,
+        default=5,
+        help="coefficients sampled in the range (default 5)",
     )
     p.add_argument("--top", type=int, default=5, help="candidates to print (default 5)")
     p.add_argument("--seed", type=int, default=0, help="seed of the surface sampling")
@@ -67,9 +70,20 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--write", type=Path, metavar="FILE", help="write the scene with the best candidate's load"
     )
-    p.add_argument("--format", choices=("text", "json"), default="text")
-    p.add_argument("--color", choices=("auto", "always", "never"), default="auto")
-    p.add_argument("--allow-outside-paths", action="store_true")
+    p.add_argument(
+        "--format", choices=("text", "json"), default="text", help="output (default: text)"
+    )
+    p.add_argument(
+        "--color",
+        choices=("auto", "always", "never"),
+        default="auto",
+        help="colour in the text output (default: auto)",
+    )
+    p.add_argument(
+        "--allow-outside-paths",
+        action="store_true",
+        help="let the scene use meshes outside its own folder",
+    )
     p.set_defaults(handler=run)
 
 
