@@ -1,0 +1,367 @@
+"""Hertz: contact stress and stiffness of each ball contact, the coupling's stiffness at the
+seat and the body's error motion under a disturbing load (docs/checks.md, `hertz`).
+
+Needs the contact geometry of every support (ball radius, the mating surface's radii), which
+the coupling shorthands (`couplings:`) give; explicit supports have none and the check is then
+skipped with that reason. Materials come from the check's options: a ball and a seat material
+for every coupling, overrides per coupling name, and custom materials.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from kcheck.fmt import format_number, format_vector
+from kcheck.hertz import HertzContact, hertz
+from kcheck.plugin import Check, Inputs
+from kcheck.result import CheckResult, Finding, Status
+from kcheck.scene import Preload, Scene, Support
+from kcheck.seat import (
+    Seat,
+    contact_forces,
+    external_wrench,
+    point_compliance,
+    point_translation,
+    seat_layout,
+    seated_loads,
+    stiffness_matrix,
+    twist_from_approach,
+)
+from kcheck_checks.hertz_materials import Contacts, HertzOptions, contacts_of
+
+__all__ = ["Hertz", "hertz_result"]
+
+
+def _support_field(scene: Scene, index: int) -> tuple[str | int, ...]:
+    """The scene field of a support: its coupling entry, or its item under `supports`.
+
+    Couplings expand in their order, so the k-th distinct coupling name is `couplings[k]`.
+    """
+    support = scene.supports[index]
+    if support.geometry is not None:
+        names = list(dict.fromkeys(s.geometry.coupling for s in scene.supports if s.geometry))
+        return ("couplings", names.index(support.geometry.coupling))
+    explicit = [i for i, s in enumerate(scene.supports) if s.geometry is None]
+    return ("supports", explicit.index(index))
+
+
+# --- the check ------------------------------------------------------------------------------
+
+
+def _pressure(p: float) -> str:
+    """A pressure in Pa for people: GPa above 1 GPa, else MPa."""
+    return f"{p / 1e9:.3g} GPa" if p >= 1e9 else f"{p / 1e6:.3g} MPa"
+
+
+def _stiffness_text(k: float) -> str:
+    return format_number(k / 1e6, 3)
+
+
+class Hertz(Check):
+    """Hertz contact stress and stiffness per ball contact; coupling stiffness; error motion."""
+
+    id = "hertz"
+    summary = (
+        "Hertz contact of every ball contact under the seated load: peak pressure against the "
+        "materials' allowable, contact stiffness; the coupling's stiffness matrix and the "
+        "error motion of a body point under a disturbing load"
+    )
+    applies_to = (
+        "scenes whose supports carry contact geometry (coupling shorthands) and some seating "
+        "force (weight, preloads or a load with a design direction)"
+    )
+    options = HertzOptions
+
+    def skip_reason(self, scene: Scene) -> str | None:
+        """Every support needs its contact geometry; ball-cone line contacts are not points."""
+        bare = [s.name for s in scene.supports if s.geometry is None]
+        if bare:
+            shown = ", ".join(bare[:4]) + (", ..." if len(bare) > 4 else "")
+            return (
+                f"needs the contact geometry of every support; {shown} "
+                f"{'is an explicit support' if len(bare) == 1 else 'are explicit supports'} "
+                "(write the coupling with `couplings:` shorthands to give ball and groove radii)"
+            )
+        lines = sorted({s.geometry.coupling for s in scene.supports if s.geometry.line_contact})  # type: ignore[union-attr]
+        if lines:
+            return (
+                f"coupling(s) {', '.join(lines)} are line contacts (ball in a cone); Hertz point "
+                "contact theory does not apply to them"
+            )
+        seating = scene.preloads or (scene.body is not None and np.any(scene.gravity[: scene.dim]))
+        load = scene.load
+        if not seating and not (load is not None and load.magnitude > 0 and load.direction):
+            return (
+                "nothing seats the coupling (no weight, no preloads, no load with a design "
+                "direction): contact forces and contact stiffness are zero"
+            )
+        return None
+
+    def needs_mass_for(self, scene: Scene) -> bool:
+        """Mass properties for the weight, or for a load acting at the centre of mass."""
+        if scene.body is None:
+            return False
+        load = scene.load
+        at_com = load is not None and load.point is None and load.direction is not None
+        return bool(np.any(scene.gravity[: scene.dim])) or at_com
+
+    def run(self, inputs: Inputs) -> CheckResult:
+        """Seated forces, Hertz contacts, stiffness matrix, error motion, verdict."""
+        assert isinstance(inputs.options, HertzOptions)
+        return hertz_result(self.id, inputs.scene, inputs.mass, inputs.options)
+
+    def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
+        """Peak pressure per contact against its allowable, and the stiffness at the point."""
+        from kcheck_checks.plots_hertz import plot_hertz
+
+        return plot_hertz(inputs.scene, result, directory)
+
+
+def _unknown_couplings(scene: Scene, options: HertzOptions) -> CheckResult | None:
+    known = {s.geometry.coupling for s in scene.supports if s.geometry is not None}
+    unknown = sorted(set(options.couplings) - known)
+    if not unknown:
+        return None
+    message = (
+        f"materials given for unknown coupling(s) {', '.join(unknown)}; "
+        f"the scene's couplings: {', '.join(sorted(known))}"
+    )
+    return CheckResult(
+        "hertz",
+        Status.ERROR,
+        message,
+        findings=(Finding(message, "unknown-coupling", ("checks", "hertz", "couplings")),),
+    )
+
+
+def _contact_json(
+    support: Support, contacts: Contacts, i: int, seated: HertzContact, worst: HertzContact
+) -> dict[str, Any]:
+    assert support.geometry is not None
+    return {
+        "support": support.name,
+        "coupling": support.geometry.coupling,
+        "ball_material": contacts.ball[i].name,
+        "seat_material": contacts.seat[i].name,
+        "contact_modulus": float(contacts.modulus[i]),
+        "curvature_sums": [float(contacts.sum_a[i]), float(contacts.sum_b[i])],
+        # a circle has no major axis
+        "major_axis": None
+        if contacts.sum_b[i] - contacts.sum_a[i] <= 1e-12 * contacts.sum_b[i]
+        else contacts.major_axis[i].tolist(),
+        "normal_force": float(seated.force[i]),
+        "semi_axes": [float(seated.a[i]), float(seated.b[i])],
+        "max_pressure": float(seated.max_pressure[i]),
+        "approach": float(seated.approach[i]),
+        "stiffness": float(seated.stiffness[i]),
+        "normal_force_worst": float(worst.force[i]),
+        "max_pressure_worst": float(worst.max_pressure[i]),
+        "allowable_pressure": float(contacts.allowable[i]),
+    }
+
+
+def _point(value: Sequence[float] | None, scene: Scene, default: np.ndarray) -> np.ndarray:
+    return default if value is None else np.asarray(value, float) * scene.scale
+
+
+@dataclass(frozen=True)
+class _Forces:
+    """Contact forces (N): seated, with the disturbance, and which contacts lift or open."""
+
+    seated: np.ndarray
+    disturbed: np.ndarray
+    error: np.ndarray
+    lifted: np.ndarray
+    opened: np.ndarray
+
+
+def _forces(
+    scene: Scene, seat: Seat, loads: Sequence[Preload], torque: np.ndarray, options: HertzOptions
+) -> tuple[_Forces | None, float, dict[str, Any]]:
+    """Seated and disturbed contact forces, or None on a singular layout; the condition."""
+    seated = contact_forces(seat, external_wrench(seat, loads, torque))
+    if seated.value is None or seated.error is None:
+        return None, seated.condition, {}
+    extra: dict[str, Any] = {}
+    change = np.zeros_like(seated.value)
+    if options.disturbed:
+        origin = seat.frame.origin
+        error_point = _point(options.error_point, scene, origin)
+        point = _point(options.disturbing_point, scene, error_point)
+        dist = Preload("disturbance", point, np.asarray(options.disturbing_force, float))
+        wrench = external_wrench(seat, [dist], np.asarray(options.disturbing_torque, float))
+        # The same matrix as the seated solve, so not singular either.
+        change = contact_forces(seat, wrench).value  # type: ignore[assignment]
+        extra["disturbing_load"] = {
+            "point": point.tolist(),
+            "force": list(options.disturbing_force),
+            "torque": list(options.disturbing_torque),
+        }
+    tol = 1e-12 * seat.frame.force
+    lifted = seated.value <= tol
+    total = seated.value + change
+    return (
+        _Forces(seated.value, total, seated.error, lifted, (total <= tol) & ~lifted),
+        seated.condition,
+        extra,
+    )
+
+
+def _contact_findings(scene: Scene, forces: _Forces) -> list[Finding]:
+    names = [s.name for s in scene.supports]
+    out = []
+    for i in np.flatnonzero(forces.lifted):
+        out.append(
+            Finding(
+                f"{names[i]} would have to pull ({format_number(forces.seated[i], 3)} N) under "
+                "the seated load: the body lifts off there",
+                "lifts-off",
+                _support_field(scene, i),
+                "add preload (springs, a magnet) or move the closing force so every contact "
+                "carries load",
+            )
+        )
+    for i in np.flatnonzero(forces.opened):
+        out.append(
+            Finding(
+                f"{names[i]} opens under the disturbing load "
+                f"({format_number(forces.seated[i], 3)} N seated, "
+                f"{format_number(forces.disturbed[i], 3)} N disturbed)",
+                "opens-under-disturbance",
+                _support_field(scene, i),
+                "raise the preload above the disturbance's share at this contact",
+            )
+        )
+    return out
+
+
+def _stress_findings(
+    scene: Scene, contacts: Contacts, worst: HertzContact, utilisation: np.ndarray, sf: float
+) -> list[Finding]:
+    out = []
+    for i in np.flatnonzero(utilisation > 1.0):
+        weak = contacts.weaker(i)
+        factor = f" / safety factor {sf:g}" if sf != 1 else ""
+        out.append(
+            Finding(
+                f"{scene.supports[i].name}: peak pressure {_pressure(worst.max_pressure[i])} "
+                f"exceeds {weak.name}'s allowable {_pressure(weak.allowable_pressure)}{factor} "
+                f"({100 * utilisation[i]:.0f} %)",
+                "contact-stress",
+                _support_field(scene, i),
+                # p0 ~ (P / R^2)^(1/3): radii u^(3/2) times larger or a force u^3 times smaller
+                f"to get below it: contact radii {utilisation[i] ** 1.5:.2g}x larger (a larger "
+                f"ball, a conformal groove or cylinder), {utilisation[i] ** 3:.2g}x less force, "
+                "or a harder material",
+            )
+        )
+    return out
+
+
+def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) -> CheckResult:
+    """The hertz check's result for a scene whose supports all carry contact geometry."""
+    bad = _unknown_couplings(scene, options)
+    if bad is not None:
+        return bad
+    positions = np.array([s.position for s in scene.supports])
+    normals = np.array([s.normal for s in scene.supports])
+    loads, torque, notes = seated_loads(scene, mass)
+    scale = max([float(np.linalg.norm(p.force)) for p in loads] + [1e-300])
+    seat = seat_layout(positions, normals, scene.dim, scale)
+    error_point = _point(options.error_point, scene, seat.frame.origin)
+    details: dict[str, Any] = {
+        "safety_factor": options.safety_factor,
+        "reference_point": seat.frame.origin.tolist(),
+        "seated_load": [
+            {
+                "name": p.name,
+                "point": np.asarray(p.point).tolist(),
+                "force": np.asarray(p.force).tolist(),
+            }
+            for p in loads
+        ],
+    }
+    if notes:
+        details["notes"] = notes
+    forces, condition, extra = _forces(scene, seat, loads, torque, options)
+    details["condition"] = condition
+    details.update(extra)
+    if forces is None:
+        return CheckResult(
+            check_id,
+            Status.FAIL,
+            f"the support layout is singular (condition {condition:.1e}): the seated contact "
+            "forces are not determined; no contact stresses reported",
+            details=details,
+        )
+    contacts = contacts_of(scene, options)
+    seated = hertz(forces.seated.clip(0.0), contacts.sum_a, contacts.sum_b, contacts.modulus)
+    heavier = np.maximum(forces.seated, forces.disturbed).clip(0.0)
+    worst = hertz(heavier, contacts.sum_a, contacts.sum_b, contacts.modulus)
+    allowable = contacts.allowable / options.safety_factor
+    utilisation = worst.max_pressure / allowable
+    details["contacts"] = [
+        _contact_json(s, contacts, i, seated, worst) | {"utilisation": float(utilisation[i])}
+        for i, s in enumerate(scene.supports)
+    ]
+    details["max_utilisation"] = float(utilisation.max())
+    # Hertz theory assumes contacts small against the radii (half-space, small strains).
+    size = float(np.max(worst.a * 2.0 * contacts.sum_b))
+    large = f"contacts large against their radii (a/R up to {size:.2g}): Hertz is approximate"
+    if size > 0.1:
+        details.setdefault("notes", []).append(large)
+    findings = _contact_findings(scene, forces)
+    findings += _stress_findings(scene, contacts, worst, utilisation, options.safety_factor)
+    i = int(np.argmax(utilisation))
+    parts = [
+        f"peak contact pressure {_pressure(worst.max_pressure[i])} at {scene.supports[i].name} "
+        f"({100 * utilisation[i]:.0f} % of {_pressure(allowable[i])} allowed)"
+    ]
+    if size > 0.1:
+        parts.append(large)
+    big_k = stiffness_matrix(seat, seated.stiffness)
+    details["stiffness_matrix"] = big_k.tolist()
+    compliance = None if np.any(forces.lifted) else point_compliance(seat, big_k, error_point)
+    if compliance is not None:
+        axis_k = 1.0 / np.diag(compliance)
+        details["error_point"] = error_point.tolist()
+        details["point_stiffness"] = axis_k.tolist()
+        details["point_compliance"] = compliance.tolist()
+        parts.append(
+            f"stiffness at {format_vector(error_point / scene.scale)} {scene.units}: "
+            + "/".join(_stiffness_text(k) for k in axis_k)
+            + f" N/µm ({'/'.join('xyz'[: scene.dim])})"
+        )
+    if options.disturbed and compliance is not None and not np.any(forces.opened):
+        disturbed = hertz(
+            forces.disturbed.clip(0.0), contacts.sum_a, contacts.sum_b, contacts.modulus
+        )
+        motion = twist_from_approach(seat, disturbed.approach - seated.approach)
+        assert motion.value is not None
+        nw = seat.rotations
+        translation = point_translation(seat, motion.value, error_point)
+        rotation = motion.value[:nw] if nw == 3 else np.array([0.0, 0.0, motion.value[0]])
+        details["error_motion"] = {
+            "point": error_point.tolist(),
+            "translation": translation.tolist(),
+            "rotation": rotation.tolist(),
+        }
+        parts.append(
+            f"error motion {format_number(np.linalg.norm(translation) * 1e6, 3)} µm, "
+            f"{format_number(np.linalg.norm(rotation) * 1e6, 3)} µrad under the disturbing load"
+        )
+    # Forces err by about the solve's estimate; p0 ~ N^(1/3), so utilisation by a third of it.
+    rel = float(np.max(forces.error / np.maximum(np.abs(forces.seated), 1e-300)))
+    return CheckResult(
+        check_id,
+        Status.PASS if not findings else Status.FAIL,
+        "; ".join(parts),
+        error_estimate=float(utilisation.max()) * rel / 3.0,
+        details=details,
+        findings=tuple(findings),
+    )

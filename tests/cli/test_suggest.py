@@ -1,0 +1,124 @@
+"""``kcheck suggest`` end to end: a suggested design checks as safe with the reported margin.
+
+The verification is independent of the search: the written scene file goes through the real
+parser and the `analytical-3d` check, whose design margin must equal the reported one.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import pytest
+
+from kcheck.plugin import load_checks
+from kcheck.runner import check_scene
+from tests.conftest import FIXTURES, PLANAR_SCENE
+
+FAST = ("--points", "200", "--directions", "150")
+
+
+def _analytical_3d(path):
+    result = check_scene(path, [lc for lc in load_checks() if lc.spec.name != "hertz"])
+    (check,) = [c for c in result.checks if c.id == "analytical-3d"]
+    return check
+
+
+@pytest.fixture
+def fixture_copy(tmp_path):
+    def copy(name):
+        folder = tmp_path / name
+        shutil.copytree(FIXTURES / name, folder)
+        return folder
+
+    return copy
+
+
+def test_three_groove_suggestion_checks_safe(cli, fixture_copy):
+    folder = fixture_copy("three-groove")
+    out = folder / "suggested.kcheck.yaml"
+    code, stdout, _ = cli(
+        "suggest",
+        str(folder / "coupling.kcheck.yaml"),
+        *FAST,
+        "--format",
+        "json",
+        "--write",
+        str(out),
+    )
+    assert code == 0
+    doc = json.loads(stdout)
+    best = doc["best"][0]
+    assert best["margin_deg"] > doc["design"]["margin_deg"] > 0  # better than the design
+    check = _analytical_3d(out)
+    assert check.status.value == "pass"
+    assert check.details["design_margin_deg"] == pytest.approx(best["margin_deg"], abs=1e-6)
+    assert all(c.outcome == "closes" for c in check.cases)
+
+
+def test_block_321_original_design_is_not_placeable_at_10_newtons(cli, fixture_copy):
+    # The 3-2-1 block's original design: 10 N along (-0.3, -0.4, -0.87) at the top face's
+    # centre has no safe direction. No point of the surface has one at 10 N either (weight
+    # 67.5 N, mu = 0.11); suggest says so and finds the least force that has one.
+    folder = fixture_copy("block-321")
+    scene = folder / "block.kcheck.yaml"
+    scene.write_text(
+        scene.read_text()
+        .replace("magnitude: 50", "magnitude: 10")
+        .replace("direction: [-0.57, -0.82, 0.04]", "direction: [-0.3, -0.4, -0.87]"),
+        encoding="utf-8",
+    )
+    code, stdout, _ = cli("suggest", str(scene), *FAST, "--format", "json")
+    assert code == 1
+    doc = json.loads(stdout)
+    assert doc["design"]["margin_deg"] < 0 and doc["best"][0]["margin_deg"] < 0
+    least = doc["least_force"]
+    assert 10 < least < 30
+    # with that force (and a little more) a placement exists and checks safe as reported
+    out = folder / "suggested.kcheck.yaml"
+    code, stdout, _ = cli(
+        "suggest",
+        str(scene),
+        *FAST,
+        "--magnitude",
+        f"{1.2 * least:.3g}",
+        "--format",
+        "json",
+        "--write",
+        str(out),
+    )
+    assert code == 0
+    best = json.loads(stdout)["best"][0]
+    assert best["margin_deg"] > 0
+    check = _analytical_3d(out)
+    assert check.details["design_margin_deg"] == pytest.approx(best["margin_deg"], abs=1e-6)
+    assert all(c.outcome == "closes" for c in check.cases)
+
+
+def test_text_report_and_picture(cli, tmp_path):
+    pytest.importorskip("matplotlib")
+    plot = tmp_path / "where.png"
+    code, stdout, stderr = cli(
+        "suggest",
+        str(FIXTURES / "three-groove" / "coupling.kcheck.yaml"),
+        *FAST,
+        "--plot",
+        str(plot),
+        "--top",
+        "2",
+    )
+    assert code == 0
+    assert "design: at (0, 0, 24.5) mm along (0, 0, -1): margin 19.10°" in stdout
+    assert "best: margin" in stdout and "pulls" in stdout
+    assert plot.exists() and plot.with_suffix(".svg").exists() and "wrote" in stderr
+
+
+def test_bad_input_is_exit_2(cli, write_scene, tmp_path):
+    code, _, err = cli("suggest", str(write_scene(PLANAR_SCENE)))
+    assert code == 2 and "spatial" in err
+    code, _, err = cli(
+        "suggest", str(FIXTURES / "three-groove" / "coupling.kcheck.yaml"), "--magnitude", "-1"
+    )
+    assert code == 2 and "--magnitude must be positive" in err
+    code, _, err = cli("suggest", str(tmp_path / "missing.kcheck.yaml"))
+    assert code == 2 and "missing.kcheck.yaml" in err
