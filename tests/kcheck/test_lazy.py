@@ -10,8 +10,11 @@ from tests.conftest import PLANAR_SCENE
 
 HEAVY = ("trimesh", "scipy", "matplotlib")
 
+# Scenes run in this process (no worker), so the modules they import are seen here.
 PROBE = """
 import json, sys
+import kcheck.pool
+kcheck.pool.available = lambda: False
 from kcheck.cli import main
 code = main(sys.argv[1:])
 heavy = sorted(m for m in HEAVY if m in sys.modules)
