@@ -43,8 +43,11 @@ class Issue:
 
     @property
     def text(self) -> str:
-        """The message with its hint, for one-line formats."""
-        return self.message if not self.hint else f"{self.message} (hint: {self.hint})"
+        """The message with its hint (and, for bad input, the field), for one-line formats."""
+        text = " ".join(self.message.splitlines())
+        if self.kind == "error" and self.field:
+            text = f"field `{self.field}`: {text}"
+        return text if not self.hint else f"{text} (hint: {self.hint})"
 
     @property
     def location(self) -> str:
