@@ -137,7 +137,7 @@ KEYS: tuple[Key, ...] = (
     Key("cache", _bool, True, "cache mass properties of meshes"),
     Key("cache_dir", _path, None, "cache folder (default: .kcheck_cache beside the config)"),
     Key("allow_outside_paths", _bool, False, "let scenes use meshes outside their folder"),
-    Key("timeout", _positive("seconds"), 300.0, "time budget of one scene, s"),
+    Key("timeout", _positive("seconds"), 120.0, "time budget of one scene, s"),
     Key("memory_limit", _positive("MiB"), 2048.0, "memory budget of one scene, MiB"),
     Key("max_file_size", _positive("MiB"), 5.0, "largest scene file read, MiB"),
 )
@@ -165,11 +165,11 @@ class Config:
         return self.values[name]
 
     def where(self, key: str) -> str:
-        """Where to look for a key: ``pyproject.toml [tool.kcheck] jobs``."""
+        """Where to look for a key: ``pyproject.toml: [tool.kcheck] `jobs```."""
         if self.file is None:
             return f"`{key}`"
-        table = "[tool.kcheck]" if self.file.name == "pyproject.toml" else ""
-        return f"{self.file} {table} `{key}`".replace("  ", " ")
+        table = "[tool.kcheck] " if self.file.name == "pyproject.toml" else ""
+        return f"{self.file}: {table}`{key}`"
 
     def with_overrides(self, overrides: Mapping[str, Any]) -> Config:
         """This configuration with command-line values (already typed) on top."""

@@ -109,7 +109,7 @@ def add_gate_options(parser: argparse.ArgumentParser) -> None:
         type=_positive_float,
         metavar="SECONDS",
         help="time budget of one scene; past it the scene is an error and the batch goes on "
-        "(default: 300)",
+        "(default: 120)",
     )
     gate.add_argument(
         "--memory-limit",
