@@ -24,6 +24,7 @@ __all__ = [
     "walk_scenes",
     "discover_paths",
     "scenes_using",
+    "search_root",
     "check_output_file",
     "check_output_dir",
 ]
@@ -201,6 +202,18 @@ def scenes_using(meshes: Iterable[Path], root: Path) -> dict[Path, list[Path]]:
             if target in wanted and scene not in found[wanted[target]]:
                 found[wanted[target]].append(scene)
     return found
+
+
+def search_root(mesh: Path) -> Path:
+    """Where to look for scenes using a mesh: the git repository holding it; else the
+    working directory if it holds the mesh; else the mesh's folder. (A scene names meshes in
+    its own folder or below, unless --allow-outside-paths.)"""
+    folder = mesh.resolve().parent
+    for parent in (folder, *folder.parents):
+        if (parent / ".git").exists():
+            return parent
+    cwd = Path.cwd().resolve()
+    return cwd if folder.is_relative_to(cwd) else folder
 
 
 def _first_existing(path: Path) -> Path:

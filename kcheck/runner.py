@@ -63,13 +63,13 @@ def discover(paths: Iterable[Path | str]) -> tuple[list[Path], list[SceneResult]
     """Scene files under the given files and folders (folders recursively, in sorted order),
     each once, and an error result for every path that cannot be used: missing, a dangling
     symlink or a symlink loop, an unreadable folder, a folder without scenes, a path too long.
-    Mesh files among ``paths`` are replaced by the scenes under the working directory that
-    use them (:func:`kcheck.paths.scenes_using`)."""
-    from kcheck.paths import scenes_using
+    Mesh files among ``paths`` are replaced by the scenes that use them, searched for in the
+    mesh's repository (:func:`kcheck.paths.scenes_using`)."""
+    from kcheck.paths import scenes_using, search_root
 
     scenes, meshes, problems = discover_paths(paths)
-    if meshes:
-        for users in scenes_using(meshes, Path.cwd()).values():
+    for mesh in meshes:
+        for users in scenes_using([mesh], search_root(mesh)).values():
             scenes.extend(users)
     errors = [_error(p.path, f"{p.path}: {p.message}") for p in problems]
     cwd = Path.cwd()
@@ -96,7 +96,14 @@ def _error(path: Path, message: str, errors: tuple[Finding, ...] = ()) -> SceneR
 def _input_error(path: Path, exc: SceneError) -> SceneResult:
     """An error result listing every input error of the file, each located."""
     findings = tuple(
-        Finding(e.message, field=e.where, line=e.line, column=e.column) for e in exc.all()
+        Finding(
+            e.message,
+            # a field given as text (``load.magnitude``) stays readable as a one-part path
+            field=e.where if e.where is not None else ((e.field,) if e.field else None),
+            line=e.line,
+            column=e.column,
+        )
+        for e in exc.all()
     )
     return _error(path, str(exc.all()[0]), findings)
 

@@ -43,5 +43,6 @@ def changed_scenes(files: Sequence[Path], ref: str) -> list[Path]:
 
     changed = changed_files(ref)
     meshes = [p for p in changed if p.suffix.lower() in MESH_SUFFIXES and p.exists()]
-    users = {s.resolve() for found in scenes_using(meshes, Path.cwd()).values() for s in found}
+    top = Path(_git("rev-parse", "--show-toplevel").strip())
+    users = {s.resolve() for found in scenes_using(meshes, top).values() for s in found}
     return [f for f in files if f.resolve() in changed or f.resolve() in users]

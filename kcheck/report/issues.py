@@ -42,12 +42,17 @@ class Issue:
     counts: bool = True
 
     @property
-    def text(self) -> str:
-        """The message with its hint (and, for bad input, the field), for one-line formats."""
+    def subject(self) -> str:
+        """The message on one line, for bad input led by its field."""
         text = " ".join(self.message.splitlines())
         if self.kind == "error" and self.field:
             text = f"field `{self.field}`: {text}"
-        return text if not self.hint else f"{text} (hint: {self.hint})"
+        return text
+
+    @property
+    def text(self) -> str:
+        """:attr:`subject` with the hint, for one-line formats."""
+        return self.subject if not self.hint else f"{self.subject} (hint: {self.hint})"
 
     @property
     def location(self) -> str:

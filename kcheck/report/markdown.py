@@ -59,7 +59,7 @@ def _checks_cell(scene: SceneResult) -> str:
 def _issue_line(issue: Issue) -> str:
     who = f"**{escape(issue.check)}**" if issue.check else f"**{escape(issue.rule)}**"
     level = "" if issue.level == "error" else " (warning)"
-    line = f"- {_code(issue.location)} {who}{level}: {escape(issue.message)}"
+    line = f"- {_code(issue.location)} {who}{level}: {escape(issue.subject)}"
     if issue.hint:
         line += f" — _{escape(issue.hint)}_"
     return line
