@@ -2,9 +2,10 @@
 
 The key is a SHA-256 over: each part's mesh content (SHA-256 of the file's bytes) and file
 name (it appears in notes), every other field of the part (density, and whatever else the
-scene gives: units, transform, repair...), the scene's length scale, the kcheck version, the
-trimesh version, and the source of the code that computes them (``kcheck/mass.py``, so a
-changed computation never reads an old answer, even between releases). A changed mesh gives
+scene gives: units, transform, repair...), every other field of the body (point masses...),
+the scene's length scale, the kcheck version, the trimesh version, and the source of the
+code that computes them (``kcheck/mass.py``, so a changed computation never reads an old
+answer, even between releases). A changed mesh gives
 a new key; nothing is ever looked up by file name or date.
 
 An entry is one JSON file, written atomically. It is trusted only if it parses, carries its
@@ -99,7 +100,19 @@ def body_key(body: Body, scale: float) -> str:
             if f.name not in ("mesh", "field")
         }
         parts.append({"sha256": _file_sha256(part.mesh), "name": part.mesh.name, "fields": fields})
-    material = {"format": _FORMAT, "code": _code_fingerprint(), "scale": scale, "parts": parts}
+    # Everything else the body carries (point masses, ...), whatever the scene format adds.
+    rest = {
+        f.name: _plain(getattr(body, f.name))
+        for f in dataclasses.fields(body)
+        if f.name not in ("parts", "explicit")
+    }
+    material = {
+        "format": _FORMAT,
+        "code": _code_fingerprint(),
+        "scale": scale,
+        "parts": parts,
+        "body": rest,
+    }
     return hashlib.sha256(json.dumps(material, sort_keys=True).encode()).hexdigest()
 
 
