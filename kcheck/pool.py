@@ -210,14 +210,12 @@ class _Pool(Generic[T, R]):
             worker.tasks = -1
         deadline = time.monotonic() + 5.0
         for worker in list(self.workers):
-            while time.monotonic() < deadline:
-                pid, _ = os.waitpid(worker.pid, os.WNOHANG)
-                if pid:
-                    break
-                time.sleep(0.005)
-            else:
+            # The worker's end of its result pipe closes when it exits: wait for that EOF.
+            left = max(deadline - time.monotonic(), 0.0)
+            ready, _, _ = select.select([worker.results], [], [], left)
+            if not ready or os.read(worker.results, 1):
                 os.kill(worker.pid, signal.SIGKILL)
-                os.waitpid(worker.pid, 0)
+            os.waitpid(worker.pid, 0)
             os.close(worker.results)
             self.workers.remove(worker)
 
