@@ -136,6 +136,54 @@ def startup(tmp: Path, repeat: int) -> None:
         print(f"| {name} | {wall:.3f} s | {cpu:.3f} s | {wall / numpy_wall:.2f} | {rss:.0f} MiB |")
 
 
+def import_breakdown(tmp: Path, repeat: int) -> None:
+    """Where a one-scene JSON run's start-up goes: ``python -X importtime``, the self time of
+    every imported module summed by distribution (the standard library as one), median over
+    runs."""
+    import re
+
+    scene = tmp / "explicit.kcheck.yaml"
+    if not scene.exists():
+        scene.write_text(
+            PLANAR.format(
+                i=0,
+                a=20,
+                angle=225,
+                body="mass: 1\n  center_of_mass: [50, 30, 0]\n  inertia: 0.001",
+            )
+        )
+    line = re.compile(r"import time:\s+(\d+) \|\s+(\d+) \| (\s*)(\S+)")
+    totals: dict[str, list[float]] = {}
+    walls = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        proc = subprocess.run(
+            [sys.executable, "-X", "importtime", "-m", "kcheck", "check", str(scene),
+             "--format", "json", "--jobs", "1"],
+            capture_output=True, text=True,
+        )  # fmt: skip
+        walls.append(time.perf_counter() - start)
+        groups: dict[str, float] = {}
+        for m in line.finditer(proc.stderr):
+            top = m.group(4).split(".")[0].lstrip("_")
+            if top in sys.stdlib_module_names or m.group(4) in sys.builtin_module_names:
+                top = "(standard library)"
+            elif top in ("kcheck", "kcheck_checks"):
+                top = f"{top} ({m.group(4).split('.')[1] if '.' in m.group(4) else ''})"
+                top = top.replace(" ()", "")
+            groups[top] = groups.get(top, 0.0) + int(m.group(1)) / 1e6
+        for name, value in groups.items():
+            totals.setdefault(name, []).append(value)
+    print("| imports of (self time, summed) | median |")
+    print("| --- | --- |")
+    ranked = sorted(totals.items(), key=lambda kv: -statistics.median(kv[1]))
+    for name, values in ranked[:16]:
+        print(f"| {name} | {statistics.median(values) * 1e3:.1f} ms |")
+    rest = sum(statistics.median(v) for _, v in ranked[16:])
+    print(f"| (others) | {rest * 1e3:.1f} ms |")
+    print(f"| (whole run, wall, -X importtime) | {statistics.median(walls) * 1e3:.0f} ms |")
+
+
 def make_planar(folder: Path, n: int) -> None:
     import trimesh
 
@@ -216,6 +264,8 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         if not args.skip_startup:
             startup(Path(tmp), args.repeat)
+            print()
+            import_breakdown(Path(tmp), args.repeat)
             print()
         if not args.skip_batches:
             sizes = [int(s) for s in args.sizes.split(",")]

@@ -19,6 +19,7 @@ from kcheck.errors import UsageError
 __all__ = [
     "MESH_SUFFIXES",
     "SCENE_SUFFIX",
+    "SKIPPED_FOLDERS",
     "DiscoveryError",
     "describe_os_error",
     "walk_scenes",
@@ -82,10 +83,26 @@ def _stat(path: Path) -> os.stat_result:
         raise DiscoveryError(path, reason) from None
 
 
+#: Folders never searched for scenes (given explicitly, they are): hidden ones (``.git``,
+#: ``.venv``, ``.kcheck_cache``...) and these.
+SKIPPED_FOLDERS = frozenset(("__pycache__", "node_modules"))
+
+
+def _scene_file(path: Path) -> None:
+    """Raise DiscoveryError unless ``path`` is a regular file (not a device, pipe or socket,
+    which could block or never end)."""
+    info = _stat(path)
+    if stat.S_ISDIR(info.st_mode):
+        raise DiscoveryError(path, "it is a folder, not a file")
+    if not stat.S_ISREG(info.st_mode):
+        raise DiscoveryError(path, "not a regular file (a device, pipe or socket)")
+
+
 def walk_scenes(folder: Path, errors: list[DiscoveryError]) -> Iterator[Path]:
     """Scene files under a folder, depth first in sorted order; every folder that cannot be
     read and every scene-named entry that cannot be used is appended to ``errors``.
-    Symbolic links to folders are followed once (a link back up is not walked again)."""
+    Symbolic links to folders are followed once (a link back up is not walked again);
+    hidden folders and :data:`SKIPPED_FOLDERS` are not entered."""
     seen: set[tuple[int, int]] = set()
 
     def walk(current: Path) -> Iterator[Path]:
@@ -109,10 +126,11 @@ def walk_scenes(folder: Path, errors: list[DiscoveryError]) -> Iterator[Path]:
             except OSError:
                 is_dir = False
             if is_dir:
-                yield from walk(path)
+                if not (entry.name.startswith(".") or entry.name in SKIPPED_FOLDERS):
+                    yield from walk(path)
             elif entry.name.endswith(SCENE_SUFFIX):
                 try:
-                    _stat(path)
+                    _scene_file(path)
                 except DiscoveryError as exc:
                     errors.append(exc)
                     continue
@@ -144,6 +162,8 @@ def discover_paths(
                     DiscoveryError(path, f"no *{SCENE_SUFFIX} files found in this folder")
                 )
             scenes.extend(found)
+        elif not stat.S_ISREG(info.st_mode):
+            errors.append(DiscoveryError(path, "not a regular file (a device, pipe or socket)"))
         elif path.suffix.lower() in MESH_SUFFIXES and not path.name.endswith(SCENE_SUFFIX):
             meshes.append(path)
         else:

@@ -63,3 +63,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         return ExitCode.USAGE_OR_INPUT
     except BrokenPipeError:
         return ExitCode.OK
+    except KeyboardInterrupt:
+        print("kcheck: interrupted", file=sys.stderr)
+        return 130  # as a shell reports SIGINT

@@ -96,6 +96,26 @@ def test_a_folder_given_as_a_file_and_a_path_below_a_file(cli_json, write_scene,
     assert code == 2 and "a part of the path is a file" in bad["error"]
 
 
+def test_a_pipe_is_an_error_not_a_hang(cli_json, write_scene, tmp_path):
+    good = write_scene(PLANAR_SCENE, "d/good.kcheck.yaml")
+    os.mkfifo(tmp_path / "d" / "pipe.kcheck.yaml")
+    os.mkfifo(tmp_path / "given.kcheck.yaml")
+    code, doc = cli_json(str(good.parent), str(tmp_path / "given.kcheck.yaml"))
+    errors = {Path(s["path"]).name: s["error"] for s in doc["scenes"] if s["status"] == "error"}
+    assert code == 2 and set(errors) == {"pipe.kcheck.yaml", "given.kcheck.yaml"}
+    assert all("not a regular file" in e for e in errors.values())
+
+
+def test_hidden_folders_are_not_searched(cli_json, write_scene):
+    good = write_scene(PLANAR_SCENE, "top/good.kcheck.yaml")
+    write_scene("not: [a scene", "top/.venv/lib/odd.kcheck.yaml")
+    write_scene("not: [a scene", "top/node_modules/odd.kcheck.yaml")
+    code, doc = cli_json(str(good.parent))
+    assert code == 0 and [Path(s["path"]).name for s in doc["scenes"]] == ["good.kcheck.yaml"]
+    code, doc = cli_json(str(good.parent / ".venv"))  # given explicitly, it is searched
+    assert code == 2
+
+
 # -- outputs -------------------------------------------------------------------------------
 
 
