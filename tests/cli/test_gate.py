@@ -250,3 +250,27 @@ def test_jobs_2_gives_the_report_of_jobs_1(cli, tmp_path):
         runs[jobs] = (code, _without_timings(out))
     assert runs["1"] == runs["2"]
     assert len(json.loads(runs["1"][1])["scenes"]) >= 10
+
+
+def test_blas_pinned_to_one_thread_unless_the_user_chose():
+    import subprocess
+    import sys
+
+    probe = (
+        "import os, sys\n"
+        "from kcheck.cli import main\n"
+        "main(['config'])\n"
+        "print(os.environ['OPENBLAS_NUM_THREADS'], os.environ['OMP_NUM_THREADS'], "
+        "'numpy' in sys.modules, file=sys.stderr)\n"
+    )
+    env = {k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS")}
+    proc = subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True)
+    # main() pins first, before any command imports numpy (`config` never does)
+    assert proc.stderr.split()[-3:] == ["1", "1", "False"]
+    proc = subprocess.run(
+        [sys.executable, "-c", probe],
+        env={**env, "OPENBLAS_NUM_THREADS": "4"},
+        capture_output=True,
+        text=True,
+    )
+    assert proc.stderr.split()[-3:-1] == ["4", "1"]
