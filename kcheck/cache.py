@@ -20,7 +20,6 @@ import dataclasses
 import hashlib
 import json
 import os
-import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -142,6 +141,8 @@ class MassCache:
 
     def put(self, key: str, mass: MassProperties) -> None:
         """Store an entry atomically; a cache that cannot be written is silently skipped."""
+        import tempfile
+
         payload = _to_payload(mass)
         entry = {"key": key, "checksum": _checksum(payload), "payload": payload}
         path = self._path(key)
