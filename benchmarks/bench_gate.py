@@ -73,16 +73,16 @@ def medians(samples: list[tuple[float, float, float, int]]) -> tuple[float, floa
     )
 
 
+def explicit_scene(tmp: Path) -> Path:
+    """A planar scene with explicit mass properties (no mesh)."""
+    scene = tmp / "explicit.kcheck.yaml"
+    body = "mass: 1\n  center_of_mass: [50, 30, 0]\n  inertia: 0.001"
+    scene.write_text(PLANAR.format(i=0, a=20, angle=225, body=body))
+    return scene
+
+
 def startup(tmp: Path, repeat: int) -> None:
-    explicit = tmp / "explicit.kcheck.yaml"
-    explicit.write_text(
-        PLANAR.format(
-            i=0,
-            a=20,
-            angle=225,
-            body="mass: 1\n  center_of_mass: [50, 30, 0]\n  inertia: 0.001",
-        )
-    )
+    explicit = explicit_scene(tmp)
     mesh_dir = tmp / "mesh"
     shutil.copytree(FIXTURES / "planar-block", mesh_dir)
     mesh_scene = mesh_dir / "block.kcheck.yaml"
@@ -142,16 +142,7 @@ def import_breakdown(tmp: Path, repeat: int) -> None:
     runs."""
     import re
 
-    scene = tmp / "explicit.kcheck.yaml"
-    if not scene.exists():
-        scene.write_text(
-            PLANAR.format(
-                i=0,
-                a=20,
-                angle=225,
-                body="mass: 1\n  center_of_mass: [50, 30, 0]\n  inertia: 0.001",
-            )
-        )
+    scene = explicit_scene(tmp)
     line = re.compile(r"import time:\s+(\d+) \|\s+(\d+) \| (\s*)(\S+)")
     totals: dict[str, list[float]] = {}
     walls = []

@@ -8,13 +8,7 @@ errors and 10 warnings per step, so CI should print a full report too (``docs/ci
 
 from __future__ import annotations
 
-from collections import Counter
-from collections.abc import Sequence
-from typing import TextIO
-
-from kcheck.report import ReportOptions
-from kcheck.report.issues import Issue, clean_text, issues, summary_line
-from kcheck.result import SceneResult
+from kcheck.report.issues import Issue, LineReporter, clean_text
 
 __all__ = ["GithubReporter", "escape_data", "escape_property", "annotation"]
 
@@ -43,22 +37,13 @@ def annotation(issue: Issue) -> str:
     return clean_text(f"::{command} {','.join(props)}::{escape_data(text)}")
 
 
-class GithubReporter:
-    """Annotations as each scene finishes; the counts at the end."""
+class GithubReporter(LineReporter):
+    """Annotations as each scene finishes; the counts at the end, as a plain line."""
 
-    def __init__(self, stream: TextIO, options: ReportOptions) -> None:
-        self.stream = stream
-        self.options = options
+    def line(self, issue: Issue) -> str:
+        """One workflow command."""
+        return annotation(issue)
 
-    def start(self, total: int) -> None:
-        """Nothing before the first scene."""
-
-    def scene(self, result: SceneResult) -> None:
-        """One workflow command per issue."""
-        for issue in issues(result, self.options.fail_on):
-            self.stream.write(annotation(issue) + "\n")
-
-    def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
-        """A plain summary line (not an annotation)."""
-        counts = Counter(r.status for r in results)
-        self.stream.write(f"kcheck: {summary_line(counts, len(results))}\n")
+    def summary(self, text: str) -> str:
+        """Not an annotation."""
+        return f"kcheck: {text}"

@@ -10,13 +10,25 @@ finding without a code, ``<check>/crashed``, ``input-error``, ``scene-warning/<c
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator, Mapping
+from collections import Counter
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Literal
+from typing import TYPE_CHECKING, Literal, TextIO
 
 from kcheck.result import Finding, SceneResult, Status
 
-__all__ = ["Issue", "issues", "counts_toward_exit", "clean_text", "summary_line"]
+if TYPE_CHECKING:
+    from kcheck.report import ReportOptions
+
+__all__ = [
+    "Issue",
+    "issues",
+    "counts_toward_exit",
+    "clean_text",
+    "summary_line",
+    "LineReporter",
+    "CollectingReporter",
+]
 
 INPUT_ERROR = "input-error"
 
@@ -156,3 +168,50 @@ def summary_line(counts: Mapping[Status, int], total: int, elapsed_s: float | No
     if elapsed_s is not None:
         text += f" ({elapsed_s:.1f} s)"
     return text
+
+
+class LineReporter:
+    """Base of the formats that write one line per issue as each scene finishes and a
+    summary line at the end; subclasses give :meth:`line` and :meth:`summary`."""
+
+    def __init__(self, stream: TextIO, options: ReportOptions) -> None:
+        self.stream = stream
+        self.options = options
+
+    def line(self, issue: Issue) -> str:
+        """One issue's line."""
+        raise NotImplementedError
+
+    def summary(self, text: str) -> str:
+        """The last line, from :func:`summary_line`."""
+        return text
+
+    def start(self, total: int) -> None:
+        """Nothing before the first scene."""
+
+    def scene(self, result: SceneResult) -> None:
+        """One line per issue."""
+        for issue in issues(result, self.options.fail_on):
+            self.stream.write(clean_text(self.line(issue)) + "\n")
+
+    def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
+        """The counts."""
+        counts = Counter(r.status for r in results)
+        self.stream.write(self.summary(summary_line(counts, len(results))) + "\n")
+
+
+class CollectingReporter:
+    """Base of the formats written whole at the end: keeps every scene's issues (a few
+    small records each) in :attr:`issues`; subclasses write in ``finish``."""
+
+    def __init__(self, stream: TextIO, options: ReportOptions) -> None:
+        self.stream = stream
+        self.options = options
+        self.issues: list[Issue] = []
+
+    def start(self, total: int) -> None:
+        """Nothing before the end."""
+
+    def scene(self, result: SceneResult) -> None:
+        """Keep the scene's issues."""
+        self.issues.extend(issues(result, self.options.fail_on))

@@ -11,10 +11,8 @@ from __future__ import annotations
 import re
 from collections import Counter
 from collections.abc import Sequence
-from typing import TextIO
 
-from kcheck.report import ReportOptions
-from kcheck.report.issues import Issue, clean_text, issues, summary_line
+from kcheck.report.issues import CollectingReporter, Issue, clean_text, summary_line
 from kcheck.result import SceneResult, Status
 
 __all__ = ["MarkdownReporter", "escape"]
@@ -65,20 +63,8 @@ def _issue_line(issue: Issue) -> str:
     return line
 
 
-class MarkdownReporter:
+class MarkdownReporter(CollectingReporter):
     """Collects the issues as scenes finish; writes the comment at the end."""
-
-    def __init__(self, stream: TextIO, options: ReportOptions) -> None:
-        self.stream = stream
-        self.options = options
-        self.issues: list[Issue] = []
-
-    def start(self, total: int) -> None:
-        """Nothing before the end."""
-
-    def scene(self, result: SceneResult) -> None:
-        """Keep the scene's issues (few lines each)."""
-        self.issues.extend(issues(result, self.options.fail_on))
 
     def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
         """Write the comment."""

@@ -14,12 +14,11 @@ import hashlib
 import json
 from collections.abc import Sequence
 from pathlib import PurePath
-from typing import Any, TextIO
+from typing import Any
 from urllib.parse import quote
 
 from kcheck import __version__
-from kcheck.report import ReportOptions
-from kcheck.report.issues import INPUT_ERROR, Issue, clean_text, issues
+from kcheck.report.issues import INPUT_ERROR, CollectingReporter, Issue, clean_text
 from kcheck.result import SceneResult
 
 __all__ = ["SarifReporter", "SCHEMA_URI", "artifact_uri"]
@@ -69,20 +68,8 @@ def _fingerprint(issue: Issue) -> str:
     ).hexdigest()
 
 
-class SarifReporter:
+class SarifReporter(CollectingReporter):
     """Collects issues as scenes finish; writes the SARIF log at the end."""
-
-    def __init__(self, stream: TextIO, options: ReportOptions) -> None:
-        self.stream = stream
-        self.options = options
-        self.issues: list[Issue] = []
-
-    def start(self, total: int) -> None:
-        """Nothing before the end."""
-
-    def scene(self, result: SceneResult) -> None:
-        """Keep the scene's issues."""
-        self.issues.extend(issues(result, self.options.fail_on))
 
     def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
         """Write the log."""
