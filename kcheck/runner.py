@@ -1,9 +1,11 @@
 """Run checks over scene files: discovery, option validation, lazy mass properties, timing.
 
 Nothing a check does not need is computed: mass properties (and so trimesh and every mesh
-read) only when an applicable check needs them (``Check.needs_mass_for``), and then once.
-:func:`run_batch` yields scene results in the order of the files, whatever runs them, so a
-report can print each scene as it finishes.
+read) only when an applicable check needs them (``Check.needs_mass_for``), and then once
+(through the mass-property cache when one is configured).
+:func:`run_batch` yields scene results in the order of the files, whatever runs them (this
+process, or worker processes with a time and memory budget per scene, :mod:`kcheck.pool`),
+so a report can print each scene as it finishes.
 """
 
 from __future__ import annotations
@@ -13,13 +15,15 @@ import time
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from pydantic import ValidationError
 
 from kcheck.errors import SceneError
+from kcheck.paths import discover_paths
 from kcheck.plugin import Inputs, LoadedCheck, Options
 from kcheck.result import CheckResult, Finding, SceneResult, Severity, Status
-from kcheck.scene import SCENE_GLOB, Scene, _describe_pydantic, load_scene
+from kcheck.scene import Scene, _describe_pydantic, load_scene
 
 __all__ = ["Settings", "discover", "check_scene", "run_batch", "scene_status"]
 
@@ -33,32 +37,51 @@ class Settings:
 
     ``severities`` overrides a check's default severity (from configuration or the command
     line); a scene's own ``checks: {id: {severity: ...}}`` wins over both.
+    ``check_options`` are per-check option defaults (from configuration): a scene's own
+    options win key by key. ``selected`` names the checks to run (None: every check given);
+    options of the others are still validated, and are no error. ``cache_dir`` holds the
+    mass-property cache (None: no cache). ``jobs`` is the number of worker processes (0: run
+    in this process), each scene limited to ``timeout_s`` seconds and ``memory_bytes`` of
+    address space (None: no limit; limits need workers).
+    ``max_file_bytes`` is the largest scene file read (configuration ``max_file_size``);
+    it takes effect once the scene loader accepts a size limit.
     """
 
     allow_outside: bool = False
     plots: Path | None = None
     severities: Mapping[str, Severity] = field(default_factory=dict)
+    check_options: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
+    selected: frozenset[str] | None = None
+    cache_dir: Path | None = None
+    jobs: int = 0
+    timeout_s: float | None = None
+    memory_bytes: int | None = None
+    max_file_bytes: int | None = None
 
 
 def discover(paths: Iterable[Path | str]) -> tuple[list[Path], list[SceneResult]]:
-    """Scene files under the given files and folders (folders recursively), sorted, and an
-    error result for every path that does not exist or holds no scene."""
-    found: list[Path] = []
-    errors: list[SceneResult] = []
-    for raw in paths:
-        path = Path(raw)
-        if path.is_dir():
-            scenes = sorted(p for p in path.rglob(SCENE_GLOB) if p.is_file())
-            if not scenes:
-                errors.append(_error(path, f"{path}: no {SCENE_GLOB} files found in this folder"))
-            found.extend(scenes)
-        elif path.is_file():
-            found.append(path)
-        else:
-            errors.append(_error(path, f"{path}: no such file or folder"))
-    unique = list(dict.fromkeys(p.resolve() for p in found))
+    """Scene files under the given files and folders (folders recursively, in sorted order),
+    each once, and an error result for every path that cannot be used: missing, a dangling
+    symlink or a symlink loop, an unreadable folder, a folder without scenes, a path too long.
+    Mesh files among ``paths`` are replaced by the scenes that use them, searched for in the
+    mesh's repository (:func:`kcheck.paths.scenes_using`)."""
+    from kcheck.paths import scenes_using, search_root
+
+    scenes, meshes, problems = discover_paths(paths)
+    for mesh in meshes:
+        for users in scenes_using([mesh], search_root(mesh)).values():
+            scenes.extend(users)
+    errors = [_error(p.path, f"{p.path}: {p.message}") for p in problems]
     cwd = Path.cwd()
-    return [p.relative_to(cwd) if p.is_relative_to(cwd) else p for p in unique], errors
+    unique: dict[Path, Path] = {}
+    for p in scenes:
+        try:
+            key = p.resolve()
+        except (OSError, RuntimeError):
+            key = p.absolute()
+        unique.setdefault(key, p)
+    found = [k.relative_to(cwd) if k.is_relative_to(cwd) else k for k in unique]
+    return found, errors
 
 
 def _error(path: Path, message: str, errors: tuple[Finding, ...] = ()) -> SceneResult:
@@ -73,7 +96,14 @@ def _error(path: Path, message: str, errors: tuple[Finding, ...] = ()) -> SceneR
 def _input_error(path: Path, exc: SceneError) -> SceneResult:
     """An error result listing every input error of the file, each located."""
     findings = tuple(
-        Finding(e.message, field=e.where, line=e.line, column=e.column) for e in exc.all()
+        Finding(
+            e.message,
+            # a field given as text (``load.magnitude``) stays readable as a one-part path
+            field=e.where if e.where is not None else ((e.field,) if e.field else None),
+            line=e.line,
+            column=e.column,
+        )
+        for e in exc.all()
     )
     return _error(path, str(exc.all()[0]), findings)
 
@@ -91,8 +121,10 @@ def scene_status(checks: Sequence[CheckResult], warnings: Sequence[Finding] = ()
     return Status.PASS
 
 
-def _options(scene: Scene, lc: LoadedCheck) -> tuple[Options, Severity | None]:
-    raw = dict(scene.check_options.get(lc.spec.name, {}))
+def _options(
+    scene: Scene, lc: LoadedCheck, defaults: Mapping[str, Any]
+) -> tuple[Options, Severity | None]:
+    raw = {**defaults, **scene.check_options.get(lc.spec.name, {})}
     severity = raw.pop(SEVERITY_KEY, None)
     if severity is not None and severity not in ("error", "warning"):
         raise scene.error(
@@ -126,7 +158,8 @@ def check_scene(
     settings: Settings | None = None,
 ) -> SceneResult:
     """Load one scene and run every check on it; bad input becomes an error result."""
-    from kcheck.mass import body_mass_properties
+    from kcheck.cache import body_mass_properties_cached
+    from kcheck.config import did_you_mean
 
     if settings is None:
         settings = Settings(allow_outside=allow_outside, plots=plots)
@@ -138,12 +171,15 @@ def check_scene(
             if check_id not in known:
                 raise scene.error(
                     ("checks", check_id),
-                    f"options for unknown check `{check_id}`; "
+                    f"options for unknown check `{check_id}`{did_you_mean(check_id, known)}; "
                     f"installed: {', '.join(sorted(known))}",
                 )
         plan = []
         for lc in checks:
-            options, severity = _options(scene, lc)
+            defaults = settings.check_options.get(lc.spec.name, {})
+            options, severity = _options(scene, lc, defaults)
+            if settings.selected is not None and lc.spec.name not in settings.selected:
+                continue  # its options are valid; it just does not run
             severity = severity or settings.severities.get(lc.spec.name) or lc.check.severity
             plan.append((lc, options, severity, lc.check.skip_reason(scene)))
         mass = None
@@ -155,7 +191,7 @@ def check_scene(
                     "give `body` with a mesh or explicit mass properties",
                 )
             try:
-                mass = body_mass_properties(scene.body, scene.scale)
+                mass = body_mass_properties_cached(scene.body, scene.scale, settings.cache_dir)
             except SceneError as exc:
                 where = exc.where or ("body",)
                 raise SceneError(
@@ -163,6 +199,8 @@ def check_scene(
                 ) from exc
     except SceneError as exc:
         return _input_error(path, exc)
+    except MemoryError:
+        raise  # a budget, not a bug: the batch reports it (run_batch)
     except Exception as exc:  # a bug must not take the batch down or print a traceback
         return _error(
             path,
@@ -181,6 +219,8 @@ def check_scene(
         start = time.perf_counter()
         try:
             result = lc.check.run(inputs)
+        except MemoryError:
+            raise
         except Exception as exc:  # a crashing check must not take the batch down
             result = CheckResult(
                 lc.spec.name,
@@ -215,9 +255,62 @@ def check_scene(
     )
 
 
+def _budget_error(path: Path, outcome: Any, settings: Settings) -> SceneResult:
+    """The error result of a scene whose worker ran out of a budget or died."""
+    memory = (
+        "the memory available"
+        if settings.memory_bytes is None
+        else f"its memory budget of {settings.memory_bytes / 2**20:g} MiB"
+    )
+    raise_it = (
+        "; the batch went on without it (raise the budget with {} if the scene is meant "
+        "to be this large)"
+    )
+    if outcome.kind == "time":
+        text = f"exceeded its time budget of {settings.timeout_s:g} s" + raise_it.format(
+            "--timeout (configuration `timeout`)"
+        )
+    elif outcome.kind == "memory":
+        text = f"exceeded {memory}" + raise_it.format(
+            "--memory-limit (configuration `memory_limit`)"
+        )
+    elif outcome.kind == "crashed":
+        return _error(path, f"{path}: internal error ({outcome.detail}); please report it")
+    else:
+        text = f"stopped: {outcome.detail}"
+        if settings.memory_bytes is not None:
+            text += f", most likely past {memory}"
+        text += "; the batch went on without it"
+    return _error(path, f"{path}: checking this scene {text}")
+
+
 def run_batch(
     files: Sequence[Path], checks: Sequence[LoadedCheck], settings: Settings
 ) -> Iterator[SceneResult]:
-    """Check scene files one after another, yielding each result as it is done, in order."""
-    for path in files:
-        yield check_scene(path, checks, settings=settings)
+    """Check scene files, yielding each result as soon as it and every earlier file are done,
+    in the order of the files.
+
+    With ``settings.jobs`` > 0 (and on Linux) scenes run in that many worker processes, each
+    scene within the time and memory budget of ``settings``; a scene that exceeds one is an
+    error result naming the budget, and the batch goes on. Otherwise they run here, in turn.
+    """
+    from kcheck import pool
+
+    if settings.jobs < 1 or not files or not pool.available():
+        for path in files:
+            try:
+                yield check_scene(path, checks, settings=settings)
+            except MemoryError:
+                yield _budget_error(path, pool.BudgetExceeded("memory", ""), settings)
+        return
+
+    def work(path: Path) -> SceneResult:
+        return check_scene(path, checks, settings=settings)
+
+    budget = pool.Budget(settings.timeout_s, settings.memory_bytes)
+    outcomes = pool.run_in_workers(files, work, jobs=settings.jobs, budget=budget)
+    for path, outcome in zip(files, outcomes, strict=True):
+        if isinstance(outcome, pool.BudgetExceeded):
+            yield _budget_error(path, outcome, settings)
+        else:
+            yield outcome

@@ -23,6 +23,12 @@ def _plain_terminal(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.delenv("FORCE_COLOR", raising=False)
 
 
+@pytest.fixture(autouse=True)
+def _own_cache(monkeypatch: pytest.MonkeyPatch, tmp_path_factory: pytest.TempPathFactory) -> None:
+    """Each test starts with an empty mass-property cache of its own (never ~/.cache)."""
+    monkeypatch.setenv("KCHECK_CACHE_DIR", str(tmp_path_factory.mktemp("kcheck-cache")))
+
+
 @pytest.fixture
 def write_scene(tmp_path: Path) -> Callable[..., Path]:
     """Write a scene file (dedented YAML text) into tmp_path; return its path."""

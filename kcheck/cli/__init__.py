@@ -8,17 +8,35 @@ Command modules import nothing heavy at module level: ``kcheck --help`` stays fa
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from collections.abc import Sequence
 
 from kcheck import __version__
-from kcheck.cli import check, info, mass, suggest
+from kcheck.cli import check, config, info, mass, suggest
 from kcheck.cli.common import ExitCode, Parser
 from kcheck.errors import KcheckError
 
 __all__ = ["ExitCode", "main"]
 
-COMMANDS = (check, mass, info, suggest)
+COMMANDS = (check, config, mass, suggest, info)
+
+#: Thread counts of the BLAS/OpenMP libraries numpy may load. kcheck's matrices are tiny
+#: (3x3 to 6x36): threads only add overhead, and parallelism comes from --jobs processes.
+BLAS_THREAD_VARIABLES = (
+    "OPENBLAS_NUM_THREADS",
+    "OMP_NUM_THREADS",
+    "MKL_NUM_THREADS",
+    "BLIS_NUM_THREADS",
+    "VECLIB_MAXIMUM_THREADS",
+    "NUMEXPR_NUM_THREADS",
+)
+
+
+def pin_blas_threads() -> None:
+    """One BLAS thread, unless the user chose otherwise; effective only before numpy loads."""
+    for name in BLAS_THREAD_VARIABLES:
+        os.environ.setdefault(name, "1")
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -36,6 +54,7 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code."""
+    pin_blas_threads()
     args = _parser().parse_args(argv)
     try:
         return int(args.handler(args))
@@ -44,3 +63,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         return ExitCode.USAGE_OR_INPUT
     except BrokenPipeError:
         return ExitCode.OK
+    except KeyboardInterrupt:
+        print("kcheck: interrupted", file=sys.stderr)
+        return 130  # as a shell reports SIGINT

@@ -8,8 +8,8 @@ was given; the CLI decides where that is (stdout, ``--output``, ``--output-forma
 from __future__ import annotations
 
 import importlib
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Protocol, TextIO
 
 if TYPE_CHECKING:
@@ -31,17 +31,26 @@ __all__ = [
 FORMATS: dict[str, str] = {
     "text": "kcheck.report.text:TextReporter",
     "json": "kcheck.report.json:JsonReporter",
+    "concise": "kcheck.report.concise:ConciseReporter",
+    "github": "kcheck.report.github:GithubReporter",
+    "markdown": "kcheck.report.markdown:MarkdownReporter",
+    "junit": "kcheck.report.junit:JunitReporter",
+    "sarif": "kcheck.report.sarif:SarifReporter",
 }
 
 
 @dataclass(frozen=True)
 class ReportOptions:
     """What every reporter may honour: colour (``auto``/``always``/``never``, text only),
-    verbosity (-1 quiet, 0 default, 1 verbose) and whether the stream is a file."""
+    verbosity (-1 quiet, 0 default, 1 verbose), whether the stream is a file, the lowest
+    severity that fails the run (``fail_on``: ``error`` or ``warning``), and the summary of
+    every installed check by id (rule descriptions in SARIF)."""
 
     color: str = "auto"
     verbosity: int = 0
     to_file: bool = False
+    fail_on: str = "error"
+    checks: Mapping[str, str] = field(default_factory=dict)
 
 
 class Reporter(Protocol):
@@ -54,7 +63,12 @@ class Reporter(Protocol):
         """One scene is done (results arrive in the order of the files)."""
 
     def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
-        """Every scene is done; ``elapsed_s`` is the wall time of the whole run."""
+        """Every scene is done; ``elapsed_s`` is the wall time of the whole run.
+
+        ``results`` are every scene's result without its bulky parts (cases, details and
+        mass properties are dropped by the command line, so a batch of thousands is not all
+        held); verdicts, messages and findings are all there. A reporter needing more keeps
+        it from ``scene``."""
 
 
 def make_reporter(name: str, stream: TextIO, options: ReportOptions) -> Reporter:

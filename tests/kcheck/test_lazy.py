@@ -10,8 +10,11 @@ from tests.conftest import PLANAR_SCENE
 
 HEAVY = ("trimesh", "scipy", "matplotlib", "clarabel")
 
+# Scenes run in this process (no worker), so the modules they import are seen here.
 PROBE = """
 import json, sys
+import kcheck.pool
+kcheck.pool.available = lambda: False
 from kcheck.cli import main
 code = main(sys.argv[1:])
 heavy = sorted(m for m in HEAVY if m in sys.modules)
@@ -65,3 +68,47 @@ def test_conic_solver_only_for_spatial_jamming():
     assert "clarabel" not in planar
     spatial = _imported("check", str(FIXTURES / "three-groove" / "coupling.kcheck.yaml"))["heavy"]
     assert "clarabel" in spatial
+
+
+MODULES_PROBE = """
+import json, sys
+import kcheck.pool
+kcheck.pool.available = lambda: False
+from kcheck.cli import main
+code = main(sys.argv[1:])
+print(json.dumps({"code": code, "modules": sorted(sys.modules)}), file=sys.stderr)
+"""
+
+
+def test_json_run_on_a_planar_scene_imports_only_what_it_needs(write_scene):
+    # A planar scene with explicit mass properties and no design direction, reported as JSON:
+    # no terminal machinery (rich), no other report format, no mesh library, no solver, no
+    # plotting, no process pools, no git. (scipy: only at a design direction, for now.)
+    text = PLANAR_SCENE.replace("  angle: 225\n", "")
+    proc = subprocess.run(
+        [sys.executable, "-c", MODULES_PROBE, "check", str(write_scene(text)), "--format", "json"],
+        capture_output=True,
+        text=True,
+    )
+    result = json.loads(proc.stderr.strip().splitlines()[-1])
+    assert result["code"] == 0
+    modules = set(result["modules"])
+    unwanted = {
+        "rich",
+        "trimesh",
+        "scipy",
+        "matplotlib",
+        "networkx",
+        "PIL",
+        "multiprocessing",
+        "concurrent.futures",
+        "xml.etree",
+        "kcheck.report.text",
+        "kcheck.report.junit",
+        "kcheck.report.sarif",
+        "kcheck.report.markdown",
+        "kcheck.vcs",
+        "kcheck.report.github",
+    }
+    assert modules & unwanted == set()
+    assert {"kcheck.report.json", "kcheck.runner", "kcheck.cache"} <= modules

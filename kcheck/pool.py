@@ -1,0 +1,305 @@
+"""Worker processes with a time and memory budget per task, results in task order.
+
+A small fork-based pool (POSIX): each worker is forked from the parent, which has already
+imported kcheck and the checks, so starting one costs a few milliseconds and no imports. A
+worker runs one task at a time; the parent gives each task a deadline and kills a worker
+that overruns it, and a worker's address space is capped (``RLIMIT_AS``) so a runaway
+allocation raises ``MemoryError`` inside it (or kills it) instead of exhausting the machine.
+A worker that dies is replaced and the batch goes on: the task it held gets a budget result.
+
+Why not ``multiprocessing``/``concurrent.futures``: a pool there cannot kill one hung task
+(``ProcessPoolExecutor`` breaks entirely when a worker dies), and importing it costs more
+than this module does.
+"""
+
+from __future__ import annotations
+
+import copyreg
+import io
+import os
+import pickle
+import select
+import signal
+import struct
+import sys
+import time
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Any, Generic, TypeVar
+
+__all__ = ["available", "Budget", "BudgetExceeded", "run_in_workers"]
+
+T = TypeVar("T")
+R = TypeVar("R")
+
+_HEADER = struct.Struct("!Q")
+
+
+def available() -> bool:
+    """Whether worker processes can be used here (fork on Linux; elsewhere tasks run in
+    the calling process, without budgets)."""
+    return hasattr(os, "fork") and sys.platform.startswith("linux")
+
+
+@dataclass(frozen=True)
+class Budget:
+    """Per-task limits: wall time in seconds and address space in bytes (None: no limit)."""
+
+    time_s: float | None = None
+    memory_bytes: int | None = None
+
+
+@dataclass(frozen=True)
+class BudgetExceeded:
+    """Why a task has no result: ``kind`` is ``time``, ``memory``, ``died`` (the worker
+    ended) or ``crashed`` (the task raised); ``detail`` says what happened."""
+
+    kind: str
+    detail: str
+
+
+def _mappingproxy(items: dict[Any, Any]) -> MappingProxyType[Any, Any]:
+    return MappingProxyType(items)
+
+
+def _reduce_mappingproxy(proxy: MappingProxyType[Any, Any]) -> tuple[Any, ...]:
+    return (_mappingproxy, (dict(proxy),))
+
+
+# Results are frozen dataclasses holding read-only mappings; pickle them as their dicts.
+_DISPATCH = copyreg.dispatch_table.copy()
+_DISPATCH[MappingProxyType] = _reduce_mappingproxy
+
+
+def _dumps(obj: object) -> bytes:
+    buffer = io.BytesIO()
+    pickler = pickle.Pickler(buffer, protocol=pickle.HIGHEST_PROTOCOL)
+    pickler.dispatch_table = _DISPATCH
+    pickler.dump(obj)
+    return buffer.getvalue()
+
+
+def _write(fd: int, obj: object) -> None:
+    data = _dumps(obj)
+    view = memoryview(_HEADER.pack(len(data)) + data)
+    while view:
+        view = view[os.write(fd, view) :]
+
+
+def _read_exact(fd: int, size: int) -> bytes | None:
+    chunks = []
+    while size:
+        chunk = os.read(fd, min(size, 1 << 20))
+        if not chunk:
+            return None
+        chunks.append(chunk)
+        size -= len(chunk)
+    return b"".join(chunks)
+
+
+def _read(fd: int) -> object:
+    """One message, or EOFError when the writer has gone."""
+    head = _read_exact(fd, _HEADER.size)
+    if head is None:
+        raise EOFError
+    body = _read_exact(fd, _HEADER.unpack(head)[0])
+    if body is None:
+        raise EOFError
+    return pickle.loads(body)
+
+
+def _child(tasks: int, results: int, work: Callable[[T], R], budget: Budget) -> None:
+    """The worker's loop; never returns."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    if budget.memory_bytes is not None:
+        import resource
+
+        _, hard = resource.getrlimit(resource.RLIMIT_AS)
+        limit = (
+            budget.memory_bytes
+            if hard == resource.RLIM_INFINITY
+            else min(hard, budget.memory_bytes)
+        )
+        resource.setrlimit(resource.RLIMIT_AS, (limit, hard))
+    code = 0
+    try:
+        while True:
+            try:
+                message = _read(tasks)
+            except EOFError:
+                break
+            if message is None:
+                break
+            index, task = message  # type: ignore[misc]
+            try:
+                data = _dumps((index, "ok", work(task)))
+            except MemoryError:
+                data = _dumps((index, "memory", None))
+            except Exception as exc:  # a bug in the task or its result: say which
+                data = _dumps((index, "crashed", f"{type(exc).__name__}: {exc}"))
+            view = memoryview(_HEADER.pack(len(data)) + data)
+            while view:
+                view = view[os.write(results, view) :]
+    except BaseException:  # noqa: BLE001 - a worker must exit, never unwind into the parent's code
+        code = 70
+    finally:
+        os._exit(code)
+
+
+@dataclass
+class _Worker(Generic[T]):
+    pid: int
+    tasks: int  # parent's write end
+    results: int  # parent's read end
+    index: int | None = None
+    deadline: float = float("inf")
+
+
+class _Pool(Generic[T, R]):
+    def __init__(self, work: Callable[[T], R], budget: Budget) -> None:
+        self.work = work
+        self.budget = budget
+        self.workers: list[_Worker[T]] = []
+
+    def spawn(self) -> _Worker[T]:
+        task_r, task_w = os.pipe()
+        result_r, result_w = os.pipe()
+        sys.stdout.flush()
+        sys.stderr.flush()
+        pid = os.fork()
+        if pid == 0:  # the child: keep only its own two ends
+            for w in self.workers:
+                for fd in (w.tasks, w.results):
+                    os.close(fd)
+            os.close(task_w)
+            os.close(result_r)
+            _child(task_r, result_w, self.work, self.budget)
+        os.close(task_r)
+        os.close(result_w)
+        worker: _Worker[T] = _Worker(pid, task_w, result_r)
+        self.workers.append(worker)
+        return worker
+
+    def retire(self, worker: _Worker[T], kill: bool) -> str:
+        """Stop a worker; return how it ended (for messages)."""
+        if kill:
+            try:
+                os.kill(worker.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+        for fd in (worker.tasks, worker.results):
+            try:
+                os.close(fd)
+            except OSError:
+                pass
+        _, status = os.waitpid(worker.pid, 0)
+        self.workers.remove(worker)
+        if os.WIFSIGNALED(status):
+            return f"killed by signal {os.WTERMSIG(status)}"
+        return f"exit status {os.WEXITSTATUS(status)}"
+
+    def close(self) -> None:
+        for worker in list(self.workers):
+            try:
+                _write(worker.tasks, None)
+            except OSError:
+                pass
+        for worker in list(self.workers):
+            os.close(worker.tasks)
+            worker.tasks = -1
+        deadline = time.monotonic() + 5.0
+        for worker in list(self.workers):
+            # The worker's end of its result pipe closes when it exits: wait for that EOF.
+            left = max(deadline - time.monotonic(), 0.0)
+            ready, _, _ = select.select([worker.results], [], [], left)
+            if not ready or os.read(worker.results, 1):
+                os.kill(worker.pid, signal.SIGKILL)
+            os.waitpid(worker.pid, 0)
+            os.close(worker.results)
+            self.workers.remove(worker)
+
+    def kill_all(self) -> None:
+        for worker in list(self.workers):
+            self.retire(worker, kill=True)
+
+
+def run_in_workers(
+    tasks: Sequence[T], work: Callable[[T], R], *, jobs: int, budget: Budget
+) -> Iterator[R | BudgetExceeded]:
+    """Run ``work`` on every task in up to ``jobs`` worker processes; yield each result (or
+    why it has none) in the order of ``tasks``, as soon as it and all before it are done.
+
+    ``work`` must not raise (except ``MemoryError``, which becomes a budget result).
+    """
+    pool: _Pool[T, R] = _Pool(work, budget)
+    pending = list(enumerate(tasks))
+    pending.reverse()
+    done: dict[int, R | BudgetExceeded] = {}
+    next_out = 0
+
+    def assign(worker: _Worker[T]) -> None:
+        if not pending:
+            worker.index = None
+            return
+        index, task = pending[-1]
+        try:
+            _write(worker.tasks, (index, task))
+        except OSError:  # the worker died while idle: replace it, the task waits
+            worker.index = None
+            pool.retire(worker, kill=True)
+            assign(pool.spawn())
+            return
+        pending.pop()
+        worker.index = index
+        worker.deadline = (
+            float("inf") if budget.time_s is None else time.monotonic() + budget.time_s
+        )
+
+    def replace(worker: _Worker[T], outcome: BudgetExceeded) -> None:
+        assert worker.index is not None
+        done[worker.index] = outcome
+        pool.retire(worker, kill=True)
+        if pending:
+            assign(pool.spawn())
+
+    try:
+        for _ in range(max(1, min(jobs, len(tasks)))):
+            assign(pool.spawn())
+        while next_out < len(tasks):
+            while next_out in done:
+                yield done.pop(next_out)
+                next_out += 1
+            if next_out >= len(tasks):
+                break
+            busy = [w for w in pool.workers if w.index is not None]
+            wait = min(w.deadline for w in busy) - time.monotonic()
+            ready, _, _ = select.select(
+                [w.results for w in busy], [], [], None if wait == float("inf") else max(wait, 0)
+            )
+            for worker in [w for w in busy if w.results in ready]:
+                try:
+                    index, status, value = _read(worker.results)  # type: ignore[misc]
+                except (EOFError, pickle.UnpicklingError, OSError):
+                    how = pool.retire(worker, kill=True)
+                    done[worker.index] = BudgetExceeded(  # type: ignore[index]
+                        "died", f"the worker process checking it ended ({how})"
+                    )
+                    if pending:
+                        assign(pool.spawn())
+                    continue
+                if status == "memory":
+                    replace(worker, BudgetExceeded("memory", "it ran out of its memory budget"))
+                    continue
+                if status == "crashed":
+                    done[index] = BudgetExceeded("crashed", str(value))
+                    assign(worker)
+                    continue
+                done[index] = value  # type: ignore[assignment]
+                assign(worker)
+            now = time.monotonic()
+            for worker in [w for w in pool.workers if w.index is not None and w.deadline <= now]:
+                replace(worker, BudgetExceeded("time", "it ran past its time budget"))
+        pool.close()
+    finally:
+        pool.kill_all()

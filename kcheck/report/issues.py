@@ -1,0 +1,217 @@
+"""Scene results as a flat list of located issues: what every CI format (concise, GitHub
+annotations, SARIF, Markdown) reports, one line or record each.
+
+An issue is a check's failure (one per finding), a check that crashed, an input error of the
+scene, or a sanity warning of the scene. Its ``rule`` is stable across runs (SARIF ``ruleId``,
+annotation title): ``<check>/<finding code>`` (``analytical-2d/jams``), the check id for a
+finding without a code, ``<check>/crashed``, ``input-error``, ``scene-warning/<code>``.
+"""
+
+from __future__ import annotations
+
+import re
+from collections import Counter
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Literal, TextIO
+
+from kcheck.result import Finding, SceneResult, Status
+
+if TYPE_CHECKING:
+    from kcheck.report import ReportOptions
+
+__all__ = [
+    "Issue",
+    "issues",
+    "counts_toward_exit",
+    "clean_text",
+    "summary_line",
+    "LineReporter",
+    "CollectingReporter",
+]
+
+INPUT_ERROR = "input-error"
+
+Level = Literal["error", "warning"]
+
+
+@dataclass(frozen=True)
+class Issue:
+    """One located thing to report. ``kind``: ``failure`` (a check failed), ``error`` (bad
+    input or a crashed check) or ``warning`` (a scene's sanity warning); ``level`` is the
+    severity; ``counts`` says whether it fails the run (with the run's ``fail_on``)."""
+
+    path: str
+    line: int | None
+    column: int | None
+    level: Level
+    kind: Literal["failure", "error", "warning"]
+    rule: str
+    check: str | None
+    message: str
+    hint: str | None = None
+    field: str | None = None
+    counts: bool = True
+
+    @property
+    def subject(self) -> str:
+        """The message on one line, for bad input led by its field."""
+        text = " ".join(self.message.splitlines())
+        if self.kind == "error" and self.field:
+            text = f"field `{self.field}`: {text}"
+        return text
+
+    @property
+    def text(self) -> str:
+        """:attr:`subject` with the hint, for one-line formats."""
+        return self.subject if not self.hint else f"{self.subject} (hint: {self.hint})"
+
+    @property
+    def location(self) -> str:
+        """``path:line:column`` as far as known."""
+        out = self.path
+        if self.line is not None:
+            out += f":{self.line}"
+            if self.column is not None:
+                out += f":{self.column}"
+        return out
+
+
+def counts_toward_exit(level: Level, fail_on: str) -> bool:
+    """Whether an issue of ``level`` fails a run with ``fail_on`` (``error``/``warning``)."""
+    return level == "error" or fail_on == "warning"
+
+
+def _field(finding: Finding) -> str | None:
+    from kcheck.errors import format_path
+
+    return None if finding.field is None else format_path(finding.field)
+
+
+def issues(scene: SceneResult, fail_on: str = "error") -> Iterator[Issue]:
+    """Every issue of one scene, in report order (input errors, checks, scene warnings)."""
+    path = scene.path
+    if scene.status is Status.ERROR and not scene.checks:
+        for e in scene.errors or (Finding(scene.error or "input error"),):
+            yield Issue(
+                path,
+                e.line,
+                e.column,
+                level="error",
+                kind="error",
+                rule=INPUT_ERROR,
+                check=None,
+                message=e.message,
+                hint=e.hint,
+                field=_field(e),
+            )
+    for check in scene.checks:
+        if check.status is Status.ERROR:
+            yield Issue(
+                path,
+                None,
+                None,
+                level="error",
+                kind="error",
+                rule=f"{check.id}/crashed",
+                check=check.id,
+                message=check.message,
+            )
+        elif check.status is Status.FAIL:
+            counts = counts_toward_exit(check.severity, fail_on)
+            for f in check.findings or (Finding(check.message),):
+                yield Issue(
+                    path,
+                    f.line,
+                    f.column,
+                    level=check.severity,
+                    kind="failure",
+                    rule=f"{check.id}/{f.code}" if f.code else check.id,
+                    check=check.id,
+                    message=f.message,
+                    hint=f.hint,
+                    field=_field(f),
+                    counts=counts,
+                )
+    for w in scene.warnings:
+        yield Issue(
+            path,
+            w.line,
+            w.column,
+            level="warning",
+            kind="warning",
+            rule=f"scene-warning/{w.code}" if w.code else "scene-warning",
+            check=None,
+            message=w.message,
+            hint=w.hint,
+            field=_field(w),
+            counts=counts_toward_exit("warning", fail_on),
+        )
+
+
+_INVALID_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ufffe\uffff\ud800-\udfff]")
+
+
+def clean_text(text: str) -> str:
+    """Text any format can carry: control characters and unpaired surrogates replaced by
+    U+FFFD (a scene's support name may hold anything YAML allows)."""
+    return _INVALID_XML.sub("\ufffd", text)
+
+
+def summary_line(counts: Mapping[Status, int], total: int, elapsed_s: float | None = None) -> str:
+    """``4 scenes: 2 passed, 1 with warnings, 1 failed, 0 with errors (1.2 s)``."""
+    text = (
+        f"{total} scene{'s' if total != 1 else ''}: {counts.get(Status.PASS, 0)} passed, "
+        f"{counts.get(Status.WARN, 0)} with warnings, {counts.get(Status.FAIL, 0)} failed, "
+        f"{counts.get(Status.ERROR, 0)} with errors"
+    )
+    if elapsed_s is not None:
+        text += f" ({elapsed_s:.1f} s)"
+    return text
+
+
+class LineReporter:
+    """Base of the formats that write one line per issue as each scene finishes and a
+    summary line at the end; subclasses give :meth:`line` and :meth:`summary`."""
+
+    def __init__(self, stream: TextIO, options: ReportOptions) -> None:
+        self.stream = stream
+        self.options = options
+
+    def line(self, issue: Issue) -> str:
+        """One issue's line."""
+        raise NotImplementedError
+
+    def summary(self, text: str) -> str:
+        """The last line, from :func:`summary_line`."""
+        return text
+
+    def start(self, total: int) -> None:
+        """Nothing before the first scene."""
+
+    def scene(self, result: SceneResult) -> None:
+        """One line per issue."""
+        for issue in issues(result, self.options.fail_on):
+            self.stream.write(clean_text(self.line(issue)) + "\n")
+
+    def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
+        """The counts."""
+        counts = Counter(r.status for r in results)
+        self.stream.write(self.summary(summary_line(counts, len(results))) + "\n")
+
+
+class CollectingReporter:
+    """Base of the formats written whole at the end: keeps every scene's issues (a few
+    small records each) in :attr:`issues`; subclasses write in ``finish``."""
+
+    def __init__(self, stream: TextIO, options: ReportOptions) -> None:
+        self.stream = stream
+        self.options = options
+        self.issues: list[Issue] = []
+
+    def start(self, total: int) -> None:
+        """Nothing before the end."""
+
+    def scene(self, result: SceneResult) -> None:
+        """Keep the scene's issues."""
+        self.issues.extend(issues(result, self.options.fail_on))

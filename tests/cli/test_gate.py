@@ -1,0 +1,279 @@
+"""The gate's command line: --select, located path errors, outputs checked before the run,
+several reports at once, worker budgets, and serial/parallel runs giving the same report."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+from pathlib import Path
+
+import pytest
+
+import kcheck.pool
+from tests.conftest import FIXTURES, PLANAR_SCENE
+
+pytestmark = pytest.mark.skipif(not kcheck.pool.available(), reason="worker processes need fork")
+
+
+# -- --select ------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("selection", [",", " ", "maxwell,", ", ,"])
+def test_empty_selection_is_a_usage_error(cli, write_scene, selection):
+    code, out, err = cli("check", str(write_scene(PLANAR_SCENE)), "--select", selection)
+    assert code == 2 and out == ""
+    assert "--select: selects no check" in err and "analytical-2d, analytical-3d" in err
+
+
+def test_unknown_selection_says_did_you_mean(cli, write_scene):
+    code, _, err = cli("check", str(write_scene(PLANAR_SCENE)), "--select", "maxwel,analytical-2d")
+    assert code == 2 and "unknown check `maxwel` (did you mean `maxwell`?)" in err
+    from kcheck.plugin import find_checks
+
+    installed = ", ".join(sorted(spec.name for spec in find_checks()))
+    assert f"installed: {installed}" in err
+
+
+def test_options_of_unselected_checks_are_no_error(cli_json):
+    # The README's own example on the bundled fixtures: some scenes carry options for checks
+    # other than maxwell; only maxwell runs, and no scene is an input error.
+    code, doc = cli_json(str(FIXTURES), "--select", "maxwell")
+    assert all(s["status"] != "error" for s in doc["scenes"]), doc["scenes"]
+    assert {c["id"] for s in doc["scenes"] for c in s["checks"]} == {"maxwell"}
+    assert code in (0, 1)
+
+
+def test_invalid_options_of_unselected_checks_are_still_reported(cli_json, write_scene):
+    path = write_scene(PLANAR_SCENE + "checks:\n  analytical-2d: {min_margin_degs: 5}\n")
+    code, doc = cli_json(str(path), "--select", "maxwell")
+    assert code == 2
+    assert "checks.analytical-2d.min_margin_degs" in doc["scenes"][0]["error"]
+
+
+def test_unknown_check_in_scene_says_did_you_mean(cli, write_scene):
+    code, _, err = cli("check", str(write_scene(PLANAR_SCENE + "checks:\n  maxwel: {}\n")))
+    assert code == 2 and "options for unknown check `maxwel` (did you mean `maxwell`?)" in err
+
+
+# -- scene paths ---------------------------------------------------------------------------
+
+
+def test_dangling_symlink_loop_and_long_path_are_located_errors(cli_json, write_scene, tmp_path):
+    good = write_scene(PLANAR_SCENE, "d/good.kcheck.yaml")
+    (tmp_path / "d" / "dangling.kcheck.yaml").symlink_to(tmp_path / "nowhere.kcheck.yaml")
+    (tmp_path / "d" / "loop.kcheck.yaml").symlink_to(tmp_path / "d" / "loop.kcheck.yaml")
+    long = tmp_path / ("x" * 300 + ".kcheck.yaml")
+    code, doc = cli_json(str(good.parent), str(long))
+    errors = {Path(s["path"]).name: s["error"] for s in doc["scenes"] if s["status"] == "error"}
+    assert code == 2
+    assert "a symbolic link to" in errors["dangling.kcheck.yaml"]
+    assert "which does not exist" in errors["dangling.kcheck.yaml"]
+    assert "symlink loop" in errors["loop.kcheck.yaml"]
+    assert "too long" in errors[long.name]
+    assert any(s["status"] == "pass" for s in doc["scenes"])  # the good scene still ran
+
+
+def test_unreadable_folder_is_an_error_not_a_silent_skip(cli_json, write_scene, monkeypatch):
+    # Running as root defeats chmod 000, so the folder read fails the way it would for a user.
+    good = write_scene(PLANAR_SCENE, "top/good.kcheck.yaml")
+    write_scene(PLANAR_SCENE, "top/locked/hidden.kcheck.yaml")
+    real_scandir = os.scandir
+
+    def scandir(path):
+        if str(path).endswith("locked"):
+            raise PermissionError(13, "Permission denied", str(path))
+        return real_scandir(path)
+
+    monkeypatch.setattr(os, "scandir", scandir)
+    code, doc = cli_json(str(good.parent))
+    assert code == 2
+    locked = next(s for s in doc["scenes"] if s["path"].endswith("locked"))
+    assert locked["error"].endswith("cannot read this folder: permission denied")
+
+
+def test_a_folder_given_as_a_file_and_a_path_below_a_file(cli_json, write_scene, tmp_path):
+    good = write_scene(PLANAR_SCENE)
+    code, doc = cli_json(str(good), str(good / "child.kcheck.yaml"))
+    (bad,) = [s for s in doc["scenes"] if s["status"] == "error"]
+    assert code == 2 and "a part of the path is a file" in bad["error"]
+
+
+def test_a_pipe_is_an_error_not_a_hang(cli_json, write_scene, tmp_path):
+    good = write_scene(PLANAR_SCENE, "d/good.kcheck.yaml")
+    os.mkfifo(tmp_path / "d" / "pipe.kcheck.yaml")
+    os.mkfifo(tmp_path / "given.kcheck.yaml")
+    code, doc = cli_json(str(good.parent), str(tmp_path / "given.kcheck.yaml"))
+    errors = {Path(s["path"]).name: s["error"] for s in doc["scenes"] if s["status"] == "error"}
+    assert code == 2 and set(errors) == {"pipe.kcheck.yaml", "given.kcheck.yaml"}
+    assert all("not a regular file" in e for e in errors.values())
+
+
+def test_hidden_folders_are_not_searched(cli_json, write_scene):
+    good = write_scene(PLANAR_SCENE, "top/good.kcheck.yaml")
+    write_scene("not: [a scene", "top/.venv/lib/odd.kcheck.yaml")
+    write_scene("not: [a scene", "top/node_modules/odd.kcheck.yaml")
+    code, doc = cli_json(str(good.parent))
+    assert code == 0 and [Path(s["path"]).name for s in doc["scenes"]] == ["good.kcheck.yaml"]
+    code, doc = cli_json(str(good.parent / ".venv"))  # given explicitly, it is searched
+    assert code == 2
+
+
+# -- outputs -------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("target", "expected"),
+    [
+        ("/proc/kcheck-report.json", "cannot write a report under /proc"),
+        ("/dev/full", "no space left on the device"),
+        ("{scene}/below.json", "is a file, not a folder"),
+        ("{tmp}", "is a folder; give a file name"),
+    ],
+)
+def test_outputs_are_checked_before_the_run(cli, write_scene, tmp_path, target, expected):
+    scene = write_scene(PLANAR_SCENE)
+    target = target.format(scene=scene, tmp=tmp_path)
+    for option in (["--output", target], ["--output-format", f"sarif:{target}"]):
+        code, out, err = cli("check", str(scene), "--format", "json", *option)
+        assert code == 2 and expected in err, err
+        assert out == ""  # nothing ran
+
+
+def test_unwritable_output_and_plots(cli, write_scene, tmp_path, monkeypatch):
+    scene = write_scene(PLANAR_SCENE)
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    real_access = os.access
+    monkeypatch.setattr(
+        os, "access", lambda p, m: False if str(p) == str(locked) else real_access(p, m)
+    )
+    code, _, err = cli("check", str(scene), "--output", str(locked / "r.json"))
+    assert code == 2 and "permission denied" in err
+    code, _, err = cli("check", str(scene), "--plots", str(scene))
+    assert code == 2 and "--plots" in err and "is a file, not a folder" in err
+    code, _, err = cli("check", str(scene), "--plots", "/proc/kcheck-plots")
+    assert code == 2 and "under /proc" in err
+
+
+def test_unknown_output_format(cli, write_scene, tmp_path):
+    code, _, err = cli("check", str(write_scene(PLANAR_SCENE)), "--output-format", "sarf:x.s")
+    assert code == 2 and "unknown format `sarf` (did you mean `sarif`?)" in err
+
+
+def test_several_reports_at_once(cli, write_scene, tmp_path):
+    scene = write_scene(PLANAR_SCENE)
+    sarif, junit = tmp_path / "out" / "k.sarif", tmp_path / "out" / "k.xml"
+    code, out, _ = cli(
+        "check", str(scene), "--format", "concise",
+        "--output-format", f"sarif:{sarif}", "--output-format", f"junit:{junit}",
+    )  # fmt: skip
+    assert (
+        code == 0 and out.strip() == "1 scene: 1 passed, 0 with warnings, 0 failed, 0 with errors"
+    )
+    assert json.loads(sarif.read_text())["version"] == "2.1.0"
+    assert junit.read_text().startswith('<?xml version="1.0" encoding="utf-8"?>\n<testsuites')
+
+
+# -- budgets and workers ---------------------------------------------------------------------
+
+
+def _patch_maxwell(monkeypatch, behaviour):
+    """Make the maxwell check misbehave on scenes whose name contains 'bad' (the worker,
+    being forked, inherits the patch)."""
+    from kcheck_checks.maxwell import Maxwell
+
+    original = Maxwell.run
+
+    def run(self, inputs):
+        if "bad" in inputs.scene.name:
+            behaviour()
+        return original(self, inputs)
+
+    monkeypatch.setattr(Maxwell, "run", run)
+
+
+def _batch(write_scene, n_good=3):
+    def scene(name: str, file: str) -> Path:
+        return write_scene(PLANAR_SCENE.replace("name: planar", f"name: {name}"), file)
+
+    paths = [scene(f"good{i}", f"g{i}.kcheck.yaml") for i in range(n_good)]
+    paths.insert(1, scene("bad", "b.kcheck.yaml"))
+    return [str(p) for p in paths]
+
+
+def _statuses(doc):
+    return [(Path(s["path"]).name, s["status"]) for s in doc["scenes"]]
+
+
+def test_a_scene_past_its_time_budget_is_an_error_and_the_batch_goes_on(
+    cli_json, write_scene, monkeypatch
+):
+    import time
+
+    _patch_maxwell(monkeypatch, lambda: time.sleep(30))
+    started = time.monotonic()
+    code, doc = cli_json(*_batch(write_scene), "--timeout", "1", "--jobs", "2")
+    assert time.monotonic() - started < 15
+    assert code == 2
+    assert _statuses(doc) == [
+        ("g0.kcheck.yaml", "pass"),
+        ("b.kcheck.yaml", "error"),
+        ("g1.kcheck.yaml", "pass"),
+        ("g2.kcheck.yaml", "pass"),
+    ]
+    assert "exceeded its time budget of 1 s" in doc["scenes"][1]["error"]
+    assert "--timeout" in doc["scenes"][1]["error"]
+
+
+def test_a_scene_past_its_memory_budget_is_an_error(cli_json, write_scene, monkeypatch):
+    _patch_maxwell(monkeypatch, lambda: bytearray(3 * 2**30))
+    code, doc = cli_json(*_batch(write_scene), "--memory-limit", "1500", "--jobs", "1")
+    assert code == 2
+    assert [s for _, s in _statuses(doc)] == ["pass", "error", "pass", "pass"]
+    assert "exceeded its memory budget of 1500 MiB" in doc["scenes"][1]["error"]
+
+
+def test_a_worker_that_dies_is_replaced(cli_json, write_scene, monkeypatch):
+    _patch_maxwell(monkeypatch, lambda: os._exit(9))
+    code, doc = cli_json(*_batch(write_scene, n_good=4), "--jobs", "2")
+    assert code == 2
+    assert [s for _, s in _statuses(doc)] == ["pass", "error", "pass", "pass", "pass"]
+    assert "the worker process checking it ended (exit status 9)" in doc["scenes"][1]["error"]
+
+
+def _without_timings(text: str) -> str:
+    return re.sub(r'"runtime_s": [0-9.e-]+', '"runtime_s": 0', text)
+
+
+def test_jobs_2_gives_the_report_of_jobs_1(cli, tmp_path):
+    runs = {}
+    for jobs in ("1", "2"):
+        code, out, _ = cli("check", str(FIXTURES), "--format", "json", "--jobs", jobs)
+        runs[jobs] = (code, _without_timings(out))
+    assert runs["1"] == runs["2"]
+    assert len(json.loads(runs["1"][1])["scenes"]) >= 10
+
+
+def test_blas_pinned_to_one_thread_unless_the_user_chose():
+    import subprocess
+    import sys
+
+    probe = (
+        "import os, sys\n"
+        "from kcheck.cli import main\n"
+        "main(['config'])\n"
+        "print(os.environ['OPENBLAS_NUM_THREADS'], os.environ['OMP_NUM_THREADS'], "
+        "'numpy' in sys.modules, file=sys.stderr)\n"
+    )
+    env = {k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS")}
+    proc = subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True)
+    # main() pins first, before any command imports numpy (`config` never does)
+    assert proc.stderr.split()[-3:] == ["1", "1", "False"]
+    proc = subprocess.run(
+        [sys.executable, "-c", probe],
+        env={**env, "OPENBLAS_NUM_THREADS": "4"},
+        capture_output=True,
+        text=True,
+    )
+    assert proc.stderr.split()[-3:-1] == ["4", "1"]

