@@ -19,6 +19,7 @@ from pydantic import ValidationError
 from kcheck.errors import SceneError
 from kcheck.plugin import Inputs, LoadedCheck, Options
 from kcheck.result import CheckResult, Finding, SceneResult, Severity, Status
+from kcheck.sanity import scene_warnings
 from kcheck.scene import SCENE_GLOB, Scene, _describe_pydantic, load_scene
 
 __all__ = ["Settings", "discover", "check_scene", "run_batch", "scene_status"]
@@ -201,9 +202,10 @@ def check_scene(
                 files = ()
                 notes = (*notes, f"plots need the `plot` extra ({exc})")
             written.extend(str(f) for f in files)
+    warnings = _locate(scene, scene_warnings(scene, mass, results))
     return SceneResult(
         path=str(path),
-        status=scene_status(results),
+        status=scene_status(results, warnings),
         name=scene.name,
         kind=scene.kind,
         mass_properties=mass,
@@ -212,6 +214,8 @@ def check_scene(
         plots=tuple(written),
         units=scene.units,
         runtime_s=time.perf_counter() - started,
+        warnings=warnings,
+        supports=tuple(s.to_json() for s in scene.supports),
     )
 
 

@@ -8,6 +8,7 @@ touches a mesh beyond checking that its path is a readable file (mass properties
 
 from __future__ import annotations
 
+import dataclasses
 import errno
 import os
 import stat
@@ -169,13 +170,14 @@ class _Builder:
             if position is None or normal is None:
                 continue
             mu = m.friction if s.friction is None else s.friction
-            add(Support(s.name, position, normal, float(mu)), where, (*where, "name"))
+            support = Support(s.name, position, normal, float(mu), None, where)
+            add(support, where, (*where, "name"))
         for i, c in enumerate(m.couplings):
             where = ("couplings", i)
             made = self.coupling(c, where)
             if made:
                 for s in made:
-                    add(s, where, (*where, "name"))
+                    add(dataclasses.replace(s, field=where), where, (*where, "name"))
                 if c.type == "ball-cone":
                     self.notes.append(
                         f"coupling `{c.name}` (ball-cone) is a line contact around a circle, "

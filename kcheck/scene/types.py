@@ -81,13 +81,16 @@ class ContactGeometry:
 @dataclass(frozen=True)
 class Support:
     """A point support: contact point (m), unit normal into the body, Coulomb coefficient,
-    and the contact's geometry when a coupling shorthand made it (None for explicit ones)."""
+    the contact's geometry when a coupling shorthand made it (None for explicit ones), and
+    the field that gave it."""
 
     name: str
     position: np.ndarray
     normal: np.ndarray
     friction: float
     geometry: ContactGeometry | None = None
+    #: Where the support is written in the scene file (a support, or the coupling entry).
+    field: FieldPath = dataclasses.field(default=(), compare=False)
 
     def to_json(self) -> dict[str, Any]:
         """JSON form (SI): name, position, normal, friction, coupling (or None), kind."""
