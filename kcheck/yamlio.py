@@ -36,6 +36,7 @@ __all__ = [
     "read_yaml",
     "format_path",
     "HAVE_LIBYAML",
+    "dump_yaml",
 ]
 
 LineMap = Mapping[FieldPath, int]
@@ -482,3 +483,43 @@ def load_yaml(
     """Read a YAML file safely; return its data and the 1-based line of every field path."""
     document = read_yaml(path, limits=limits)
     return document.data, document.lines
+
+
+class _Flow(dict):
+    """A mapping written on one line."""
+
+
+class _Dumper(yaml.SafeDumper):
+    """Writes what :func:`read_yaml` reads back identically: strings that YAML 1.2 would
+    read as something else are quoted, floats keep every digit (``repr``)."""
+
+    def represent_str(self, data: str) -> yaml.ScalarNode:  # type: ignore[override]
+        if not isinstance(_plain(data, 0, 0), str) or data in ("<<", "="):
+            return self.represent_scalar("tag:yaml.org,2002:str", data, style="'")
+        return super().represent_str(data)
+
+
+_Dumper.add_representer(str, _Dumper.represent_str)
+_Dumper.add_representer(
+    _Flow, lambda d, data: d.represent_mapping("tag:yaml.org,2002:map", data, flow_style=True)
+)
+
+
+def dump_yaml(data: Any, flow_items: tuple[str, ...] = ()) -> str:
+    """YAML text of plain data (keys in their order, lists of numbers on one line); items of
+    the top-level lists named in ``flow_items`` are written one per line."""
+    if isinstance(data, dict):
+        data = {
+            k: [_Flow(i) if isinstance(i, dict) else i for i in v]
+            if k in flow_items and isinstance(v, list)
+            else v
+            for k, v in data.items()
+        }
+    return yaml.dump(
+        data,
+        Dumper=_Dumper,
+        sort_keys=False,
+        default_flow_style=None,
+        allow_unicode=True,
+        width=100,
+    )

@@ -12,13 +12,13 @@ import sys
 from collections.abc import Sequence
 
 from kcheck import __version__
-from kcheck.cli import check, info, mass
+from kcheck.cli import check, expand, info, mass
 from kcheck.cli.common import ExitCode, Parser
 from kcheck.errors import KcheckError
 
 __all__ = ["ExitCode", "main"]
 
-COMMANDS = (check, mass, info)
+COMMANDS = (check, expand, mass, info)
 
 
 def _parser() -> argparse.ArgumentParser:
