@@ -153,37 +153,39 @@ class _Builder:
         fields: list[FieldPath] = []
         names: dict[str, FieldPath] = {}
 
-        def add(support: Support, where: FieldPath, name_field: FieldPath) -> None:
-            if support.name in names:
-                p.add(
-                    name_field,
-                    f"support name `{support.name}` used twice (also {_show(names[support.name])})",
-                )
-            names[support.name] = where
-            out.append(support)
-            fields.append(where)
-
         for i, s in enumerate(m.supports):
             where: FieldPath = ("supports", i)
+            self.unique_name(names, s.name, where)
             position = p.coordinates((*where, "position"), s.position, self.scale)
             normal = p.direction((*where, "normal"), s.normal, "the normal")
             if position is None or normal is None:
                 continue
             mu = m.friction if s.friction is None else s.friction
-            support = Support(s.name, position, normal, float(mu), None, where)
-            add(support, where, (*where, "name"))
+            out.append(Support(s.name, position, normal, float(mu), None, where))
+            fields.append(where)
         for i, c in enumerate(m.couplings):
             where = ("couplings", i)
             made = self.coupling(c, where)
-            if made:
-                for s in made:
-                    add(dataclasses.replace(s, field=where), where, (*where, "name"))
-                if c.type == "ball-cone":
-                    self.notes.append(
-                        f"coupling `{c.name}` (ball-cone) is a line contact around a circle, "
-                        "modelled as 3 points 120° apart"
-                    )
+            for k in range(1, _contact_count(c) + 1):
+                self.unique_name(names, f"{c.name}.{k}", where)
+            for s in made or ():
+                out.append(dataclasses.replace(s, field=where))
+                fields.append(where)
+            if made and c.type == "ball-cone":
+                self.notes.append(
+                    f"coupling `{c.name}` (ball-cone) is a line contact around a circle, "
+                    "modelled as 3 points 120° apart"
+                )
         return tuple(out), fields
+
+    def unique_name(self, names: dict[str, FieldPath], name: str, where: FieldPath) -> None:
+        """Record a support's name; an error if another support has it."""
+        if name in names:
+            self.p.add(
+                (*where, "name"), f"support name `{name}` used twice (also {_show(names[name])})"
+            )
+        else:
+            names[name] = where
 
     def coupling(self, c: Any, where: FieldPath) -> tuple[Support, ...] | None:
         """The supports of one coupling entry, or None after recording its errors."""
@@ -573,6 +575,15 @@ class _Builder:
             )
             return None
         return tensor
+
+
+def _contact_count(c: Any) -> int:
+    """How many supports a coupling entry makes."""
+    if c.type == "ball-cylinders":
+        return len(c.cylinders)
+    if c.type == "ball-sphere":
+        return len(c.spheres)
+    return {"ball-vee": 2, "ball-flat": 1}.get(c.type, 3)
 
 
 def _show(where: FieldPath) -> str:

@@ -16,6 +16,7 @@ from pydantic import BaseModel, ValidationError
 
 from kcheck.errors import FieldPath, SceneError, SceneErrors
 from kcheck.scene.limits import LIMITS, MAX_DIRECTION, MIN_DIRECTION, Range
+from kcheck.scene.models import COUPLING_TYPES
 from kcheck.scene.types import line_of
 
 __all__ = [
@@ -237,18 +238,22 @@ def did_you_mean(key: str, allowed: list[str]) -> str:
 
 def _bounds(info: Any, name: str) -> str | None:
     """The allowed range of a bounded field, e.g. ``0 ≤ magnitude ≤ 1e+07 N``."""
-    meta = getattr(info, "metadata", None) or []
     low = high = None
-    for m in meta:
-        low = next((getattr(m, a) for a in ("ge", "gt") if getattr(m, a, None) is not None), low)
-        high = next((getattr(m, a) for a in ("le", "lt") if getattr(m, a, None) is not None), high)
+    low_sign = high_sign = "≤"
+    for m in getattr(info, "metadata", None) or []:
+        for attr, sign in (("ge", "≤"), ("gt", "<")):
+            if getattr(m, attr, None) is not None:
+                low, low_sign = getattr(m, attr), sign
+        for attr, sign in (("le", "≤"), ("lt", "<")):
+            if getattr(m, attr, None) is not None:
+                high, high_sign = getattr(m, attr), sign
     for r in LIMITS.values():
         if (r.low, r.high) == (low, high):
             return Range(r.low, r.high, r.unit, name, r.open).text()
     if low is None and high is None:
         return None
-    text = name if low is None else f"{low:g} ≤ {name}"
-    return text if high is None else f"{text} ≤ {high:g}"
+    text = name if low is None else f"{low:g} {low_sign} {name}"
+    return text if high is None else f"{text} {high_sign} {high:g}"
 
 
 def describe_pydantic(err: Mapping[str, Any], root: type[BaseModel] | None = None) -> str:
@@ -281,6 +286,8 @@ def describe_pydantic(err: Mapping[str, Any], root: type[BaseModel] | None = Non
         bounds = _bounds(info, str(err["loc"][-1]))
         if bounds is not None:
             return f"out of range: expected {bounds}, got {shown}"
+    if kind == "union_tag_not_found":
+        return f"required field is missing; expected one of {', '.join(COUPLING_TYPES)}"
     if kind == "union_tag_invalid":
         ctx = err.get("ctx") or {}
         return (
@@ -303,4 +310,6 @@ def pydantic_problems(exc: ValidationError, root: type[BaseModel], problems: Pro
         if key not in chosen or len(loc) > chosen[key][0]:
             chosen[key] = (len(loc), path, err)
     for _, path, err in chosen.values():
+        if err["type"] in ("union_tag_invalid", "union_tag_not_found"):
+            path = (*path, "type")
         problems.add(path, describe_pydantic(err, root))
