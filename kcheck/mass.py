@@ -163,15 +163,50 @@ _STEP_UNITS = (
 def step_length_unit(path: Path) -> str | None:
     """The length unit a STEP file declares (``mm``, ``in``, ...), from its text, or None.
 
-    Only for reporting: OpenCASCADE applies the unit itself when it converts to metres.
+    Only for reporting: OpenCASCADE applies the unit itself when it converts to metres. The
+    unit is the LENGTH_UNIT among the representation context's assigned units.
     """
     try:
         with open(path, "rb") as handle:
-            text = handle.read(4 << 20).decode("latin-1")
+            text = handle.read(8 << 20).decode("latin-1")
     except OSError:
         return None
-    found = [(m.start(), unit) for rx, unit in _STEP_UNITS if (m := rx.search(text))]
-    return min(found)[1] if found else None
+    context = re.search(r"GLOBAL_UNIT_ASSIGNED_CONTEXT\s*\(\s*\(([^)]*)\)", text, re.I)
+    candidates = []
+    if context:
+        for ref in re.findall(r"#\d+", context.group(1)):
+            entity = re.search(rf"{ref}\s*=\s*([^;]*);", text)
+            if entity and re.search(r"LENGTH_UNIT", entity.group(1), re.I):
+                candidates.append(entity.group(1))
+    candidates.append(text)  # no context found: the first unit named anywhere
+    for candidate in candidates:
+        found = [(m.start(), unit) for rx, unit in _STEP_UNITS if (m := rx.search(candidate))]
+        if found:
+            return min(found)[1]
+    return None
+
+
+def _merge_close(mesh: trimesh.Trimesh, tolerance: float) -> tuple[trimesh.Trimesh, int]:
+    """The mesh with vertices closer than ``tolerance`` (m) joined, and how many were."""
+    import trimesh
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    pairs = cKDTree(mesh.vertices).query_pairs(tolerance, output_type="ndarray")
+    if len(pairs) == 0:
+        return mesh, 0
+    n = len(mesh.vertices)
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    count, labels = connected_components(graph, directed=False)
+    first = np.full(count, n)
+    np.minimum.at(first, labels, np.arange(n))
+    faces = labels[mesh.faces]
+    keep = (
+        (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])
+    )
+    merged = trimesh.Trimesh(mesh.vertices[first], faces[keep], process=False)
+    return merged, n - count
 
 
 def _read(path: Path, field: FieldPath | str) -> trimesh.Trimesh:
@@ -205,10 +240,7 @@ def load_mesh(path: Path, scale: float, field: FieldPath | str) -> trimesh.Trime
         raise MeshError(path, "the mesh has non-finite vertex coordinates", field=field)
     extent = float(np.ptp(mesh.vertices, axis=0).max())
     if extent > 0:
-        before = len(mesh.vertices)
-        digits = int(np.ceil(-np.log10(MERGE_RTOL * extent)))
-        mesh.merge_vertices(merge_tex=True, merge_norm=True, digits_vertex=digits)
-        merged = before - len(mesh.vertices)
+        mesh, merged = _merge_close(mesh, MERGE_RTOL * extent)
         if merged:
             mesh.metadata["kcheck_merged"] = merged
     return mesh

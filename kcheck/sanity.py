@@ -165,27 +165,33 @@ def _gap(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def _part_outliers(scene: Scene, mass: MassProperties) -> list[Finding]:
+    """Parts whose size is out of line with the others'. With two parts only the smaller one
+    can be named (a file in cm or m read as mm comes out small)."""
     if scene.body is None or len(mass.part_bounds) < 2:
         return []
     boxes = list(mass.part_bounds)
     sizes = np.array([np.linalg.norm(b[1] - b[0]) for b in boxes])
+    candidates = range(len(boxes)) if len(boxes) > 2 else [int(np.argmin(sizes))]
     out = []
-    for i, part in enumerate(scene.body.parts[: len(boxes)]):
-        others = np.delete(sizes, i)
-        ratio = sizes[i] / float(np.median(others))
+    for i in candidates:
+        part = scene.body.parts[i]
+        others = float(np.median(np.delete(sizes, i)))
+        ratio = sizes[i] / others
         factor = max(ratio, 1 / ratio)
-        detached = min(_gap(boxes[i], b) for j, b in enumerate(boxes) if j != i) > 0.02 * max(sizes)
+        gap = min(_gap(boxes[i], b) for j, b in enumerate(boxes) if j != i)
+        detached = gap > 0.02 * float(sizes.max())
         if factor >= PART_RATIO[1] or (factor >= PART_RATIO[0] and detached):
             scaled = "smaller" if ratio < 1 else "larger"
             out.append(
                 Finding(
                     f"part {i + 1} ({part.mesh.name}) is {factor:.3g} times {scaled} than the "
-                    f"other parts ({_length(scene, sizes[i])} against "
-                    f"{_length(scene, float(np.median(others)))})"
+                    f"other parts ({_length(scene, sizes[i])} across against "
+                    f"{_length(scene, others)})"
                     + (" and touches none of them" if detached else ""),
                     code="part-size-outlier",
                     field=part.field or None,
-                    hint="is its mesh in another unit? Give the part its own `units`",
+                    hint=f"is its mesh in another unit than {part.units}? Give the part its own "
+                    "`units`",
                 )
             )
     return out

@@ -12,13 +12,13 @@ import sys
 from collections.abc import Sequence
 
 from kcheck import __version__
-from kcheck.cli import check, expand, info, mass
+from kcheck.cli import check, expand, info, init, mass
 from kcheck.cli.common import ExitCode, Parser
 from kcheck.errors import KcheckError
 
 __all__ = ["ExitCode", "main"]
 
-COMMANDS = (check, expand, mass, info)
+COMMANDS = (check, init, expand, mass, info)
 
 
 def _parser() -> argparse.ArgumentParser:
