@@ -6,11 +6,12 @@ import argparse
 import sys
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from kcheck.cli.common import ExitCode, fail
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["add_parser", "run", "guess_units", "template"]
 
@@ -74,6 +75,8 @@ def _v(values: Any) -> str:
 
 
 def _mesh_body(mesh_path: Path, scene_path: Path, material: str) -> _Body:
+    import numpy as np
+
     from kcheck.mass import load_mesh, mesh_mass_properties, step_length_unit
     from kcheck.units import LENGTH_TO_M, density_of
 
@@ -119,6 +122,8 @@ def _mesh_body(mesh_path: Path, scene_path: Path, material: str) -> _Body:
 
 
 def _placeholder_body(material: str) -> _Body:
+    import numpy as np
+
     lo, hi = np.zeros(3), np.array([100.0, 100.0, 20.0])
     com = (lo + hi) / 2
     mass = 2700.0 * 0.1 * 0.1 * 0.02
@@ -139,6 +144,8 @@ def _placeholder_body(material: str) -> _Body:
 
 def _ring(body: _Body) -> tuple[np.ndarray, float, float]:
     """Centre of the ball circle (under the body), its radius and the balls' radius."""
+    import numpy as np
+
     size = body.hi - body.lo
     span = float(min(size[0], size[1]))
     ball = float(f"{0.05 * span:.2g}")
@@ -150,6 +157,8 @@ def _ring(body: _Body) -> tuple[np.ndarray, float, float]:
 
 
 def _balls(body: _Body) -> list[np.ndarray]:
+    import numpy as np
+
     centre, arm, _ = _ring(body)
     return [
         centre + arm * np.array([np.cos(np.radians(a)), np.sin(np.radians(a)), 0.0])
@@ -171,6 +180,8 @@ def _closing(body: _Body, magnitude: float = 10.0) -> list[str]:
 
 
 def _maxwell(body: _Body) -> list[str]:
+    import numpy as np
+
     _, _, r = _ring(body)
     out = [
         "# The balls belong to the body: in its mesh, or as `point_masses` under `body`.",
@@ -186,6 +197,7 @@ def _maxwell(body: _Body) -> list[str]:
 
 
 def _kelvin(body: _Body) -> list[str]:
+
     _, _, r = _ring(body)
     a, b, c = _balls(body)
     return [
@@ -202,6 +214,8 @@ def _kelvin(body: _Body) -> list[str]:
 
 
 def _321(body: _Body) -> list[str]:
+    import numpy as np
+
     lo, hi = body.lo, body.hi
     s, mid = hi - lo, (lo + hi) / 2
 

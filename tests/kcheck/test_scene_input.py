@@ -331,3 +331,39 @@ def test_runner_reports_every_error_without_internal_error(write_scene):
     assert result.status is Status.ERROR
     assert len(result.errors) == 2 and "internal error" not in (result.error or "")
     assert {e.field for e in result.errors} == {("load", "magnitude"), ("fricton",)}
+
+
+# --- the documented limits are the enforced ones -------------------------------------------
+
+DOC_ROWS = {
+    "coordinate": "| coordinates",
+    "radius": "| radii",
+    "mass": "| mass (",
+    "density": "| density",
+    "inertia": "| principal moments",
+    "force": "| force (",
+    "torque": "| torque",
+    "gravity": "| gravity",
+    "friction": "| friction",
+    "angle": "| angles",
+    "half_angle": "| `half_angle`",
+}
+
+
+def test_limits_table_matches_the_code():
+    from kcheck.scene.limits import LIMITS
+    from kcheck.yamlio import DEFAULT_LIMITS
+    from tests.conftest import ROOT
+
+    doc = (ROOT / "docs" / "scene-format.md").read_text()
+    assert set(DOC_ROWS) == set(LIMITS)
+    for key, label in DOC_ROWS.items():
+        row = next(line for line in doc.splitlines() if line.startswith(label))
+        r = LIMITS[key]
+        assert f"{r.high:g}" in row, (key, row)
+        if r.low > 0:
+            assert f"{r.low:g}" in row, (key, row)
+    assert f"{DEFAULT_LIMITS.max_bytes / 2**20:g} MiB" in doc
+    assert f"| {DEFAULT_LIMITS.max_depth} levels |" in doc
+    assert f"{DEFAULT_LIMITS.max_values:,}".replace(",", " ") in doc
+    assert f"{DEFAULT_LIMITS.max_alias_values:,}".replace(",", " ") in doc
