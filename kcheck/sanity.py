@@ -20,7 +20,7 @@ public results, never at a check's internals.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -247,17 +247,31 @@ def _normals_reversed(
 def scene_warnings(
     scene: Scene, mass: MassProperties | None, checks: Sequence[CheckResult] = ()
 ) -> tuple[Finding, ...]:
-    """Every sanity warning of a checked scene (see the module's list)."""
+    """Every sanity warning of a checked scene (see the module's list). A rule that crashes
+    (a bug) gives a finding saying so instead of taking the scene down."""
     out: list[Finding] = []
     if mass is not None:
         out.extend(mass.warnings)
     box = body_box(mass)
+    rules: list[Callable[[], list[Finding]]] = []
     if box is not None and mass is not None:
-        out += _body_size(scene, box)
-        out += _supports_far(scene, box)
-        out += _supports_tiny(scene, box)
-        out += _points_far(scene, box, mass)
-        out += _part_outliers(scene, mass)
+        rules += [
+            lambda: _body_size(scene, box),
+            lambda: _supports_far(scene, box),
+            lambda: _supports_tiny(scene, box),
+            lambda: _points_far(scene, box, mass),
+            lambda: _part_outliers(scene, mass),
+        ]
     if mass is not None:
-        out += _normals_reversed(scene, mass, checks)
+        rules.append(lambda: _normals_reversed(scene, mass, checks))
+    for rule in rules:
+        try:
+            out += rule()
+        except Exception as exc:  # a bug in a rule must not lose the scene's result
+            out.append(
+                Finding(
+                    f"a sanity rule crashed ({type(exc).__name__}: {exc}); please report it",
+                    code="sanity-rule-crashed",
+                )
+            )
     return tuple(out)

@@ -10,7 +10,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["Range", "LIMITS", "MAX_DIRECTION", "MIN_DIRECTION", "INERTIA_SYMMETRY_RTOL"]
+__all__ = [
+    "Range",
+    "LIMITS",
+    "MAX_DIRECTION",
+    "MIN_DIRECTION",
+    "MIN_FORCE",
+    "INERTIA_SYMMETRY_RTOL",
+]
 
 
 @dataclass(frozen=True)
@@ -54,5 +61,8 @@ LIMITS: dict[str, Range] = {
 #: norm then neither overflows nor underflows; the length itself does not matter).
 MAX_DIRECTION = 1e150
 MIN_DIRECTION = 1e-150
+#: A force (load, preload) is either zero or at least this (N): a micronewton closes nothing,
+#: and a load of 1e-300 N against a body's weight overflows any ratio taken of them.
+MIN_FORCE = 1e-6
 #: Relative tolerance of the inertia tensor's symmetry, on the largest entry.
 INERTIA_SYMMETRY_RTOL = 1e-6

@@ -19,7 +19,7 @@ import numpy as np
 from pydantic import ValidationError
 
 from kcheck import couplings
-from kcheck.scene.limits import INERTIA_SYMMETRY_RTOL, LIMITS
+from kcheck.scene.limits import INERTIA_SYMMETRY_RTOL, LIMITS, MIN_FORCE
 from kcheck.scene.models import (
     BodyModel,
     LoadModel,
@@ -330,6 +330,12 @@ class _Builder:
         point = None
         if model.point is not None:
             point = p.coordinates((*where, "point"), model.point, self.scale)
+        if 0 < model.magnitude < MIN_FORCE:
+            p.add(
+                (*where, "magnitude"),
+                f"out of range: a load is 0 (none) or at least {MIN_FORCE:g} N, "
+                f"got {model.magnitude:g}",
+            )
         return Load(float(model.magnitude), point, direction, torque)
 
     def preloads(self, planar: bool) -> tuple[Preload, ...]:
@@ -343,6 +349,12 @@ class _Builder:
             names[pre.name] = i
             point = p.coordinates((*where, "point"), pre.point, self.scale)
             force = p.magnitude((*where, "force"), pre.force, "force")
+            if force is not None and 0 < np.linalg.norm(force) < MIN_FORCE:
+                p.add(
+                    (*where, "force"),
+                    f"out of range: a preload is at least {MIN_FORCE:g} N, got {pre.force}",
+                )
+                continue
             if point is None or force is None:
                 continue
             if planar and force[2] != 0:

@@ -10,7 +10,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from kcheck.errors import FieldPath, SceneError, format_path
+from kcheck.errors import FieldPath, SceneError
 from kcheck.yamlio import LineMap
 
 __all__ = [
@@ -244,7 +244,7 @@ class Scene:
         return SceneError(
             self.path,
             message,
-            field=format_path(path) and path or None,
+            field=path or None,
             line=self.line_of(path),
             column=column,
         )

@@ -48,6 +48,7 @@ NONSENSE = {
     "infinite load": (_edit("magnitude: 1", "magnitude: .inf"), "load.magnitude", "finite"),
     "nan angle": (_edit("angle: 225", "angle: .nan"), "load.angle", "finite"),
     "huge load": (_edit("magnitude: 1", "magnitude: 1e9"), "load.magnitude", "1e+07 N"),
+    "vanishing load": (_edit("magnitude: 1", "magnitude: 1e-300"), "load.magnitude", "1e-06 N"),
     "infinite mass": (_edit("mass: 1", "mass: .inf"), "body.mass", "finite"),
     "tiny mass": (_edit("mass: 1", "mass: 1e-320"), "body.mass", "1e-09 ≤ mass"),
     "infinite margin option": (
