@@ -7,10 +7,10 @@ a whole `load_scene` (validation, coupling expansion), in ms per file.
 from __future__ import annotations
 
 import os
-import statistics
-import time
 from collections.abc import Callable
 from pathlib import Path
+
+from bench_analytical_3d import median_time
 
 from kcheck.scene import load_scene
 from kcheck.yamlio import HAVE_LIBYAML, read_yaml
@@ -24,14 +24,8 @@ SCENES = [
 
 
 def median_ms(run: Callable[[], object], repeat: int = 200) -> float:
-    """Median wall time of ``run`` in ms."""
-    run()
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        run()
-        times.append(time.perf_counter() - start)
-    return 1e3 * statistics.median(times)
+    """Median wall time of ``run`` in ms (``bench_analytical_3d.median_time``)."""
+    return 1e3 * median_time(run, repeat)
 
 
 def main() -> None:
