@@ -283,3 +283,22 @@ def test_expand_checks_identically(fixture, cli, tmp_path):
         code, out, _ = cli("check", "--format", "json", str(path))
         docs.append(_comparable(json.loads(out)))
     assert docs[0] == docs[1]
+
+
+def test_json_result_says_where_each_support_came_from(cli_json):
+    code, doc = cli_json(str(FIXTURES / "tool-changer" / "tool.kcheck.yaml"))
+    supports = doc["scenes"][0]["supports"]
+    assert code == 0 and [s["name"] for s in supports][:2] == ["b1.1", "b1.2"]
+    assert {(s["coupling"], s["kind"]) for s in supports} == {
+        ("b1", "ball-cylinders"),
+        ("b2", "ball-cylinders"),
+        ("b3", "ball-cylinders"),
+    }
+    # b1.1 rests on the pin at x = +4.2 mm: the normal (-4.2, 0, 5.6) / 7, the contact point
+    # 5 mm from the ball centre (0, 30, 0) mm along -n.
+    assert supports[0]["normal"] == pytest.approx([-0.6, 0, 0.8], abs=1e-15)
+    assert supports[0]["position"] == pytest.approx([0.003, 0.03, -0.004], abs=1e-15)
+    _, doc = cli_json(str(FIXTURES / "block-321" / "block.kcheck.yaml"))
+    assert {(s["coupling"], s["kind"]) for s in doc["scenes"][0]["supports"]} == {
+        (None, "explicit")
+    }
