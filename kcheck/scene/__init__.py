@@ -4,8 +4,9 @@ Loading a scene reads YAML and checks fields only; it never reads a mesh (that i
 :mod:`kcheck.mass`, called only when a check needs mass properties). The package is split by
 concept: :mod:`.types` (the validated scene), :mod:`.models` (the file's fields),
 :mod:`.limits` (accepted ranges), :mod:`.validate` (error collection and wording),
-:mod:`.load` (reading), :mod:`.schema` (JSON Schema); coupling shorthands expand through
-:mod:`kcheck.couplings`.
+:mod:`.load` (reading: supports, forces, frames), :mod:`.body` (meshes, parts, mass),
+:mod:`.shorthands` (coupling entries, expanded through :mod:`kcheck.couplings`),
+:mod:`.schema` (JSON Schema).
 """
 
 from __future__ import annotations
