@@ -210,12 +210,12 @@ def test_step_units_field_is_refused(write_scene, tmp_path):
 
 
 def test_missing_step_extra_names_the_install_command(tmp_path, monkeypatch):
-    import kcheck.mass
+    import kcheck.meshio
 
     (tmp_path / "box.step").write_text(_generator().step_box((4.0, 2.0, 1.0), "mm"))
     real = importlib.util.find_spec
     monkeypatch.setattr(
-        kcheck.mass.importlib.util,
+        kcheck.meshio.importlib.util,
         "find_spec",
         lambda name: None if name == "cascadio" else real(name),
     )
