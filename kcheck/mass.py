@@ -1,13 +1,16 @@
 """Mass properties of the body from its mesh(es), in SI units, gated for meaningful input.
 
-trimesh is imported here and only here, and only when a check needs mass properties.
-Meshes are scaled explicitly from the scene's ``units`` (never guessed from file names), the
-density is always set (trimesh defaults to 1), and a mesh that cannot have a meaningful centre
-of mass (open, inconsistent winding, inverted, empty, zero volume) is an error, not a number.
+trimesh is imported here and in :mod:`kcheck.meshio` (which reads the files) only, and only
+when a check needs mass properties. Meshes are scaled explicitly from the scene's (or the
+part's) ``units`` (never guessed from file names), the density is always set (trimesh
+defaults to 1), and a mesh that cannot have a meaningful centre of mass (open, inconsistent
+winding, inverted, empty, zero volume) is an error, not a number. Parts are placed by their
+transforms and point masses added by the parallel-axis theorem.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -16,24 +19,36 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 
 from kcheck.errors import FieldPath, MeshError
+from kcheck.meshio import MERGE_RTOL, load_mesh, not_watertight, step_length_unit
+from kcheck.result import Finding
 from kcheck.scene import Body, Part
 
 if TYPE_CHECKING:
     import trimesh
 
 __all__ = [
+    "MERGE_RTOL",
     "MassProperties",
     "body_mass_properties",
     "combine",
     "load_mesh",
     "mesh_mass_properties",
+    "part_mass_properties",
+    "point_mass",
     "principal_axes",
+    "step_length_unit",
+    "transformed",
 ]
 
 
 @dataclass(frozen=True)
 class MassProperties:
-    """Mass (kg), centre of mass (m), inertia tensor about the centre of mass (kg m^2)."""
+    """Mass (kg), centre of mass (m), inertia tensor about the centre of mass (kg m^2).
+
+    ``bounds`` (m, rows min and max) is the axis-aligned box of the meshes in the scene's
+    frame, when mass properties come from meshes, and ``part_bounds`` the box of each mesh
+    part in order; ``warnings`` are findings for the scene's warnings (a repaired mesh).
+    """
 
     mass: float
     center_of_mass: np.ndarray
@@ -41,6 +56,9 @@ class MassProperties:
     source: Literal["mesh", "explicit"]
     volume: float | None = None
     notes: tuple[str, ...] = ()
+    bounds: np.ndarray | None = None
+    warnings: tuple[Finding, ...] = ()
+    part_bounds: tuple[np.ndarray, ...] = ()
 
     def to_json(self) -> dict[str, object]:
         """The documented JSON form (SI units)."""
@@ -63,47 +81,86 @@ def principal_axes(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return moments, axes
 
 
+def point_mass(mass: float, point: np.ndarray) -> MassProperties:
+    """A point mass (kg at m): no inertia about itself, no volume."""
+    return MassProperties(float(mass), np.asarray(point, dtype=float), np.zeros((3, 3)), "mesh")
+
+
 def combine(parts: Sequence[MassProperties]) -> MassProperties:
-    """Combine bodies rigidly joined: masses add, inertias move by the parallel-axis theorem."""
+    """Combine bodies rigidly joined: masses add, inertias move by the parallel-axis theorem.
+
+    The volume is the sum of the known volumes (point masses have none); the bounds are the
+    union of the known bounds.
+    """
     mass = sum(p.mass for p in parts)
     com = sum(p.mass * p.center_of_mass for p in parts) / mass
     inertia = np.zeros((3, 3))
     for p in parts:
         r = p.center_of_mass - com
         inertia += p.inertia + p.mass * (np.dot(r, r) * np.eye(3) - np.outer(r, r))
-    volume = None
-    if all(p.volume is not None for p in parts):
-        volume = float(sum(p.volume for p in parts))  # type: ignore[misc]
-    notes = tuple(n for p in parts for n in p.notes)
-    return MassProperties(float(mass), com, inertia, parts[0].source, volume, notes)
+    volumes = [p.volume for p in parts if p.volume is not None]
+    boxes = [p.bounds for p in parts if p.bounds is not None]
+    bounds = None
+    if boxes:
+        bounds = np.array([np.min([b[0] for b in boxes], axis=0), np.max([b[1] for b in boxes], 0)])
+    return MassProperties(
+        float(mass),
+        com,
+        inertia,
+        parts[0].source,
+        float(sum(volumes)) if volumes else None,
+        tuple(n for p in parts for n in p.notes),
+        bounds,
+        tuple(w for p in parts for w in p.warnings),
+        tuple(b for p in parts for b in p.part_bounds),
+    )
 
 
-def load_mesh(path: Path, scale: float, field: FieldPath | str) -> trimesh.Trimesh:
-    """Load a mesh file as one Trimesh scaled to metres; MeshError if it is unusable."""
-    import trimesh
-
-    try:
-        # force="mesh" bakes scene graphs (glTF, 3MF, ...) into one mesh with transforms applied.
-        mesh = trimesh.load_mesh(str(path), process=True)
-    except Exception as exc:  # trimesh raises many types for unreadable files
-        raise MeshError(
-            path, f"cannot read the mesh ({type(exc).__name__}: {exc})", field=field
-        ) from exc
-    if isinstance(mesh, trimesh.Scene):
-        mesh = mesh.to_mesh()
-    if not isinstance(mesh, trimesh.Trimesh) or mesh.is_empty or len(mesh.faces) == 0:
-        raise MeshError(path, "the mesh is empty (no triangles)", field=field)
-    mesh = mesh.copy()
-    mesh.apply_scale(scale)
-    return mesh
+def transformed(
+    props: MassProperties, rotation: np.ndarray, translation: np.ndarray
+) -> MassProperties:
+    """Mass properties of a body moved by ``x -> R x + t`` (inertia ``R I Rᵀ``)."""
+    com = rotation @ props.center_of_mass + translation
+    inertia = rotation @ props.inertia @ rotation.T
+    bounds = None
+    if props.bounds is not None:
+        corners = np.array(
+            [
+                [props.bounds[i, 0], props.bounds[j, 1], props.bounds[k, 2]]
+                for i in (0, 1)
+                for j in (0, 1)
+                for k in (0, 1)
+            ]
+        )
+        moved = corners @ rotation.T + translation
+        bounds = np.array([moved.min(axis=0), moved.max(axis=0)])
+    return dataclasses.replace(
+        props,
+        center_of_mass=com,
+        inertia=inertia,
+        bounds=bounds,
+        part_bounds=() if bounds is None else (bounds,),
+    )
 
 
 def mesh_mass_properties(
-    mesh: trimesh.Trimesh, density: float, path: Path, field: FieldPath | str
+    mesh: trimesh.Trimesh,
+    density: float,
+    path: Path,
+    field: FieldPath | str,
+    *,
+    repair: bool = False,
+    scale: float = 1.0,
+    units: str = "m",
 ) -> MassProperties:
-    """Mass properties (SI) of a closed mesh already in metres, after gating it."""
-    if not np.all(np.isfinite(mesh.vertices)):
-        raise MeshError(path, "the mesh has non-finite vertex coordinates", field=field)
+    """Mass properties (SI) of a closed mesh already in metres, after gating it.
+
+    With ``repair``, an open or inconsistently wound mesh is re-wound and its small holes are
+    filled; if that closes it, the result carries a warning. ``scale`` and ``units`` (metres
+    per file unit, its name) only word the messages in the file's units.
+    """
+    import trimesh
+
     extent = float(np.ptp(mesh.vertices, axis=0).max())
     areas = mesh.area_faces
     degenerate = int(np.count_nonzero(areas <= (1e-12 * extent) ** 2))
@@ -111,16 +168,34 @@ def mesh_mass_properties(
         raise MeshError(
             path, "the mesh is degenerate (zero extent or zero-area faces only)", field=field
         )
+    notes: list[str] = []
+    warnings: list[Finding] = []
+    merged = int(mesh.metadata.get("kcheck_merged", 0))
+    if merged:
+        notes.append(f"{path.name}: {merged} duplicate vertices merged")
+    if repair and not (mesh.is_watertight and mesh.is_winding_consistent):
+        trimesh.repair.fix_winding(mesh)
+        filled = trimesh.repair.fill_holes(mesh)
+        trimesh.repair.fix_normals(mesh, multibody=True)
+        if mesh.is_watertight and mesh.is_winding_consistent:
+            where = field if isinstance(field, tuple) else None
+            warnings.append(
+                Finding(
+                    f"mesh {path.name} was repaired (winding fixed"
+                    f"{', holes filled' if filled else ''}) because `repair: true`; its mass "
+                    "properties are those of the repaired mesh",
+                    code="mesh-repaired",
+                    field=where,
+                )
+            )
     if not mesh.is_watertight:
+        raise not_watertight(mesh, path, field, scale, units)
+    if not mesh.is_winding_consistent:
         raise MeshError(
             path,
-            "the mesh is not watertight (some edges do not join exactly two faces), so it "
-            "encloses no volume and has no meaningful centre of mass; close it in CAD "
-            "and export again",
+            "the mesh's face winding is inconsistent (set `repair: true` to re-wind it)",
             field=field,
         )
-    if not mesh.is_winding_consistent:
-        raise MeshError(path, "the mesh's face winding is inconsistent", field=field)
     with np.errstate(all="ignore"):  # trimesh divides by the volume before we can check it
         volume = float(mesh.volume)
     if not np.isfinite(volume) or abs(volume) <= (1e-9 * extent) ** 3:
@@ -133,7 +208,6 @@ def mesh_mass_properties(
             f"the mesh is inverted (negative volume {volume:.6g} m^3: faces wound inwards)",
             field=field,
         )
-    notes: list[str] = []
     if degenerate:
         notes.append(f"{path.name}: {degenerate} zero-area face(s) ignored")
     bodies = mesh.split(only_watertight=False)
@@ -149,11 +223,46 @@ def mesh_mass_properties(
     inertia = np.asarray(props.inertia, dtype=float)
     if not (np.all(np.isfinite(com)) and np.all(np.isfinite(inertia))):
         raise MeshError(path, "the mesh gives non-finite mass properties", field=field)
-    return MassProperties(float(props.mass), com, inertia, "mesh", volume, tuple(notes))
+    return MassProperties(
+        float(props.mass),
+        com,
+        inertia,
+        "mesh",
+        volume,
+        tuple(notes),
+        np.asarray(mesh.bounds, dtype=float),
+        tuple(warnings),
+        (np.asarray(mesh.bounds, dtype=float),),
+    )
 
 
-def body_mass_properties(body: Body, scale: float) -> MassProperties:
-    """Mass properties of a scene's body: explicit values win over the mesh parts."""
+def part_mass_properties(part: Part) -> MassProperties:
+    """Mass properties of one part in the scene's frame (its transform applied)."""
+    field = (*part.field, "mesh")
+    mesh = load_mesh(part.mesh, part.scale, field)
+    props = mesh_mass_properties(
+        mesh,
+        part.density,
+        part.mesh,
+        field,
+        repair=part.repair,
+        scale=part.scale,
+        units=part.units,
+    )
+    if part.is_step:
+        declared = step_length_unit(part.mesh)
+        note = f"{part.mesh.name}: STEP, declared unit {declared or 'unknown'}, read in metres"
+        props = dataclasses.replace(props, notes=(*props.notes, note))
+    if part.rotation is None and part.translation == (0.0, 0.0, 0.0):
+        return props
+    rotation = np.eye(3) if part.rotation is None else np.asarray(part.rotation, dtype=float)
+    return transformed(props, rotation, np.asarray(part.translation, dtype=float))
+
+
+def body_mass_properties(body: Body, scale: float | None = None) -> MassProperties:
+    """Mass properties of a scene's body: explicit values win over the mesh parts; point
+    masses are added to either. (``scale`` is not used: each part carries its own.)"""
+    points = [point_mass(p.mass, p.point) for p in body.point_masses]
     if body.explicit is not None:
         e = body.explicit
         notes = (
@@ -161,11 +270,14 @@ def body_mass_properties(body: Body, scale: float) -> MassProperties:
             if body.parts
             else ()
         )
-        return MassProperties(e.mass, e.center_of_mass, e.inertia, "explicit", None, notes)
-    return combine([_part_props(p, scale) for p in body.parts])
-
-
-def _part_props(part: Part, scale: float) -> MassProperties:
-    field = (*part.field, "mesh")
-    mesh = load_mesh(part.mesh, scale, field)
-    return mesh_mass_properties(mesh, part.density, part.mesh, field)
+        explicit = MassProperties(e.mass, e.center_of_mass, e.inertia, "explicit", None, notes)
+        if not points:
+            return explicit
+        combined = combine([explicit, *points])
+        return dataclasses.replace(combined, notes=(*notes, f"{len(points)} point mass(es) added"))
+    props = combine([*(part_mass_properties(p) for p in body.parts), *points])
+    if points:
+        props = dataclasses.replace(
+            props, notes=(*props.notes, f"{len(points)} point mass(es) added")
+        )
+    return props

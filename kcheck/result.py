@@ -213,7 +213,8 @@ class SceneResult:
 
     ``errors`` are the input errors (every one found, located); ``error`` is the first, as
     text. ``warnings`` are sanity warnings about the scene (a units slip, reversed normals).
-    ``units`` is the scene's length unit, for reports (JSON stays SI).
+    ``units`` is the scene's length unit, for reports (JSON stays SI). ``supports`` are the
+    scene's supports as checked (SI), each saying which coupling shorthand made it.
     """
 
     path: str
@@ -229,6 +230,7 @@ class SceneResult:
     warnings: tuple[Finding, ...] = ()
     units: str | None = None
     runtime_s: float = 0.0
+    supports: tuple[Mapping[str, Any], ...] = ()
 
     def to_json(self) -> dict[str, Any]:
         """JSON form of one scene."""
@@ -249,6 +251,8 @@ class SceneResult:
             out["errors"] = [e.to_json() for e in self.errors]
         if self.units is not None:
             out["units"] = self.units
+        if self.supports:
+            out["supports"] = [to_json_value(s) for s in self.supports]
         if self.notes:
             out["notes"] = list(self.notes)
         if self.plots:

@@ -23,6 +23,7 @@ from kcheck.errors import SceneError
 from kcheck.paths import discover_paths
 from kcheck.plugin import Inputs, LoadedCheck, Options
 from kcheck.result import CheckResult, Finding, SceneResult, Severity, Status
+from kcheck.sanity import scene_warnings
 from kcheck.scene import Scene, _describe_pydantic, load_scene
 
 __all__ = ["Settings", "discover", "check_scene", "run_batch", "scene_status"]
@@ -139,6 +140,23 @@ def _options(
         raise scene.error(where, _describe_pydantic(err)) from None
 
 
+def _crashed(lc: LoadedCheck, exc: Exception) -> str:
+    return f"check {lc.spec.display_name} crashed: {type(exc).__name__}: {exc}"
+
+
+def _ask(lc: LoadedCheck, scene: Scene) -> tuple[str | None, bool, str | None]:
+    """A check's skip reason for a scene, whether it then needs mass properties, and the
+    crash message when the plugin raised while answering (that check's error, not the
+    scene's: the other checks still run)."""
+    try:
+        reason = lc.check.skip_reason(scene)
+        return reason, reason is None and lc.check.needs_mass_for(scene), None
+    except MemoryError:
+        raise
+    except Exception as exc:
+        return None, False, _crashed(lc, exc)
+
+
 def _locate(scene: Scene, findings: Sequence[Finding]) -> tuple[Finding, ...]:
     """Findings with the line of their field in the scene file filled in."""
     return tuple(
@@ -181,9 +199,9 @@ def check_scene(
             if settings.selected is not None and lc.spec.name not in settings.selected:
                 continue  # its options are valid; it just does not run
             severity = severity or settings.severities.get(lc.spec.name) or lc.check.severity
-            plan.append((lc, options, severity, lc.check.skip_reason(scene)))
+            plan.append((lc, options, severity, *_ask(lc, scene)))
         mass = None
-        if any(reason is None and lc.check.needs_mass_for(scene) for lc, _, _, reason in plan):
+        if any(needs_mass for *_, needs_mass, _ in plan):
             if scene.body is None:
                 raise scene.error(
                     ("body",),
@@ -211,22 +229,21 @@ def check_scene(
     results = []
     written: list[str] = []
     notes = scene.notes
-    for lc, options, severity, reason in plan:
+    for lc, options, severity, reason, needs_mass, crash in plan:
+        if crash is not None:
+            results.append(CheckResult(lc.spec.name, Status.ERROR, crash, severity=severity))
+            continue
         if reason is not None:
             results.append(CheckResult(lc.spec.name, Status.SKIPPED, reason, severity=severity))
             continue
-        inputs = Inputs(scene, mass if lc.check.needs_mass_for(scene) else None, options)
+        inputs = Inputs(scene, mass if needs_mass else None, options)
         start = time.perf_counter()
         try:
             result = lc.check.run(inputs)
         except MemoryError:
             raise
         except Exception as exc:  # a crashing check must not take the batch down
-            result = CheckResult(
-                lc.spec.name,
-                Status.ERROR,
-                f"check {lc.spec.display_name} crashed: {type(exc).__name__}: {exc}",
-            )
+            result = CheckResult(lc.spec.name, Status.ERROR, _crashed(lc, exc))
         result = dataclasses.replace(
             result,
             runtime_s=time.perf_counter() - start,
@@ -241,9 +258,10 @@ def check_scene(
                 files = ()
                 notes = (*notes, f"plots need the `plot` extra ({exc})")
             written.extend(str(f) for f in files)
+    warnings = _locate(scene, scene_warnings(scene, mass, results))
     return SceneResult(
         path=str(path),
-        status=scene_status(results),
+        status=scene_status(results, warnings),
         name=scene.name,
         kind=scene.kind,
         mass_properties=mass,
@@ -252,6 +270,8 @@ def check_scene(
         plots=tuple(written),
         units=scene.units,
         runtime_s=time.perf_counter() - started,
+        warnings=warnings,
+        supports=tuple(s.to_json() for s in scene.supports),
     )
 
 

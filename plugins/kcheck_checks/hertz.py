@@ -95,7 +95,8 @@ class Hertz(Check):
             )
         seating = scene.preloads or (scene.body is not None and np.any(scene.gravity[: scene.dim]))
         load = scene.load
-        if not seating and not (load is not None and load.magnitude > 0 and load.direction):
+        designed = load is not None and load.magnitude > 0 and load.direction is not None
+        if not seating and not designed:
             return (
                 "nothing seats the coupling (no weight, no preloads, no load with a design "
                 "direction): contact forces and contact stiffness are zero"

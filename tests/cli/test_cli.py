@@ -69,14 +69,14 @@ def test_batch_keeps_going_past_bad_input(cli_json, write_scene):
     assert by_name["good.kcheck.yaml"]["status"] == "pass"
     bad = by_name["bad.kcheck.yaml"]
     assert bad["status"] == "error" and bad["checks"] == []
-    assert "bad.kcheck.yaml:14: field `load.magnitude`" in bad["error"]
+    assert "bad.kcheck.yaml:14:3: field `load.magnitude`" in bad["error"]
 
 
 def test_bad_input_messages_on_stderr_without_traceback(cli, write_scene):
     path = write_scene(PLANAR_SCENE.replace("[1, 0, 0]", "[0, 0, 0]"))
     code, out, err = cli("check", str(path))
     assert code == 2
-    assert f"{path}:11: field `supports[2].normal`: expected a non-zero vector" in err
+    assert f"{path}:11:38: field `supports[2].normal`: expected a non-zero vector" in err
     assert "Traceback" not in out + err
 
 

@@ -31,7 +31,7 @@ jobs = 2
 severity = "warning"
 """
 SCENE = textwrap.dedent(PLANAR_SCENE).lstrip()
-BROKEN_LINE = 14  # `magnitude: lots` in PLANAR_SCENE
+BROKEN_LINE, BROKEN_COLUMN = 14, 3  # `magnitude: lots` in PLANAR_SCENE
 
 
 def git(repo: Path, *args: str) -> str:
@@ -96,22 +96,26 @@ def test_every_format_in_one_run(repo, cli):
     broken = "couplings/broken.kcheck.yaml"
 
     concise = (out / "concise").read_text().splitlines()
-    assert (
-        f"{broken}:{BROKEN_LINE}: input-error: field `load.magnitude`: expected a valid "
-        in (concise[0])
-    )
+    where = f"{broken}:{BROKEN_LINE}:{BROKEN_COLUMN}"
+    assert f"{where}: input-error: field `load.magnitude`: expected a valid " in concise[0]
     assert any(x.startswith("couplings/fail.kcheck.yaml: analytical-2d: ") for x in concise)
     assert "couplings/warn.kcheck.yaml: maxwell (warning): " in "\n".join(concise)
     assert concise[-1] == "4 scenes: 1 passed, 1 with warnings, 1 failed, 1 with errors"
 
     github = (out / "github").read_text()
-    assert f"::error file={broken},line={BROKEN_LINE},title=kcheck (input-error)::" in github
+    assert (
+        f"::error file={broken},line={BROKEN_LINE},col={BROKEN_COLUMN},title=kcheck (input-error)::"
+        in github
+    )
     assert "::error file=couplings/fail.kcheck.yaml,title=kcheck (analytical-2d)::" in github
     assert "::warning file=couplings/warn.kcheck.yaml,title=kcheck (maxwell)::" in github
 
     markdown = (out / "markdown").read_text()
     assert markdown.startswith("## ❌ kcheck failed")
-    assert f"- `{broken}:{BROKEN_LINE}` **input-error**: field \\`load.magnitude\\`" in markdown
+    assert (
+        f"- `{broken}:{BROKEN_LINE}:{BROKEN_COLUMN}` **input-error**: field \\`load.magnitude\\`"
+        in markdown
+    )
     assert "| `couplings/warn.kcheck.yaml` planar block (methods.md §7) | ⚠️ warn |" in markdown
 
     from junitparser import Error, Failure, JUnitXml
@@ -120,7 +124,10 @@ def test_every_format_in_one_run(repo, cli):
     (input_case,) = suites[broken]
     assert isinstance(input_case.result[0], Error)
     assert input_case._elem.get("line") == str(BROKEN_LINE)
-    assert f"{broken}:{BROKEN_LINE}: field `load.magnitude`" in input_case.result[0].text
+    assert (
+        f"{broken}:{BROKEN_LINE}:{BROKEN_COLUMN}: field `load.magnitude`"
+        in input_case.result[0].text
+    )
     failing = {c.name: c for c in suites["couplings/fail.kcheck.yaml"]}
     assert isinstance(failing["analytical-2d"].result[0], Failure)
     warn = {c.name: c for c in suites["couplings/warn.kcheck.yaml"]}
@@ -134,7 +141,7 @@ def test_every_format_in_one_run(repo, cli):
         for r in results
     }
     region = located[("input-error", broken)]["locations"][0]["physicalLocation"]["region"]
-    assert region == {"startLine": BROKEN_LINE}
+    assert region == {"startLine": BROKEN_LINE, "startColumn": BROKEN_COLUMN}
     assert located[("maxwell", "couplings/warn.kcheck.yaml")]["level"] == "warning"
     assert located[("analytical-2d", "couplings/fail.kcheck.yaml")]["level"] == "error"
     assert sarif["runs"][0]["invocations"][0]["executionSuccessful"] is False

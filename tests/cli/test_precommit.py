@@ -84,7 +84,7 @@ def test_hook_on_a_throwaway_repository(tmp_path):
 
     code, out = hook("couplings/broken.kcheck.yaml")
     assert code == 1 and "- exit code: 2" in out, out
-    assert "couplings/broken.kcheck.yaml:14: input-error: field `load.magnitude`" in out
+    assert "couplings/broken.kcheck.yaml:14:3: input-error: field `load.magnitude`" in out
 
     # Only the mesh changed: the two scenes that use it are checked, one fails.
     code, out = hook("couplings/pass/block.stl")

@@ -190,11 +190,30 @@ def test_mass_command(cli, tmp_path):
     assert code == 0
     assert "mass 6.885 kg" in out  # 2700 kg/m^3 x 0.2 x 0.15 x 0.085 m^3 = 6.885 kg
     assert "principal moments" in out
+    assert "lengths in mm" in out and "kg mm^2" in out
     code, out, _ = cli("mass", str(path), "--units", "mm", "--density", "2700", "--format", "json")
     doc = json.loads(out)
-    assert code == 0 and doc["mass"] == pytest.approx(6.885)
-    # I_zz = m (a^2 + b^2) / 12 with a = 0.2 m, b = 0.15 m
-    assert doc["principal_moments"][2] == pytest.approx(6.885 * (0.04 + 0.0225) / 12)
+    mesh = doc["meshes"][0]
+    assert code == 0 and mesh["mass"] == pytest.approx(6.885)
+    assert doc["units"] == {"length": "mm", "mass": "kg", "inertia": "kg mm^2"}
+    # I_zz = m (a^2 + b^2) / 12 with a = 200 mm, b = 150 mm, in kg mm^2
+    assert mesh["principal_moments"][2] == pytest.approx(6.885 * (200**2 + 150**2) / 12)
+    np.testing.assert_allclose(mesh["bounds"], [[-100, -75, -42.5], [100, 75, 42.5]], rtol=1e-6)
+    # The same in metres when asked for.
+    code, out, _ = cli(
+        "mass",
+        str(path),
+        "--units",
+        "mm",
+        "--density",
+        "2700",
+        "--report-units",
+        "m",
+        "--format",
+        "json",
+    )
+    mesh = json.loads(out)["meshes"][0]
+    assert mesh["principal_moments"][2] == pytest.approx(6.885 * (0.2**2 + 0.15**2) / 12)
 
 
 def test_mass_command_bad_input(cli, tmp_path):

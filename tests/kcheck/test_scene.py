@@ -41,7 +41,7 @@ def _edit(old: str, new: str) -> str:
 # Lines are 1-based; in PLANAR_SCENE line 1 is `version: 1` and line 14 `magnitude: 1`.
 BAD = {
     "wrong type": (_edit("magnitude: 1", "magnitude: strong"), "load.magnitude", 14, "number"),
-    "negative": (_edit("magnitude: 1", "magnitude: -1"), "load.magnitude", 14, "greater than"),
+    "negative": (_edit("magnitude: 1", "magnitude: -1"), "load.magnitude", 14, "0 ≤ magnitude"),
     "missing": (_edit("version: 1\n", ""), "version", 1, "missing"),
     "typo": (_edit("friction: 0.1", "fricton: 0.1"), "fricton", 12, "unknown field"),
     "short vector": (

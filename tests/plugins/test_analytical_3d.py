@@ -35,6 +35,7 @@ from kcheck_checks.analytical_3d import Analytical3D, Analytical3DOptions, spher
 from kcheck_checks.maxwell import Maxwell, MaxwellOptions
 
 from kcheck.analysis import analyse
+from kcheck.cli.expand import expanded_text
 from kcheck.dynamics import outcome
 from kcheck.mass import body_mass_properties
 from kcheck.plugin import Inputs
@@ -50,9 +51,7 @@ PATTI_TOL = 0.0005
 
 
 def _generator() -> Any:
-    spec = importlib.util.spec_from_file_location(
-        "generate_three_groove_beta", FIXTURES / "generate_three_groove_beta.py"
-    )
+    spec = importlib.util.spec_from_file_location("generate", FIXTURES / "generate.py")
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
@@ -78,8 +77,9 @@ def groove_scene(beta: int) -> Scene:
 
 
 def scene_dict(path: Path, explicit: bool = False) -> dict[str, Any]:
-    """A scene file as a mapping; ``explicit`` replaces a mesh by its mass properties."""
-    data = yaml.safe_load(path.read_text())
+    """A scene file as a mapping (coupling shorthands expanded into supports); ``explicit``
+    replaces a mesh by its mass properties."""
+    data = yaml.safe_load(expanded_text(path))
     if explicit and "mesh" in data["body"]:
         scene = load_scene(path)
         assert scene.body is not None
@@ -131,8 +131,8 @@ def test_patti_vogels_mu_is_the_jamming_onset(beta: int, tmp_path: Path) -> None
 @pytest.mark.parametrize("beta", [5, 15, 25, 30, 35, 45, 55, 65, 80])
 def test_maxwell_angle_of_a_ball_in_a_groove(beta: int, tmp_path: Path) -> None:
     generator = _generator()
-    generator.BALL_MM = 0.0  # point balls: each contact at its ball's centre
-    text = generator.scene_text(beta)
+    # point balls: each contact at its ball's centre
+    text = generator.explicit_scene_text(beta, ball_mm=0.0)
     path = tmp_path / "groove.kcheck.yaml"
     path.write_text(text)
     result = run(Maxwell(), load_scene(path), MaxwellOptions(min_cos=0.0))

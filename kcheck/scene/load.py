@@ -1,0 +1,282 @@
+"""Reading a scene file: YAML → field models → checked values in SI units.
+
+Every error of a file is collected and raised together (:class:`~kcheck.errors.SceneErrors`),
+each naming the file, the field, its line (and column) and what was expected. Loading never
+touches a mesh beyond checking that its path is a readable file (mass properties are
+:mod:`kcheck.mass`'s, computed only when a check needs them).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+from pydantic import ValidationError
+
+from kcheck.scene.body import BodyReader, rotation_matrix
+from kcheck.scene.limits import MIN_FORCE
+from kcheck.scene.models import BodyModel, LoadModel, SceneModel, SweepModel
+from kcheck.scene.shorthands import contact_count, expand_coupling
+from kcheck.scene.types import PLANAR_TOL, Body, Load, Preload, Scene, Support, Sweep
+from kcheck.scene.validate import Problems, plain_value_problems, pydantic_problems
+from kcheck.units import LENGTH_TO_M
+from kcheck.yamlio import DEFAULT_LIMITS, FieldPath, YamlLimits, format_path, read_yaml
+
+__all__ = ["SCENE_GLOB", "load_scene", "rotation_matrix"]
+
+SCENE_GLOB = "*.kcheck.yaml"
+
+
+def load_scene(
+    path: Path | str, *, allow_outside: bool = False, limits: YamlLimits = DEFAULT_LIMITS
+) -> Scene:
+    """Read and validate a scene file; raise SceneError (SceneErrors for several), each
+    naming file, field, line and what was expected."""
+    path = Path(path)
+    document = read_yaml(path, limits=limits)
+    problems = Problems(path, document.lines, document.columns)
+    data = document.data
+    if not isinstance(data, dict):
+        raise problems.error((), f"expected a mapping of scene fields, got {type(data).__name__}")
+    plain_value_problems(data, problems)
+    model: SceneModel | None = None
+    try:
+        model = SceneModel.model_validate(data)
+    except ValidationError as exc:
+        pydantic_problems(exc, SceneModel, problems)
+    problems.raise_if_any()
+    assert model is not None
+    scene = _Builder(path, model, problems, allow_outside, document).build()
+    problems.raise_if_any()
+    assert scene is not None
+    return scene
+
+
+class _Builder:
+    """Turns a validated model into a Scene, collecting every semantic error."""
+
+    def __init__(
+        self,
+        path: Path,
+        model: SceneModel,
+        problems: Problems,
+        allow_outside: bool,
+        document: Any,
+    ) -> None:
+        self.path = path
+        self.m = model
+        self.p = problems
+        self.allow_outside = allow_outside
+        self.document = document
+        self.scale = LENGTH_TO_M[model.units]
+        self.notes: list[str] = []
+
+    def build(self) -> Scene | None:
+        m, p = self.m, self.p
+        supports, fields = self.supports()
+        kind: Literal["planar", "spatial"] | None = None
+        if not p.errors:
+            kind = self.kind(supports, fields)
+        planar = kind == "planar"
+        sweep = self.sweep(m.sweep, planar)
+        gravity = np.zeros(3)
+        if m.gravity is not None:
+            g = p.magnitude(("gravity",), m.gravity, "gravity")
+            if g is not None:
+                gravity = g
+                if planar and gravity[2] != 0:
+                    self.notes.append(
+                        "gravity's z component is carried by the plane of motion and is ignored"
+                    )
+        load = None
+        if m.load is not None and sweep is not None:
+            load = self.load(m.load, sweep, planar)
+        preloads = self.preloads(planar)
+        # Without a known kind (the supports are wrong), don't judge a lone I_zz either way.
+        body = None if m.body is None else self.body(m.body, planar or kind is None)
+        if p.errors or kind is None or sweep is None:
+            return None
+        return Scene(
+            path=self.path,
+            name=m.name or self.path.name.removesuffix(".kcheck.yaml"),
+            units=m.units,
+            scale=self.scale,
+            kind=kind,
+            supports=supports,
+            gravity=gravity,
+            load=load,
+            sweep=sweep,
+            body=body,
+            check_options={k: dict(v or {}) for k, v in m.checks.items()},
+            lines=self.document.lines,
+            notes=tuple(self.notes),
+            preloads=preloads,
+            columns=self.document.columns,
+        )
+
+    # --- supports -------------------------------------------------------------------------
+
+    def supports(self) -> tuple[tuple[Support, ...], list[FieldPath]]:
+        """Explicit supports, then every coupling's contacts; the field of each."""
+        m, p = self.m, self.p
+        out: list[Support] = []
+        fields: list[FieldPath] = []
+        names: dict[str, FieldPath] = {}
+
+        for i, s in enumerate(m.supports):
+            where: FieldPath = ("supports", i)
+            self.unique_name(names, s.name, where)
+            position = p.coordinates((*where, "position"), s.position, self.scale)
+            normal = p.direction((*where, "normal"), s.normal, "the normal")
+            if position is None or normal is None:
+                continue
+            mu = m.friction if s.friction is None else s.friction
+            out.append(Support(s.name, position, normal, float(mu), None, where))
+            fields.append(where)
+        for i, c in enumerate(m.couplings):
+            where = ("couplings", i)
+            made = expand_coupling(c, where, self.p, self.scale, self.m.friction)
+            for k in range(1, contact_count(c) + 1):
+                self.unique_name(names, f"{c.name}.{k}", where)
+            for s in made or ():
+                out.append(dataclasses.replace(s, field=where))
+                fields.append(where)
+            if made and c.type == "ball-cone":
+                self.notes.append(
+                    f"coupling `{c.name}` (ball-cone) is a line contact around a circle, "
+                    "modelled as 3 points 120° apart"
+                )
+        return tuple(out), fields
+
+    def unique_name(self, names: dict[str, FieldPath], name: str, where: FieldPath) -> None:
+        """Record a support's name; an error if another support has it."""
+        if name in names:
+            self.p.add(
+                (*where, "name"),
+                f"support name `{name}` used twice (also {format_path(names[name])})",
+            )
+        else:
+            names[name] = where
+
+    def kind(self, supports: tuple[Support, ...], fields: list[FieldPath]) -> Any:
+        """``planar`` (3 supports in the xy-plane) or ``spatial`` (6); else an error."""
+        n = len(supports)
+        if n == 6:
+            return "spatial"
+        where: FieldPath = (
+            ("supports",) if self.m.supports or not self.m.couplings else ("couplings",)
+        )
+        if n != 3:
+            detail = ""
+            if self.m.couplings:
+                detail = (
+                    f" ({len(self.m.supports)} in `supports`, {n - len(self.m.supports)} "
+                    "from `couplings`)"
+                )
+            self.p.add(where, f"expected 3 supports (planar) or 6 (spatial), got {n}{detail}")
+            return None
+        positions = np.array([s.position for s in supports])
+        length = float(np.ptp(positions, axis=0).max())
+        ok = True
+        for s, f in zip(supports, fields, strict=True):
+            if abs(s.normal[2]) > PLANAR_TOL:
+                at = (*f, "normal") if f[0] == "supports" else f
+                self.p.add(
+                    at,
+                    "a 3-support (planar) scene needs normals in the xy-plane (z = 0), "
+                    f"got {np.round(s.normal, 12).tolist()}",
+                )
+                ok = False
+        z = positions[:, 2]
+        if np.ptp(z) > PLANAR_TOL * max(length, 1e-300):
+            self.p.add(
+                where,
+                "a 3-support (planar) scene needs every support at the same z, "
+                f"got z = {z.tolist()} m",
+            )
+            ok = False
+        return "planar" if ok else None
+
+    # --- forces and frames ----------------------------------------------------------------
+
+    def sweep(self, model: SweepModel, planar: bool) -> Sweep | None:
+        p = self.p
+        normal = p.direction(("sweep", "normal"), model.normal, "the sweep plane normal")
+        zero = p.direction(("sweep", "zero"), model.zero, "the sweep zero direction")
+        if normal is None or zero is None:
+            return None
+        e1 = zero - (zero @ normal) * normal
+        if np.linalg.norm(e1) < 1e-9:
+            p.add(("sweep", "zero"), "expected a direction not parallel to the sweep normal")
+            return None
+        e1 = e1 / np.linalg.norm(e1)
+        if planar and abs(abs(normal[2]) - 1) > PLANAR_TOL:
+            p.add(("sweep", "normal"), "a planar scene sweeps in the xy-plane: use [0, 0, 1]")
+            return None
+        return Sweep(normal, e1, np.cross(normal, e1))
+
+    def load(self, model: LoadModel, sweep: Sweep, planar: bool) -> Load | None:
+        p = self.p
+        where: FieldPath = ("load",)
+        if model.direction is not None and model.angle is not None:
+            p.add(where, "give either `direction` or `angle`, not both")
+            return None
+        direction = None
+        if model.direction is not None:
+            direction = p.direction((*where, "direction"), model.direction, "the load direction")
+        elif model.angle is not None:
+            direction = sweep.direction(model.angle)
+        if planar and direction is not None and abs(direction[2]) > PLANAR_TOL:
+            p.add((*where, "direction"), "a planar scene needs a load direction with z = 0")
+        torque = np.zeros(3)
+        if model.torque is not None:
+            t = p.magnitude((*where, "torque"), model.torque, "torque")
+            if t is not None:
+                torque = t
+                if planar and np.any(torque[:2] != 0):
+                    self.notes.append("torque x/y components act out of the plane and are ignored")
+        point = None
+        if model.point is not None:
+            point = p.coordinates((*where, "point"), model.point, self.scale)
+        if 0 < model.magnitude < MIN_FORCE:
+            p.add(
+                (*where, "magnitude"),
+                f"out of range: a load is 0 (none) or at least {MIN_FORCE:g} N, "
+                f"got {model.magnitude:g}",
+            )
+        return Load(float(model.magnitude), point, direction, torque)
+
+    def preloads(self, planar: bool) -> tuple[Preload, ...]:
+        p = self.p
+        out = []
+        names: dict[str, int] = {}
+        for i, pre in enumerate(self.m.preloads):
+            where: FieldPath = ("preloads", i)
+            if pre.name in names:
+                p.add((*where, "name"), f"preload name `{pre.name}` used twice")
+            names[pre.name] = i
+            point = p.coordinates((*where, "point"), pre.point, self.scale)
+            force = p.magnitude((*where, "force"), pre.force, "force")
+            if force is not None and 0 < np.linalg.norm(force) < MIN_FORCE:
+                p.add(
+                    (*where, "force"),
+                    f"out of range: a preload is at least {MIN_FORCE:g} N, got {pre.force}",
+                )
+                continue
+            if point is None or force is None:
+                continue
+            if planar and force[2] != 0:
+                self.notes.append(
+                    f"preload `{pre.name}`: its z component is carried by the plane of motion "
+                    "and is ignored"
+                )
+            out.append(Preload(pre.name, point, force))
+        return tuple(out)
+
+    # --- body -----------------------------------------------------------------------------
+
+    def body(self, model: BodyModel, planar: bool) -> Body | None:
+        """The body (:mod:`kcheck.scene.body`)."""
+        return BodyReader(self.path, self.p, self.m.units, self.allow_outside).body(model, planar)

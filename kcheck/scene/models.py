@@ -1,0 +1,278 @@
+"""The scene file's fields (version 1) as pydantic models: types, static ranges, and the JSON
+Schema. Unit-dependent ranges (coordinates, radii) and relations between fields are checked
+after conversion to SI, in :mod:`kcheck.scene.load`."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator
+
+from kcheck.scene.limits import LIMITS
+
+__all__ = [
+    "UNITS",
+    "COUPLING_TYPES",
+    "SceneModel",
+    "BodyModel",
+    "PartModel",
+    "SupportModel",
+    "CouplingModel",
+    "TransformModel",
+    "AxisAngleModel",
+    "LoadModel",
+    "SweepModel",
+    "PreloadModel",
+    "PointMassModel",
+]
+
+UNITS = ("m", "cm", "mm", "um", "in")
+Units = Literal["m", "cm", "mm", "um", "in"]
+
+Vec3 = Annotated[list[float], Field(min_length=3, max_length=3)]
+Matrix3 = Annotated[list[Vec3], Field(min_length=3, max_length=3)]
+Name = Annotated[str, Field(min_length=1, max_length=200)]
+
+
+def bounded(key: str, default: Any = ..., **kwargs: Any) -> Any:
+    """A pydantic Field limited to the range ``LIMITS[key]``."""
+    r = LIMITS[key]
+    bounds = {"gt": r.low, "lt": r.high} if r.open else {"ge": r.low, "le": r.high}
+    return Field(default, **bounds, **kwargs)
+
+
+class _Model(BaseModel):
+    # Strict: "10" is not 10. No inf/nan anywhere. Unknown keys are errors.
+    model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False)
+
+
+class AxisAngleModel(_Model):
+    """A rotation by ``angle`` degrees about ``axis`` (right-hand rule)."""
+
+    axis: Vec3 = Field(description="Rotation axis; any length")
+    angle: float = bounded("angle", description="deg, counter-clockwise about the axis")
+
+
+class TransformModel(_Model):
+    """Places a part in the scene: rotate about the file's origin, then translate."""
+
+    translate: Vec3 | None = Field(None, description="In the scene's units")
+    rotate: AxisAngleModel | Matrix3 | None = Field(
+        None,
+        description="Axis-angle in degrees, or a 3x3 rotation matrix (columns: the "
+        "part's axes in scene coordinates)",
+    )
+
+
+class PartModel(_Model):
+    """One mesh of a multi-part body."""
+
+    mesh: str = Field(
+        description="Mesh file, relative to the scene file; any format trimesh "
+        "loads, or STEP (.step/.stp) with the `step` extra"
+    )
+    material: str | None = Field(None, description="Name from the built-in material table")
+    density: float | None = bounded("density", None, description="kg/m^3")
+    units: Units | None = Field(
+        None,
+        description="Length unit of the mesh file (default: the "
+        "scene's); STEP files declare their own",
+    )
+    transform: TransformModel | None = None
+    repair: bool = Field(False, description="Merge vertices, fix winding, fill small holes")
+
+
+class PointMassModel(_Model):
+    """A bought part that is in no mesh (a ball, a magnet, a motor), as a point."""
+
+    name: Name
+    mass: float = Field(gt=0, description="kg")
+    point: Vec3 = Field(description="Its centre of mass, scene units")
+
+
+class BodyModel(_Model):
+    """The moving body: a mesh (or parts) with a material, or explicit mass properties."""
+
+    mesh: str | None = Field(None, description="Mesh file, relative to the scene file")
+    material: str | None = Field(None, description="Name from the built-in material table")
+    density: float | None = bounded("density", None, description="kg/m^3")
+    repair: bool = Field(False, description="Merge vertices, fix winding, fill small holes")
+    parts: list[PartModel] | None = Field(
+        None, min_length=1, max_length=1000, description="Instead of `mesh`"
+    )
+    point_masses: list[PointMassModel] = Field(default_factory=list, max_length=1000)
+    mass: float | None = Field(None, gt=0, description="kg; with center_of_mass and inertia")
+    center_of_mass: Vec3 | None = Field(None, description="In the scene's units")
+    inertia: Matrix3 | float | None = Field(
+        None,
+        description="kg m^2 about the centre of mass, 3x3; a planar scene may give I_zz alone",
+    )
+
+
+class SupportModel(_Model):
+    """One point support."""
+
+    name: Name
+    position: Vec3 = Field(description="Contact point on the body, scene units")
+    normal: Vec3 = Field(description="Direction the support pushes the body; any length")
+    friction: float | None = bounded("friction", None, description="Coulomb coefficient")
+
+
+class BallModel(_Model):
+    """A ball (or the spherical end of a pin): centre and radius in scene units."""
+
+    center: Vec3
+    radius: float = Field(gt=0)
+
+
+class GrooveModel(_Model):
+    """A V-groove: its axis, the direction out of it, and the flank normals' angle to `up`."""
+
+    axis: Vec3 = Field(description="Along the groove; any length")
+    up: Vec3 = Field(description="Out of the groove, towards the ball; any length")
+    half_angle: float = bounded("half_angle", description="deg between each flank normal and up")
+
+
+class CylinderModel(_Model):
+    """A cylinder (dowel pin, rod, screw shank): a point on its axis, the axis, radius."""
+
+    point: Vec3
+    axis: Vec3
+    radius: float = Field(gt=0)
+
+
+class SphereModel(_Model):
+    """A sphere (a ball, a screw head) the ball rests on."""
+
+    center: Vec3
+    radius: float = Field(gt=0)
+
+
+class _Coupling(_Model):
+    name: Name = Field(description="Its contacts are named `<name>.1`, `<name>.2`, ...")
+    ball: BallModel
+    ball_on: Literal["body", "base"] = Field(
+        "body", description="Which side carries the ball; `base` flips every normal"
+    )
+    friction: float | None = bounded("friction", None, description="For its contacts")
+
+
+class BallVeeModel(_Coupling):
+    """A ball in a V-groove: 2 contacts."""
+
+    type: Literal["ball-vee"]
+    groove: GrooveModel
+
+
+class BallCylindersModel(_Coupling):
+    """A ball on cylinders (a pair of dowel pins): 1 contact per cylinder."""
+
+    type: Literal["ball-cylinders"]
+    cylinders: list[CylinderModel] = Field(min_length=1, max_length=3)
+
+
+class BallSphereModel(_Coupling):
+    """A ball on spheres (balls, screw heads): 1 contact per sphere."""
+
+    type: Literal["ball-sphere"]
+    spheres: list[SphereModel] = Field(min_length=1, max_length=3)
+
+
+class BallTrihedralModel(_Coupling):
+    """A ball in a trihedral socket (three flat flanks): 3 contacts."""
+
+    type: Literal["ball-trihedral"]
+    up: Vec3
+    half_angle: float = bounded("half_angle", description="deg between each flank normal and up")
+    reference: Vec3 = Field(description="Direction from the ball centre to the first flank")
+
+
+class BallConeModel(_Coupling):
+    """A ball in a conical seat: a line contact, modelled as 3 points 120 deg apart."""
+
+    type: Literal["ball-cone"]
+    up: Vec3
+    half_angle: float = bounded("half_angle", description="deg between the cone's normal and up")
+    reference: Vec3 | None = Field(None, description="Direction to the first point")
+
+
+class BallFlatModel(_Coupling):
+    """A ball on a flat: 1 contact."""
+
+    type: Literal["ball-flat"]
+    normal: Vec3 = Field(description="The flat's normal, towards the ball centre")
+
+
+CouplingModel = Annotated[
+    BallVeeModel
+    | BallCylindersModel
+    | BallSphereModel
+    | BallTrihedralModel
+    | BallConeModel
+    | BallFlatModel,
+    Field(discriminator="type"),
+]
+COUPLING_TYPES = (
+    "ball-vee",
+    "ball-cylinders",
+    "ball-sphere",
+    "ball-trihedral",
+    "ball-cone",
+    "ball-flat",
+)
+
+
+class LoadModel(_Model):
+    """The closing force (and optional torque)."""
+
+    point: Vec3 | None = Field(None, description="Attachment point; default the centre of mass")
+    magnitude: float = bounded("force", description="N")
+    direction: Vec3 | None = Field(None, description="The design's direction; any length")
+    angle: float | None = bounded(
+        "angle", None, description="The design's direction, deg in the sweep plane"
+    )
+    torque: Vec3 | None = Field(None, description="N m")
+
+
+class PreloadModel(_Model):
+    """A fixed force on the body (spring, magnet), acting like gravity."""
+
+    name: Name
+    point: Vec3 = Field(description="Where it acts, scene units")
+    force: Vec3 = Field(description="N")
+
+
+class SweepModel(_Model):
+    """The plane in which force angles are swept and reported."""
+
+    normal: Vec3 = Field(default_factory=lambda: [0.0, 0.0, 1.0])
+    zero: Vec3 = Field(default_factory=lambda: [1.0, 0.0, 0.0], description="Angle 0")
+
+
+class SceneModel(_Model):
+    """A kcheck scene, version 1."""
+
+    version: Literal[1]
+    name: str | None = Field(None, max_length=200)
+    units: Units = "m"
+    body: BodyModel | None = None
+    supports: list[SupportModel] = Field(default_factory=list, max_length=6)
+    couplings: list[CouplingModel] = Field(
+        default_factory=list, max_length=6, description="Shorthands expanded into supports"
+    )
+    friction: float = bounded("friction", 0.0, description="Coulomb coefficient, every support")
+    gravity: Vec3 | None = Field(None, description="m/s^2")
+    load: LoadModel | None = None
+    preloads: list[PreloadModel] = Field(default_factory=list, max_length=100)
+    sweep: SweepModel = Field(default_factory=SweepModel)
+    checks: dict[str, dict[str, Any] | None] = Field(
+        default_factory=dict, description="Per-check options, keyed by check id"
+    )
+
+    @field_validator("version", mode="before")
+    @classmethod
+    def _integer_version(cls, value: Any) -> Any:
+        # `true` and `1.0` compare equal to 1 in Python; the format version is the integer 1.
+        if type(value) is not int:
+            raise ValueError(f"expected the integer 1, got {value!r}")
+        return value

@@ -1,0 +1,250 @@
+"""The validated scene in SI units: immutable values the checks read."""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+
+from kcheck.errors import FieldPath, SceneError
+from kcheck.yamlio import LineMap
+
+__all__ = [
+    "PLANAR_TOL",
+    "Surface",
+    "ContactGeometry",
+    "Support",
+    "Preload",
+    "Load",
+    "Sweep",
+    "Part",
+    "PointMass",
+    "ExplicitMass",
+    "Body",
+    "Scene",
+    "line_of",
+]
+
+# Relative tolerance for "lies in the plane" tests, on unit normals and on positions / L.
+PLANAR_TOL = 1e-9
+
+
+def line_of(lines: LineMap, path: FieldPath) -> int | None:
+    """Line of a field, or of its nearest enclosing field, or None."""
+    for n in range(len(path), -1, -1):
+        if path[:n] in lines:
+            return lines[path[:n]]
+    return None
+
+
+@dataclass(frozen=True)
+class Surface:
+    """Local shape of one of the two surfaces touching at a contact, for contact mechanics.
+
+    ``radii``: the two principal radii of curvature in m; positive for a convex surface (a
+    ball, a pin), negative for a concave one (a conformal groove, a conical seat across),
+    ``inf`` where it is flat in that direction. ``direction``: unit 3-vector in the contact's
+    tangent plane along which the *first* radius is measured (None when both radii are equal);
+    the second is measured across it (``normal × direction``).
+    """
+
+    radii: tuple[float, float]
+    direction: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class ContactGeometry:
+    """Where a support came from and the shapes that touch there (coupling shorthands).
+
+    ``coupling`` is the coupling entry's name and ``kind`` its type (``ball-vee``, ...);
+    ``index`` the contact's number ``k`` (from 1) in the support name ``<coupling>.<k>``.
+    ``ball_center`` (m) and ``ball_radius`` (m) describe the ball; ``ball_on`` says which side
+    carries it. ``body`` and ``base`` are the body's and the base's surfaces at the contact.
+    ``line_contact`` marks a line contact modelled by points (``ball-cone``).
+    """
+
+    coupling: str
+    kind: str
+    index: int
+    ball_center: np.ndarray
+    ball_radius: float
+    ball_on: Literal["body", "base"]
+    body: Surface
+    base: Surface
+    line_contact: bool = False
+
+
+@dataclass(frozen=True)
+class Support:
+    """A point support: contact point (m), unit normal into the body, Coulomb coefficient,
+    the contact's geometry when a coupling shorthand made it (None for explicit ones), and
+    the field that gave it."""
+
+    name: str
+    position: np.ndarray
+    normal: np.ndarray
+    friction: float
+    geometry: ContactGeometry | None = None
+    #: Where the support is written in the scene file (a support, or the coupling entry).
+    field: FieldPath = dataclasses.field(default=(), compare=False)
+
+    def to_json(self) -> dict[str, Any]:
+        """JSON form (SI): name, position, normal, friction, coupling (or None), kind."""
+        g = self.geometry
+        return {
+            "name": self.name,
+            "position": self.position.tolist(),
+            "normal": self.normal.tolist(),
+            "friction": self.friction,
+            "coupling": None if g is None else g.coupling,
+            "kind": "explicit" if g is None else g.kind,
+        }
+
+
+@dataclass(frozen=True)
+class Preload:
+    """A fixed force on the body (a spring, a magnet): point (m) and force vector (N). It acts
+    with gravity, beside the swept closing load."""
+
+    name: str
+    point: np.ndarray
+    force: np.ndarray
+
+
+@dataclass(frozen=True)
+class Load:
+    """The closing load: force magnitude (N), attachment point (m, None = centre of mass),
+    design direction (unit vector or None) and torque (N m)."""
+
+    magnitude: float
+    point: np.ndarray | None
+    direction: np.ndarray | None
+    torque: np.ndarray
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """Orthonormal frame of the sweep plane: angle alpha is the direction cos a e1 + sin a e2."""
+
+    normal: np.ndarray
+    e1: np.ndarray
+    e2: np.ndarray
+
+    def direction(self, angle_deg: np.ndarray | float) -> np.ndarray:
+        """Unit force directions (..., 3) for angles in degrees."""
+        a = np.radians(np.asarray(angle_deg, dtype=float))[..., None]
+        return np.cos(a) * self.e1 + np.sin(a) * self.e2
+
+    def angle_of(self, direction: np.ndarray) -> float:
+        """Angle in degrees [0, 360) of a direction's projection onto the sweep plane."""
+        return float(np.degrees(np.arctan2(direction @ self.e2, direction @ self.e1)) % 360.0)
+
+
+Matrix = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]
+
+
+@dataclass(frozen=True)
+class Part:
+    """One mesh file of the body, and everything its mass properties depend on.
+
+    ``density`` in kg/m^3; ``scale`` metres per file unit (``units`` names that unit, for
+    messages; a STEP file is read in metres, its own unit converted by the importer);
+    ``rotation`` (rows of a proper rotation matrix, or None) and ``translation`` (m) place the
+    file's coordinates in the scene: ``x_scene = R (scale x_file) + t``; ``repair`` allows
+    merging, re-winding and hole filling. ``field`` locates the part in the scene file and
+    takes no part in comparisons (equal parts give equal mass properties: a cache key).
+    """
+
+    mesh: Path
+    density: float
+    field: FieldPath = dataclasses.field(default=(), compare=False)
+    scale: float = 1.0
+    units: str = "m"
+    rotation: Matrix | None = None
+    translation: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    repair: bool = False
+
+    @property
+    def is_step(self) -> bool:
+        """Whether the mesh is a STEP file (read through the `step` extra)."""
+        return self.mesh.suffix.lower() in (".step", ".stp")
+
+
+@dataclass(frozen=True)
+class PointMass:
+    """A part in no mesh, as a point: name, mass (kg), position (m)."""
+
+    name: str
+    mass: float
+    point: np.ndarray
+
+
+@dataclass(frozen=True)
+class ExplicitMass:
+    """Mass properties given in the scene: kg, m, kg m^2 about the centre of mass."""
+
+    mass: float
+    center_of_mass: np.ndarray
+    inertia: np.ndarray
+
+
+@dataclass(frozen=True)
+class Body:
+    """The moving body: mesh parts, explicit mass properties, or both (explicit wins over the
+    meshes), plus point masses added to either."""
+
+    parts: tuple[Part, ...]
+    explicit: ExplicitMass | None
+    point_masses: tuple[PointMass, ...] = ()
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene in SI units."""
+
+    path: Path
+    name: str
+    units: str
+    scale: float
+    kind: Literal["planar", "spatial"]
+    supports: tuple[Support, ...]
+    gravity: np.ndarray
+    load: Load | None
+    sweep: Sweep
+    body: Body | None
+    check_options: Mapping[str, Mapping[str, Any]]
+    lines: LineMap = field(repr=False)
+    notes: tuple[str, ...] = ()
+    preloads: tuple[Preload, ...] = ()
+    columns: LineMap = field(default_factory=dict, repr=False)
+
+    @property
+    def dim(self) -> int:
+        """2 for a planar scene (motion in the xy-plane), 3 for a spatial one."""
+        return 2 if self.kind == "planar" else 3
+
+    @property
+    def design_angle_deg(self) -> float | None:
+        """The design force direction as an angle in the sweep plane, if the scene gives one."""
+        if self.load is None or self.load.direction is None:
+            return None
+        return self.sweep.angle_of(self.load.direction)
+
+    def line_of(self, path: FieldPath) -> int | None:
+        """Line of a field (or of its nearest enclosing field) in the scene file."""
+        return line_of(self.lines, path)
+
+    def error(self, path: FieldPath, message: str) -> SceneError:
+        """A SceneError pointing at a field of this scene."""
+        column = self.columns.get(path) if path in self.lines else None
+        return SceneError(
+            self.path,
+            message,
+            field=path or None,
+            line=self.line_of(path),
+            column=column,
+        )

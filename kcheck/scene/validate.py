@@ -1,0 +1,315 @@
+"""Input checks shared by the scene loader: collecting every error of a file, plain-value
+checks (finite numbers, clean strings), and pydantic errors in an engineer's words (with the
+allowed range, and "did you mean" for a misspelt key)."""
+
+from __future__ import annotations
+
+import difflib
+import math
+import typing
+from collections.abc import Iterator, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from pydantic import BaseModel, ValidationError
+
+from kcheck.errors import FieldPath, SceneError, SceneErrors
+from kcheck.scene.limits import LIMITS, MAX_DIRECTION, MIN_DIRECTION, Range
+from kcheck.scene.models import COUPLING_TYPES
+from kcheck.scene.types import line_of
+
+__all__ = [
+    "Problems",
+    "plain_value_problems",
+    "pydantic_problems",
+    "describe_pydantic",
+    "did_you_mean",
+]
+
+# Integers beyond this are refused before they reach float arithmetic (1e300 still squares).
+_MAX_INT = 10**300
+
+
+class Problems:
+    """Collects the located errors of one file; raises them together."""
+
+    def __init__(
+        self,
+        path: Path,
+        lines: Mapping[FieldPath, int],
+        columns: Mapping[FieldPath, int] | None = None,
+    ) -> None:
+        self.path = path
+        self.lines = lines
+        self.columns = columns or {}
+        self.errors: list[SceneError] = []
+        self._seen: set[tuple[FieldPath, str]] = set()
+
+    def error(self, where: FieldPath, message: str) -> SceneError:
+        """A SceneError at a field (its line, and its column when the field itself is in the
+        file)."""
+        column = self.columns.get(where) if where in self.lines else None
+        return SceneError(
+            self.path, message, field=where or None, line=line_of(self.lines, where), column=column
+        )
+
+    def add(self, where: FieldPath, message: str) -> None:
+        """Record an error (once per field and message)."""
+        if (where, message) not in self._seen:
+            self._seen.add((where, message))
+            self.errors.append(self.error(where, message))
+
+    def has(self, prefix: FieldPath) -> bool:
+        """Whether an error was recorded at or below a field."""
+        return any(
+            e.where is not None and e.where[: len(prefix)] == prefix for e in self.errors
+        ) or (prefix == () and bool(self.errors))
+
+    def raise_if_any(self) -> None:
+        """Raise every recorded error, in file order, as one SceneErrors."""
+        if self.errors:
+            ordered = sorted(self.errors, key=lambda e: (e.line or 0, e.column or 0))
+            raise SceneErrors(ordered)
+
+    # --- values -------------------------------------------------------------------------
+
+    def in_range(self, where: FieldPath, value: float, key: str, scale: float = 1.0) -> bool:
+        """Check ``value * scale`` against ``LIMITS[key]``; record an error if outside."""
+        r = LIMITS[key]
+        if r.contains(value * scale):
+            return True
+        self.add(where, _out_of_range(value, r, scale))
+        return False
+
+    def coordinates(self, where: FieldPath, vector: list[float], scale: float) -> np.ndarray | None:
+        """A point in the scene's units as metres, each coordinate within the limits."""
+        v = np.asarray(vector, dtype=float) * scale
+        r = LIMITS["coordinate"]
+        if not np.all(np.abs(v) <= r.high):
+            self.add(where, f"coordinates must satisfy |x| ≤ {r.high:g} m, got {vector}")
+            return None
+        return v
+
+    def direction(self, where: FieldPath, vector: list[float], what: str) -> np.ndarray | None:
+        """A unit vector from any non-zero vector whose components are of sane size."""
+        from kcheck.couplings import unit
+
+        v = np.asarray(vector, dtype=float)
+        largest = float(np.abs(v).max())
+        if largest == 0.0:
+            self.add(where, f"expected a non-zero vector for {what}, got {vector}")
+            return None
+        if not MIN_DIRECTION <= largest <= MAX_DIRECTION:
+            self.add(
+                where,
+                f"{what}: the largest component must lie between {MIN_DIRECTION:g} and "
+                f"{MAX_DIRECTION:g} (only the direction matters; give components of order 1), "
+                f"got {vector}",
+            )
+            return None
+        return unit(v)
+
+    def magnitude(self, where: FieldPath, vector: list[float], key: str) -> np.ndarray | None:
+        """A vector whose length lies within ``LIMITS[key]`` (force, torque, gravity)."""
+        v = np.asarray(vector, dtype=float)
+        r = LIMITS[key]
+        if not np.all(np.abs(v) <= r.high):
+            self.add(where, f"expected {r.text()} (its length), got {vector}")
+            return None
+        norm = float(np.linalg.norm(v))
+        if not r.contains(norm):
+            self.add(where, f"expected {r.text()} (its length), got {norm:.6g}")
+            return None
+        return v
+
+
+def _out_of_range(value: float, r: Range, scale: float) -> str:
+    got = f"{value:g}" if scale == 1.0 else f"{value:g} ({value * scale:g} {r.unit})"
+    return f"out of range: expected {r.text()}, got {got}"
+
+
+def _bad_string(text: str) -> str | None:
+    if "\x00" in text:
+        return "contains a NUL character"
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return "contains an unpaired surrogate (not valid Unicode text)"
+    return None
+
+
+def _walk(value: Any, path: FieldPath, budget: list[int]) -> Iterator[tuple[FieldPath, Any]]:
+    # Shared values (aliases) are walked each time they occur; the YAML reader has bounded
+    # their total, and `budget` bounds this walk anyway.
+    budget[0] -= 1
+    if budget[0] < 0:
+        return
+    yield path, value
+    if isinstance(value, dict):
+        for k, v in value.items():
+            yield (*path, k), k
+            yield from _walk(v, (*path, k), budget)
+    elif isinstance(value, list):
+        for i, v in enumerate(value):
+            yield from _walk(v, (*path, i), budget)
+
+
+def plain_value_problems(data: Any, problems: Problems) -> None:
+    """Every number finite and of float size, every string valid text without NUL; anywhere
+    in the file, check options included."""
+    for where, value in _walk(data, (), [1_000_000]):
+        if isinstance(value, bool) or value is None:
+            continue
+        if isinstance(value, float) and not math.isfinite(value):
+            problems.add(where, f"expected a finite number, got {value}")
+        elif isinstance(value, int) and abs(value) > _MAX_INT:
+            problems.add(where, "the number is too large to be a physical quantity")
+        elif isinstance(value, str):
+            bad = _bad_string(value)
+            if bad:
+                problems.add(where, f"the text {bad}")
+
+
+# --- pydantic errors ------------------------------------------------------------------------
+
+
+def _models_in(annotation: Any) -> list[type[BaseModel]]:
+    """The pydantic models an annotation can hold (through lists, unions, Annotated)."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return [annotation]
+    out: list[type[BaseModel]] = []
+    for arg in typing.get_args(annotation):
+        out.extend(_models_in(arg))
+    return out
+
+
+def _branch(part: Any, models: list[type[BaseModel]]) -> tuple[str, Any] | None:
+    """Whether a loc entry names a union branch: ``("tag", model)`` for a discriminated
+    union's tag, ``("model", model)`` for a plain union's model, ``("other", None)`` for a
+    plain union's non-model branch (``float``, ``list[...]``); None for a field or index."""
+    if not isinstance(part, str):
+        return None
+    for m in models:
+        tag = m.model_fields.get("type")
+        if tag is not None and typing.get_args(tag.annotation) == (part,):
+            return "tag", m
+        if part == m.__name__:
+            return "model", m
+    if "[" in part or part in ("float", "int", "str", "bool"):
+        return "other", None
+    return None
+
+
+def _resolve(loc: tuple[Any, ...], root: type[BaseModel]) -> tuple[FieldPath, Any, int | None]:
+    """For a pydantic error location: the field path without union-branch tags, the field
+    info (or models) at its end, and the path length at the first plain-union branch (None
+    when the location passes through no plain union)."""
+    path: list[str | int] = []
+    models: list[type[BaseModel]] = [root]
+    info: Any = None
+    union_at: int | None = None
+    for part in loc:
+        branch = _branch(part, models)
+        if branch is not None:
+            kind, model = branch
+            if kind != "tag" and union_at is None:
+                union_at = len(path)
+            if model is not None:
+                models, info = [model], None
+            continue
+        path.append(part)
+        if isinstance(part, int):
+            continue
+        info = next((m.model_fields[part] for m in models if part in m.model_fields), None)
+        models = _models_in(info.annotation) if info is not None else []
+    return tuple(path), (info, models), union_at
+
+
+def did_you_mean(key: str, allowed: list[str]) -> str:
+    """`` (did you mean `friction`?)`` for a close match, else the allowed keys."""
+    close = difflib.get_close_matches(key, allowed, n=1, cutoff=0.6)
+    if close:
+        return f"; did you mean `{close[0]}`?"
+    if allowed:
+        return f"; allowed here: {', '.join(sorted(allowed))}"
+    return ""
+
+
+def _bounds(info: Any, name: str) -> str | None:
+    """The allowed range of a bounded field, e.g. ``0 ≤ magnitude ≤ 1e+07 N``."""
+    low = high = None
+    low_sign = high_sign = "≤"
+    for m in getattr(info, "metadata", None) or []:
+        for attr, sign in (("ge", "≤"), ("gt", "<")):
+            if getattr(m, attr, None) is not None:
+                low, low_sign = getattr(m, attr), sign
+        for attr, sign in (("le", "≤"), ("lt", "<")):
+            if getattr(m, attr, None) is not None:
+                high, high_sign = getattr(m, attr), sign
+    for r in LIMITS.values():
+        if (r.low, r.high) == (low, high):
+            return Range(r.low, r.high, r.unit, name, r.open).text()
+    if low is None and high is None:
+        return None
+    text = name if low is None else f"{low:g} {low_sign} {name}"
+    return text if high is None else f"{text} {high_sign} {high:g}"
+
+
+def describe_pydantic(err: Mapping[str, Any], root: type[BaseModel] | None = None) -> str:
+    """One pydantic error in an engineer's words: what was expected, what came; with
+    ``root`` (the model validated), the allowed range and "did you mean" for unknown keys."""
+    kind = err["type"]
+    got = err.get("input")
+    shown = repr(got)
+    if len(shown) > 60:
+        shown = shown[:57] + "..."
+    info: Any = None
+    if root is not None:
+        _, (info, _), _ = _resolve(tuple(err["loc"]), root)
+    if kind == "missing":
+        return "required field is missing"
+    if kind == "extra_forbidden":
+        allowed: list[str] = []
+        if root is not None:
+            _, (_, parents), _ = _resolve(tuple(err["loc"][:-1]), root)
+            allowed = sorted({n for m in parents for n in m.model_fields})
+        return "unknown field" + did_you_mean(str(err["loc"][-1]), allowed)
+    if kind in ("too_short", "too_long") and isinstance(got, list):
+        ctx = err.get("ctx") or {}
+        if ctx.get("min_length") == 3 and ctx.get("max_length", 3) == 3:
+            return f"expected a list of 3 numbers, got {len(got)} item(s)"
+        if kind == "too_short":
+            return f"expected at least {ctx.get('min_length')} item(s), got {len(got)}"
+        return f"expected at most {ctx.get('max_length')} item(s), got {len(got)}"
+    if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
+        bounds = _bounds(info, str(err["loc"][-1]))
+        if bounds is not None:
+            return f"out of range: expected {bounds}, got {shown}"
+    if kind == "union_tag_not_found":
+        return f"required field is missing; expected one of {', '.join(COUPLING_TYPES)}"
+    if kind == "union_tag_invalid":
+        ctx = err.get("ctx") or {}
+        return (
+            f"unknown coupling type {ctx.get('tag')!r}; expected one of {ctx.get('expected_tags')}"
+        )
+    if kind == "value_error":
+        return str(err["msg"]).removeprefix("Value error, ")
+    msg = str(err["msg"]).replace("Input should be", "expected")
+    return f"{msg}, got {shown}"
+
+
+def pydantic_problems(exc: ValidationError, root: type[BaseModel], problems: Problems) -> None:
+    """Record every pydantic error of a validation; where a plain union (``inertia``: a
+    matrix or a number) reports one error per branch, only the most specific (deepest)."""
+    chosen: dict[Any, tuple[int, FieldPath, Mapping[str, Any]]] = {}
+    for i, err in enumerate(exc.errors(include_url=False)):
+        loc = tuple(err["loc"])
+        path, _, union_at = _resolve(loc, root)
+        key: Any = i if union_at is None else ("union", path[:union_at])
+        if key not in chosen or len(loc) > chosen[key][0]:
+            chosen[key] = (len(loc), path, err)
+    for _, path, err in chosen.values():
+        if err["type"] in ("union_tag_invalid", "union_tag_not_found"):
+            path = (*path, "type")
+        problems.add(path, describe_pydantic(err, root))

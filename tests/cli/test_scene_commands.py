@@ -1,0 +1,86 @@
+"""`kcheck init`, `kcheck expand`, `kcheck mass` from the command line."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+import trimesh
+
+from kcheck.cli.init import guess_units
+from kcheck.scene import load_scene
+
+
+def _plate(path: Path, extents=(120.0, 80.0, 15.0)) -> Path:
+    trimesh.creation.box(extents=extents).export(path)
+    return path
+
+
+@pytest.mark.parametrize("coupling", ["maxwell", "kelvin", "321", "planar"])
+@pytest.mark.parametrize("with_mesh", [True, False])
+def test_init_writes_a_scene_that_checks(cli, tmp_path, coupling, with_mesh):
+    args = ["init", "--coupling", coupling, "-o", str(tmp_path / f"{coupling}.kcheck.yaml")]
+    if with_mesh:
+        args += ["--mesh", str(_plate(tmp_path / "part.stl"))]
+    code, out, err = cli(*args)
+    assert code == 0, err
+    path = tmp_path / f"{coupling}.kcheck.yaml"
+    text = path.read_text()
+    assert text.startswith("# A ") and "kcheck init" in text
+    scene = load_scene(path)
+    assert scene.kind == ("planar" if coupling == "planar" else "spatial")
+    code, doc = 0, None
+    code, out, _ = cli("check", "--format", "json", str(path))
+    doc = json.loads(out)["scenes"][0]
+    assert doc["status"] == "pass" and doc["warnings"] == [], doc
+    if with_mesh:
+        assert "units: mm is a GUESS" in text and "largest extent 120" in text
+        assert "x -60 … 60, y -40 … 40, z -7.5 … 7.5 mm" in text
+        assert "centre of mass is [0, 0, 0] mm" in text
+
+
+def test_init_refuses_to_overwrite(cli, tmp_path):
+    target = tmp_path / "c.kcheck.yaml"
+    target.write_text("keep me\n")
+    code, _, err = cli("init", "-o", str(target))
+    assert code == 2 and "--force" in err and target.read_text() == "keep me\n"
+    code, out, _ = cli("init", "-o", "-")
+    assert code == 0 and out.startswith("# A maxwell coupling")
+
+
+def test_init_next_to_the_mesh_and_bad_input(cli, tmp_path):
+    mesh = _plate(tmp_path / "bracket.stl")
+    assert cli("init", "--mesh", str(mesh))[0] == 0
+    assert (tmp_path / "bracket.kcheck.yaml").is_file()
+    assert cli("init", "--mesh", str(tmp_path / "none.stl"))[0] == 2
+    assert cli("init", "--material", "cheese", "-o", "-")[0] == 2
+
+
+@pytest.mark.parametrize(
+    ("extent", "unit"), [(0.12, "m"), (1.5, "m"), (120.0, "mm"), (3000.0, "mm"), (1.2e5, "um")]
+)
+def test_units_guess(extent, unit):
+    assert guess_units(extent)[0] == unit
+
+
+def test_expand_reports_bad_input(cli, write_scene):
+    path = write_scene("version: 1\ncouplings: [{name: a, type: ball-vee}]\n")
+    code, out, err = cli("expand", str(path))
+    assert code == 2 and out == "" and "couplings[0].ball" in err and "Traceback" not in err
+
+
+def test_mass_of_several_meshes_with_bounds(cli, tmp_path):
+    a = _plate(tmp_path / "a.stl", (100.0, 50.0, 10.0))
+    b = _plate(tmp_path / "b.stl", (10.0, 10.0, 10.0))
+    code, out, _ = cli("mass", str(a), str(b), "--units", "mm", "--material", "steel")
+    assert code == 0
+    assert "bounds x -50 … 50, y -25 … 25, z -5 … 5 mm (size 100 × 50 × 10 mm)" in out
+    assert "all 2 meshes together" in out
+    code, out, _ = cli(
+        "mass", str(a), str(b), "--units", "mm", "--material", "steel", "--format", "json"
+    )
+    doc = json.loads(out)
+    masses = [m["mass"] for m in doc["meshes"]]
+    assert masses[2] == pytest.approx(masses[0] + masses[1])
+    assert cli("mass", str(a), "--material", "steel")[0] == 2  # STL needs --units
