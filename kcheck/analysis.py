@@ -207,12 +207,15 @@ def _evaluated(
 ) -> tuple[str, dict[str, float] | None, float | None]:
     """Outcome, normal forces (N) and acceleration (m/s^2) at a direction (or under the fixed
     wrench alone); adds the friction details."""
-    names, force = problem.names, problem.frame.force
+    names = problem.names
     verdict, x = outcome(case, direction)
     forces = accel = None
     if x is not None:
-        forces = {names[j]: float(x[1 + i] * force) for i, j in enumerate(case.keep)}
-        accel = float(x[0] * problem.acceleration_scale() * case.free.closing)
+        # Forces beyond the largest float (a mass of 1e308 kg) become inf: JSON null.
+        newtons = problem.newtons(x[1:])
+        forces = {names[j]: float(newtons[i]) for i, j in enumerate(case.keep)}
+        with np.errstate(over="ignore"):
+            accel = float(x[0] * problem.acceleration_scale() * case.free.closing)
     details["friction_intervals"] = intervals_json(intervals.intervals)
     if not intervals.uniform:
         details["friction_scaled"] = True
@@ -309,7 +312,7 @@ def sweep_ranges(analysis: Analysis, e1: np.ndarray, e2: np.ndarray) -> Analysis
     from dataclasses import replace
 
     arcs: list[ArcSet] = []
-    error = 0.0
+    error: float | None = None
     results = []
     for case, result in zip(analysis.cases, analysis.results, strict=True):
         if not case.determined or not case.well_conditioned:
@@ -317,7 +320,8 @@ def sweep_ranges(analysis: Analysis, e1: np.ndarray, e2: np.ndarray) -> Analysis
             results.append(result)
             continue
         case_arcs, arc_error = safe_arcs(case, e1, e2)
-        error = max(error, float(np.degrees(arc_error)))
+        if arc_error is not None:
+            error = max(error or 0.0, float(np.degrees(arc_error)))
         arcs.append(case_arcs)
         results.append(replace(result, safe_ranges_deg=ranges_deg(case_arcs)))
     combined = intersect(*arcs)

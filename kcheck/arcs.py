@@ -59,12 +59,13 @@ def positive_arc(a: float, b: float, c: float, *, zero_tol: float = 0.0) -> ArcS
 
 def affine_arcs(
     a: np.ndarray, c: np.ndarray, e1: np.ndarray, e2: np.ndarray, error: np.ndarray
-) -> tuple[ArcSet, float]:
+) -> tuple[ArcSet, float | None]:
     """Angles (from ``e1`` towards ``e2``) where every ``a_k + c_k . d`` is positive.
 
     ``a`` (k,), ``c`` (k, dim) and the absolute errors ``error`` (k,) of the coefficients.
-    Returns the arc set and an estimate of the error of its ends in radians: each condition's
-    error over its rate of change at the crossing, ``sqrt(b^2 + c^2 - a^2)``.
+    Returns the arc set and an estimate of the error of its ends in radians: at each end, the
+    error of the condition that vanishes there over its rate of change across the end,
+    ``sqrt(b^2 + c^2 - a^2)``; None when the set has no ends (empty or full circle).
     """
     a = np.asarray(a, dtype=float)
     b, s = c @ e1, c @ e2
@@ -78,10 +79,20 @@ def affine_arcs(
             for ak, bk, sk, tk in zip(a, b, s, zero_tol, strict=True)
         )
     )
-    slope2 = b**2 + s**2 - a**2
+    ends = boundary_angles(arcs)
+    if not len(ends):
+        return arcs, None
+    # Scaled per condition so that squares cannot overflow.
+    size = np.maximum(np.maximum(np.abs(a), np.abs(b)), np.abs(s))
+    size = np.where(size > 0, size, 1.0)
+    an, bn, sn = a / size, b / size, s / size
+    slope = np.sqrt(np.maximum(bn * bn + sn * sn - an * an, 0.0))
+    values = np.abs(an + np.outer(np.cos(ends), bn) + np.outer(np.sin(ends), sn))  # (ends, k)
     with np.errstate(divide="ignore", invalid="ignore"):
-        err = np.where(slope2 > 0, error / np.sqrt(np.maximum(slope2, 0)), 0.0)
-    return arcs, float(np.nanmax(err)) if len(err) else 0.0
+        miss = np.where(slope > 0, values / slope, np.inf)  # angular distance to its zero
+        per = np.where(slope > 0, (error / size) / slope, np.inf)
+    active = np.argmin(miss, axis=1)
+    return arcs, float(np.max(per[active]))
 
 
 def _intervals(arcs: ArcSet) -> list[tuple[float, float]]:

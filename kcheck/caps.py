@@ -199,7 +199,7 @@ def region(a: np.ndarray, c: np.ndarray) -> Region:
     big_b = sin_r[:, None] * (e1 @ caps.axes.T)
     big_c = sin_r[:, None] * (e2 @ caps.axes.T)
     size = np.hypot(big_b, big_c)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):
         ratio = -big_a / size
     crosses = (np.abs(ratio) < 1.0) & ~np.eye(k, dtype=bool)
     half = np.arccos(np.clip(ratio, -1.0, 1.0))
@@ -248,7 +248,7 @@ def _vertices(caps: CapSet, pairs: np.ndarray) -> np.ndarray:
     ui, uj = caps.axes[pairs[:, 0]], caps.axes[pairs[:, 1]]
     ci, cj = caps.cos_radius[pairs[:, 0]], caps.cos_radius[pairs[:, 1]]
     g = np.sum(ui * uj, axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):
         det = 1.0 - g * g
         alpha = (ci - g * cj) / det
         beta = (cj - g * ci) / det
@@ -309,7 +309,7 @@ def _candidates_pairs(caps: CapSet, pairs: np.ndarray) -> np.ndarray:
     theta = 0.5 * (gamma + caps.radius[pairs[:, 0]] - caps.radius[pairs[:, 1]])
     w = uj - np.sum(ui * uj, axis=1, keepdims=True) * ui
     norm = np.linalg.norm(w, axis=1, keepdims=True)
-    with np.errstate(invalid="ignore", divide="ignore"):
+    with np.errstate(all="ignore"):
         w = w / norm
     return np.cos(theta)[:, None] * ui + np.sin(theta)[:, None] * w
 
@@ -326,7 +326,7 @@ def _candidates_triples(caps: CapSet, triples: np.ndarray) -> np.ndarray:
         axis=1,
     )
     det = np.sum(u[:, 0] * cof[:, 0], axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):
         p = np.einsum("pk,pkj->pj", cos_r, cof) / det[:, None]
         q = np.einsum("pk,pkj->pj", sin_r, cof) / det[:, None]
         qa, qb, qc = np.sum(q * q, 1) - 1.0, 2.0 * np.sum(p * q, 1), np.sum(p * p, 1) - 1.0

@@ -49,6 +49,8 @@ __all__ = [
     "SLIP_TOL",
     "ILL_CONDITIONED",
     "build_problem",
+    "log_size",
+    "relative",
     "friction_directions",
     "system_matrix",
     "system_parts",
@@ -93,6 +95,7 @@ ILL_CONDITIONED = 1e12
 # Free-motion determinacy (smallest/largest singular value) below which it is not unique.
 UNDETERMINED = 1e-10
 EPS = float(np.finfo(float).eps)
+TINY = float(np.finfo(float).tiny)
 # Forward error of a solve: this many roundings per unit of condition number.
 ROUNDINGS = 4.0
 
@@ -114,6 +117,7 @@ class Problem:
     load_scale: float  # load magnitude / F (0 without a load)
     mass: float  # kg, for converting back
     preload: np.ndarray | None = None  # (n,), wrench of the preloads about the centre of mass
+    log_force: float | None = None  # log of the force scale F (N); None: log(frame.force)
 
     @property
     def dim(self) -> int:
@@ -137,9 +141,19 @@ class Problem:
         b0, big_b = self.load_basis()
         return b0 if direction is None else b0 + big_b @ direction
 
+    def _log_force(self) -> float:
+        return float(np.log(self.frame.force)) if self.log_force is None else self.log_force
+
     def acceleration_scale(self) -> float:
-        """m/s^2 per unit of nondimensional lambda."""
-        return _ratio(self.frame.force, self.mass)
+        """m/s^2 per unit of nondimensional lambda (``inf`` beyond the largest float)."""
+        with np.errstate(all="ignore"):
+            return float(np.exp(self._log_force() - np.log(self.mass)))
+
+    def newtons(self, values: np.ndarray) -> np.ndarray:
+        """Nondimensional forces in N (``+-inf`` beyond the largest float)."""
+        v = np.asarray(values, float)
+        with np.errstate(all="ignore"):
+            return np.sign(v) * np.exp(np.log(np.abs(v)) + self._log_force())
 
     def friction_pattern(self) -> tuple[np.ndarray, float]:
         """Friction as ``mu * pattern``: the pattern (k,) and the scene's ``mu``.
@@ -152,12 +166,6 @@ class Problem:
         if mu > 0:
             return self.friction / mu, mu
         return np.ones(len(self.friction)), 0.0
-
-
-def _ratio(numerator: float, denominator: float) -> float:
-    """``numerator / denominator`` without intermediate overflow (inf if it is too large)."""
-    with np.errstate(over="ignore", under="ignore"):
-        return float(np.float64(numerator) / np.float64(denominator))
 
 
 @dataclass(frozen=True)
@@ -212,24 +220,39 @@ class Case:
         return self.effective_mass is not None and min(self.effective_mass) <= 0.0
 
 
+def log_size(vector: np.ndarray | float) -> float:
+    """Natural logarithm of a magnitude or a vector's norm (``-inf`` for zero), without
+    overflow (:func:`kcheck.kinematics.row_norms`)."""
+    size = float(row_norms(np.atleast_1d(np.asarray(vector, float))))
+    with np.errstate(divide="ignore"):
+        return float(np.log(size)) if np.isfinite(size) else float("inf")
+
+
+def relative(vector: np.ndarray, log_scale: float, log_size_: float | None = None) -> np.ndarray:
+    """``vector / exp(log_scale)`` computed as its direction times ``exp(log|v| - log_scale)``,
+    so neither the vector's norm nor the scale need be representable; ``log_size_`` overrides
+    ``log|v|`` (e.g. the weight ``log m + log |g|``)."""
+    v = np.asarray(vector, float)
+    size = log_size(v) if log_size_ is None else log_size_
+    if size == -np.inf:
+        return np.zeros_like(v)
+    with np.errstate(over="ignore", under="ignore"):
+        return unit_rows(v) * float(np.exp(size - log_scale))
+
+
 def _preload_wrench(
-    frame: Frame, com: np.ndarray, preloads: Sequence[tuple[np.ndarray, np.ndarray]], force: float
+    frame: Frame,
+    com: np.ndarray,
+    preloads: Sequence[tuple[np.ndarray, np.ndarray]],
+    log_force: float,
 ) -> np.ndarray | None:
     """Nondimensional wrench (n,) of fixed forces ``(point m, force N)`` about the centre of
     mass (nondimensional), or None without preloads."""
     if not preloads:
         return None
     points = frame.point(np.array([p for p, _ in preloads], dtype=float))
-    forces = np.array([f for _, f in preloads], dtype=float)[:, : frame.dim]
-    with np.errstate(over="ignore", under="ignore"):
-        forces = forces / force
+    forces = np.array([relative(np.asarray(f, float)[: frame.dim], log_force) for _, f in preloads])
     return wrenches(points - com, forces).sum(axis=0)
-
-
-def _force_scale(magnitudes: Sequence[float]) -> float:
-    """The largest positive magnitude (N), or 0."""
-    positive = [m for m in magnitudes if m > 0 and np.isfinite(m)]
-    return max(positive, default=0.0)
 
 
 def build_problem(
@@ -251,30 +274,31 @@ def build_problem(
     """Nondimensionalise a scene (SI inputs, 3-vectors) into a :class:`Problem`.
 
     The force scale is the largest of the load magnitude, the weight and the preloads, so every
-    nondimensional force is at most 1 (no overflow from a huge mass or a tiny load).
+    nondimensional force is at most 1. Magnitudes are compared as logarithms, so a mass of
+    1e308 kg or 1e-320 kg, or a load of 1e-300 N, neither overflows nor vanishes; the force
+    scale itself (only used to convert results back to newtons) may then be ``inf`` or 0.
     ``preloads`` are fixed forces ``(point m, force N)`` acting with gravity.
     """
     g = np.asarray(gravity, float)[:dim]
-    g_norm = float(row_norms(g))
-    with np.errstate(over="ignore"):
-        weight = float(mass * g_norm)
-    preload_sizes = [float(row_norms(np.asarray(f, float)[:dim])) for _, f in preloads]
-    force = _force_scale([load_magnitude, weight, *preload_sizes])
-    if not force > 0:
+    log_weight = log_size(mass) + log_size(g)
+    log_load = log_size(load_magnitude)
+    log_force = max([log_load, log_weight, *(log_size(np.asarray(f)[:dim]) for _, f in preloads)])
+    if log_force == -np.inf:
         raise ValueError("no closing force: the load, gravity and preloads are all zero")
+    with np.errstate(over="ignore", under="ignore"):
+        force = float(np.exp(log_force))
     frame = Frame.for_points(points, dim, force)
     nw = 1 if dim == 2 else 3
     moments = np.asarray(inertia, float)
     moments = moments[2:, 2:] if dim == 2 else moments
     q = com if load_point is None else load_point
     c = frame.point(com)
-    # m g / F, computed as (m / F) g or (g / |g|) (m |g| / F) so that neither product overflows.
-    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
-        if np.isfinite(weight):
-            gravity_nd = mass * g / force
-        else:
-            gravity_nd = unit_rows(g) * _ratio(mass, force / g_norm)
+    log_length = float(np.log(frame.length))
+    with np.errstate(all="ignore"):
         inertia_nd = moments / mass / frame.length / frame.length
+        t = np.asarray(torque, float)[3 - nw :]
+        torque_nd = relative(t, log_force + log_length) if np.any(t) else np.zeros(nw)
+        load_scale = float(np.exp(log_load - log_force))
     return Problem(
         frame=frame,
         names=names,
@@ -283,12 +307,13 @@ def build_problem(
         friction=np.asarray(friction, float),
         com=c,
         inertia=inertia_nd,
-        gravity=gravity_nd,
-        torque=np.asarray(torque, float)[3 - nw :] / force / frame.length,
+        gravity=relative(g, log_force, log_weight),
+        torque=torque_nd,
         load_point=frame.point(q),
-        load_scale=_ratio(load_magnitude, force),
+        load_scale=load_scale,
         mass=mass,
-        preload=_preload_wrench(frame, c, preloads, force),
+        preload=_preload_wrench(frame, c, preloads, log_force),
+        log_force=log_force,
     )
 
 
@@ -359,9 +384,11 @@ def _equilibrate(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Row and column scale factors (..., n) making every row and column's largest entry 1."""
     size = np.abs(matrices)
     rows = size.max(axis=-1)
-    rows = 1.0 / np.where(rows > 0, rows, 1.0)
+    # A row or column below the smallest normal number carries nothing: leave it unscaled
+    # (its reciprocal would overflow).
+    rows = 1.0 / np.where(rows > TINY, rows, 1.0)
     cols = (size * rows[..., :, None]).max(axis=-2)
-    cols = 1.0 / np.where(cols > 0, cols, 1.0)
+    cols = 1.0 / np.where(cols > TINY, cols, 1.0)
     return rows, cols
 
 
@@ -549,12 +576,12 @@ def outcomes(case: Case, directions: np.ndarray) -> np.ndarray:
     return _decide(forward, backward, case.painleve)
 
 
-def safe_arcs(case: Case, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, float]:
+def safe_arcs(case: Case, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, float | None]:
     """Force angles in the sweep plane where the case closes, uniquely
     (:func:`closing_conditions`).
 
     Returns the arc set (radians from ``e1`` towards ``e2``) and an estimate of the absolute
-    error of its ends in radians (:func:`kcheck.arcs.affine_arcs`).
+    error of its ends in radians, None without ends (:func:`kcheck.arcs.affine_arcs`).
     """
     a, c, error = closing_conditions(case)
     return affine_arcs(a, c, e1, e2, error)

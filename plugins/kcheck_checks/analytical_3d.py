@@ -24,6 +24,7 @@ from kcheck.analysis import Analysis, analyse, closing_force_reason, describe_ra
 from kcheck.caps import FOUR_PI, Region, deepest_point, region, signed_distance
 from kcheck.dynamics import EPS, Problem, closing_conditions, with_load
 from kcheck.fmt import format_angle, format_vector
+from kcheck.kinematics import unit_rows
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
@@ -74,7 +75,7 @@ class SphereMap:
     robust_margin: float
     design_margin: float | None
     case_fractions: np.ndarray
-    boundary_error: float  # rad, estimated error of the cap boundaries (and so of margins)
+    boundary_error: float  # rad, estimated error of the region's boundary (and so of margins)
     region: Region | None = None
     nearest: np.ndarray | None = None
     lattice: SafeFraction | None = None
@@ -92,7 +93,8 @@ def direction_caps(
 
     With a load the direction is the load's; without one it is gravity's, whose magnitude is
     kept: the wrench ``[torque; |m g| d]`` plus the preloads about the centre of mass.
-    Returns ``(swept, a, c, owner, boundary_error)``.
+    Returns ``(swept, a, c, owner, cap_errors)``: ``cap_errors`` (k,) the angular error (rad)
+    of each cap's boundary.
     """
     swept: Literal["load", "gravity"] = "load" if problem.load_scale > 0 else "gravity"
     a_all, c_all, owner, err_all = [], [], [], []
@@ -114,17 +116,20 @@ def direction_caps(
     if not a_all:
         return swept, np.zeros(0), np.zeros((0, 3)), np.zeros(0, int), np.zeros(0)
     a_cat, c_cat = np.concatenate(a_all), np.vstack(c_all)
-    return swept, a_cat, c_cat, np.concatenate(owner), _boundary_error(a_cat, c_cat, err_all)
+    errors = _cap_errors(a_cat, c_cat, np.concatenate(err_all))
+    return swept, a_cat, c_cat, np.concatenate(owner), errors
 
 
-def _boundary_error(a: np.ndarray, c: np.ndarray, errors: list[np.ndarray]) -> float:
-    """Angular error (rad) of the cap boundaries: each condition's coefficient error over its
-    rate of change across the boundary, ``sqrt(|c|^2 - a^2)`` (as for the sweep-plane arcs)."""
-    slope2 = np.sum(c * c, axis=1) - a * a
-    err = np.concatenate(errors)
+def _cap_errors(a: np.ndarray, c: np.ndarray, error: np.ndarray) -> np.ndarray:
+    """Angular error (rad) of each cap's boundary: the condition's coefficient error over its
+    rate of change across the boundary, ``sqrt(|c|^2 - a^2)`` (as for the sweep-plane arcs),
+    scaled per condition so that nothing overflows."""
+    size = np.maximum(np.abs(a), np.abs(c).max(axis=1)) if len(a) else np.zeros(0)
+    size = np.where(size > 0, size, 1.0)
+    an, cn = a / size, c / size[:, None]
+    slope = np.sqrt(np.maximum(np.sum(cn * cn, axis=1) - an * an, 0.0))
     with np.errstate(divide="ignore", invalid="ignore"):
-        per_cap = np.where(slope2 > 0, err / np.sqrt(np.maximum(slope2, 0)), 0.0)
-    return float(np.nanmax(per_cap)) if len(per_cap) else 0.0
+        return np.where(slope > 0, (error / size) / slope, np.inf)
 
 
 def sphere_map(scene: Scene, analysis: Analysis, lattice_points: int = 0) -> SphereMap | None:
@@ -133,15 +138,18 @@ def sphere_map(scene: Scene, analysis: Analysis, lattice_points: int = 0) -> Sph
     ``lattice_points`` > 0 also counts the safe share on that many lattice directions.
     """
     problem = analysis.problem
-    swept, a, c, owner, boundary_error = direction_caps(problem, analysis)
+    swept, a, c, owner, cap_errors = direction_caps(problem, analysis)
     if not len(a):
         return None
     design = None
     if swept == "load":
         design = analysis.design
     elif np.any(scene.gravity):
-        design = scene.gravity / np.linalg.norm(scene.gravity)
+        design = unit_rows(scene.gravity)
     safe = region(a, c)
+    # The region's boundary (and so every margin) moves by the error of the caps that bound it.
+    bounding = safe.caps.source[safe.bounding]
+    boundary_error = float(cap_errors[bounding].max()) if len(bounding) else 0.0
     robust, robust_margin = deepest_point(safe)
     if robust is None or robust_margin is None:  # no cap bounds anything: every direction
         robust, robust_margin = (np.array([0.0, 0.0, 1.0]) if design is None else design), np.pi
@@ -396,13 +404,22 @@ def spatial_result(
         Status.PASS if not findings else Status.FAIL,
         "; ".join([*parts, *(f.message for f in findings)]),
         # Degrees: the sweep-plane range ends and the map's margins, whichever is worse.
-        error_estimate=max(analysis.error_deg or 0.0, smap.boundary_error * deg),
+        error_estimate=_error_deg(analysis, smap),
         safe_ranges_deg=None if analysis.combined is None else _ranges(analysis),
         cases=cases,
         details=details,
         findings=tuple(findings),
     )
     return result, smap, analysis
+
+
+def _error_deg(analysis: Analysis, smap: SphereMap) -> float | None:
+    """The check's error estimate (deg): the sweep-plane range ends and the safe region's
+    boundary (its margins), whichever is worse; None when neither exists."""
+    errors = [] if analysis.error_deg is None else [analysis.error_deg]
+    if not smap.empty and (smap.region is None or not smap.region.full):
+        errors.append(float(np.degrees(smap.boundary_error)))
+    return max(errors) if errors else None
 
 
 def _ranges(analysis: Analysis) -> tuple[tuple[float, float], ...]:

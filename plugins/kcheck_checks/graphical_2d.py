@@ -59,7 +59,7 @@ from kcheck.arcs import (
     margin,
     union,
 )
-from kcheck.dynamics import friction_directions
+from kcheck.dynamics import friction_directions, log_size, relative
 from kcheck.fmt import format_angle
 from kcheck.kinematics import (
     RANK_RTOL,
@@ -69,6 +69,8 @@ from kcheck.kinematics import (
     free_twist,
     layout_singular_values,
     point_velocity,
+    row_norms,
+    unit_rows,
     wrenches,
 )
 from kcheck.plugin import Check, Inputs, Options
@@ -140,7 +142,7 @@ class GraphicalCase:
     friction: ArcSet
     jamming: ArcSet
     safe: ArcSet
-    error_rad: float
+    error_rad: float | None  # of the safe arcs' ends; None without ends
 
 
 # --- pure construction -------------------------------------------------------------------
@@ -196,8 +198,9 @@ def tilted_twist(
 
 def condition_arc(
     a: float, c: np.ndarray, e1: np.ndarray, e2: np.ndarray, coef_error: float
-) -> tuple[ArcSet, float]:
-    """Angles from ``e1`` towards ``e2`` where ``a + c . d > 0``, and the ends' error (rad)."""
+) -> tuple[ArcSet, float | None]:
+    """Angles from ``e1`` towards ``e2`` where ``a + c . d > 0``, and the ends' error (rad;
+    None without ends)."""
     return affine_arcs(np.array([a]), c[None, :], e1, e2, np.array([coef_error]))
 
 
@@ -216,8 +219,9 @@ def construct_case(
     are the forces acting with the swept one, ``(point, force / F)``)."""
     keep = np.flatnonzero(np.arange(len(points)) != retracted)
     free = free_twist(points, normals, retracted)
-    scale = 1.0 + float(np.linalg.norm(q)) + abs(arm)
-    scale += sum(float(np.linalg.norm(f) * (1.0 + np.linalg.norm(p))) for p, f in fixed)
+    scale = 1.0 + float(row_norms(q)) + abs(arm)
+    with np.errstate(over="ignore"):
+        scale += sum(float(row_norms(f) * (1.0 + row_norms(p))) for p, f in fixed)
     # A null vector is perturbed by about eps over its singular-value gap.
     a, c = virtual_power(free.twist, q, arm, fixed)
     funnel, err_f = condition_arc(
@@ -226,7 +230,7 @@ def construct_case(
     tilted, sliding, det_t = tilted_twist(points, normals, mu, free, keep)
     if tilted is None:
         friction: ArcSet = ()
-        err_t = 0.0
+        err_t = None
     else:
         at, ct = virtual_power(tilted, q, arm, fixed)
         friction, err_t = condition_arc(at, ct, e1, e2, ROUNDINGS * EPS / max(det_t, EPS) * scale)
@@ -240,7 +244,7 @@ def construct_case(
         friction=friction,
         jamming=intersect(funnel, complement(friction)),
         safe=intersect(funnel, friction),
-        error_rad=max(err_f, err_t),
+        error_rad=max((e for e in (err_f, err_t) if e is not None), default=None),
     )
 
 
@@ -299,36 +303,37 @@ def attachment(
     if reason is not None:
         return reason
     load = scene.load
-    gravity = scene.gravity[:2]
+    gravity = np.append(scene.gravity[:2], 0.0)
+    log_weight = log_size(gravity) + (log_size(mass) if mass is not None else -np.inf)
     notes: list[str] = []
     fixed: list[tuple[np.ndarray, np.ndarray]] = []
     if load is not None and load.magnitude > 0:
         point = load.point if point is None else point
-        size = load.magnitude
-        arm = float(load.torque[2]) / size
+        log_swept = log_size(load.magnitude)
+        arm = float(load.torque[2]) / load.magnitude
         design, source = load.direction, "load"
         if _weight_in_plane(scene):
             if com is None or mass is None:
                 notes.append("gravity left out: the scene has no `body` for the weight")
             else:
-                weight = mass * np.append(gravity, 0.0)
-                fixed.append((np.asarray(com, float), weight / size))
+                weight = relative(gravity, log_swept, log_weight)
+                fixed.append((np.asarray(com, float), weight))
                 notes.append("the weight acts with the load (their resultant is swept)")
     else:
         arm, source = 0.0, "weight"
-        design = np.append(gravity / np.linalg.norm(gravity), 0.0)
-        size = float(np.linalg.norm(gravity)) * (mass or 0.0)
+        design = unit_rows(gravity)
+        log_swept = log_weight
     if point is None:
         if com is None:
             return "the force acts at the centre of mass, which is not known"
         point = com
         notes.append("force at the centre of mass")
-    if scene.preloads and size > 0:
-        for p in scene.preloads:
-            if np.any(p.force[:2] != 0):
-                fixed.append((_plane_point(scene, p.point), np.append(p.force[:2], 0.0) / size))
-        if any(np.any(p.force[:2] != 0) for p in scene.preloads):
-            notes.append("preloads act with the swept force")
+    pushing = [p for p in scene.preloads if np.any(p.force[:2] != 0)]
+    if pushing and np.isfinite(log_swept):
+        for p in pushing:
+            force = relative(np.append(p.force[:2], 0.0), log_swept)
+            fixed.append((_plane_point(scene, p.point), force))
+        notes.append("preloads act with the swept force")
     return Attachment(_plane_point(scene, point), arm, design, source, tuple(notes), tuple(fixed))
 
 
@@ -582,7 +587,8 @@ def _verdict(
                     f"design {format_angle(angle_deg)} is {format_angle(design_margin)} inside"
                 )
     parts.append(MASS_FREE)
-    error_deg = float(np.degrees(max(c.error_rad for c in built.cases)))
+    errors = [c.error_rad for c in built.cases if c.error_rad is not None]
+    error_deg = float(np.degrees(max(errors))) if errors else None
     return CheckResult(
         check_id,
         Status.PASS if not findings else Status.FAIL,
