@@ -219,17 +219,9 @@ def _evaluated(
     details["friction_intervals"] = intervals_json(intervals.intervals)
     if not intervals.uniform:
         details["friction_scaled"] = True
-    if verdict == "ambiguous":
-        assert case.forward is not None and case.backward is not None
-        consistent = []
-        if case.forward.at(direction)[0] > 0:
-            consistent.append("forward")
-        if case.backward.at(direction)[0] < 0:
-            consistent.append("backward")
-        details["consistent"] = consistent
-        start = intervals.painleve_from
-        if case.painleve and start is not None:
-            details["painleve_from_mu"] = start
+    start = intervals.painleve_from
+    if verdict == "ambiguous" and start is not None:
+        details["painleve_from_mu"] = start
     return verdict, forces, accel
 
 

@@ -500,29 +500,27 @@ def with_load(case: Case, b0: np.ndarray, big_b: np.ndarray) -> Case:
 
 
 def closing_conditions(case: Case) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Conditions ``a_k + c_k . d > 0`` that together mean "the case closes, uniquely".
+    """Conditions ``a_k + c_k . d > 0`` that together mean "the case closes": under forward
+    sliding ``lambda > 0`` and every ``N_j > 0``. Returns ``(a, c, error)``.
 
-    Forward sliding: ``lambda > 0`` and every ``N_j > 0``; and backward sliding not consistent
-    (its ``lambda > 0``), else the outcome is ambiguous. Returns ``(a, c, error)``; a
-    Painlevé-type case gets one condition that never holds.
+    Closing is then the only sliding solution: backward sliding with positive normal forces
+    as well would give, subtracting the two Newton–Euler systems and multiplying by ``xi``,
+    ``(lambda_f - lambda_b) xi^T M xi = -mu sum (N_f + N_b) |u_j| < 0``, impossible with
+    ``lambda_f > 0 > lambda_b``. A Painlevé-type case gets one condition that never holds.
     """
-    assert case.forward is not None and case.backward is not None
-    fwd, bwd = case.forward, case.backward
+    assert case.forward is not None
+    fwd = case.forward
     if case.painleve:
-        dim = fwd.c.shape[1]
-        return np.array([-1.0]), np.zeros((1, dim)), np.zeros(1)
-    a = np.append(fwd.a, bwd.a[0])
-    c = np.vstack([fwd.c, bwd.c[:1]])
-    return a, c, np.append(fwd.error, bwd.error[0])
+        return np.array([-1.0]), np.zeros((1, fwd.c.shape[1])), np.zeros(1)
+    return fwd.a, fwd.c, fwd.error
 
 
 def _decide(forward: np.ndarray, backward: np.ndarray, painleve: bool) -> np.ndarray:
-    """The outcome rule on forward and backward unknowns (..., n).
+    """The outcome rule on forward and backward unknowns (..., n) (methods.md §3).
 
-    Forward sliding is consistent where its ``lambda > 0``, backward where its ``lambda < 0``.
-    Exactly one consistent: forward closes (all ``N > 0``) or loses contact; backward opens
-    (all ``N > 0``) or opens while losing contact. Neither: friction holds the body (jams).
-    Both, or any direction of a Painlevé-type case: ambiguous.
+    Forward sliding first: ``lambda > 0`` closes (all ``N > 0``) or loses contact; else
+    backward: ``lambda < 0`` opens (all ``N > 0``) or opens while losing contact; else friction
+    holds the body (jams). Every direction of a Painlevé-type case is ambiguous.
     """
     fwd = forward[..., 0] > 0
     bwd = backward[..., 0] < 0
@@ -531,20 +529,19 @@ def _decide(forward: np.ndarray, backward: np.ndarray, painleve: bool) -> np.nda
     kept_f = np.all(forward[..., 1:] > 0, axis=-1)
     kept_b = np.all(backward[..., 1:] > 0, axis=-1)
     return np.select(
-        [fwd & bwd, fwd & kept_f, fwd, bwd & kept_b, bwd],
-        ["ambiguous", "closes", "loses_contact", "opens", "opens_loses_contact"],
+        [fwd & kept_f, fwd, bwd & kept_b, bwd],
+        ["closes", "loses_contact", "opens", "opens_loses_contact"],
         "jams",
     )
 
 
 def _decide_one(forward: np.ndarray, backward: np.ndarray, painleve: bool) -> Outcome:
     """:func:`_decide` for one direction, without array overhead."""
-    fwd, bwd = bool(forward[0] > 0), bool(backward[0] < 0)
-    if painleve or (fwd and bwd):
+    if painleve:
         return "ambiguous"
-    if fwd:
+    if forward[0] > 0:
         return "closes" if bool(np.all(forward[1:] > 0)) else "loses_contact"
-    if bwd:
+    if backward[0] < 0:
         return "opens" if bool(np.all(backward[1:] > 0)) else "opens_loses_contact"
     return "jams"
 

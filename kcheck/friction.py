@@ -207,15 +207,9 @@ def _evaluate(
             return np.zeros(m, bool), np.zeros(m, bool)
     effective = sign * np.concatenate([sign0, sign0]) > 0
     painleve = ~(effective[:m] & effective[m:])
-    forward, backward = x[:m], x[m:]
+    forward = x[:m]
     trusted = (quality[:m] > 1.0 / ILL_CONDITIONED) & (quality[m:] > 1.0 / ILL_CONDITIONED)
-    closes = (
-        trusted
-        & ~painleve
-        & (forward[:, 0] > 0)
-        & np.all(forward[:, 1:] > 0, axis=1)
-        & ~(backward[:, 0] < 0)
-    )
+    closes = trusted & ~painleve & (forward[:, 0] > 0) & np.all(forward[:, 1:] > 0, axis=1)
     return closes, painleve
 
 

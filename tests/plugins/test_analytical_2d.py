@@ -446,3 +446,42 @@ def test_plots_are_written(tmp_path: Path) -> None:
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
     assert "<svg" in svg.read_text()[:2000]
     assert sorted(json.loads(out.read_text())["scenes"][0]["plots"]) == sorted([str(png), str(svg)])
+
+
+# --- Painlevé-type cases (tests/kcheck/test_dynamics.py derives the onset by hand) -----------
+
+ROD_MU_STAR = (-0.1 + np.sqrt(0.96)) / 1.9  # 0.46305: a = 0.2, b = 1, h = 0.1, k^2 = 0.01
+
+
+def rod_scene(mu: float) -> dict[str, Any]:
+    """The long light body of tests/kcheck/test_dynamics.py as a scene file (m)."""
+    return {
+        "version": 1,
+        "name": "long light body",
+        "units": "m",
+        "body": {"mass": 1.0, "center_of_mass": [0, 0.1, 0], "inertia": 0.01},
+        "supports": [
+            {"name": "y1", "position": [-0.2, 0, 0], "normal": [0, 1, 0]},
+            {"name": "y2", "position": [0.2, 0, 0], "normal": [0, 1, 0]},
+            {"name": "x1", "position": [-1.0, 0.1, 0], "normal": [1, 0, 0]},
+        ],
+        "friction": mu,
+        "load": {"magnitude": 1.0, "angle": 280.0},
+    }
+
+
+def test_painleve_case_is_ambiguous_and_fails(tmp_path: Path) -> None:
+    """Below the hand-derived onset the y1 case has an ordinary outcome; above it the check
+    reports `ambiguous` from that mu on, fails, and locates the finding at y1."""
+    below = case(run_check(write_scene(tmp_path, rod_scene(0.4), "below")), "y1")
+    assert below.outcome != "ambiguous" and "painleve_from_mu" not in below.details
+    result = run_check(write_scene(tmp_path, rod_scene(0.6), "above"))
+    y1 = case(result, "y1")
+    assert y1.outcome == "ambiguous"
+    assert y1.details["painleve_from_mu"] == pytest.approx(ROD_MU_STAR, rel=1e-12)
+    assert y1.safe_ranges_deg == () and y1.limiting_friction is None
+    assert result.status is Status.FAIL
+    (finding,) = [f for f in result.findings if f.code == "ambiguous"]
+    assert finding.field == ("supports", 0)
+    assert finding.message.startswith("retract y1 → ambiguous")
+    assert "from μ = 0.463 on (Painlevé)" in finding.message

@@ -462,3 +462,34 @@ def test_gravity_only_scene_still_estimates_its_error(cli_json) -> None:
     code, doc = cli_json(str(scene))
     check = next(c for c in doc["scenes"][0]["checks"] if c["id"] == "analytical-3d")
     assert code == 0 and 0 < check["error_estimate"] < 1e-9
+
+
+# --- Painlevé-type case in space -----------------------------------------------------------
+
+
+def test_painleve_case_in_space_agrees_with_2d(tmp_path: Path) -> None:
+    """The long light body of tests/kcheck/test_dynamics.py on a frictionless table (as the
+    planar block above): analytical-3d finds the same Painlevé onset for y1 as the planar
+    check, mu* = 0.46305 derived by hand, and fails there."""
+    from tests.plugins.test_analytical_2d import ROD_MU_STAR, rod_scene
+
+    data = rod_scene(0.6)
+    for support in data["supports"]:
+        support["position"][2] = 0.01
+    data["supports"] += [
+        {"name": "z1", "position": [-0.5, 0.0, 0], "normal": [0, 0, 1], "friction": 0.0},
+        {"name": "z2", "position": [0.5, 0.0, 0], "normal": [0, 0, 1], "friction": 0.0},
+        {"name": "z3", "position": [0.0, 0.2, 0], "normal": [0, 0, 1], "friction": 0.0},
+    ]
+    data["body"] = {
+        "mass": 1.0,
+        "center_of_mass": [0, 0.1, 0.01],
+        "inertia": [[0.02, 0, 0], [0, 0.02, 0], [0, 0, 0.01]],
+    }
+    data["gravity"] = [0, 0, -9.81]
+    result = run(Analytical3D(), load_scene(write_scene(tmp_path, data)))
+    y1 = next(c for c in result.cases if c.retracted == "y1")
+    assert y1.outcome == "ambiguous"
+    assert y1.details["painleve_from_mu"] == pytest.approx(ROD_MU_STAR, rel=1e-9)
+    assert result.status is Status.FAIL
+    assert any(f.code == "ambiguous" and f.field == ("supports", 0) for f in result.findings)

@@ -208,11 +208,11 @@ class ReferenceCase:
     painleve: bool
 
     def outcome(self, alpha: Any) -> str:
-        """The outcome rule of docs/checks.md, in mpmath: Painlevé-type or both sliding
-        directions consistent is ambiguous; else forward (closes / loses contact), backward
-        (opens / opens while losing contact) or neither (jams)."""
+        """The outcome rule of docs/checks.md, in mpmath: a Painlevé-type case is ambiguous;
+        else forward (closes / loses contact), backward (opens / opens while losing contact)
+        or neither (jams)."""
         x, xb = self.forward.at(alpha), self.backward.at(alpha)
-        if self.painleve or (x[0] > 0 and xb[0] < 0):
+        if self.painleve:
             return "ambiguous"
         if x[0] > 0:
             return "closes" if all(n > 0 for n in x[1:]) else "loses_contact"
@@ -221,10 +221,9 @@ class ReferenceCase:
         return "jams"
 
     def ends(self) -> list[Any]:
-        """Angles where an unknown of the forward solution or the backward acceleration
-        changes sign (the ends of the closing ranges are among them)."""
-        b = self.backward
-        return self.forward.ends() + Reference(b.a[:1], b.b[:1], b.c[:1]).ends()
+        """Angles where an unknown of the forward solution changes sign (the ends of the
+        closing ranges are among them)."""
+        return self.forward.ends()
 
 
 def reference_case(scene: Scene, mass: Any, retracted: int) -> ReferenceCase:
