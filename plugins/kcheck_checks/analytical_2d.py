@@ -16,7 +16,12 @@ from kcheck.fmt import format_angle
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
-from kcheck_checks.wording import case_findings, empty_range_findings, load_field
+from kcheck_checks.wording import (
+    case_findings,
+    empty_range_findings,
+    load_field,
+    merge_findings,
+)
 
 # Range ends less certain than this (deg) are reported with a diagnostic.
 UNCERTAIN_DEG = 0.01
@@ -110,7 +115,7 @@ def analytical_result(
             parts.append(f"safe force angles: {describe_ranges(combined)}")
         else:
             parts.append("no safe force angle")
-            findings.extend(empty_range_findings(scene, analysis.results))
+            findings = merge_findings(findings, empty_range_findings(scene, analysis.results))
         design_deg = scene.design_angle_deg
         if design_deg is not None:
             findings.extend(

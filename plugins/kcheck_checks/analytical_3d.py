@@ -30,7 +30,7 @@ from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck.sphere import SafeFraction, safe_fraction
 from kcheck_checks.analytical_2d import AnalyticalOptions
-from kcheck_checks.wording import case_findings, load_field, support_field
+from kcheck_checks.wording import case_findings, load_field, merge_findings, support_field
 
 __all__ = [
     "Analytical3D",
@@ -365,10 +365,11 @@ def spatial_result(
         details["sphere_points"] = smap.lattice.points
         details["lattice_fraction"] = smap.lattice.fraction
         details["lattice_fraction_error"] = smap.lattice.error
-    if not smap.empty:
+    full = smap.region is not None and smap.region.full
+    if not smap.empty and not full:
         details["most_robust_direction"] = smap.robust.tolist()
         details["robust_margin_deg"] = smap.robust_margin * deg
-    if smap.design_margin is not None:
+    if smap.design_margin is not None and not full:
         details["design_margin_deg"] = smap.design_margin * deg
     if smap.nearest is not None:
         details["nearest_safe_direction"] = smap.nearest.tolist()
@@ -381,9 +382,15 @@ def spatial_result(
         else r
         for i, r in enumerate(analysis.results)
     )
-    findings.extend(_sphere_findings(scene, analysis, smap, what, options.min_margin_deg))
+    # Each case's reason (with the map's word about that case), the map's verdict first.
+    findings = merge_findings(
+        findings, _sphere_findings(scene, analysis, smap, what, options.min_margin_deg)
+    )
+    findings.sort(key=lambda f: f.code not in ("design-outside", "margin"))
     if smap.empty:
         parts = [f"no safe {what} direction"]
+    elif full:
+        parts = [f"every {what} direction closes every retraction"]
     else:
         parts = [f"safe {what} directions: {100 * smap.fraction.fraction:.2f}% of the sphere"]
         if smap.design_margin is not None and smap.design_margin >= 0 and not findings:

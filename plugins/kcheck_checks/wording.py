@@ -7,6 +7,7 @@ same way. A finding names the retracted support (``("supports", i)``) or the loa
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 
 import numpy as np
@@ -20,6 +21,7 @@ from kcheck.result import CaseResult, Finding
 from kcheck.scene import Scene
 
 __all__ = [
+    "merge_findings",
     "support_field",
     "load_field",
     "ranges_text",
@@ -85,7 +87,7 @@ def _why(result: CaseResult, intervals: FrictionIntervals | None) -> tuple[str, 
         case "jams":
             return "jams", f"jams{mu} (friction holds the body){tail}"
         case "loses_contact":
-            return "loses-contact", f"{_lost(result)} while the body closes{tail}"
+            return "loses-contact", f"{_lost(result)}{tail}"
         case "opens":
             return "opens", f"the body moves away from the retracted support (opens){tail}"
         case "opens_loses_contact":
@@ -150,7 +152,7 @@ def empty_range_findings(
     if nowhere:
         return [
             Finding(
-                f"retract {r.retracted} → no force angle{plane_text} closes it",
+                f"retract {r.retracted} → no force angle{plane_text} closes this retraction",
                 code="no-safe-direction",
                 field=support_field(scene, r.retracted),
             )
@@ -165,7 +167,7 @@ def empty_range_findings(
                         f"({ranges_text(first.safe_ranges_deg)}) and {second.retracted} "
                         f"({ranges_text(second.safe_ranges_deg)}) do not overlap{plane_text}",
                         code="ranges-disjoint",
-                        field=support_field(scene, first.retracted),
+                        field=("load",),
                     )
                 ]
     listed = ", ".join(f"{r.retracted} ({ranges_text(r.safe_ranges_deg)})" for r in usable)
@@ -173,7 +175,7 @@ def empty_range_findings(
         Finding(
             f"the safe ranges {listed} have no angle in common{plane_text}",
             code="ranges-disjoint",
-            field=("supports",),
+            field=("load",),
         )
     ]
 
@@ -181,3 +183,18 @@ def empty_range_findings(
 def angle_text(value: float) -> str:
     """An angle in [0°, 360°) (:func:`kcheck.fmt.format_angle`)."""
     return format_angle(value % 360.0)
+
+
+def merge_findings(first: Sequence[Finding], more: Sequence[Finding]) -> list[Finding]:
+    """``first`` then ``more``; a finding of ``more`` about a support that ``first`` already
+    has a finding for is added to that one's message (one finding per support)."""
+    out = list(first)
+    for extra in more:
+        for i, found in enumerate(out):
+            if found.field == extra.field and extra.field not in (None, ("supports",)):
+                tail = extra.message.split(" → ", 1)[-1]
+                out[i] = dataclasses.replace(found, message=f"{found.message}; {tail}")
+                break
+        else:
+            out.append(extra)
+    return out
