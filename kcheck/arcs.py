@@ -88,9 +88,12 @@ def affine_arcs(
     an, bn, sn = a / size, b / size, s / size
     slope = np.sqrt(np.maximum(bn * bn + sn * sn - an * an, 0.0))
     values = np.abs(an + np.outer(np.cos(ends), bn) + np.outer(np.sin(ends), sn))  # (ends, k)
+    # The end moves by the coefficients' error over the slope; arccos and atan2 add rounding
+    # of the same kind (eps |a| / slope) and of the angle itself (eps of 2 pi).
+    rounding = EPS * (np.abs(an) + np.hypot(bn, sn))
     with np.errstate(divide="ignore", invalid="ignore"):
         miss = np.where(slope > 0, values / slope, np.inf)  # angular distance to its zero
-        per = np.where(slope > 0, (error / size) / slope, np.inf)
+        per = np.where(slope > 0, (error / size + rounding) / slope, np.inf) + EPS * TAU
     active = np.argmin(miss, axis=1)
     return arcs, float(np.max(per[active]))
 

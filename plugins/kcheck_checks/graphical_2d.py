@@ -99,7 +99,7 @@ __all__ = [
 
 EPS = float(np.finfo(float).eps)
 # Roundings per unit of conditioning in a virtual-power coefficient (error estimates).
-ROUNDINGS = 4.0
+ROUNDINGS = 1.5
 # Said with every verdict: the construction has no inertia.
 MASS_FREE = "mass-free: contact loss not checked"
 # A rotation whose pole lies beyond 1e12 layout sizes is reported as a translation

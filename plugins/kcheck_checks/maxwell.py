@@ -61,7 +61,7 @@ class Maxwell(Check):
                 continue
             cos = maxwell_cos(free, points[r], normals[r])
             # The null vector is perturbed by about eps / (its singular-value gap).
-            worst_error = max(worst_error, 8 * EPS / free.determinacy)
+            worst_error = max(worst_error, EPS / free.determinacy)
             outcome = "ok" if cos >= opts.min_cos else "poor"
             cases.append(
                 CaseResult(
