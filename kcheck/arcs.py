@@ -73,12 +73,20 @@ def affine_arcs(
     # A tolerance shared by all would erase the direction term of a small unknown whenever
     # another one is huge (e.g. a heavy body's weight on one support).
     zero_tol = 64 * EPS * np.maximum(np.abs(a), np.abs(c).max(axis=1))
-    arcs = intersect(
-        *(
-            positive_arc(ak, bk, sk, zero_tol=float(tk))
-            for ak, bk, sk, tk in zip(a, b, s, zero_tol, strict=True)
+    # positive_arc for every condition at once: full, empty, or one arc.
+    r = np.hypot(b, s)
+    flat = r <= zero_tol
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(flat, np.where(a > 0, -np.inf, np.inf), -a / np.where(flat, 1.0, r))
+    if np.any(ratio >= 1.0):
+        arcs: ArcSet = ()
+    else:
+        bounded = ratio > -1.0
+        half = np.arccos(np.clip(ratio[bounded], -1.0, 1.0))
+        start = (np.arctan2(s[bounded], b[bounded]) - half) % TAU
+        arcs = intersect(
+            *(((float(x), float(x + 2.0 * h)),) for x, h in zip(start, half, strict=True))
         )
-    )
     ends = boundary_angles(arcs)
     if not len(ends):
         return arcs, None

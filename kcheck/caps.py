@@ -28,6 +28,7 @@ from itertools import combinations
 import numpy as np
 
 from kcheck.arcs import cap_geometry
+from kcheck.kinematics import cross3
 
 __all__ = [
     "FOUR_PI",
@@ -82,16 +83,16 @@ def cap_set(a: np.ndarray, c: np.ndarray) -> CapSet:
 def angle_between(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     """Angle (rad) between unit vectors, accurate near 0 and pi (atan2 of |u x v| and u . v);
     broadcasts over leading axes."""
-    cross = np.cross(u, v)
+    cross = cross3(u, v)
     return np.arctan2(np.sqrt(np.sum(cross * cross, axis=-1)), np.sum(u * v, axis=-1))
 
 
 def _frames(axes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Unit vectors ``e1, e2`` (k, 3) with ``(e1, e2, u)`` right-handed for each axis ``u``."""
     helper = np.where(np.abs(axes[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
-    e1 = np.cross(helper, axes)
+    e1 = cross3(helper, axes)
     e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
-    return e1, np.cross(axes, e1)
+    return e1, cross3(axes, e1)
 
 
 def _circle_points(caps: CapSet, e1: np.ndarray, e2: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -119,13 +120,14 @@ def _inside_all(
 
 
 def _disjoint_pair(caps: CapSet) -> bool:
-    """Whether two caps do not overlap (their axes at least ``r_i + r_j`` apart)."""
+    """Whether two caps do not overlap (their axes at least ``r_i + r_j`` apart; never when
+    ``r_i + r_j > pi``)."""
     if len(caps.radius) < 2:
         return False
-    gap = angle_between(caps.axes[:, None, :], caps.axes[None, :, :])
     total = caps.radius[:, None] + caps.radius[None, :]
-    np.fill_diagonal(gap, 0.0)
-    return bool(np.any(gap >= total - SAME_CAP))
+    apart = caps.axes @ caps.axes.T <= np.cos(np.minimum(total, np.pi)) + SAME_CAP
+    np.fill_diagonal(apart, False)
+    return bool(np.any(apart & (total <= np.pi + SAME_CAP)))
 
 
 @dataclass(frozen=True)
@@ -139,6 +141,7 @@ class Region:
     bounding: np.ndarray  # (k,) bool: the cap's circle carries part of the boundary
     empty: bool
     full: bool
+    lengths: np.ndarray | None = None  # (k,) length (rad) of each cap's part of the boundary
 
     @property
     def fraction(self) -> float:
@@ -231,7 +234,8 @@ def region(a: np.ndarray, c: np.ndarray) -> Region:
     if not np.any(bounding):
         return Region(caps, 0.0, 0.0, none, True, False)
     area = min(max(area, 0.0), float(np.min(2.0 * np.pi * (1.0 - caps.cos_radius))))
-    return Region(caps, area, float(lengths.sum()), bounding, False, False)
+    per_cap = lengths.sum(axis=1)
+    return Region(caps, area, float(per_cap.sum()), bounding, False, False, per_cap)
 
 
 def _margins(caps: CapSet, points: np.ndarray) -> np.ndarray:
@@ -253,7 +257,7 @@ def _vertices(caps: CapSet, pairs: np.ndarray) -> np.ndarray:
         alpha = (ci - g * cj) / det
         beta = (cj - g * ci) / det
         base = alpha[:, None] * ui + beta[:, None] * uj
-        w = np.cross(ui, uj)
+        w = cross3(ui, uj)
         rest = (1.0 - np.sum(base * base, axis=1)) / np.sum(w * w, axis=1)
         gamma = np.where(rest >= 0, np.sqrt(np.maximum(rest, 0.0)), np.nan)
     return np.concatenate([base + gamma[:, None] * w, base - gamma[:, None] * w])
@@ -322,7 +326,7 @@ def _candidates_triples(caps: CapSet, triples: np.ndarray) -> np.ndarray:
     cos_r, sin_r = caps.cos_radius[triples], np.sin(caps.radius[triples])
     # Inverse by cross products: U^-1 = [u1 x u2, u2 x u0, u0 x u1] / det (as columns).
     cof = np.stack(
-        [np.cross(u[:, 1], u[:, 2]), np.cross(u[:, 2], u[:, 0]), np.cross(u[:, 0], u[:, 1])],
+        [cross3(u[:, 1], u[:, 2]), cross3(u[:, 2], u[:, 0]), cross3(u[:, 0], u[:, 1])],
         axis=1,
     )
     det = np.sum(u[:, 0] * cof[:, 0], axis=1)

@@ -159,10 +159,13 @@ def sphere_map(scene: Scene, analysis: Analysis, lattice_points: int = 0) -> Sph
     case_fractions = np.full(len(analysis.cases), np.nan)
     for i in np.unique(owner):
         case_fractions[i] = region(a[owner == i], c[owner == i]).fraction
-    # Area error: the boundary moves by its angular error along its whole length, plus the
-    # rounding of the arc integrals (a few eps per arc and per unit of area).
-    rounding = 64 * EPS * (len(a) + safe.area + safe.perimeter)
-    error = (safe.perimeter * boundary_error + rounding) / FOUR_PI
+    # Area error: each cap's part of the boundary moves by the cap's angular error along its
+    # length — independent roundings, so added in quadrature — plus the rounding of the arc
+    # integrals (a few eps of the area and of the boundary's length).
+    moved = 0.0
+    if safe.lengths is not None:
+        moved = float(np.sqrt(np.sum((safe.lengths * cap_errors[safe.caps.source]) ** 2)))
+    error = (moved + 4 * EPS * (safe.area + safe.perimeter)) / FOUR_PI
     return SphereMap(
         swept=swept,
         a=a,

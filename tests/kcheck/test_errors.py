@@ -410,3 +410,30 @@ def test_maxwell_error_estimate_is_honest(tmp_path: Path) -> None:
             worst = max(worst, abs(float(cos) - case.cos_maxwell))
         pairs.append((result.error_estimate, worst))
     honest(pairs, float(np.finfo(float).eps) / 2)
+
+
+def test_safe_share_error_estimate_is_honest(tmp_path: Path) -> None:
+    """The exact safe share's estimate against the share of the 50-digit caps (rounded to
+    double only at the end): the error the caps' coefficients carry into the area."""
+    from kcheck_checks.analytical_3d import sphere_map
+
+    from kcheck.analysis import analyse
+    from kcheck.caps import region
+
+    rng = np.random.default_rng(1)
+    pairs = []
+    for k in range(8):
+        scene = load_scene(write(tmp_path, perturbed_block(rng), f"f{k}"))
+        assert scene.body is not None
+        mass = body_mass_properties(scene.body, scene.scale)
+        smap = sphere_map(scene, analyse(scene, mass))
+        assert smap is not None and not smap.empty
+        a_ref: list[float] = []
+        c_ref: list[list[float]] = []
+        for r in range(6):
+            a, c = spatial_reference(scene, mass, r)
+            a_ref += [float(x) for x in a] or [-1.0]
+            c_ref += [[float(x) for x in row] for row in c] or [[0.0, 0.0, 0.0]]
+        reference = region(np.array(a_ref), np.array(c_ref)).fraction
+        pairs.append((smap.fraction.error, abs(smap.fraction.fraction - reference)))
+    honest(pairs, float(np.finfo(float).eps) / 2 * 0.01)
