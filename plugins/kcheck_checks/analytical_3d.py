@@ -23,7 +23,7 @@ from pydantic import Field
 from kcheck.analysis import Analysis, analyse, closing_force_reason, describe_ranges, sweep_ranges
 from kcheck.caps import FOUR_PI, Region, deepest_point, region, signed_distance
 from kcheck.dynamics import EPS, Problem, closing_conditions, with_load
-from kcheck.fmt import format_angle, format_vector
+from kcheck.fmt import clean, format_angle, format_vector
 from kcheck.kinematics import unit_rows
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult, Finding, Status
@@ -370,12 +370,12 @@ def spatial_result(
         details["lattice_fraction_error"] = smap.lattice.error
     full = smap.region is not None and smap.region.full
     if not smap.empty and not full:
-        details["most_robust_direction"] = smap.robust.tolist()
+        details["most_robust_direction"] = clean(smap.robust).tolist()
         details["robust_margin_deg"] = smap.robust_margin * deg
     if smap.design_margin is not None and not full:
         details["design_margin_deg"] = smap.design_margin * deg
     if smap.nearest is not None:
-        details["nearest_safe_direction"] = smap.nearest.tolist()
+        details["nearest_safe_direction"] = clean(smap.nearest).tolist()
     cases = tuple(
         dataclasses.replace(
             r,
