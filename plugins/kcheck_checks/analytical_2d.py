@@ -187,8 +187,8 @@ class Analytical2D(Check):
 def partial_ranges(affine: Affine, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, ArcSet]:
     """Force angles (rad) where the forward-sliding ``lambda > 0`` (the body moves the desired
     way, thesis Figure 2.17) and where every normal force is positive (Figures 2.18-2.20)."""
-    motion, _ = affine_arcs(affine.a[:1], affine.c[:1], e1, e2, affine.error[:1])
-    contact, _ = affine_arcs(affine.a[1:], affine.c[1:], e1, e2, affine.error[1:])
+    motion, _ = affine_arcs(affine.a[:1], affine.c[:1], e1, e2, None)
+    contact, _ = affine_arcs(affine.a[1:], affine.c[1:], e1, e2, None)
     return motion, contact
 
 

@@ -8,6 +8,7 @@ kcheck's root finding (numpy only: shifted eigenvalues) and the interval logic.
 
 from __future__ import annotations
 
+import json
 from typing import Any
 
 import numpy as np
@@ -138,3 +139,27 @@ def test_friction_in_words(
         assert found.limiting == found.containing[1]  # type: ignore[index]
     else:
         assert found.limiting is None
+
+
+def test_no_scipy_in_the_per_scene_path(write_scene) -> None:
+    """Friction intervals, the sphere's exact geometry and the most robust direction use numpy
+    alone: a planar scene with a design direction and a spatial one (explicit mass properties,
+    so no mesh library either) import neither scipy nor trimesh (issue 8: 0.2-0.4 s per run)."""
+    import subprocess
+    import sys
+
+    from tests.conftest import FIXTURES, PLANAR_SCENE
+
+    probe = (
+        "import json, sys\nfrom kcheck.cli import main\ncode = main(sys.argv[1:])\n"
+        "print(json.dumps(sorted(m for m in ('scipy', 'trimesh') if m in sys.modules)),"
+        " file=sys.stderr)\n"
+    )
+    for scene in (write_scene(PLANAR_SCENE), FIXTURES / "three-groove-beta-45"):
+        proc = subprocess.run(
+            [sys.executable, "-c", probe, "check", str(scene), "--format", "json"],
+            capture_output=True,
+            text=True,
+        )
+        assert proc.returncode == 0, proc.stderr
+        assert json.loads(proc.stderr.strip().splitlines()[-1]) == []
