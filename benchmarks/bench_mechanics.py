@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import cProfile
 import pstats
-import statistics
 import subprocess
 import sys
-import time
 from pathlib import Path
+
+from bench_analytical_3d import median_time
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = (
@@ -24,17 +24,6 @@ SCENES = (
     "three-groove/coupling.kcheck.yaml",
     "block-321/block.kcheck.yaml",
 )
-
-
-def median_time(fn, repeats: int) -> float:
-    """Median wall time (s) of ``repeats`` calls after one warm-up call."""
-    fn()
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
 
 
 def calls(fn) -> tuple[int, int]:

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from typing import Literal
+from typing import Literal, get_args
 
 import numpy as np
 
@@ -76,16 +76,7 @@ Outcome = Literal[
     "ill_conditioned",
 ]
 #: Every outcome of a retracted case; only ``closes`` passes.
-OUTCOMES: tuple[str, ...] = (
-    "closes",
-    "loses_contact",
-    "opens",
-    "opens_loses_contact",
-    "jams",
-    "ambiguous",
-    "undetermined",
-    "ill_conditioned",
-)
+OUTCOMES: tuple[str, ...] = get_args(Outcome)
 
 # A contact whose nondimensional speed under the unit free twist is below this does not slide:
 # its friction direction is undetermined and, as in the thesis, its friction is set to zero.

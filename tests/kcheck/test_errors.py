@@ -31,6 +31,7 @@ from kcheck.mass import body_mass_properties
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult
 from kcheck.scene import Scene, load_scene
+from tests.plugins.test_analytical_3d import random_layout, scene_dict
 from tests.plugins.test_stiff_2d import reference_case
 from tests.plugins.test_stiff_2d import run as run_2d
 
@@ -285,46 +286,11 @@ def spatial_reference(scene: Scene, mass: Any, retracted: int) -> tuple[list[Any
     return a, c
 
 
-def random_spatial(rng: np.random.Generator) -> dict[str, Any]:
-    """Six supports on a 100 mm box with normals roughly inwards, friction, weight, a load."""
-    while True:
-        points = rng.uniform(0, 100, size=(6, 3))
-        normals = (50 - points) / 50 + rng.normal(size=(6, 3)) * 0.6
-        cloud = rng.normal(size=(8, 3)) * 0.05
-        cloud -= cloud.mean(axis=0)
-        inertia = sum(np.dot(r, r) * np.eye(3) - np.outer(r, r) for r in cloud) / 8
-        data = {
-            "version": 1,
-            "units": "mm",
-            "body": {
-                "mass": float(rng.uniform(0.5, 5)),
-                "center_of_mass": rng.uniform(30, 70, 3).tolist(),
-                "inertia": inertia.tolist(),
-            },
-            "supports": [
-                {"name": f"s{i}", "position": p.tolist(), "normal": n.tolist()}
-                for i, (p, n) in enumerate(zip(points, normals, strict=True))
-            ],
-            "friction": float(rng.uniform(0, 0.3)),
-            "gravity": (rng.normal(size=3) * 3).tolist(),
-            "load": {"point": rng.uniform(0, 100, 3).tolist(), "magnitude": 10.0},
-        }
-        return data
-
-
 def perturbed_block(rng: np.random.Generator) -> dict[str, Any]:
     """The 3-2-1 block fixture with its mass made explicit, supports moved up to 5 mm and
     turned up to 6°, another friction, load point and direction: couplings that close."""
     path = Path(__file__).resolve().parents[2] / "fixtures" / "block-321" / "block.kcheck.yaml"
-    data = yaml.safe_load(path.read_text())
-    scene = load_scene(path)
-    assert scene.body is not None
-    mass = body_mass_properties(scene.body, scene.scale)
-    data["body"] = {
-        "mass": mass.mass,
-        "center_of_mass": (mass.center_of_mass / scene.scale).tolist(),
-        "inertia": mass.inertia.tolist(),
-    }
+    data = scene_dict(path, explicit=True)
     for support in data["supports"]:
         support["position"] = (np.array(support["position"]) + rng.uniform(-5, 5, 3)).tolist()
         support["normal"] = (np.array(support["normal"]) + rng.normal(size=3) * 0.1).tolist()
@@ -394,8 +360,7 @@ def test_maxwell_error_estimate_is_honest(tmp_path: Path) -> None:
     rng = np.random.default_rng(9)
     pairs = []
     for k in range(20):
-        data = random_spatial(rng)
-        scene = load_scene(write(tmp_path, data, f"m{k}"))
+        scene = load_scene(write(tmp_path, random_layout(rng), f"m{k}"))
         result = Maxwell().run(Inputs(scene, None, MaxwellOptions(min_cos=0.0)))
         if result.error_estimate is None:
             continue

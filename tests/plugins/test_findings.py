@@ -25,29 +25,15 @@ from kcheck.mass import body_mass_properties
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult, Status
 from kcheck.scene import Scene, load_scene
+from tests.plugins.test_analytical_2d import block_scene
 
 ROOT = Path(__file__).resolve().parents[2]
 FIXTURES = ROOT / "fixtures"
-BLOCK_INERTIA = (0.1**2 + 0.06**2) / 12
 
 
 def block(**changes: Any) -> dict[str, Any]:
-    """The methods.md §7 block (mm) as a scene mapping."""
-    data: dict[str, Any] = {
-        "version": 1,
-        "name": "block",
-        "units": "mm",
-        "body": {"mass": 1.0, "center_of_mass": [50, 30, 0], "inertia": BLOCK_INERTIA},
-        "supports": [
-            {"name": "y1", "position": [20, 0, 0], "normal": [0, 1, 0]},
-            {"name": "y2", "position": [80, 0, 0], "normal": [0, 1, 0]},
-            {"name": "x1", "position": [0, 30, 0], "normal": [1, 0, 0]},
-        ],
-        "friction": 0.1,
-        "load": {"magnitude": 1.0, "angle": 225.0},
-    }
-    data.update(changes)
-    return data
+    """The methods.md §7 block (mm) as a scene mapping (tests/plugins/test_analytical_2d.py)."""
+    return block_scene(name="block", **changes)
 
 
 def scene_of(tmp_path: Path, data: dict[str, Any], name: str = "scene") -> Scene:
@@ -192,14 +178,10 @@ def test_maxwell_is_a_warning() -> None:
 
 
 def groove(tmp_path: Path, **changes: Any) -> Scene:
-    data = yaml.safe_load((FIXTURES / "three-groove" / "coupling.kcheck.yaml").read_text())
-    scene = load_scene(FIXTURES / "three-groove" / "coupling.kcheck.yaml")
-    mass = body_mass_properties(scene.body, scene.scale)  # type: ignore[arg-type]
-    data["body"] = {
-        "mass": mass.mass,
-        "center_of_mass": (mass.center_of_mass / scene.scale).tolist(),
-        "inertia": mass.inertia.tolist(),
-    }
+    """The three-groove fixture with explicit mass properties and fields replaced."""
+    from tests.plugins.test_analytical_3d import scene_dict
+
+    data = scene_dict(FIXTURES / "three-groove" / "coupling.kcheck.yaml", explicit=True)
     data.update(changes)
     return scene_of(tmp_path, data, "groove")
 
@@ -329,3 +311,22 @@ def test_preload_acts_like_a_force_at_its_point(tmp_path: Path) -> None:
         Graphical2D(), dataclasses.replace(scene, preloads=(spring,)), GraphicalOptions()
     )
     assert "preloads act with the swept force" in graphical.details["notes"]
+
+
+def test_preload_replaces_gravity_in_space() -> None:
+    """block-321: the weight acts like a fixed force m g at the centre of mass. Without gravity
+    but with that preload, every case, the exact safe share and the margins are the same."""
+    from kcheck.scene import Preload
+
+    scene = load_scene(FIXTURES / "block-321" / "block.kcheck.yaml")
+    assert scene.body is not None
+    mass = body_mass_properties(scene.body, scene.scale)
+    weight = Preload("weight as a spring", mass.center_of_mass, mass.mass * scene.gravity)
+    sprung = dataclasses.replace(scene, gravity=np.zeros(3), preloads=(weight,))
+    a = Analytical3D().run(Inputs(scene, mass, Analytical3DOptions()))
+    b = Analytical3D().run(Inputs(sprung, mass, Analytical3DOptions()))
+    for key in ("safe_solid_angle_fraction", "design_margin_deg", "robust_margin_deg"):
+        assert b.details[key] == pytest.approx(a.details[key], rel=1e-9, abs=1e-12)
+    for ca, cb in zip(a.cases, b.cases, strict=True):
+        assert cb.outcome == ca.outcome
+        assert cb.normal_forces == pytest.approx(ca.normal_forces, rel=1e-9)
