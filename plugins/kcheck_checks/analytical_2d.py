@@ -21,6 +21,7 @@ from kcheck_checks.wording import (
     empty_range_findings,
     load_field,
     merge_findings,
+    verdict,
 )
 
 # Range ends less certain than this (deg) are reported with a diagnostic.
@@ -139,7 +140,7 @@ def analytical_result(
     return CheckResult(
         check_id,
         Status.PASS if ok else Status.FAIL,
-        "; ".join([*parts, *(f.message for f in findings)]),
+        verdict(parts, findings),
         error_estimate=analysis.error_deg,
         safe_ranges_deg=ranges,
         cases=analysis.results,

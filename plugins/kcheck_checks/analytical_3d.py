@@ -30,7 +30,13 @@ from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck.sphere import SafeFraction, safe_fraction
 from kcheck_checks.analytical_2d import AnalyticalOptions
-from kcheck_checks.wording import case_findings, load_field, merge_findings, support_field
+from kcheck_checks.wording import (
+    case_findings,
+    load_field,
+    merge_findings,
+    support_field,
+    verdict,
+)
 
 __all__ = [
     "Analytical3D",
@@ -412,7 +418,7 @@ def spatial_result(
     result = CheckResult(
         check_id,
         Status.PASS if not findings else Status.FAIL,
-        "; ".join([*parts, *(f.message for f in findings)]),
+        verdict(parts, findings),
         # Degrees: the sweep-plane range ends and the map's margins, whichever is worse.
         error_estimate=_error_deg(analysis, smap),
         safe_ranges_deg=None if analysis.combined is None else _ranges(analysis),

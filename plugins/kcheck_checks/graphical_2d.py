@@ -77,7 +77,7 @@ from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.analytical_2d import design_findings
-from kcheck_checks.wording import empty_range_findings, ranges_text, support_field
+from kcheck_checks.wording import empty_range_findings, ranges_text, support_field, verdict
 
 __all__ = [
     "Graphical2D",
@@ -592,7 +592,7 @@ def _verdict(
     return CheckResult(
         check_id,
         Status.PASS if not findings else Status.FAIL,
-        "; ".join([*parts, *(f.message for f in findings)]),
+        verdict(parts, findings),
         error_estimate=error_deg,
         safe_ranges_deg=ranges_deg(combined),
         cases=results,

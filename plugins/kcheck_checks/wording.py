@@ -21,6 +21,7 @@ from kcheck.result import CaseResult, Finding
 from kcheck.scene import Scene
 
 __all__ = [
+    "verdict",
     "merge_findings",
     "support_field",
     "load_field",
@@ -198,3 +199,13 @@ def merge_findings(first: Sequence[Finding], more: Sequence[Finding]) -> list[Fi
         else:
             out.append(extra)
     return out
+
+
+def verdict(parts: Sequence[str], findings: Sequence[Finding]) -> str:
+    """The one-line message: the summary, the first reason, and how many more the findings
+    hold ("...; retract y1 → jams at μ = 0.6 (+2 more)")."""
+    line = [*parts]
+    if findings:
+        more = f" (+{len(findings) - 1} more)" if len(findings) > 1 else ""
+        line.append(findings[0].message + more)
+    return "; ".join(line)
