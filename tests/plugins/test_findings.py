@@ -330,3 +330,42 @@ def test_preload_replaces_gravity_in_space() -> None:
     for ca, cb in zip(a.cases, b.cases, strict=True):
         assert cb.outcome == ca.outcome
         assert cb.normal_forces == pytest.approx(ca.normal_forces, rel=1e-9)
+
+
+def test_gravity_map_with_a_preload_against_case_by_case_outcomes() -> None:
+    """thesis-block-5-2 has no load: the map is over gravity directions (the block's tilt),
+    and a preload fixed to the block acts in every tilt. For random tilts, "inside the map"
+    equals every case closing when the scene is solved again with that gravity."""
+    from kcheck_checks.analytical_3d import direction_caps
+
+    from kcheck.analysis import analyse
+    from kcheck.arcs import cap_margins
+    from kcheck.scene import Preload
+
+    scene = load_scene(FIXTURES / "thesis-block-5-2" / "block.kcheck.yaml")
+    assert scene.body is not None
+    mass = body_mass_properties(scene.body, scene.scale)
+    spring = Preload("spring", np.array([0.05, 0.07, 0.08]), np.array([-20.0, -10.0, -15.0]))
+    sprung = dataclasses.replace(scene, preloads=(spring,))
+    analysis = analyse(sprung, mass)
+    swept, a, c, _, _ = direction_caps(analysis.problem, analysis)
+    assert swept == "gravity"
+    g = float(np.linalg.norm(scene.gravity))
+    from kcheck.caps import deepest_point, region
+
+    robust, _ = deepest_point(region(a, c))
+    assert robust is not None
+    rng = np.random.default_rng(17)
+    inside = outside = 0
+    # Random tilts, and tilts within about 20° of the most robust one (the region is small).
+    for d in np.vstack([rng.normal(size=(30, 3)), robust + 0.35 * rng.normal(size=(30, 3))]):
+        d /= np.linalg.norm(d)
+        margin = float(cap_margins(a, c, d[None])[0])
+        if abs(margin) < 1e-6:
+            continue
+        tilted = analyse(dataclasses.replace(sprung, gravity=g * d), mass)
+        closes = all(r.outcome == "closes" for r in tilted.results)
+        assert closes == (margin > 0)
+        inside += closes
+        outside += not closes
+    assert inside >= 3 and outside >= 3
