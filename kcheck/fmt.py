@@ -4,8 +4,9 @@ so one convention holds everywhere.
 
 Angle convention: degrees, counter-clockwise about the sweep plane's normal from its zero
 direction (a planar scene: from +x towards +y). A range ``[start, end]`` runs counter-clockwise
-from ``start`` to ``end``, both in [0°, 360°); a range that passes 0° is written
-"292.41°–5.00° (through 0°)". The full circle is ``[0, 360]``.
+from ``start`` to ``end``, ``start`` in [0°, 360°) and ``end`` in (0°, 360°] (360 for a range
+that ends at 0°); a range that passes 0° is written "292.41°–5.00° (through 0°)". The full
+circle is ``[0, 360]``.
 """
 
 from __future__ import annotations
@@ -33,7 +34,8 @@ NOISE_RTOL = 1e-9
 
 
 def normalise_range(start: float, end: float) -> tuple[float, float]:
-    """A range in degrees as ``(start, end)`` both in [0, 360); ``(0, 360)`` for a full turn.
+    """A range in degrees as ``(start, end)``, ``start`` in [0, 360) and ``end`` in (0, 360]:
+    ``(0, 360)`` for a full turn, ``end = 360`` for a range that ends at 0°.
 
     ``end < start`` afterwards means the range passes through 0°.
     """
@@ -43,7 +45,9 @@ def normalise_range(start: float, end: float) -> tuple[float, float]:
     s = float(start % FULL_TURN)
     e = float(end % FULL_TURN)
     # Rounding can put an end a hair below 360: keep it in [0, 360).
-    return (0.0 if s >= FULL_TURN else s), (0.0 if e >= FULL_TURN else e)
+    s, e = (0.0 if s >= FULL_TURN else s), (0.0 if e >= FULL_TURN else e)
+    # A range that ends at 0° ends at 360° (it does not pass through 0°).
+    return s, (FULL_TURN if e == 0.0 and width > 0 else e)
 
 
 def format_angle(value: float, decimals: int = 2) -> str:
@@ -57,7 +61,7 @@ def format_angle(value: float, decimals: int = 2) -> str:
 def format_range(start: float, end: float, decimals: int = 2) -> str:
     """One range, e.g. ``292.41°–5.00° (through 0°)`` or ``every direction``."""
     s, e = normalise_range(start, end)
-    if e == FULL_TURN:
+    if (s, e) == (0.0, FULL_TURN):
         return "every direction"
     text = f"{format_angle(s, decimals)}–{format_angle(e, decimals)}"
     return text + (" (through 0°)" if e < s else "")

@@ -114,7 +114,7 @@ def to_json_value(value: Any) -> Any:
 
 
 def ranges_json(ranges: Ranges) -> list[list[float]]:
-    """Arc ranges in degrees as JSON lists ``[start, end]``, both in [0, 360).
+    """Arc ranges in degrees as JSON lists ``[start, end]``: start in [0, 360), end in (0, 360].
 
     The range runs counter-clockwise from ``start`` to ``end``; ``end < start`` means it passes
     through 0°. The full circle is ``[0, 360]``. (:func:`kcheck.fmt.normalise_range`.)

@@ -23,7 +23,9 @@ OUTCOME_COLOURS = {
     "closes": "tab:green",
     "loses_contact": "tab:orange",
     "opens": "tab:red",
+    "opens_loses_contact": "tab:red",
     "jams": "tab:red",
+    "ambiguous": "tab:purple",
 }
 # Largest number of mesh triangles drawn; more only slows matplotlib's 3D sorting down.
 MAX_TRIANGLES = 4000
@@ -148,10 +150,14 @@ def scene_panel(fig: Any, scene: Scene, analysis: Analysis, result: CheckResult)
             title += f": {case.outcome.replace('_', ' ')}"
             colour = OUTCOME_COLOURS.get(case.outcome, "black")
             segment = None
-            if case.details.get("motion") == "screw":
+            if "axis" in case.details:  # a screw, or a pure rotation
                 foot = np.asarray(case.details["axis_point"]) / s
                 segment = clip_line(foot, np.asarray(case.details["axis"]), box_lo, box_hi)
-            if case.details.get("motion") == "screw":
+            if case.details.get("motion") == "rotation":  # a screw without pitch
+                if segment is not None:
+                    ax.plot(*segment.T, color="tab:purple", linestyle="--", linewidth=1.8)
+                title += "\nrotation axis (purple)" if segment is not None else ""
+            elif case.details.get("motion") == "screw":
                 pitch = case.details["pitch_m"] / s
                 if segment is not None:
                     ax.plot(*segment.T, color="tab:purple", linestyle="--", linewidth=1.8)

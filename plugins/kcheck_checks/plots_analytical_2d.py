@@ -28,6 +28,8 @@ OUTCOME_COLOURS = {
     "loses_contact": "#ff7f0e",
     "jams": "#7f7f7f",
     "opens": "#d62728",
+    "opens_loses_contact": "#8b0000",
+    "ambiguous": "#9467bd",
 }
 
 
