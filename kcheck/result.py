@@ -213,7 +213,9 @@ class SceneResult:
 
     ``errors`` are the input errors (every one found, located); ``error`` is the first, as
     text. ``warnings`` are sanity warnings about the scene (a units slip, reversed normals).
-    ``units`` is the scene's length unit, for reports (JSON stays SI).
+    ``units`` is the scene's length unit, for reports (JSON stays SI). ``sweep`` is the
+    sweep plane as ``(normal, zero)`` unit vectors: angles turn counter-clockwise about
+    ``normal`` from ``zero`` (reports state it; None when the file could not be read).
     """
 
     path: str
@@ -229,6 +231,7 @@ class SceneResult:
     warnings: tuple[Finding, ...] = ()
     units: str | None = None
     runtime_s: float = 0.0
+    sweep: tuple[tuple[float, ...], tuple[float, ...]] | None = None
 
     def to_json(self) -> dict[str, Any]:
         """JSON form of one scene."""
@@ -249,6 +252,8 @@ class SceneResult:
             out["errors"] = [e.to_json() for e in self.errors]
         if self.units is not None:
             out["units"] = self.units
+        if self.sweep is not None:
+            out["sweep"] = {"normal": list(self.sweep[0]), "zero": list(self.sweep[1])}
         if self.notes:
             out["notes"] = list(self.notes)
         if self.plots:

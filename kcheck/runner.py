@@ -38,6 +38,7 @@ class Settings:
     allow_outside: bool = False
     plots: Path | None = None
     severities: Mapping[str, Severity] = field(default_factory=dict)
+    plot_formats: tuple[str, ...] = ("png",)
 
 
 def discover(paths: Iterable[Path | str]) -> tuple[list[Path], list[SceneResult]]:
@@ -73,9 +74,15 @@ def _error(path: Path, message: str, errors: tuple[Finding, ...] = ()) -> SceneR
 def _input_error(path: Path, exc: SceneError) -> SceneResult:
     """An error result listing every input error of the file, each located."""
     findings = tuple(
-        Finding(e.message, field=e.where, line=e.line, column=e.column) for e in exc.all()
+        Finding(e.message, field=e.where or _field(e.field), line=e.line, column=e.column)
+        for e in exc.all()
     )
     return _error(path, str(exc.all()[0]), findings)
+
+
+def _field(text: str | None) -> tuple[str, ...] | None:
+    """A field given as text (``supports[2].normal``) as a one-part field path."""
+    return None if not text else (text,)
 
 
 def scene_status(checks: Sequence[CheckResult], warnings: Sequence[Finding] = ()) -> Status:
@@ -195,11 +202,8 @@ def check_scene(
         )
         results.append(result)
         if settings.plots is not None and result.status in (Status.PASS, Status.FAIL):
-            try:
-                files = lc.check.plot(inputs, result, settings.plots)
-            except ImportError as exc:
-                files = ()
-                notes = (*notes, f"plots need the `plot` extra ({exc})")
+            files, note = _plot(lc, inputs, result, settings)
+            notes = notes if note is None else (*notes, note)
             written.extend(str(f) for f in files)
     return SceneResult(
         path=str(path),
@@ -212,7 +216,24 @@ def check_scene(
         plots=tuple(written),
         units=scene.units,
         runtime_s=time.perf_counter() - started,
+        sweep=(tuple(scene.sweep.normal.tolist()), tuple(scene.sweep.e1.tolist())),
     )
+
+
+def _plot(
+    lc: LoadedCheck, inputs: Inputs, result: CheckResult, settings: Settings
+) -> tuple[Sequence[Path], str | None]:
+    """A check's pictures, or none and a note saying why: a picture never stops a batch."""
+    from kcheck.plotting import formats
+
+    assert settings.plots is not None
+    try:
+        with formats(settings.plot_formats):
+            return lc.check.plot(inputs, result, settings.plots), None
+    except ImportError as exc:
+        return (), f"pictures need the plot extra: pip install 'kcheck[plot]' ({exc})"
+    except Exception as exc:  # a picture must not take the batch down
+        return (), f"pictures of {lc.spec.name} failed ({type(exc).__name__}: {exc})"
 
 
 def run_batch(

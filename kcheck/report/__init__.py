@@ -70,8 +70,11 @@ def make_console(color: str = "auto", file: TextIO | None = None, stderr: bool =
     return make(color, file=file, stderr=stderr)
 
 
-def render_mass(console: Console, mass: MassProperties, indent: str = "  ") -> None:
-    """Mass properties as an engineer reads them (:func:`kcheck.report.text.render_mass`)."""
+def render_mass(
+    console: Console, mass: MassProperties, indent: str = "  ", units: str | None = None
+) -> None:
+    """Mass properties as an engineer reads them, lengths in ``units`` (default m)
+    (:func:`kcheck.report.text.render_mass`)."""
     from kcheck.report.text import render_mass as render
 
-    render(console, mass, indent)
+    render(console, mass, indent, units)

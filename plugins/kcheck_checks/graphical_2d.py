@@ -86,6 +86,8 @@ __all__ = [
 ]
 
 EPS = float(np.finfo(float).eps)
+# What the construction cannot see (reports show it next to the verdict).
+LIMITATION = "mass-free: contact loss not checked"
 # A rotation whose pole lies beyond 1e12 layout sizes is reported as a translation
 # (the same threshold as kcheck.analysis.motion_details).
 INFINITE_POLE = 1e-12
@@ -404,6 +406,7 @@ class Graphical2D(Check):
         details: dict[str, Any] = {
             "attachment_point": where.point[:2].tolist(),
             "force": where.source,
+            "limitations": [LIMITATION],
         }
         if where.arm:
             details["torque_arm_m"] = where.arm
