@@ -55,10 +55,17 @@ def format_angle(value: float, decimals: int = 2) -> str:
 
 
 def format_range(start: float, end: float, decimals: int = 2) -> str:
-    """One range, e.g. ``292.41°–5.00° (through 0°)`` or ``every direction``."""
+    """One range, e.g. ``292.41°–5.00° (through 0°)`` or ``every direction``.
+
+    Ends are compared as written: a start that rounds to 360° is written 0°, and an end that
+    rounds to 0° (or 360°) closes the turn, ``184.78°–360.00°``, without "through 0°".
+    """
     s, e = normalise_range(start, end)
     if e == FULL_TURN:
         return "every direction"
+    s, e = round(s, decimals) % FULL_TURN, round(e, decimals)
+    if e in (0.0, FULL_TURN):
+        e = FULL_TURN
     text = f"{format_angle(s, decimals)}–{format_angle(e, decimals)}"
     return text + (" (through 0°)" if e < s else "")
 

@@ -31,6 +31,7 @@ __all__ = [
 FORMATS: dict[str, str] = {
     "text": "kcheck.report.text:TextReporter",
     "json": "kcheck.report.json:JsonReporter",
+    "html": "kcheck.report.html:HtmlReporter",
 }
 
 

@@ -44,6 +44,10 @@ FALLBACKS: dict[str, str] = {
     "↻": "(cw)",
     "′": "'",
     "\u00a0": " ",
+    "“": '"',
+    "”": '"',
+    "‘": "'",
+    "’": "'",
 }
 _TABLE = str.maketrans(FALLBACKS)
 

@@ -166,12 +166,13 @@ def _errors(console: Console, scene: SceneResult) -> None:
             _hanging(console, 4, Text("→ ", style="cyan"), Text(e.hint, style="cyan"))
 
 
-def render_scene(console: Console, scene: SceneResult, verbosity: int = 0) -> bool:
+def render_scene(console: Console, scene: SceneResult, verbosity: int = 0) -> bool | None:
     """One scene: its verdict line; unless it passed (or with -v) the details. Returns
-    whether the block ended with a blank line (details do; a one-line scene does not)."""
+    whether the block ended with a blank line (details do; a one-line scene does not), or
+    None when nothing was printed (-q and a passing scene)."""
     word = views.scene_verdict(scene)
     if verbosity < 0 and word == "pass":
-        return False
+        return None
     head = Text(f"{scene.name or scene.path}", style="bold")
     if scene.name:
         head.append(f"  {scene.path}", style="dim")
@@ -232,7 +233,7 @@ def render_summary(
             line.append(f"  {text}")
             _hanging(console, 0, Text(f"{word.upper():<6}", style=STYLE.get(word, "bold")), line)
     if plots:
-        console.print(f"{plots} picture{'s' if plots > 1 else ''} written", style="cyan")
+        console.print(f"{plots} picture file{'s' if plots > 1 else ''} written", style="cyan")
     n = views.counts(scenes)
     worst = next((k for k in ("error", "fail", "warn") if n[k]), "pass")
     console.print(views.run_line(scenes, elapsed_s), style=STYLE[worst])
@@ -258,7 +259,8 @@ class TextReporter:
 
     def scene(self, result: SceneResult) -> None:
         """Print one scene."""
-        self.blank = render_scene(self.console, result, self.verbosity)
+        blank = render_scene(self.console, result, self.verbosity)
+        self.blank = self.blank if blank is None else blank
 
     def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
         """Print the short summary and the counts."""

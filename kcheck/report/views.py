@@ -40,6 +40,8 @@ __all__ = [
     "case_table",
     "forces_table",
     "mass_lines",
+    "mass_view",
+    "MassView",
     "sweep_text",
     "fixed",
     "duration",
@@ -378,31 +380,57 @@ def forces_table(check: CheckResult) -> Table | None:
     return table
 
 
-def mass_lines(mass: Any, units: str | None) -> list[str]:
+@dataclass(frozen=True)
+class MassView:
+    """Mass properties as written: ``facts`` (label, value) in order, then the inertia
+    matrix cells (None when only I_zz is known) in ``inertia_unit``, then the principal
+    moments and axes (label, value)."""
+
+    facts: list[tuple[str, str]]
+    inertia: list[list[str]] | None
+    inertia_unit: str
+    principal: list[tuple[str, str]]
+
+
+def mass_view(mass: Any, units: str | None) -> MassView:
     """Mass properties in the scene's units, noise cleaned, fixed decimals per block."""
     units = units or "m"
     scale = _scale(units)
-    lines = [f"mass {format_number(mass.mass, 6)} kg ({mass.source})"]
+    facts = [("mass", f"{format_number(mass.mass, 6)} kg ({mass.source})")]
     if mass.volume is not None:
-        lines[0] += f", volume {format_number(mass.volume / scale**3, 6)} {units}³"
+        volume = mass.volume / scale**3
+        text = f"{volume:.0f}" if 1e5 <= volume < 1e15 else format_number(volume, 6)
+        facts.append(("volume", f"{text} {units}³"))
     com = clean(np.asarray(mass.center_of_mass, float) / scale)
-    lines.append("centre of mass (" + ", ".join(fixed(list(com))) + f") {units}")
+    facts.append(("centre of mass", "(" + ", ".join(fixed(list(com))) + f") {units}"))
     inertia = np.asarray(mass.inertia, float) / scale**2
     unit = f"kg·{units}²"
     if not np.all(np.isfinite(inertia)):
-        lines.append(f"I_zz about the centre of mass {format_number(inertia[2, 2], 6)} {unit}")
-        return lines
+        facts.append(("I_zz about the centre of mass", f"{format_number(inertia[2, 2], 6)} {unit}"))
+        return MassView(facts, None, unit, [])
     cells = fixed(list(clean(inertia).ravel()), 6, 6)
-    width = max(len(c) for c in cells)
-    lines.append(f"inertia about the centre of mass ({unit}):")
-    for r in range(3):
-        lines.append("  " + "  ".join(c.rjust(width) for c in cells[3 * r : 3 * r + 3]))
+    matrix = [cells[3 * r : 3 * r + 3] for r in range(3)]
     moments, axes = np.linalg.eigh(clean(inertia))
-    lines.append("principal moments " + ", ".join(fixed(list(moments), 6, 6)) + f" {unit}")
+    principal = [("principal moments", ", ".join(fixed(list(moments), 6, 6)) + f" {unit}")]
     for i in range(3):
         axis = clean(axes[:, i])
         axis = axis if axis[np.argmax(np.abs(axis))] > 0 else -axis  # the sign is arbitrary
-        lines.append(f"  axis {i + 1} {_vector(axis, 4)}")
+        principal.append((f"axis {i + 1}", _vector(axis, 4)))
+    return MassView(facts, matrix, unit, principal)
+
+
+def mass_lines(mass: Any, units: str | None) -> list[str]:
+    """Mass properties as lines of text (see :func:`mass_view`)."""
+    view = mass_view(mass, units)
+    lines = [f"{label} {value}" for label, value in view.facts]
+    if len(view.facts) > 1 and view.facts[1][0] == "volume":
+        lines[:2] = [f"{lines[0]}, {lines[1]}"]  # mass and volume on one line
+    if view.inertia is not None:
+        width = max(len(c) for row in view.inertia for c in row)
+        lines.append(f"inertia about the centre of mass ({view.inertia_unit}):")
+        lines += ["  " + "  ".join(c.rjust(width) for c in row) for row in view.inertia]
+    for label, value in view.principal:
+        lines.append(f"{'  ' if label.startswith('axis') else ''}{label} {value}")
     return lines
 
 
