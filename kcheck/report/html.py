@@ -182,10 +182,11 @@ def _summary(scenes: Sequence[SceneResult]) -> str:
             what = "; ".join(text for _, _, text in lines[:3])
             if len(lines) > 3:
                 what += f" (and {len(lines) - 3} more)"
+        path = f'<div class="where">{_e(scene.path)}</div>' if scene.name else ""
         rows.append(
             f"<tr><td>{_badge(word)}</td>"
-            f'<td><a href="#{_anchor(i)}">{_e(scene.name or scene.path)}</a>'
-            f'<div class="where">{_e(scene.path)}</div></td><td>{_e(what)}</td></tr>'
+            f'<td><a href="#{_anchor(i)}">{_e(scene.name or scene.path)}</a>{path}</td>'
+            f"<td>{_e(what)}</td></tr>"
         )
     return f'<table class="summary"><tbody>{"".join(rows)}</tbody></table>'
 

@@ -220,9 +220,9 @@ def short_summary(scenes: Sequence[SceneResult]) -> list[tuple[str, str, str]]:
         if scene.errors or (scene.error and not scene.checks):
             n = len(scene.errors) or 1
             first = scene.errors[0] if scene.errors else Finding(scene.error or "")
-            where = location(scene.path, first.line, first.column)
+            where, message = error_line(scene.path, first)
             more = f" (and {n - 1} more)" if n > 1 else ""
-            out.append(("error", where, f"{plain_error(first.message, scene.path)}{more}"))
+            out.append(("error", where, f"{message}{more}"))
             continue
         for check in scene.checks:
             word = verdict(check)
