@@ -25,6 +25,9 @@ __all__ = [
     "format_number",
     "format_length",
     "format_vector",
+    "format_direction",
+    "format_point",
+    "describe_sweep",
 ]
 
 FULL_TURN = 360.0
@@ -113,3 +116,38 @@ def format_length(value_m: float, scale: float, units: str, decimals: int | None
 def format_vector(values: Sequence[float] | np.ndarray, digits: int = 4) -> str:
     """A vector with noise cleaned, e.g. ``(0, 1, 0)``."""
     return "(" + ", ".join(format_number(float(v), digits) for v in clean(values)) + ")"
+
+
+_AXIS_NAMES = {
+    (1, 0, 0): "+x", (-1, 0, 0): "−x", (0, 1, 0): "+y",
+    (0, -1, 0): "−y", (0, 0, 1): "+z", (0, 0, -1): "−z",
+}  # fmt: skip
+
+
+def format_direction(values: Sequence[float] | np.ndarray, decimals: int = 3) -> str:
+    """A unit direction: ``+x``, ``−z`` for a coordinate axis, else ``(0.707, 0, -0.707)``."""
+    v = clean(values)
+    key = tuple(int(round(x)) for x in v)
+    if key in _AXIS_NAMES and np.allclose(v, key, atol=1e-9):
+        return _AXIS_NAMES[key]
+    return format_point(v, decimals)
+
+
+def format_point(values: Sequence[float] | np.ndarray, decimals: int = 3) -> str:
+    """Coordinates rounded to ``decimals`` without trailing zeros, noise cleaned:
+    ``(50, 45.5)``."""
+    parts = []
+    for x in clean(values):
+        text = f"{x:.{decimals}f}".rstrip("0").rstrip(".") if decimals else f"{x:.0f}"
+        parts.append("0" if text in ("", "-0") else text)
+    return "(" + ", ".join(parts) + ")"
+
+
+def describe_sweep(normal: Sequence[float] | np.ndarray, zero: Sequence[float] | np.ndarray) -> str:
+    """Where 0° is and which way angles turn in a sweep plane:
+    ``0° along +x, 90° along +y, counter-clockwise about +z``."""
+    n, z = np.asarray(normal, float), np.asarray(zero, float)
+    return (
+        f"0° along {format_direction(z)}, 90° along {format_direction(np.cross(n, z))}, "
+        f"counter-clockwise about {format_direction(n)}"
+    )

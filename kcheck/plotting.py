@@ -18,14 +18,37 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["PLOT_FORMATS", "figure", "formats", "save", "slug", "ANGLE_NOTE"]
+__all__ = [
+    "PLOT_FORMATS",
+    "OUTCOME_COLOURS",
+    "VERDICT_COLOURS",
+    "figure",
+    "formats",
+    "save",
+    "slug",
+    "outcome_colour",
+    "sweep_note",
+]
 
 #: Formats a picture can be written in (``--plot-format``).
 PLOT_FORMATS = ("png", "svg")
 #: Resolution of PNG pictures (dots per inch).
 PNG_DPI = 110
-#: The angle convention, stated in every picture that shows force angles.
-ANGLE_NOTE = "angles ccw from 0° = {zero}, about {normal}"
+#: Colours of case outcomes, the same in every picture; any other outcome gets UNKNOWN.
+OUTCOME_COLOURS = {
+    "closes": "#2ca02c",
+    "ok": "#2ca02c",
+    "swept": "#17becf",
+    "loses_contact": "#ff7f0e",
+    "opens": "#d62728",
+    "jams": "#7f7f7f",
+    "opens_loses_contact": "#8c1c13",
+    "ambiguous": "#9467bd",
+    "wrong_sense": "#d62728",
+}
+UNKNOWN_OUTCOME = "#8c564b"
+#: Colours of verdicts (the text and HTML reports use the same hues).
+VERDICT_COLOURS = {"pass": "#1a7f37", "warn": "#9a6700", "fail": "#cf222e", "error": "#8250df"}
 
 _formats: ContextVar[tuple[str, ...]] = ContextVar("kcheck_plot_formats", default=("png",))
 _pool: dict[tuple[float, float], Figure] = {}
@@ -42,6 +65,18 @@ def formats(names: Sequence[str]) -> Iterator[None]:
         yield
     finally:
         _formats.reset(token)
+
+
+def outcome_colour(outcome: str) -> str:
+    """The colour of a case outcome (a colour for any outcome, known or not)."""
+    return OUTCOME_COLOURS.get(outcome, UNKNOWN_OUTCOME)
+
+
+def sweep_note(normal: object, zero: object) -> str:
+    """The angle convention of a sweep plane, for a caption."""
+    from kcheck.fmt import describe_sweep
+
+    return f"angles: {describe_sweep(normal, zero)}"  # type: ignore[arg-type]
 
 
 def slug(text: str) -> str:

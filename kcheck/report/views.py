@@ -19,7 +19,15 @@ from typing import Any
 
 import numpy as np
 
-from kcheck.fmt import NOISE_RTOL, clean, format_angle, format_number, format_ranges
+from kcheck.fmt import (
+    NOISE_RTOL,
+    clean,
+    describe_sweep,
+    format_angle,
+    format_number,
+    format_point,
+    format_ranges,
+)
 from kcheck.result import CheckResult, Finding, SceneResult, Status
 from kcheck.units import LENGTH_TO_M
 
@@ -43,6 +51,7 @@ __all__ = [
     "mass_view",
     "MassView",
     "sweep_text",
+    "motion_text",
     "fixed",
     "duration",
     "plain_error",
@@ -288,22 +297,17 @@ def _scale(units: str | None) -> float:
     return LENGTH_TO_M.get(units or "m", 1.0)
 
 
-def _vector(values: Sequence[float], decimals: int = 3) -> str:
-    v = clean(values)
-    return "(" + ", ".join(f"{x:.{decimals}f}".rstrip("0").rstrip(".") or "0" for x in v) + ")"
-
-
-def _motion(details: Mapping[str, Any], units: str) -> str:
+def motion_text(details: Mapping[str, Any], units: str) -> str:
     """The free motion in words, lengths in scene units (``pure rotation`` for noise pitch)."""
     scale = _scale(units)
     motion = details.get("motion")
     pole = details.get("pole")
     if motion == "translation" or details.get("sense") == "translation":
         direction = details.get("direction") or details.get("translation_direction")
-        return "translation" + ("" if direction is None else f" {_vector(direction)}")
+        return "translation" + ("" if direction is None else f" {format_point(direction)}")
     if motion == "rotation" or (pole is not None and details.get("sense") in ("ccw", "cw")):
         p = np.asarray(pole, float) / scale
-        return f"{details.get('sense')} about {_vector(p, 2)} {units}"
+        return f"{details.get('sense')} about {format_point(p, 2)} {units}"
     if motion == "screw":
         point = np.asarray(details.get("axis_point", (0, 0, 0)), float)
         pitch = float(details.get("pitch_m", 0.0))
@@ -330,7 +334,7 @@ def case_table(check: CheckResult, units: str | None) -> Table | None:
     if any("motion" in c.details or "sense" in c.details for c in cases):
         headers.append("free motion")
         numeric.append(False)
-        columns.append([_motion(c.details, units) for c in cases])
+        columns.append([motion_text(c.details, units) for c in cases])
     if any(c.cos_maxwell is not None for c in cases):
         headers += ["cos θ", "θ"]
         numeric += [True, True]
@@ -415,7 +419,7 @@ def mass_view(mass: Any, units: str | None) -> MassView:
     for i in range(3):
         axis = clean(axes[:, i])
         axis = axis if axis[np.argmax(np.abs(axis))] > 0 else -axis  # the sign is arbitrary
-        principal.append((f"axis {i + 1}", _vector(axis, 4)))
+        principal.append((f"axis {i + 1}", format_point(axis, 4)))
     return MassView(facts, matrix, unit, principal)
 
 
@@ -434,28 +438,12 @@ def mass_lines(mass: Any, units: str | None) -> list[str]:
     return lines
 
 
-_AXES = {(1, 0, 0): "+x", (-1, 0, 0): "−x", (0, 1, 0): "+y", (0, -1, 0): "−y"}
-_AXES.update({(0, 0, 1): "+z", (0, 0, -1): "−z"})
-
-
-def _direction(v: Sequence[float]) -> str:
-    key = tuple(int(round(x)) for x in clean(v))
-    if np.allclose(v, key, atol=1e-9) and key in _AXES:
-        return _AXES[key]
-    return _vector(v)
-
-
 def sweep_text(scene: SceneResult) -> str | None:
     """Where 0° is and which way angles turn in this scene's sweep plane, or None."""
     sweep = getattr(scene, "sweep", None)
     if sweep is None:
         return None
-    normal, zero = np.asarray(sweep[0], float), np.asarray(sweep[1], float)
-    quarter = np.cross(normal, zero)
-    return (
-        f"sweep plane: 0° along {_direction(zero)}, 90° along {_direction(quarter)} "
-        f"(counter-clockwise about {_direction(normal)})"
-    )
+    return f"sweep plane: {describe_sweep(sweep[0], sweep[1])}"
 
 
 def default_sweep(scene: SceneResult) -> bool:
