@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kcheck.arcs import FULL, ArcSet, intersect, margin, to_degrees
+from kcheck.arcs import ArcSet, intersect, margin, to_degrees
 from kcheck.dynamics import (
     Case,
     Problem,
@@ -17,6 +17,7 @@ from kcheck.dynamics import (
     outcome,
     safe_arcs,
 )
+from kcheck.fmt import format_ranges
 from kcheck.kinematics import Frame
 from kcheck.mass import MassProperties
 from kcheck.result import CaseResult
@@ -220,9 +221,8 @@ def ranges_deg(arcs: ArcSet) -> tuple[tuple[float, float], ...]:
 
 
 def describe_ranges(arcs: ArcSet) -> str:
-    """Human text for an arc set in degrees."""
-    if arcs == FULL:
-        return "every direction"
+    """Human text for an arc set, in the one angle convention (:func:`kcheck.fmt.format_ranges`):
+    ``292.41°–5.05° (through 0°)``, ``every direction``, ``no direction``."""
     if not arcs:
         return "no direction"
-    return ", ".join(f"{s:.2f}°–{e:.2f}°" for s, e in to_degrees(arcs))
+    return format_ranges(ranges_deg(arcs))

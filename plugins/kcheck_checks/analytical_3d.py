@@ -21,6 +21,7 @@ from pydantic import Field
 from kcheck.analysis import Analysis, analyse, closing_force_reason, describe_ranges
 from kcheck.arcs import cap_margin_matrix, cap_margins
 from kcheck.dynamics import Problem, solve_affine
+from kcheck.fmt import format_direction
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult, Status
 from kcheck.scene import Scene
@@ -141,7 +142,7 @@ def sphere_map(scene: Scene, analysis: Analysis, points: int) -> SphereMap | Non
 
 
 def _vector(v: np.ndarray) -> str:
-    return "(" + ", ".join(f"{x:.3f}" for x in v) + ")"
+    return format_direction(v)  # noise cleaned: (0, 0, -1), not (-0.000, -0.000, -1.000)
 
 
 def spatial_result(
