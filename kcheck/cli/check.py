@@ -138,6 +138,13 @@ def run(args: argparse.Namespace) -> int:
     plot_formats = _plot_formats(args.plot_format)
     if plot_formats is None:
         return fail(f"--plot-format: expected png, svg or png,svg; got {args.plot_format!r}")
+    html = None
+    if args.html is not None:
+        try:  # before the run: a page that cannot be written is a usage error, not a traceback
+            args.html.parent.mkdir(parents=True, exist_ok=True)
+            html = args.html.open("w", encoding="utf-8")
+        except OSError as exc:
+            return fail(f"--html {args.html}: cannot write the page ({_reason(exc)})")
     files, missing = discover(args.paths)
     if args.plots is not None:
         args.plots.mkdir(parents=True, exist_ok=True)
@@ -154,19 +161,23 @@ def run(args: argparse.Namespace) -> int:
             options = ReportOptions(
                 color=args.color, verbosity=verbosity, to_file=args.output is not None
             )
-            reporters = [make_reporter(args.format, stream, options)]
-            html = None
-            if args.html is not None:
-                args.html.parent.mkdir(parents=True, exist_ok=True)
-                html = args.html.open("w", encoding="utf-8")
-                reporters.append(make_reporter("html", html, options))
+            target = "the report" if args.output is None else str(args.output)
+            reporters = [_Target(target, make_reporter(args.format, stream, options))]
+            if html is not None:
+                reporters.append(_Target(str(args.html), make_reporter("html", html, options)))
             batch = run_batch(files, checks, settings)
             results, elapsed = _run(reporters, files, missing, batch, args)
+            if html is not None:
+                with _Target(str(args.html), None).writing():
+                    html.close()  # a full disk shows here, as an error of the page
+        except _WriteError as exc:
+            return fail(f"cannot write {exc.target}: {_reason(exc.error)}")
         finally:
             if stream is not sys.stdout:
                 stream.close()
-            if args.html is not None and html is not None:
-                html.close()
+            if html is not None and not html.closed:
+                with contextlib.suppress(OSError):
+                    html.close()
     text_on_stdout = args.format == "text" and args.output is None
     if not text_on_stdout:
         _errors_to_stderr(results)
@@ -175,6 +186,47 @@ def run(args: argparse.Namespace) -> int:
     if Status.ERROR in states:
         return ExitCode.USAGE_OR_INPUT
     return ExitCode.CHECKS_FAILED if Status.FAIL in states else ExitCode.OK
+
+
+class _WriteError(Exception):
+    """Writing one output (the report, the page) failed with an OS error."""
+
+    def __init__(self, target: str, error: OSError) -> None:
+        super().__init__(target)
+        self.target, self.error = target, error
+
+
+class _Target:
+    """A reporter and the name of what it writes, for error messages."""
+
+    def __init__(self, name: str, reporter: Any) -> None:
+        self.name, self.reporter = name, reporter
+
+    @contextlib.contextmanager
+    def writing(self) -> Iterator[None]:
+        try:
+            yield
+        except OSError as exc:
+            raise _WriteError(self.name, exc) from exc
+
+    def start(self, total: int) -> None:
+        with self.writing():
+            self.reporter.start(total)
+
+    def scene(self, result: Any) -> None:
+        with self.writing():
+            self.reporter.scene(result)
+
+    def finish(self, results: Any, elapsed_s: float) -> None:
+        with self.writing():
+            self.reporter.finish(results, elapsed_s)
+
+
+def _reason(exc: OSError) -> str:
+    """An OS error in words (a parent that is a file gets its own)."""
+    if isinstance(exc, (FileExistsError, NotADirectoryError)):
+        return "a folder on the path is a file"
+    return exc.strerror or str(exc)
 
 
 def _plot_formats(text: str) -> tuple[str, ...] | None:

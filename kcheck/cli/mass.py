@@ -84,5 +84,5 @@ def run(args: argparse.Namespace) -> int:
 
         console = make_console(args.color)
         console.print(f"{args.mesh} ({args.units}, {density:g} kg/m^3)")
-        render_mass(console, props)
+        render_mass(console, props, units=args.units)
     return ExitCode.OK

@@ -333,8 +333,17 @@ def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
             _view(ax, d, view, i, case, scene.scale)
         plan.set_anchor("S")  # the elevation sits right under its plan
         elev.set_anchor("N")
+        # Every panel has the same limits: numbers only on the outer edges (text is most of
+        # the drawing time), grid lines everywhere.
         plan.tick_params(labelbottom=False)
-        elev.set_xlabel(f"x ({scene.units})", fontsize=8)
+        if i % cols:
+            for ax in (plan, elev):
+                ax.tick_params(labelleft=False)
+                ax.set_ylabel("")
+        if i + cols < n:
+            elev.tick_params(labelbottom=False)
+        else:
+            elev.set_xlabel(f"x ({scene.units})", fontsize=8)
         title = f"{name} retracted"
         colour = "black"
         if case is not None:

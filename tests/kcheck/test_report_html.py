@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.conftest import FIXTURES
+from tests.conftest import FIXTURES, PLANAR_SCENE
 
 BROWSERS = ("chromium", "chromium-browser", "google-chrome")
 FLAGS = (
@@ -161,3 +161,15 @@ def test_the_request_detector_sees_a_request(tmp_path: Path) -> None:
     )
     _, requested, console = _open(blocked, tmp_path)
     assert requested == [] and "Content Security Policy" in console
+
+
+def test_a_page_that_cannot_be_written_is_a_usage_error(cli, write_scene, tmp_path: Path) -> None:
+    scene = str(write_scene(PLANAR_SCENE))
+    blocker = tmp_path / "a-file"
+    blocker.write_text("", encoding="utf-8")
+    code, _, err = cli("check", scene, "--select", "maxwell", "--html", str(blocker / "r.html"))
+    assert code == 2 and "--html" in err and "a folder on the path is a file" in err
+    if Path("/dev/full").exists():  # the disk fills up while the page is written
+        code, _, err = cli("check", scene, "--select", "maxwell", "--html", "/dev/full")
+        assert code == 2 and "cannot write /dev/full: No space left on device" in err
+    assert "Traceback" not in err
