@@ -125,21 +125,21 @@ _AXIS_NAMES = {
 
 
 def format_direction(values: Sequence[float] | np.ndarray, decimals: int = 3) -> str:
-    """A unit direction: ``+x``, ``−z`` for a coordinate axis, else ``(0.707, 0, -0.707)``."""
+    """A unit direction: ``+x``, ``−z`` for a coordinate axis, else ``(0.707, 0.000, -0.707)``."""
     v = clean(values)
-    key = tuple(int(round(x)) for x in v)
-    if key in _AXIS_NAMES and np.allclose(v, key, atol=1e-9):
+    key = tuple(int(round(x)) for x in v) + (0,) * (3 - len(v))  # a planar (x, y) too
+    if key in _AXIS_NAMES and np.allclose(v, key[: len(v)], atol=1e-9):
         return _AXIS_NAMES[key]
     return format_point(v, decimals)
 
 
 def format_point(values: Sequence[float] | np.ndarray, decimals: int = 3) -> str:
-    """Coordinates rounded to ``decimals`` without trailing zeros, noise cleaned:
-    ``(50, 45.5)``."""
+    """Coordinates with ``decimals`` decimals, noise cleaned, never ``-0.00``:
+    ``(50.00, 45.50)``."""
     parts = []
     for x in clean(values):
-        text = f"{x:.{decimals}f}".rstrip("0").rstrip(".") if decimals else f"{x:.0f}"
-        parts.append("0" if text in ("", "-0") else text)
+        text = f"{x:.{decimals}f}"
+        parts.append(text[1:] if text.startswith("-") and float(text) == 0 else text)
     return "(" + ", ".join(parts) + ")"
 
 

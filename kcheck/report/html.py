@@ -101,7 +101,7 @@ def _check(scene: SceneResult, check: CheckResult, pictures: list[tuple[str, str
     parts.append(_reasons(check))
     for other in views.disagreements(scene, check):
         parts.append(f'<p class="disagree"><b>but</b> {_e(other)}</p>')
-    tables = [views.case_table(check, scene.units), views.forces_table(check)]
+    tables = [views.case_table(check, scene.units, scene.kind), views.forces_table(check)]
     rendered = "".join(_table(t) for t in tables if t is not None)
     if rendered:
         parts.append(f'<div class="tables">{rendered}</div>')

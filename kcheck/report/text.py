@@ -202,7 +202,10 @@ def render_scene(console: Console, scene: SceneResult, verbosity: int = 0) -> bo
             continue
         _check_line(console, scene, check)
         if verbose:
-            for view in (views.case_table(check, scene.units), views.forces_table(check)):
+            for view in (
+                views.case_table(check, scene.units, scene.kind),
+                views.forces_table(check),
+            ):
                 if view is not None:
                     _print_table(console, view, 4)
     if skipped and not verbose:

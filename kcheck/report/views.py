@@ -24,6 +24,7 @@ from kcheck.fmt import (
     clean,
     describe_sweep,
     format_angle,
+    format_direction,
     format_number,
     format_point,
     format_ranges,
@@ -123,27 +124,38 @@ def _range_width(ranges: Sequence[Sequence[float]]) -> float:
     return sum((e - s) % 360.0 if e - s < 360.0 else 360.0 for s, e in ranges)
 
 
+def _nothing_safe(check: CheckResult) -> bool:
+    """Whether a check found no safe direction at all (its margin then means nothing)."""
+    fraction = check.details.get("safe_solid_angle_fraction")
+    if isinstance(fraction, (int, float)):
+        return fraction <= 0
+    return check.safe_ranges_deg is not None and len(check.safe_ranges_deg) == 0
+
+
 def headline(scene: SceneResult) -> str:
     """The scene's key numbers on one line: the smallest design margin over the checks that
     report one, the safe share of the sphere, or the narrowest safe range; n/a checks."""
     parts: list[str] = []
     checks = _checks(scene)
+    if any(_nothing_safe(c) for c in checks):
+        parts.append("no safe force direction")
     margins = [
         c.details["design_margin_deg"]
         for c in checks
         if isinstance(c.details.get("design_margin_deg"), (int, float))
         and math.isfinite(c.details["design_margin_deg"])
+        and not _nothing_safe(c)
     ]
-    if margins:
+    if margins and not parts:
         parts.append(f"design margin {format_angle(min(margins))}")
     fractions = [
         c.details["safe_solid_angle_fraction"]
         for c in checks
         if isinstance(c.details.get("safe_solid_angle_fraction"), (int, float))
     ]
-    if fractions:
+    if fractions and not parts:
         parts.append(f"{100 * min(fractions):.2f}% of directions safe")
-    if not margins and not fractions:
+    if not parts:
         ranged = [c for c in checks if c.safe_ranges_deg is not None]
         if ranged:
             narrowest = min(ranged, key=lambda c: _range_width(c.safe_ranges_deg or ()))
@@ -297,14 +309,19 @@ def _scale(units: str | None) -> float:
     return LENGTH_TO_M.get(units or "m", 1.0)
 
 
-def motion_text(details: Mapping[str, Any], units: str) -> str:
-    """The free motion in words, lengths in scene units (``pure rotation`` for noise pitch)."""
+def motion_text(details: Mapping[str, Any], units: str, planar: bool = False) -> str:
+    """The free motion in words, lengths in scene units (``pure rotation`` for noise pitch);
+    a planar scene's directions with two components."""
     scale = _scale(units)
     motion = details.get("motion")
     pole = details.get("pole")
     if motion == "translation" or details.get("sense") == "translation":
         direction = details.get("direction") or details.get("translation_direction")
-        return "translation" + ("" if direction is None else f" {format_point(direction)}")
+        if direction is not None and planar:
+            direction = list(direction)[:2]
+        return "translation" + (
+            "" if direction is None else f" along {format_direction(direction)}"
+        )
     if motion == "rotation" or (pole is not None and details.get("sense") in ("ccw", "cw")):
         p = np.asarray(pole, float) / scale
         return f"{details.get('sense')} about {format_point(p, 2)} {units}"
@@ -323,7 +340,7 @@ def _ranges_cell(ranges: Sequence[Sequence[float]] | None) -> str:
     return format_ranges(ranges).replace(", ", "\n")
 
 
-def case_table(check: CheckResult, units: str | None) -> Table | None:
+def case_table(check: CheckResult, units: str | None, kind: str | None = None) -> Table | None:
     """Per retracted support: outcome, free motion, Maxwell's cos θ, safe force angles."""
     if not check.cases:
         return None
@@ -334,7 +351,7 @@ def case_table(check: CheckResult, units: str | None) -> Table | None:
     if any("motion" in c.details or "sense" in c.details for c in cases):
         headers.append("free motion")
         numeric.append(False)
-        columns.append([motion_text(c.details, units) for c in cases])
+        columns.append([motion_text(c.details, units, kind == "planar") for c in cases])
     if any(c.cos_maxwell is not None for c in cases):
         headers += ["cos θ", "θ"]
         numeric += [True, True]
@@ -419,7 +436,7 @@ def mass_view(mass: Any, units: str | None) -> MassView:
     for i in range(3):
         axis = clean(axes[:, i])
         axis = axis if axis[np.argmax(np.abs(axis))] > 0 else -axis  # the sign is arbitrary
-        principal.append((f"axis {i + 1}", format_point(axis, 4)))
+        principal.append((f"axis {i + 1}", f"along {format_direction(axis)}"))
     return MassView(facts, matrix, unit, principal)
 
 

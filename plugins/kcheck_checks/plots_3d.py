@@ -314,7 +314,9 @@ def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
     plan_h = max(extent[1] / extent[0], 0.25)
     elev_h = max(extent[2] / extent[0], 0.25)
     width = 4.6
-    pair = width * (plan_h + elev_h) + 0.35  # one plan over its elevation, inches
+    # The drawing width of a panel (the figure's margins and gaps taken off), in inches.
+    drawn = cols * width * 0.94 / (cols + 0.2 * (cols - 1))
+    pair = drawn * (plan_h + elev_h) + 0.35  # one plan over its elevation, inches
     height = rows * (pair + 0.45) + 0.95
     fig = figure(figsize=(cols * width, height), layout=None)
     outer = fig.add_gridspec(

@@ -154,6 +154,9 @@ def test_verbose_and_quiet(verbose_run: str) -> None:
     assert "centre of mass (50.00, 30.00, 10.00) mm" in verbose  # scene units, fixed decimals
     assert "inertia about the centre of mass (kg·mm²):" in verbose
     assert "analytical-2d per retracted support" in verbose and "n/a   analytical-3d" in verbose
+    # No safe direction at all: say so, not a placeholder margin.
+    assert re.search(r"^FAIL\s+thesis appendix A block.*no safe force direction", verbose, re.M)
+    assert "x3         loses contact  translation along +x" in verbose
     quiet = run("check", PLANAR, APPENDIX_A, "-q").stdout
     assert "planar rectangular block" not in quiet and "thesis appendix A block" in quiet
     assert quiet.splitlines()[-1].startswith("2 scenes: 1 passed, 1 failed")
@@ -188,9 +191,9 @@ def test_noise_is_zeroed_relative_to_the_largest_entry() -> None:
     assert dict(view.facts)["volume"] == "2550000 mm³"
     assert view.inertia is not None and view.inertia[0][1] == "0.0"
     assert [v for k, v in view.principal if k.startswith("axis")] == [
-        "(1, 0, 0)",
-        "(0, 1, 0)",
-        "(0, 0, 1)",
+        "along +x",
+        "along +y",
+        "along +z",
     ]
 
 
