@@ -137,7 +137,8 @@ def headline(scene: SceneResult) -> str:
     report one, the safe share of the sphere, or the narrowest safe range; n/a checks."""
     parts: list[str] = []
     checks = _checks(scene)
-    if any(_nothing_safe(c) for c in checks):
+    nothing = any(_nothing_safe(c) for c in checks)
+    if nothing:
         parts.append("no safe force direction")
     margins = [
         c.details["design_margin_deg"]
@@ -146,14 +147,14 @@ def headline(scene: SceneResult) -> str:
         and math.isfinite(c.details["design_margin_deg"])
         and not _nothing_safe(c)
     ]
-    if margins and not parts:
+    if margins and not nothing:
         parts.append(f"design margin {format_angle(min(margins))}")
     fractions = [
         c.details["safe_solid_angle_fraction"]
         for c in checks
         if isinstance(c.details.get("safe_solid_angle_fraction"), (int, float))
     ]
-    if fractions and not parts:
+    if fractions and not nothing:
         parts.append(f"{100 * min(fractions):.2f}% of directions safe")
     if not parts:
         ranged = [c for c in checks if c.safe_ranges_deg is not None]

@@ -372,7 +372,8 @@ def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
 
 def forces_panel(scene: Scene, result: CheckResult) -> Any:
     """Grouped bars: the normal forces of the remaining supports per retracted support."""
-    fig = figure(figsize=(11, 4.8))
+    fig = figure(figsize=(11, 4.8), layout=None)
+    fig.subplots_adjust(left=0.07, right=0.9, top=0.84, bottom=0.14)
     ax = fig.add_subplot(1, 1, 1)
     names = [s.name for s in scene.supports]
     width = 0.8 / max(len(names) - 1, 1)

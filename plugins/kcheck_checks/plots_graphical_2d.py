@@ -45,11 +45,14 @@ def plot_graphical(inputs: Inputs, result: CheckResult, directory: Path) -> Sequ
         return ()
     from kcheck.plotting import figure, save, slug
 
-    fig = figure(figsize=(11.0, 7.0))
+    # Fixed margins (inches) instead of a layout engine: a third of the drawing cost.
+    fig = figure(figsize=(11.0, 7.0), layout=None)
+    fig.subplots_adjust(left=0.75 / 11, right=0.99, top=1 - 0.72 / 7, bottom=0.9 / 7, wspace=0.08)
     ax, side = fig.subplots(1, 2, width_ratios=[2.5, 1.0])
     draw_construction(ax, inputs.scene, built, result)
     side.axis("off")
     side.legend(*ax.get_legend_handles_labels(), loc="upper left", fontsize=8, frameon=False)
+    _compass(side.inset_axes((0.0, 0.3, 0.4, 0.2)), built)
     side.text(
         0.0, 0.0, _case_summary(result, inputs.scene.scale, inputs.scene.units),
         transform=side.transAxes, fontsize=7.5, family="monospace", va="bottom", ha="left",
@@ -98,7 +101,13 @@ def _wedges(
         kw = dict(style)
         if not first:
             kw.pop("label", None)
+        hatch = kw.get("hatch")
         ax.add_patch(Wedge(tuple(centre), radius, t1, t2, **kw))
+        if hatch:  # again, opaque: SVG fades a hatch with its fill's alpha
+            ax.add_patch(
+                Wedge(tuple(centre), radius, t1, t2, fill=False, hatch=hatch, lw=0,
+                      ec=kw.get("ec"), zorder=kw.get("zorder"))
+            )  # fmt: skip
         first = False
 
 
@@ -156,7 +165,7 @@ def _far_poles(
     for k, (direction, text, colour, label) in enumerate(items):
         u = direction / np.linalg.norm(direction)
         side = np.array([-u[1], u[0]])
-        shift = 0.7 - 0.22 * k
+        shift = 0.45 - 0.2 * k
         if np.linalg.norm(centre + shift * half * side - q) < np.linalg.norm(
             centre - shift * half * side - q
         ):
@@ -213,11 +222,11 @@ def _poles(
                 **_away(pp, fp, (0.7, 0.7)),
             )  # fmt: skip
         elif pole is not None:
-            far.append((to_plot(pole) - centre, f"{name} {SENSE_MARK.get(sense, '')} far off",
+            far.append((to_plot(pole) - centre, f"{name} {SENSE_MARK.get(sense, '')} far",
                         colour, label))  # fmt: skip
         elif d.get("translation_direction") is not None:
             far.append((np.asarray(d["translation_direction"], float)[:2],
-                        f"{name} at ∞ (translation)", colour, label))  # fmt: skip
+                        f"{name} at ∞", colour, label))  # fmt: skip
         if fp is not None:
             fcolour = SENSE_COLOURS.get(str(d.get("friction_sense")), "k")
             ax.plot(
@@ -234,30 +243,29 @@ def _poles(
 
 
 def _compass(ax: Axes, built: Construction) -> None:
-    """Where 0° and 90° of the force angle point, and the counter-clockwise sense (lower left
-    corner, in axes coordinates)."""
-    origin = np.array([0.09, 0.09])
-    r = 0.06
+    """Where 0° and 90° of the force angle point and the counter-clockwise sense, drawn in
+    its own small axes (equal aspect, so the arrows show the true directions)."""
     for vec, text in ((built.e1, "0°"), (built.e2, "90°")):
-        v = np.asarray(vec[:2], float)
-        tip = origin + r * v / np.linalg.norm(v)
+        v = np.asarray(vec[:2], float) / np.linalg.norm(vec[:2])
         ax.annotate(
-            "", xy=tuple(tip), xytext=tuple(origin), xycoords="axes fraction",
-            arrowprops={"arrowstyle": "-|>", "color": "0.2", "lw": 1.2}, zorder=9,
+            "", xy=tuple(v), xytext=(0, 0),
+            arrowprops={"arrowstyle": "-|>", "color": "0.2", "lw": 1.3},
         )  # fmt: skip
-        ax.text(*(origin + 1.45 * (tip - origin)), text, transform=ax.transAxes, fontsize=8,
-                ha="center", va="center", color="0.2", zorder=9)  # fmt: skip
+        ax.text(*(1.35 * v), text, fontsize=8, ha="center", va="center", color="0.2")
     start = float(np.degrees(np.arctan2(built.e1[1], built.e1[0])))
     turn = 1.0 if built.e1[0] * built.e2[1] - built.e1[1] * built.e2[0] > 0 else -1.0
     t = np.radians(start + turn * np.linspace(15, 75, 20))
-    arc = origin + 0.55 * r * np.column_stack([np.cos(t), np.sin(t)])
-    ax.plot(*arc[:-1].T, color="0.2", lw=1.0, transform=ax.transAxes, zorder=9)
+    arc = 0.55 * np.column_stack([np.cos(t), np.sin(t)])
+    ax.plot(*arc[:-1].T, color="0.2", lw=1.0)
     ax.annotate(
-        "", xy=tuple(arc[-1]), xytext=tuple(arc[-3]), xycoords="axes fraction",
-        arrowprops={"arrowstyle": "-|>", "color": "0.2", "lw": 1.0}, zorder=9,
+        "", xy=tuple(arc[-1]), xytext=tuple(arc[-3]),
+        arrowprops={"arrowstyle": "-|>", "color": "0.2", "lw": 1.0},
     )  # fmt: skip
-    ax.text(origin[0] - 0.02, origin[1] - 0.045, "force angle", transform=ax.transAxes,
-            fontsize=7, color="0.2", ha="left")  # fmt: skip
+    ax.set_xlim(-1.7, 1.7)
+    ax.set_ylim(-1.7, 1.7)
+    ax.set_aspect("equal")
+    ax.axis("off")
+    ax.set_title("force angle", fontsize=8, color="0.2")
 
 
 def draw_construction(ax: Axes, scene: Scene, built: Construction, result: CheckResult) -> None:
@@ -339,7 +347,6 @@ def draw_construction(ax: Axes, scene: Scene, built: Construction, result: Check
     ax.set_xlabel(f"x ({scene.units})")
     ax.set_ylabel(f"y ({scene.units})")
     ax.grid(True, lw=0.3, alpha=0.5)
-    _compass(ax, built)
     triangle = result.details.get("pole_triangle")
     if triangle is not None and all(p is not None for p in triangle):
         corners = to_plot(np.array([*triangle, triangle[0]]))

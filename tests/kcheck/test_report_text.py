@@ -286,3 +286,45 @@ def test_help_lists_exit_codes_and_explains_every_option() -> None:
     check = sub.choices["check"]  # type: ignore[attr-defined]
     for action in check._actions:
         assert action.help, f"{action.option_strings or action.dest} has no help text"
+
+
+def test_findings_say_why_then_what_to_change() -> None:
+    """A failing check's findings, each with its line and hint, under its verdict; the same
+    reason quoted next to a passing check of the same question (text and HTML)."""
+    from rich.console import Console
+
+    from kcheck.report.html import render_page
+    from kcheck.report.text import render_scene
+    from kcheck.result import CheckResult, Finding, SceneResult, Status
+
+    finding = Finding(
+        "retract x3 → y1 loses contact (N = -0.087 N)",
+        code="loses-contact",
+        field=("supports", 0),
+        hint="move the force towards 310°, or y1 further from x3",
+        line=9,
+    )
+    failing = CheckResult(
+        "analytical-2d", Status.FAIL, "no safe force angle", safe_ranges_deg=(), findings=(finding,)
+    )
+    passing = CheckResult(
+        "graphical-2d",
+        Status.PASS,
+        "safe force angles: 292.41°–317.76°",
+        safe_ranges_deg=((292.41, 317.76),),
+        details={"limitations": ["mass-free: contact loss not checked"], "design_margin_deg": 7.6},
+    )
+    scene = SceneResult("a.kcheck.yaml", Status.FAIL, name="block", checks=(failing, passing))
+    console = Console(width=100_000, soft_wrap=True, no_color=True, color_system=None, record=True)
+    render_scene(console, scene)
+    lines = console.export_text().splitlines()
+    why = next(i for i, line in enumerate(lines) if "✗ retract x3 → y1 loses contact" in line)
+    assert lines[why].endswith("(line 9)") and lines[why - 1].lstrip().startswith("fail")
+    assert lines[why + 1].strip() == "→ move the force towards 310°, or y1 further from x3"
+    assert any(
+        line.strip() == "but analytical-2d: FAIL — retract x3 → y1 loses contact (N = -0.087 N)"
+        for line in lines
+    )
+    page = render_page([scene], 1.0, [{}])
+    assert "retract x3 → y1 loses contact" in page and "line 9" in page
+    assert '<span class="hint">move the force towards 310°' in page
