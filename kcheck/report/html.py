@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import TextIO
 
 from kcheck import __version__
-from kcheck.report import ReportOptions, views
+from kcheck.report import ReportOptions, tables, views
 from kcheck.report.safe import printable
 from kcheck.result import CheckResult, SceneResult, Status
 
@@ -53,7 +53,7 @@ def _anchor(index: int) -> str:
     return f"scene-{index + 1}"
 
 
-def _table(view: views.Table) -> str:
+def _table(view: tables.Table) -> str:
     head = "".join(
         f'<th class="{"num" if n else ""}">{_e(h)}</th>'
         for h, n in zip(view.headers, view.numeric, strict=True)
@@ -101,8 +101,8 @@ def _check(scene: SceneResult, check: CheckResult, pictures: list[tuple[str, str
     parts.append(_reasons(check))
     for other in views.disagreements(scene, check):
         parts.append(f'<p class="disagree"><b>but</b> {_e(other)}</p>')
-    tables = [views.case_table(check, scene.units, scene.kind), views.forces_table(check)]
-    rendered = "".join(_table(t) for t in tables if t is not None)
+    shown = [tables.case_table(check, scene.units, scene.kind), tables.forces_table(check)]
+    rendered = "".join(_table(t) for t in shown if t is not None)
     if rendered:
         parts.append(f'<div class="tables">{rendered}</div>')
     for name, svg in pictures:
@@ -114,7 +114,7 @@ def _check(scene: SceneResult, check: CheckResult, pictures: list[tuple[str, str
 def _mass(scene: SceneResult) -> str:
     if scene.mass_properties is None:
         return ""
-    view = views.mass_view(scene.mass_properties, scene.units)
+    view = tables.mass_view(scene.mass_properties, scene.units)
     rows = [f"<dt>{_e(label)}</dt><dd>{_e(value)}</dd>" for label, value in view.facts]
     if view.inertia is not None:
         cells = "".join(

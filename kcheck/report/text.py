@@ -20,7 +20,7 @@ from rich.padding import Padding
 from rich.table import Table
 from rich.text import Text
 
-from kcheck.report import ReportOptions, views
+from kcheck.report import ReportOptions, tables, views
 from kcheck.report.safe import SafeStream
 from kcheck.report.safe import stdout as safe_stdout
 from kcheck.result import CheckResult, SceneResult, Status
@@ -90,13 +90,13 @@ def render_mass(
     console: Console, mass: Any, indent: str = "  ", units: str | None = None, notes: bool = True
 ) -> None:
     """Mass properties as an engineer reads them from a CAD package, in the scene's units."""
-    for line in views.mass_lines(mass, units):
+    for line in tables.mass_lines(mass, units):
         console.print(f"{indent}{line}")
     for note in mass.notes if notes else ():
         console.print(f"{indent}note: {note}", style="yellow")
 
 
-def _print_table(console: Console, view: views.Table, indent: int) -> None:
+def _print_table(console: Console, view: tables.Table, indent: int) -> None:
     """A table, indented, without trailing blanks. When it is wider than the terminal, each
     row becomes one line of ``header value`` pairs instead, so no number is ever cut."""
     _indented(console, Text(view.title, style="dim"), indent)
@@ -117,7 +117,7 @@ def _print_table(console: Console, view: views.Table, indent: int) -> None:
         console.print(text)
 
 
-def _table(view: views.Table) -> Table:
+def _table(view: tables.Table) -> Table:
     table = Table(show_header=True, header_style="bold", box=None, pad_edge=False, padding=(0, 1))
     for header, numeric in zip(view.headers, view.numeric, strict=True):
         table.add_column(header, justify="right" if numeric else "left", no_wrap=True)
@@ -203,8 +203,8 @@ def render_scene(console: Console, scene: SceneResult, verbosity: int = 0) -> bo
         _check_line(console, scene, check)
         if verbose:
             for view in (
-                views.case_table(check, scene.units, scene.kind),
-                views.forces_table(check),
+                tables.case_table(check, scene.units, scene.kind),
+                tables.forces_table(check),
             ):
                 if view is not None:
                     _print_table(console, view, 4)

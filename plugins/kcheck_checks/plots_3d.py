@@ -1,6 +1,7 @@
 """Pictures of the spatial check: plan and elevation of the scene with each case's free motion,
 the map of safe directions (:mod:`kcheck_checks.plots_sphere`), and the normal forces per
-retracted support. matplotlib comes in through :mod:`kcheck.plotting`.
+retracted support (:mod:`kcheck_checks.plots_forces`). matplotlib comes in through
+:mod:`kcheck.plotting`.
 
 The scene is drawn as an engineering drawing: for every retracted support a plan (x–y, seen
 from +z) above an elevation (x–z, seen from −y) sharing the x axis. A screw axis is a dashed
@@ -18,7 +19,8 @@ import numpy as np
 
 from kcheck.analysis import Analysis
 from kcheck.plotting import VERDICT_COLOURS, figure, outcome_colour, save, slug
-from kcheck.report.views import motion_text, verdict
+from kcheck.report.tables import motion_text
+from kcheck.report.views import verdict
 from kcheck.result import CaseResult, CheckResult
 from kcheck.scene import Scene
 
@@ -27,7 +29,7 @@ if TYPE_CHECKING:
 
     from kcheck_checks.analytical_3d import SphereMap
 
-__all__ = ["plot_spatial", "scene_views", "forces_panel", "clip_segment"]
+__all__ = ["plot_spatial", "scene_views", "clip_segment"]
 
 # Largest number of mesh triangles drawn (the body is a rasterised silhouette anyway).
 MAX_TRIANGLES = 6000
@@ -62,6 +64,7 @@ def plot_spatial(
     directory: Path,
 ) -> list[Path]:
     """Write ``<scene>-analytical-3d-{scene,sphere,forces}`` pictures; return the paths."""
+    from kcheck_checks.plots_forces import forces_panel
     from kcheck_checks.plots_sphere import sphere_figure
 
     stem = f"{slug(scene.name)}-analytical-3d"
@@ -366,57 +369,5 @@ def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
         "pushing along their normals; red ×: the retracted one; purple: screw axis and "
         "rotation sense (⊙ towards you, ⊗ away); orange: load; brown: gravity",
         ha="center", fontsize=8.5, color="0.25",
-    )  # fmt: skip
-    return fig
-
-
-def forces_panel(scene: Scene, result: CheckResult) -> Any:
-    """Grouped bars: the normal forces of the remaining supports per retracted support."""
-    fig = figure(figsize=(11, 4.8), layout=None)
-    fig.subplots_adjust(left=0.07, right=0.9, top=0.84, bottom=0.14)
-    ax = fig.add_subplot(1, 1, 1)
-    names = [s.name for s in scene.supports]
-    width = 0.8 / max(len(names) - 1, 1)
-    drawn: set[str] = set()
-    for g, case in enumerate(result.cases):
-        forces = case.normal_forces or {}
-        for k, name in enumerate(n for n in names if n in forces):
-            x = g - 0.4 + width * (k + 0.5)
-            value = forces[name]
-            colour = f"C{names.index(name) % 10}"
-            ax.bar(
-                x, value, width, color=colour,
-                edgecolor="black" if value <= 0 else colour,
-                label=None if name in drawn else name,
-            )  # fmt: skip
-            drawn.add(name)
-            ax.text(x, value, f"{value:.3g}", ha="center", va="bottom" if value >= 0 else "top",
-                    fontsize=6.5)  # fmt: skip
-        ax.text(
-            g, 1.0, case.outcome.replace("_", " "), transform=ax.get_xaxis_transform(),
-            ha="center", va="bottom", fontsize=9, color=outcome_colour(case.outcome),
-        )  # fmt: skip
-    ax.axhline(0, color="black", linewidth=0.8)
-    ax.set_xticks(range(len(result.cases)))
-    ax.set_xticklabels([f"{c.retracted}\nretracted" for c in result.cases])
-    ax.set_ylabel("normal force (N)")
-    handles, labels = ax.get_legend_handles_labels()
-    order = sorted(range(len(labels)), key=lambda k: names.index(labels[k]))
-    ax.legend(
-        [handles[k] for k in order], [labels[k] for k in order], title="support",
-        fontsize=8, loc="upper left", bbox_to_anchor=(1.005, 1.0),
-    )  # fmt: skip
-    ax.grid(True, axis="y", linewidth=0.4, alpha=0.6)
-    load = scene.load
-    at = (
-        "at the design direction"
-        if load is not None and load.magnitude > 0 and load.direction is not None
-        else "under gravity"
-    )
-    word = verdict(result)
-    ax.set_title(
-        f"{scene.name} — analytical-3d {word.upper()}: normal forces of the remaining supports "
-        f"{at}",
-        pad=22, color=VERDICT_COLOURS.get(word, "black"),
     )  # fmt: skip
     return fig

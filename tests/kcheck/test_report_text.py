@@ -182,7 +182,7 @@ def test_no_numerical_noise_in_verbose_report(every_fixture: str) -> None:
 
 def test_noise_is_zeroed_relative_to_the_largest_entry() -> None:
     from kcheck.mass import MassProperties
-    from kcheck.report.views import mass_view
+    from kcheck.report.tables import mass_view
 
     inertia = np.array([[0.0170547, -9.14796e-18, 0], [-9.14796e-18, 0.0270953, 0], [0, 0, 0.0358]])
     mass = MassProperties(6.885, np.array([0.1, 2.2e-18, 0.0425]), inertia, "mesh", 0.00255)
