@@ -16,7 +16,7 @@ from kcheck.dynamics import (
     outcome,
     safe_arcs,
 )
-from kcheck.fmt import clean
+from kcheck.fmt import clean, format_ranges
 from kcheck.friction import FrictionIntervals, friction_intervals_many
 from kcheck.kinematics import Frame, row_norms, unit_rows
 from kcheck.mass import MassProperties
@@ -344,10 +344,8 @@ def ranges_deg(arcs: ArcSet) -> tuple[tuple[float, float], ...]:
 
 
 def describe_ranges(arcs: ArcSet) -> str:
-    """Human text for an arc set (:func:`kcheck.fmt.format_ranges`): "every direction",
-    "none", or ranges like "292.41°–5.00° (through 0°)"."""
-    from kcheck.fmt import format_ranges
-
-    if arcs == FULL:
-        return "every direction"
+    """Human text for an arc set, in the one angle convention (:func:`kcheck.fmt.format_ranges`):
+    ``292.41°–5.05° (through 0°)``, ``every direction``, ``no direction``."""
+    if not arcs:
+        return "no direction"
     return format_ranges(ranges_deg(arcs))

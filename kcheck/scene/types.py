@@ -128,11 +128,16 @@ class Load:
 
 @dataclass(frozen=True)
 class Sweep:
-    """Orthonormal frame of the sweep plane: angle alpha is the direction cos a e1 + sin a e2."""
+    """Orthonormal frame of the sweep plane: angle alpha is the direction cos a e1 + sin a e2.
+
+    ``given``: whether the scene file chose it (a ``sweep:`` entry); otherwise it is the
+    xy-plane, and a spatial check may choose a plane of its own (and says which).
+    """
 
     normal: np.ndarray
     e1: np.ndarray
     e2: np.ndarray
+    given: bool = False
 
     def direction(self, angle_deg: np.ndarray | float) -> np.ndarray:
         """Unit force directions (..., 3) for angles in degrees."""

@@ -356,6 +356,7 @@ class Graphical2D(Check):
         details: dict[str, Any] = {
             "attachment_point": where.point[:2].tolist(),
             "force": where.source,
+            "limitations": [MASS_FREE],
         }
         if where.arm:
             details["torque_arm_m"] = where.arm

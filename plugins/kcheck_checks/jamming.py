@@ -179,6 +179,12 @@ def jamming_result(
     if undetermined:
         parts.append("no answer for " + ", ".join(r.retracted for r in undetermined))
     parts.append(f"jam-free in the sweep plane: {_text(jam_free)}")
+    if dim == 3:
+        details["sweep_plane"] = {
+            "normal": scene.sweep.normal.tolist(),
+            "zero": scene.sweep.e1.tolist(),
+            "chosen": "the scene's sweep" if scene.sweep.given else "the xy-plane (no sweep given)",
+        }
     if smap is not None:
         details.update(
             {

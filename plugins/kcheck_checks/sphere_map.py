@@ -160,7 +160,7 @@ def sphere_map(scene: Scene, analysis: Analysis, lattice_points: int = 0) -> Sph
 def sweep_given(scene: Scene) -> bool:
     """Whether the scene chose its sweep plane (a ``sweep:`` entry, or a plane other than the
     default xy-plane set programmatically)."""
-    if ("sweep",) in scene.lines:
+    if scene.sweep.given:
         return True
     default = np.allclose(scene.sweep.normal, [0, 0, 1]) and np.allclose(scene.sweep.e1, [1, 0, 0])
     return not default

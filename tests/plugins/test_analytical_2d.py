@@ -441,6 +441,7 @@ def test_plots_are_written(tmp_path: Path) -> None:
     plots = tmp_path / "plots"
     out = tmp_path / "out.json"
     args = ["check", str(scene), "--select", "analytical-2d", "--plots", str(plots)]
+    args += ["--plot-format", "png,svg"]
     assert main([*args, "--format", "json", "-o", str(out)]) == 0
     png, svg = plots / "block-7-analytical-2d.png", plots / "block-7-analytical-2d.svg"
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000

@@ -437,7 +437,9 @@ def test_fixture_through_cli_with_plots(
     """The planar-block fixture end to end: JSON result and the Figure 2.8-like picture."""
     pytest.importorskip("matplotlib")
     plots = tmp_path / "plots"
-    code, doc = cli_json(str(ROOT / "fixtures" / "planar-block"), "--plots", str(plots))
+    code, doc = cli_json(
+        str(ROOT / "fixtures" / "planar-block"), "--plots", str(plots), "--plot-format", "png,svg"
+    )
     assert code == 0
     (scene,) = doc["scenes"]
     check = next(c for c in scene["checks"] if c["id"] == "graphical-2d")

@@ -261,7 +261,12 @@ def test_picture(three_vee_scene, tmp_path):
     options = HertzOptions(disturbing_force=[5.0, 0, 0], error_point=[0, 0, 30.0])
     inputs = Inputs(three_vee_scene, None, options)
     result = Hertz().run(inputs)
-    files = Hertz().plot(inputs, result, tmp_path / "plots")
+    from kcheck.plotting import formats
+
+    files = Hertz().plot(inputs, result, tmp_path / "plots")  # PNG by default
+    assert [f.suffix for f in files] == [".png"] and files[0].stat().st_size
+    with formats(("png", "svg")):
+        files = Hertz().plot(inputs, result, tmp_path / "both")
     assert [f.suffix for f in files] == [".png", ".svg"] and all(f.stat().st_size for f in files)
 
 
