@@ -186,9 +186,10 @@ def reasons(check: CheckResult) -> list[Reason]:
 
 
 def limitations(check: CheckResult) -> list[str]:
-    """What the check cannot see, as it declares in ``details["limitations"]``."""
+    """What the check cannot see, as it declares in ``details["limitations"]`` (those its
+    message does not already say)."""
     found = check.details.get("limitations") or ()
-    return [str(x) for x in found]
+    return [str(x) for x in found if str(x) not in check.message]
 
 
 def _answers_ranges(check: CheckResult) -> bool:

@@ -105,7 +105,7 @@ class Maxwell(Check):
                 f"{format_angle(c.details['theta_deg'])} from its normal "
                 f"(cos θ = {format_number(c.cos_maxwell, 3)}, below {opts.min_cos:g})",
                 code="maxwell",
-                field=("supports", i),
+                field=scene.support_field(i),
                 hint="tilt the neighbouring contacts so the freed motion meets this normal "
                 "more squarely",
             )

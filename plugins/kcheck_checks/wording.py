@@ -33,10 +33,10 @@ __all__ = [
 
 
 def support_field(scene: Scene, name: str) -> FieldPath:
-    """The scene field of a support, by name."""
+    """The scene field of a support, by name (:meth:`Scene.support_field`)."""
     for i, s in enumerate(scene.supports):
         if s.name == name:
-            return ("supports", i)
+            return scene.support_field(i)
     return ("supports",)
 
 

@@ -369,3 +369,25 @@ def test_gravity_map_with_a_preload_against_case_by_case_outcomes() -> None:
         inside += closes
         outside += not closes
     assert inside >= 3 and outside >= 3
+
+
+def test_findings_on_shorthand_supports_point_at_their_coupling_entry():
+    """A support made by a coupling shorthand is written in its `couplings:` entry: findings
+    about it carry that field and line (not a `supports[i]` that does not exist)."""
+    from kcheck.plugin import load_checks
+    from kcheck.runner import check_scene
+    from tests.conftest import FIXTURES
+
+    path = FIXTURES / "three-groove-beta-15" / "coupling.kcheck.yaml"
+    lines = path.read_text().splitlines()
+    entry = {
+        name: lines.index(next(x for x in lines if f"name: {name}," in x)) + 1
+        for name in ("g1", "g2", "g3")
+    }
+    maxwell = [lc for lc in load_checks() if lc.spec.name == "maxwell"]
+    (check,) = check_scene(path, maxwell).checks
+    assert check.findings  # β = 15°: every cos θ is 0.5
+    for finding in check.findings:
+        coupling = finding.message.split()[1].split(".")[0]  # "retracting g2.1 frees ..."
+        assert finding.field == ("couplings", int(coupling[1]) - 1)
+        assert finding.line == entry[coupling]
