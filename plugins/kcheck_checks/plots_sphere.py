@@ -306,7 +306,11 @@ def sphere_figure(scene: Scene, analysis: Analysis, smap: SphereMap, result: Che
 
     word = verdict(result)
     frac = smap.fraction
-    share = f"{100 * frac.fraction:.1f}% ± {100 * frac.error:.1f}%" if frac.fraction > 0 else "none"
+    share = "none"
+    if frac.fraction > 0:
+        share = f"{100 * frac.fraction:.1f}%"
+        if frac.error >= 5e-4:  # shown only where it shows at one decimal (exact: rounding)
+            share += f" ± {100 * frac.error:.1f}%"
     fig.suptitle(
         f"{scene.name} — analytical-3d {word.upper()}\n{what} directions safe for every "
         f"retracted support: {share} of the sphere",
