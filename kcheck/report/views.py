@@ -136,12 +136,13 @@ def headline(scene: SceneResult) -> str:
     if margins and not nothing:
         parts.append(f"design margin {format_angle(min(margins))}")
     fractions = [
-        c.details["safe_solid_angle_fraction"]
+        (c.details["safe_solid_angle_fraction"], c.id)
         for c in checks
         if isinstance(c.details.get("safe_solid_angle_fraction"), (int, float))
     ]
     if fractions and not nothing:
-        parts.append(f"{100 * min(fractions):.2f}% of directions safe")
+        share, source = min(fractions)  # the smallest, and which check says so
+        parts.append(f"{100 * share:.2f}% of directions safe ({source})")
     if not parts:
         ranged = [c for c in checks if c.safe_ranges_deg is not None]
         if ranged:

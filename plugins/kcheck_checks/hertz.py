@@ -317,6 +317,12 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
     ]
     if size > 0.1:
         parts.append(large)
+    if not {"ball_material", "seat_material", "couplings"} & options.model_fields_set:
+        # Nothing said which materials: name the assumption instead of hiding it.
+        parts.append(
+            f"materials assumed: {options.ball_material} balls and "
+            f"{options.seat_material} seats (set them under checks: hertz)"
+        )
     big_k = stiffness_matrix(seat, seated.stiffness)
     details["stiffness_matrix"] = big_k.tolist()
     compliance = None if np.any(forces.lifted) else point_compliance(seat, big_k, error_point)

@@ -297,3 +297,11 @@ def test_singular_layout_is_reported_not_solved(tmp_path):
     result = _run(scene)
     assert result.status is Status.FAIL and "singular" in result.message
     assert result.details["condition"] > 1e12 and "contacts" not in result.details
+
+
+def test_assumed_materials_are_named(three_vee_scene):
+    """Without a material in the options, the verdict says which ones it assumed."""
+    assumed = _run(three_vee_scene).message
+    assert "materials assumed: 52100 balls and 52100 seats" in assumed
+    chosen = _run(three_vee_scene, ball_material="si3n4").message
+    assert "materials assumed" not in chosen
