@@ -277,3 +277,21 @@ def test_blas_pinned_to_one_thread_unless_the_user_chose():
         text=True,
     )
     assert proc.stderr.split()[-3:-1] == ["4", "1"]
+
+
+def test_pydantic_plugins_skipped_unless_the_user_chose():
+    import subprocess
+    import sys
+
+    probe = (
+        "import os, sys\n"
+        "from kcheck.cli import main\n"
+        "main(['config'])\n"
+        "print(os.environ['PYDANTIC_DISABLE_PLUGINS'], file=sys.stderr)\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "PYDANTIC_DISABLE_PLUGINS"}
+    proc = subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True)
+    assert proc.stderr.split()[-1] == "__all__"
+    chosen = {**env, "PYDANTIC_DISABLE_PLUGINS": "logfire"}
+    proc = subprocess.run([sys.executable, "-c", probe], env=chosen, capture_output=True, text=True)
+    assert proc.stderr.split()[-1] == "logfire"
