@@ -77,7 +77,7 @@ def problem_for(scene: Scene, mass: MassProperties) -> Problem:
     return build_problem(
         points=np.array([s.position for s in scene.supports]),
         normals=np.array([s.normal for s in scene.supports]),
-        friction=np.array([s.friction for s in scene.supports]),
+        friction=scene.friction_range("kinetic")[1],
         names=tuple(s.name for s in scene.supports),
         dim=scene.dim,
         mass=mass.mass,

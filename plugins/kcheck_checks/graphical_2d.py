@@ -305,7 +305,7 @@ def construct(scene: Scene, where: Attachment) -> Construction | None:
     singular = layout_singular_values(points, normals)
     if not singular[-1] > RANK_RTOL * singular[0]:
         return None
-    mu = np.array([s.friction for s in scene.supports])
+    mu = scene.friction_range("static")[1]
     q = frame.point(where.point)
     arm = where.arm / frame.length
     fixed = tuple((frame.point(p), f[:2]) for p, f in where.fixed)
