@@ -47,6 +47,7 @@ __all__ = [
     "friction_directions",
     "system_matrix",
     "system_parts",
+    "friction_matrices",
     "solve_affine",
     "analyse_case",
     "analyse_cases",
@@ -191,6 +192,14 @@ def system_parts(
     full[keep] = mu
     k0, big_f, sliding = _parts(problem, twist[None], np.asarray(keep)[None], full)
     return k0[0], big_f[0], sliding[0]
+
+
+def friction_matrices(problem: Problem, cases: Sequence[Case], mu: np.ndarray) -> np.ndarray:
+    """The friction part ``F`` (c, n, n) of each case's forward system for per-support
+    coefficients ``mu`` (k,): ``K = K0 + F`` (backward ``K0 - F``); linear in ``mu``."""
+    twists = np.array([c.free.twist for c in cases])
+    keeps = np.array([c.keep for c in cases])
+    return _parts(problem, twists, keeps, np.asarray(mu, float))[1]
 
 
 def system_matrix(

@@ -14,6 +14,7 @@ from kcheck.arcs import ArcSet, affine_arcs
 from kcheck.dynamics import Affine
 from kcheck.fmt import format_angle
 from kcheck.plugin import Check, Inputs, Options
+from kcheck.range_analysis import range_details
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.wording import (
@@ -89,6 +90,9 @@ def analytical_result(
     """Verdict of an analytical check from its analysis (planar sweep semantics)."""
     combined = analysis.combined
     details: dict[str, object] = {"max_condition": analysis.max_condition}
+    span = range_details(analysis)
+    if span is not None:
+        details["friction_range"] = span
     if analysis.design_margin_deg is not None:
         details["design_margin_deg"] = analysis.design_margin_deg
     if analysis.nearest_safe_deg is not None and (analysis.design_margin_deg or 0) < 0:

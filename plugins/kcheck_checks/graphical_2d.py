@@ -74,6 +74,7 @@ from kcheck_checks.koster import (
     GraphicalCase,
     condition_arc,
     construct_case,
+    friction_over_range,
     homogeneous_pole,
     tilted_twist,
     virtual_power,
@@ -305,7 +306,9 @@ def construct(scene: Scene, where: Attachment) -> Construction | None:
     singular = layout_singular_values(points, normals)
     if not singular[-1] > RANK_RTOL * singular[0]:
         return None
-    mu = scene.friction_range("static")[1]
+    # Koster's construction is about the start of motion: the static coefficients, and over a
+    # range the arcs that hold for every one of them.
+    low, mu = scene.friction_range("static")
     q = frame.point(where.point)
     arm = where.arm / frame.length
     fixed = tuple((frame.point(p), f[:2]) for p, f in where.fixed)
@@ -313,6 +316,10 @@ def construct(scene: Scene, where: Attachment) -> Construction | None:
     cases = tuple(
         construct_case(points, normals, mu, r, q, arm, e1, e2, fixed) for r in range(len(points))
     )
+    if not np.array_equal(low, mu):
+        cases = tuple(
+            friction_over_range(c, points, normals, low, mu, q, arm, e1, e2, fixed) for c in cases
+        )
     combined = intersect(*(c.safe for c in cases))
     sigma = float(singular[-1] / singular[0])
     return Construction(frame, points, normals, where, cases, combined, e1, e2, sigma)
