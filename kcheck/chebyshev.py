@@ -8,6 +8,8 @@ A stack of series is an array (..., d + 1) of coefficients, lowest degree first 
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from numpy.polynomial import chebyshev as cheb
 
@@ -58,18 +60,23 @@ def derivative(coefs: np.ndarray) -> np.ndarray:
     return out.reshape(coefs.shape)
 
 
-def product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Products of two stacks of series (..., d + 1) and (..., e + 1): (..., d + e + 1)."""
-    a2, b2 = np.broadcast_arrays(a[..., :, None], b[..., None, :])
-    d, e = a.shape[-1], b.shape[-1]
-    out = np.zeros(a2.shape[:-2] + (d + e - 1,))
-    # T_i T_j = (T_{i+j} + T_{|i-j|}) / 2
+@functools.cache
+def _product_map(d: int, e: int) -> np.ndarray:
+    """(d e, d + e - 1): where each product of basis terms goes, ``T_i T_j = (T_{i+j} +
+    T_{|i-j|}) / 2``."""
+    out = np.zeros((d * e, d + e - 1))
     for i in range(d):
         for j in range(e):
-            term = 0.5 * a2[..., i, j] * b2[..., i, j]
-            out[..., i + j] += term
-            out[..., abs(i - j)] += term
+            out[i * e + j, i + j] += 0.5
+            out[i * e + j, abs(i - j)] += 0.5
     return out
+
+
+def product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Products of two stacks of series (..., d + 1) and (..., e + 1): (..., d + e + 1)."""
+    outer = a[..., :, None] * b[..., None, :]
+    d, e = outer.shape[-2:]
+    return outer.reshape(outer.shape[:-2] + (d * e,)) @ _product_map(d, e)
 
 
 def _companion(coefs: np.ndarray) -> np.ndarray:

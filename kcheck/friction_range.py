@@ -246,34 +246,28 @@ def _end_angles(series: np.ndarray, x: np.ndarray) -> np.ndarray:
 
 def _turning_ends(series: np.ndarray, x: np.ndarray) -> np.ndarray:
     """Where each arc end near the candidates ``x`` (r,) of conditions (r, 3, m) turns back:
-    the extremes of the end angle within 1e-3 of each candidate (golden-section search on the
-    closed form, all at once): angles (4 r,), NaN where none."""
+    the least and the largest angle of both ends within 1e-3 of each candidate (golden-section
+    search on the closed form, all at once): angles (4 r,), NaN where none."""
     width = 1e-3
-    lo, hi = np.clip(x - width, -1.0, 1.0), np.clip(x + width, -1.0, 1.0)
-    ref = _end_angles(series, x)  # (2, r)
-    out = []
-    for branch in (0, 1):
-        for sign in (1.0, -1.0):
+    ref = _end_angles(series, x)  # (2, r): both ends at the candidates
+    branch = np.array([0, 0, 1, 1])[:, None]  # (4, 1): start, start, end, end
+    sign = np.array([1.0, -1.0, 1.0, -1.0])[:, None]  # least, largest
 
-            def f(z: np.ndarray, branch: int = branch, sign: float = sign) -> np.ndarray:
-                angle = _end_angles(series, z)[branch]
-                wrapped = (angle - ref[branch] + np.pi) % TAU - np.pi  # near the reference
-                return sign * wrapped
+    def f(z: np.ndarray) -> np.ndarray:
+        angle = np.take_along_axis(_end_angles(series, z), branch[None], axis=0)[0]
+        return sign * ((angle - ref[branch[:, 0]] + np.pi) % TAU - np.pi)
 
-            a, b = lo.copy(), hi.copy()
-            c, d = b - GOLDEN * (b - a), a + GOLDEN * (b - a)
-            fc, fd = f(c), f(d)
-            for _ in range(40):
-                left = fc < fd  # the least lies in [a, d]; NaN compares False
-                a, b = np.where(left, a, c), np.where(left, d, b)
-                c, d = (
-                    np.where(left, b - GOLDEN * (b - a), d),
-                    np.where(left, c, a + GOLDEN * (b - a)),
-                )
-                fc, fd = f(c), f(d)
-            best = 0.5 * (a + b)
-            out.append(_end_angles(series, best)[branch])
-    return np.concatenate(out) % TAU
+    a = np.broadcast_to(np.clip(x - width, -1.0, 1.0), (4, len(x))).copy()
+    b = np.broadcast_to(np.clip(x + width, -1.0, 1.0), (4, len(x))).copy()
+    c, d = b - GOLDEN * (b - a), a + GOLDEN * (b - a)
+    fc, fd = f(c), f(d)
+    for _ in range(32):
+        left = fc < fd  # the least lies in [a, d]; NaN compares False
+        a, b = np.where(left, a, c), np.where(left, d, b)
+        c, d = np.where(left, b - GOLDEN * (b - a), d), np.where(left, c, a + GOLDEN * (b - a))
+        fc, fd = f(c), f(d)
+    ends = np.take_along_axis(_end_angles(series, 0.5 * (a + b)), branch[None], axis=0)[0]
+    return ends.ravel() % TAU
 
 
 GOLDEN = 0.5 * (np.sqrt(5.0) - 1.0)

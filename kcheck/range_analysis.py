@@ -27,6 +27,8 @@ from kcheck.mass import MassProperties
 from kcheck.scene import Scene
 
 __all__ = [
+    "coefficients_used",
+    "range_details",
     "RangeInfo",
     "analyse_range",
     "design_margins",
@@ -243,13 +245,13 @@ def analyse_range(
     return sweep_ranges(analysis, *analysis.plane)
 
 
-def range_details(analysis: Analysis) -> dict[str, object] | None:
-    """The check-level ``friction_range``: the range (of the reference support), whether
-    every case closes throughout, and the worst coefficient and margin over all cases; None
-    without a kinetic range."""
+def range_details(scene: Scene, analysis: Analysis) -> dict[str, object] | None:
+    """The check-level ``friction_range``: the kinetic coefficients used (of the reference
+    support), and over a range whether every case closes throughout and the worst coefficient
+    and margin over all cases; None for plain coefficients."""
     info = analysis.friction_range
     if not isinstance(info, RangeInfo):
-        return None
+        return coefficients_used(scene, "kinetic")
     out: dict[str, object] = {"kind": "kinetic", "min": info.mu(0.0), "max": info.mu(1.0)}
     decided = [r for r, c in enumerate(info.closes) if c is not None]
     if decided:
@@ -267,4 +269,18 @@ def range_details(analysis: Analysis) -> dict[str, object] | None:
                 out["worst_margin_deg"] = float(np.degrees(margin))
     if not info.path.uniform():
         out["reference"] = analysis.problem.names[info.path.reference]
+    return out
+
+
+def coefficients_used(scene: Scene, kind: str) -> dict[str, object] | None:
+    """Which coefficients a check used when the scene's friction is more than one number:
+    ``{kind, min, max}`` of the support with the largest (static or kinetic) coefficient; None
+    for plain coefficients."""
+    if all(s.coefficients.plain for s in scene.supports):
+        return None
+    low, high = scene.friction_range(kind)  # type: ignore[arg-type]
+    top = int(np.argmax(high))
+    out: dict[str, object] = {"kind": kind, "min": float(low[top]), "max": float(high[top])}
+    if len(scene.supports) and (np.ptp(low) > 0 or np.ptp(high) > 0):
+        out["reference"] = scene.supports[top].name
     return out

@@ -90,7 +90,7 @@ def analytical_result(
     """Verdict of an analytical check from its analysis (planar sweep semantics)."""
     combined = analysis.combined
     details: dict[str, object] = {"max_condition": analysis.max_condition}
-    span = range_details(analysis)
+    span = range_details(scene, analysis)
     if span is not None:
         details["friction_range"] = span
     if analysis.design_margin_deg is not None:

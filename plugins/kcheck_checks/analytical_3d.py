@@ -167,7 +167,7 @@ def spatial_result(
     Returns the result, the map and the analysis (with the sweep plane actually used)."""
     deg = float(np.degrees(1.0))
     details: dict[str, object] = {"max_condition": analysis.max_condition}
-    span = range_details(analysis)
+    span = range_details(scene, analysis)
     if span is not None:
         details["friction_range"] = span
     findings = case_findings(scene, analysis)

@@ -67,6 +67,7 @@ from kcheck.kinematics import (
     unit_rows,
 )
 from kcheck.plugin import Check, Inputs, Options
+from kcheck.range_analysis import coefficients_used
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.analytical_2d import design_findings
@@ -368,6 +369,9 @@ class Graphical2D(Check):
             details["torque_arm_m"] = where.arm
         if where.notes:
             details["notes"] = list(where.notes)
+        used = coefficients_used(scene, "static")
+        if used is not None:
+            details["friction_range"] = used
         if built is None:
             return CheckResult(
                 self.id,

@@ -26,6 +26,7 @@ from kcheck.analysis import ranges_deg
 from kcheck.arcs import FULL, TAU, ArcSet, complement, intersect, margin
 from kcheck.fmt import format_angle, format_number, format_ranges
 from kcheck.plugin import Check, Inputs, Options
+from kcheck.range_analysis import coefficients_used
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck.statics import PYRAMID_EDGES
@@ -140,6 +141,10 @@ def jamming_result(
     }
     if dim == 2:
         details.pop("pyramid_edges")
+    used = coefficients_used(scene, "static")
+    if used is not None:
+        # The held set only grows with friction: the top of a static range is its worst.
+        details["friction_range"] = {**used, "worst_mu": used["max"]}
     smap = jam_map(analysis, options.sphere_points) if dim == 3 else None
     findings: list[Finding] = []
     undetermined = [r for r in results if r.outcome == "undetermined"]
@@ -249,10 +254,13 @@ def _finding(
         return Finding(message, code="jams", field=("supports", r), hint=hint)
     mu = float(statics.friction[analysis.cases[r].keep].max())
     held = "against a closing load" if outcome == "jams" else "although the load opens it"
+    # Holding is the start of motion: the static coefficient (the top of its range: the held
+    # set only grows with friction).
+    which = "μ" if all(s.coefficients.plain for s in scene.supports) else "static μ"
     message = (
         f"retract {names[r]} → friction can hold the body at the design direction, {held}"
-        f"{where} (equilibrium exists for μ ≥ {format_number(least, 3)}; the scene has μ = "
-        f"{format_number(mu, 3)})"
+        f"{where} (equilibrium exists for μ ≥ {format_number(least, 3)}; the scene has "
+        f"{which} = {format_number(mu, 3)})"
     )
     hint = f"lower the friction at {others} below {format_number(least, 3)}"
     if arcs is not None and arcs.held != FULL:

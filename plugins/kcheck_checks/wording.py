@@ -128,13 +128,17 @@ def _why(result: CaseResult, intervals: FrictionIntervals | None) -> tuple[str, 
 
 def case_findings(scene: Scene, analysis: Analysis) -> list[Finding]:
     """One finding per retracted case that does not close: "retract y1 → jams at μ = 0.6; it
-    closes for μ ≤ 0.122", located at the retracted support."""
+    closes for μ ≤ 0.122", located at the retracted support. With static and kinetic
+    coefficients, "kinetic μ" (the dynamics slide)."""
     out = []
     friction = analysis.friction or (None,) * len(analysis.results)
+    kinetic = any(s.coefficients.two_valued for s in scene.supports)
     for result, intervals in zip(analysis.results, friction, strict=True):
         if result.outcome in ("closes", "swept"):
             continue
         why = _why(result, intervals)
+        if why is not None and kinetic:
+            why = (why[0], why[1].replace(" at μ = ", " at kinetic μ = ", 1))
         if why is None:
             continue
         code, sentence = why
