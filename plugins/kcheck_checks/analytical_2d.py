@@ -182,8 +182,10 @@ class Analytical2D(Check):
         """Normal forces and acceleration against force angle, one panel per retracted support
         (thesis Figures 2.17-2.20), from the exact affine forms (needs the `plot` extra)."""
         from kcheck_checks.plots_analytical_2d import plot_analytical_2d
+        from kcheck_checks.plots_friction import plot_friction
 
-        return plot_analytical_2d(inputs, result, directory)
+        paths = plot_analytical_2d(inputs, result, directory)
+        return [*paths, *plot_friction(self.id, inputs, result, directory)]
 
 
 # --- partial ranges (the thesis reports motion and contact separately) ------------------------

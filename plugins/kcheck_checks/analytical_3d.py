@@ -316,8 +316,10 @@ class Analytical3D(Check):
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
         """Scene with screw axes, safe-direction map, normal forces per case (PNG and SVG)."""
         from kcheck_checks.plots_3d import plot_spatial
+        from kcheck_checks.plots_friction import plot_friction
 
         assert inputs.mass is not None and isinstance(inputs.options, Analytical3DOptions)
         analysis = analyse(inputs.scene, inputs.mass)
         _, smap, analysis = spatial_result(self.id, inputs.scene, analysis, inputs.options)
-        return plot_spatial(inputs.scene, analysis, smap, result, directory)
+        paths = plot_spatial(inputs.scene, analysis, smap, result, directory)
+        return [*paths, *plot_friction(self.id, inputs, result, directory)]

@@ -397,9 +397,11 @@ class Graphical2D(Check):
 
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
         """The construction like the thesis's Figure 2.8 (needs the `plot` extra)."""
+        from kcheck_checks.plots_friction import plot_friction
         from kcheck_checks.plots_graphical_2d import plot_graphical
 
-        return plot_graphical(inputs, result, directory)
+        paths = plot_graphical(inputs, result, directory)
+        return [*paths, *plot_friction(self.id, inputs, result, directory)]
 
 
 def _verdict(

@@ -42,6 +42,7 @@ from kcheck_checks.jamming_cases import (
     jam_statics,
     least_holding_friction,
     needs_body,
+    tidy,
 )
 
 __all__ = ["Jamming", "JammingOptions", "jamming_result", "run_jamming"]
@@ -131,8 +132,8 @@ def jamming_result(
         results.append(res)
         least.append(mu)
     determined = [a for a in all_arcs if a is not None]
-    jam_free = intersect(*(complement(a.held) for a in determined))
-    safe = intersect(*(intersect(a.closing, complement(a.held)) for a in determined))
+    jam_free = tidy(intersect(*(complement(a.held) for a in determined)))
+    safe = tidy(intersect(*(intersect(a.closing, complement(a.held)) for a in determined)))
     error_deg = float(np.degrees(max((a.error for a in determined), default=0.0)))
     details: dict[str, Any] = {
         "swept_direction": analysis.swept,
@@ -306,7 +307,9 @@ class Jamming(Check):
 
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
         """Sweep circle per case (planar) or sphere map (spatial); needs the `plot` extra."""
+        from kcheck_checks.plots_friction import plot_friction
         from kcheck_checks.plots_jamming import plot_jamming
 
         _, analysis, smap = run_jamming(inputs)
-        return plot_jamming(inputs.scene, analysis, smap, result, directory)
+        paths = plot_jamming(inputs.scene, analysis, smap, result, directory)
+        return [*paths, *plot_friction(self.id, inputs, result, directory)]

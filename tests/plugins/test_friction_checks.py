@@ -13,6 +13,7 @@
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -181,3 +182,34 @@ def test_koster_friction_arcs_over_a_static_range_against_brute_force():
             compared += 1
             differs_from_top += not np.array_equal(inside(top.friction), expected)
     assert compared > 150 and differs_from_top > compared // 2
+
+
+def test_pictures_against_friction(write_scene, tmp_path):
+    """One picture against μ per check (a real PNG; analytical-2d's through its `plot`, as
+    `--plots` calls it), and the bands are the check's own ranges at each coefficient."""
+    pytest.importorskip("matplotlib")
+    from kcheck_checks.plots_friction import friction_axis, plot_friction, scene_at
+
+    scene = with_friction(write_scene, "planar-block", "{min: 0.05, max: 0.3}")
+    mass = body_mass_properties(scene.body, scene.scale)
+    check = Analytical2D()
+    inputs = Inputs(scene, mass, check.options())
+    files = [Path(f).name for f in check.plot(inputs, check.run(inputs), tmp_path)]
+    assert "planar-rectangular-block-analytical-2d-friction.png" in files
+    for check in (Graphical2D(), Jamming()):
+        inputs = Inputs(scene, mass, check.options())
+        (png, svg) = plot_friction(check.id, inputs, check.run(inputs), tmp_path)
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 10_000
+    mus, pattern, low, high = friction_axis(scene, "kinetic", 5)
+    assert (low, high) == (0.05, 0.3) and mus[-1] == pytest.approx(0.45)
+    at = scene_at(scene, pattern * 0.3)
+    assert [s.coefficients.plain for s in at.supports] == [True] * 3
+    plain = with_friction(write_scene, "planar-block", "0.3", "plain.kcheck.yaml")
+    assert run(Analytical2D(), at).safe_ranges_deg == run(Analytical2D(), plain).safe_ranges_deg
+    spatial = with_friction(
+        write_scene, "three-groove-beta-45", "{min: 0.1, max: 0.3}", "g.kcheck.yaml"
+    )
+    check = Analytical3D()
+    inputs = Inputs(spatial, body_mass_properties(spatial.body, spatial.scale), check.options())
+    (png, _) = plot_friction(check.id, inputs, check.run(inputs), tmp_path)
+    assert png.name.endswith("-analytical-3d-friction.png") and png.stat().st_size > 10_000
