@@ -4,6 +4,7 @@ checks (planar and spatial use the same code, only ``dim`` differs)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -71,13 +72,14 @@ def closing_force_reason(scene: Scene) -> str | None:
     return None
 
 
-def problem_for(scene: Scene, mass: MassProperties) -> Problem:
-    """The nondimensional dynamics of a scene."""
+def problem_for(scene: Scene, mass: MassProperties, friction: np.ndarray | None = None) -> Problem:
+    """The nondimensional dynamics of a scene, with the supports' kinetic coefficients (the
+    upper ends of their ranges) or ``friction`` (k,) instead."""
     load = scene.load
     return build_problem(
         points=np.array([s.position for s in scene.supports]),
         normals=np.array([s.normal for s in scene.supports]),
-        friction=np.array([s.friction for s in scene.supports]),
+        friction=scene.friction_range("kinetic")[1] if friction is None else friction,
         names=tuple(s.name for s in scene.supports),
         dim=scene.dim,
         mass=mass.mass,
@@ -134,7 +136,9 @@ class Analysis:
     (``(e1, e2)``, nondimensional components); None without a load to sweep. ``design_margin_deg``
     is the design direction's signed distance to the combined ranges (negative outside: the
     distance to the nearest safe angle, ``nearest_safe_deg``); None when nothing is safe.
-    ``friction`` holds each evaluated case's friction intervals.
+    ``friction`` holds each evaluated case's friction intervals. ``friction_range``: when the
+    kinetic coefficients are ranges, what holds over them (:mod:`kcheck.range_analysis`); the
+    arcs are then those that close for every coefficient of the range.
     """
 
     problem: Problem
@@ -149,6 +153,7 @@ class Analysis:
     plane: tuple[np.ndarray, np.ndarray] | None = None
     nearest_safe_deg: float | None = None
     friction: tuple[FrictionIntervals | None, ...] = ()
+    friction_range: Any = None  # kcheck.range_analysis.RangeInfo
 
     @property
     def every_case_closes(self) -> bool:
@@ -226,13 +231,25 @@ def _evaluated(
 
 
 def analyse(
-    scene: Scene, mass: MassProperties, plane: tuple[np.ndarray, np.ndarray] | None = None
+    scene: Scene,
+    mass: MassProperties,
+    plane: tuple[np.ndarray, np.ndarray] | None = None,
+    friction: np.ndarray | None = None,
 ) -> Analysis:
     """Free motion, outcome, forces, friction intervals and exact safe arcs for every case.
 
-    ``plane`` (``e1, e2``, 3-vectors) overrides the scene's sweep plane for the ranges.
+    ``plane`` (``e1, e2``, 3-vectors) overrides the scene's sweep plane for the ranges. The
+    supports' kinetic coefficients are used; when they are ranges, every case must close for
+    every coefficient in them (:func:`kcheck.range_analysis.analyse_range`). ``friction`` (k,)
+    fixes the coefficients instead.
     """
-    problem = problem_for(scene, mass)
+    if friction is None:
+        low, high = scene.friction_range("kinetic")
+        if not np.array_equal(low, high):
+            from kcheck.range_analysis import analyse_range
+
+            return analyse_range(scene, mass, low, high, plane)
+    problem = problem_for(scene, mass, friction)
     load = scene.load
     sweeping = load is not None and load.magnitude > 0
     design = None
@@ -306,7 +323,7 @@ def sweep_ranges(analysis: Analysis, e1: np.ndarray, e2: np.ndarray) -> Analysis
     arcs: list[ArcSet] = []
     error: float | None = None
     results = []
-    for case, result in zip(analysis.cases, analysis.results, strict=True):
+    for r, (case, result) in enumerate(zip(analysis.cases, analysis.results, strict=True)):
         if not case.determined or not case.well_conditioned:
             arcs.append(())
             results.append(result)
@@ -314,6 +331,8 @@ def sweep_ranges(analysis: Analysis, e1: np.ndarray, e2: np.ndarray) -> Analysis
         case_arcs, arc_error = safe_arcs(case, e1, e2)
         if arc_error is not None:
             error = max(error or 0.0, float(np.degrees(arc_error)))
+        if analysis.friction_range is not None:
+            case_arcs = analysis.friction_range.arcs(r, e1, e2)
         arcs.append(case_arcs)
         results.append(replace(result, safe_ranges_deg=ranges_deg(case_arcs)))
     combined = intersect(*arcs)

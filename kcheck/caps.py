@@ -47,6 +47,11 @@ EPS = float(np.finfo(float).eps)
 SAME_CAP = 1e-12
 # A candidate point counts as inside a cap when its margin is above minus this (rad).
 ON_BOUNDARY = 1e-11
+# The deepest point is found among all caps directly up to this many, else by an active set
+# started from the caps nearest the best of GRID directions and grown ACTIVE_STEP at a time.
+ACTIVE_START = 12
+ACTIVE_STEP = 4
+GRID = 400
 
 
 @dataclass(frozen=True)
@@ -357,25 +362,58 @@ def deepest_point(reg: Region) -> tuple[np.ndarray | None, float | None]:
 
     At the optimum one, two or three circles are nearest (the gradients of their margins
     balance), so the answer is among the caps' axes, the equidistant points of pairs on the
-    great circle through their axes, and the equidistant points of triples: each candidate is
-    measured against every cap. Inside a non-empty region only the caps that bound it can be
-    nearest; otherwise every cap is a candidate.
+    great circle through their axes, and the equidistant points of triples. With many caps
+    (an empty region, several friction coefficients) the triples are too many to list, so an
+    active set grows instead: the deepest point of a few caps is the answer for all when no
+    other cap comes nearer to it (the margin over a subset bounds the margin over all from
+    above); otherwise the caps that come nearer join the set.
     """
     caps = reg.caps
     k = len(caps.radius)
     if reg.full or k == 0:
         return None, None
-    active = np.flatnonzero(reg.bounding) if not reg.empty else np.arange(k)
-    points = [caps.axes[active]]
-    if len(active) >= 2:
-        pairs = np.array(list(combinations(active, 2)))
-        points.append(_candidates_pairs(caps, pairs))
-    if len(active) >= 3:
-        triples = np.array(list(combinations(active, 3)))
-        points.append(_candidates_triples(caps, triples))
+    if k <= ACTIVE_START:
+        return _deepest_among(caps, np.arange(k))
+    from kcheck.sphere import fibonacci_sphere
+
+    grid = fibonacci_sphere(GRID)
+    at_grid = _margins_each(caps, grid)  # (GRID, k)
+    best = int(np.argmax(at_grid.min(axis=1)))
+    active = np.argsort(at_grid[best])[:ACTIVE_START]
+    while True:
+        point, margin = _deepest_among(caps, active)
+        each = _margins_each(caps, point)
+        nearer = np.setdiff1d(np.flatnonzero(each < margin - ON_BOUNDARY), active)
+        if len(nearer) == 0:
+            return point, float(min(margin, each.min()))
+        worst = nearer[np.argsort(each[nearer])[:ACTIVE_STEP]]
+        active = np.union1d(active, worst)
+
+
+def _margins_each(caps: CapSet, points: np.ndarray) -> np.ndarray:
+    """Margin (rad) of points (..., 3) in each cap (..., k): ``r_k - angle(point, u_k)``."""
+    return caps.radius - angle_between(np.asarray(points)[..., None, :], caps.axes)
+
+
+def _deepest_among(caps: CapSet, active: np.ndarray) -> tuple[np.ndarray, float]:
+    """The deepest point of the caps ``active`` and its margin among them (rad), from every
+    single, pair and triple of them."""
+    sub = CapSet(
+        caps.axes[active],
+        caps.cos_radius[active],
+        caps.radius[active],
+        caps.source[active],
+        caps.empty,
+    )
+    n = len(active)
+    points = [sub.axes]
+    if n >= 2:
+        points.append(_candidates_pairs(sub, np.array(list(combinations(range(n), 2)))))
+    if n >= 3:
+        points.append(_candidates_triples(sub, np.array(list(combinations(range(n), 3)))))
     cand = np.concatenate(points)
     cand = cand[np.all(np.isfinite(cand), axis=1)]
     cand /= np.linalg.norm(cand, axis=1, keepdims=True)
-    margins = _margins(caps, cand)
+    margins = _margins(sub, cand)
     best = int(np.argmax(margins))
     return cand[best], float(margins[best])

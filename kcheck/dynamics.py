@@ -47,6 +47,8 @@ __all__ = [
     "friction_directions",
     "system_matrix",
     "system_parts",
+    "friction_matrices",
+    "contact_matrices",
     "solve_affine",
     "analyse_case",
     "analyse_cases",
@@ -154,26 +156,48 @@ def friction_directions(
     return t, sliding
 
 
+def contact_matrices(
+    twists: np.ndarray,
+    points: np.ndarray,
+    normals: np.ndarray,
+    mu: np.ndarray,
+    com: np.ndarray,
+    inertia: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``K0``, ``F`` (..., n, n) and sliding (..., k-1) of free twists (..., n) with the
+    remaining supports' points and unit normals (..., k-1, dim) and coefficients (..., k-1),
+    about the centre of mass ``com`` with inertia ``inertia`` (nondimensional; any leading
+    axes, e.g. cases, or samples and cases). See :func:`system_parts`."""
+    nw = 1 if points.shape[-1] == 2 else 3
+    u = point_velocity(twists[..., None, :], points)
+    speed = np.sqrt(np.sum(u * u, axis=-1))
+    sliding = speed > SLIP_TOL
+    t = np.where(sliding[..., None], -u / np.where(sliding, speed, 1.0)[..., None], 0.0)
+    lever = points - com
+    normal = -wrenches(lever, normals)  # (..., k-1, n)
+    friction = -wrenches(lever, mu[..., None] * t)
+    inertial = np.concatenate(
+        [twists[..., :nw] @ inertia.T, point_velocity(twists, com)], axis=-1
+    )  # (..., n)
+    k0 = np.concatenate([inertial[..., :, None], np.swapaxes(normal, -1, -2)], axis=-1)
+    zero = np.zeros_like(inertial)[..., :, None]
+    big_f = np.concatenate([zero, np.swapaxes(friction, -1, -2)], axis=-1)
+    return k0, big_f, sliding
+
+
 def _parts(
     problem: Problem, twists: np.ndarray, keeps: np.ndarray, mu: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`system_parts` for a stack of cases: twists (c, n), kept supports (c, k-1), friction
     coefficients ``mu`` (k,) per support. Returns ``K0``, ``F`` (c, n, n) and sliding (c, k-1)."""
-    nw = 1 if problem.dim == 2 else 3
-    points = problem.points[keeps]  # (c, k-1, dim)
-    u = point_velocity(twists[:, None, :], points)
-    speed = np.sqrt(np.sum(u * u, axis=-1))
-    sliding = speed > SLIP_TOL
-    t = np.where(sliding[..., None], -u / np.where(sliding, speed, 1.0)[..., None], 0.0)
-    lever = points - problem.com
-    normal = -wrenches(lever, problem.normals[keeps])  # (c, k-1, n)
-    friction = -wrenches(lever, mu[keeps][..., None] * t)
-    inertial = np.concatenate(
-        [twists[:, :nw] @ problem.inertia.T, point_velocity(twists, problem.com)], axis=-1
-    )  # (c, n)
-    k0 = np.concatenate([inertial[:, :, None], np.swapaxes(normal, 1, 2)], axis=2)
-    big_f = np.concatenate([np.zeros_like(inertial)[:, :, None], np.swapaxes(friction, 1, 2)], 2)
-    return k0, big_f, sliding
+    return contact_matrices(
+        twists,
+        problem.points[keeps],
+        problem.normals[keeps],
+        mu[keeps],
+        problem.com,
+        problem.inertia,
+    )
 
 
 def system_parts(
@@ -191,6 +215,14 @@ def system_parts(
     full[keep] = mu
     k0, big_f, sliding = _parts(problem, twist[None], np.asarray(keep)[None], full)
     return k0[0], big_f[0], sliding[0]
+
+
+def friction_matrices(problem: Problem, cases: Sequence[Case], mu: np.ndarray) -> np.ndarray:
+    """The friction part ``F`` (c, n, n) of each case's forward system for per-support
+    coefficients ``mu`` (k,): ``K = K0 + F`` (backward ``K0 - F``); linear in ``mu``."""
+    twists = np.array([c.free.twist for c in cases])
+    keeps = np.array([c.keep for c in cases])
+    return _parts(problem, twists, keeps, np.asarray(mu, float))[1]
 
 
 def system_matrix(

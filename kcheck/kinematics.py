@@ -28,6 +28,7 @@ __all__ = [
     "layout_singular_values",
     "free_twist",
     "free_twists",
+    "free_twist_arrays",
     "cross3",
     "maxwell_cos",
     "maxwell_angle",
@@ -151,6 +152,30 @@ def layout_singular_values(points: np.ndarray, normals: np.ndarray) -> np.ndarra
         return np.zeros(min(rows.shape))
 
 
+def free_twist_arrays(
+    points: np.ndarray, normals: np.ndarray, retracted: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`free_twists` as arrays, for layouts with any leading axes (e.g. samples):
+    points and normals (..., k, dim) give twists (..., c, n), determinacy (..., c) and closing
+    rate (..., c) for the ``c`` retracted supports (default every one)."""
+    k = points.shape[-2]
+    which = np.arange(k) if retracted is None else np.asarray(retracted, dtype=int)
+    rows = wrenches(points, normals)  # (..., k, n)
+    keep = np.array([np.flatnonzero(np.arange(k) != r) for r in which])
+    try:
+        _, s, vt = np.linalg.svd(rows[..., keep, :])
+    except np.linalg.LinAlgError:  # only on non-finite input: no free motion to speak of
+        shape = rows.shape[:-2] + (len(which),)
+        return np.zeros(shape + rows.shape[-1:]), np.zeros(shape), np.zeros(shape)
+    twist = vt[..., -1, :]
+    gap_rate = np.sum(rows[..., which, :] * twist, axis=-1)  # n_r . u(p_r)
+    sign = np.where(gap_rate > 0, -1.0, 1.0)
+    top = s[..., 0]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        determinacy = np.where(top > 0, s[..., -1] / np.where(top > 0, top, 1.0), 0.0)
+    return sign[..., None] * twist, determinacy, -sign * gap_rate
+
+
 def free_twists(
     points: np.ndarray, normals: np.ndarray, retracted: np.ndarray | None = None
 ) -> list[FreeTwist]:
@@ -160,23 +185,11 @@ def free_twists(
     The null space of the remaining rows (methods.md §2). A pole at infinity (parallel normals)
     is a twist with ``w = 0`` and needs no special case.
     """
-    k = len(points)
-    which = np.arange(k) if retracted is None else np.asarray(retracted, dtype=int)
-    rows = wrenches(points, normals)  # (k, n)
-    keep = np.array([np.flatnonzero(np.arange(k) != r) for r in which])
-    try:
-        _, s, vt = np.linalg.svd(rows[keep])
-    except np.linalg.LinAlgError:  # only on non-finite input: no free motion to speak of
-        return [FreeTwist(np.zeros(rows.shape[1]), 0.0, 0.0) for _ in which]
-    twist = vt[:, -1, :]
-    gap_rate = np.einsum("ij,ij->i", rows[which], twist)  # n_r . u(p_r)
-    sign = np.where(gap_rate > 0, -1.0, 1.0)
-    out = []
-    for i in range(len(which)):
-        top = s[i, 0]
-        determinacy = float(s[i, -1] / top) if top > 0 else 0.0
-        out.append(FreeTwist(sign[i] * twist[i], determinacy, float(-sign[i] * gap_rate[i])))
-    return out
+    twist, determinacy, closing = free_twist_arrays(points, normals, retracted)
+    return [
+        FreeTwist(t, float(d), float(c))
+        for t, d, c in zip(twist, determinacy, closing, strict=True)
+    ]
 
 
 def free_twist(points: np.ndarray, normals: np.ndarray, retracted: int) -> FreeTwist:

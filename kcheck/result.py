@@ -124,6 +124,25 @@ def ranges_json(ranges: Ranges) -> list[list[float]]:
     return [list(normalise_range(s, e)) for s, e in ranges]
 
 
+def _is_ranges(value: Any) -> bool:
+    return isinstance(value, (list, tuple)) and all(
+        isinstance(r, (list, tuple))
+        and len(r) == 2
+        and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in r)
+        for r in value
+    )
+
+
+def details_json(details: Mapping[str, Any]) -> dict[str, Any]:
+    """A check's further fields as JSON; lists of ranges in degrees (keys ending in ``_deg``)
+    follow :func:`ranges_json`, as ``safe_ranges_deg`` does."""
+    out = to_json_value(details)
+    for key, value in details.items():
+        if key.endswith("_deg") and value and _is_ranges(value):
+            out[key] = ranges_json(value)
+    return out
+
+
 @dataclass(frozen=True)
 class CaseResult:
     """One retracted support.
@@ -156,7 +175,7 @@ class CaseResult:
                 out[name] = to_json_value(value)
         if self.safe_ranges_deg is not None:
             out["safe_ranges_deg"] = ranges_json(self.safe_ranges_deg)
-        out.update(to_json_value(self.details))
+        out.update(details_json(self.details))
         return out
 
 
@@ -203,7 +222,7 @@ class CheckResult:
             out["safe_ranges_deg"] = ranges_json(self.safe_ranges_deg)
         if self.cases:
             out["cases"] = [c.to_json() for c in self.cases]
-        out.update(to_json_value(self.details))
+        out.update(details_json(self.details))
         return out
 
 

@@ -65,7 +65,7 @@ def expanded_text(path: Path, *, allow_outside: bool = False) -> str:
             "normal": [float(v) for v in s.normal],
         }
         if s.geometry.coupling in with_friction:
-            entry["friction"] = s.friction
+            entry["friction"] = s.coefficients.to_yaml()
         expanded.append(entry)
     out: dict[str, Any] = {}
     for key, value in data.items():

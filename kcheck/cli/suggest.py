@@ -55,13 +55,15 @@ def add_parser(sub: Any) -> None:
         nargs=2,
         type=float,
         metavar=("MIN", "MAX"),
-        help="a friction range: the margin must hold at every sampled coefficient in it",
+        help="a kinetic friction range for the scene's rough supports, instead of the scene's "
+        "own `friction` (which may itself be a range)",
     )
     p.add_argument(
         "--friction-samples",
         type=int,
         default=5,
-        help="coefficients sampled in the range (default 5)",
+        help="coefficients of a friction range the search samples (default 5, the ends "
+        "included); the reported margins are exact over the whole range",
     )
     p.add_argument("--top", type=int, default=5, help="candidates to print (default 5)")
     p.add_argument("--seed", type=int, default=0, help="seed of the surface sampling")
@@ -114,16 +116,73 @@ def _usage(args: argparse.Namespace) -> str | None:
     return None
 
 
-def _frictions(scene: Scene, args: argparse.Namespace) -> list[np.ndarray] | None:
-    """Per-support coefficient sets for a friction range: supports the scene leaves
-    frictionless while others have friction stay frictionless."""
+def _friction_scene(scene: Scene, args: argparse.Namespace) -> Scene:
+    """The scene whose kinetic coefficients the search uses: its own (a number or a range),
+    or ``--friction MIN MAX`` on its rough supports (on every one when it is frictionless)."""
+    import dataclasses
+
     import numpy as np
 
+    from kcheck.scene import Friction
+
     if args.friction is None:
-        return None
-    mu = np.array([s.friction for s in scene.supports])
+        return scene
+    lo, hi = args.friction
+    mu = scene.friction_range("kinetic")[1]
     rough = (mu > 0) if np.any(mu > 0) else np.ones(len(mu), bool)
-    return [rough * v for v in np.linspace(*args.friction, args.friction_samples)]
+    spec = Friction((lo, hi), (lo, hi))
+    supports = tuple(
+        dataclasses.replace(s, friction=hi, friction_spec=None if lo == hi else spec)
+        if r
+        else dataclasses.replace(s, friction=0.0, friction_spec=None)
+        for s, r in zip(scene.supports, rough, strict=True)
+    )
+    return dataclasses.replace(scene, supports=supports)
+
+
+def _frictions(scene: Scene, args: argparse.Namespace) -> list[np.ndarray] | None:
+    """Per-support coefficient sets the search samples along a kinetic friction range (its
+    ends and Chebyshev–Lobatto points between: the supports move together, as the analytical
+    checks take a range); None for one coefficient per support."""
+    import numpy as np
+
+    from kcheck.chebyshev import lobatto
+    from kcheck.friction_range import FrictionPath
+
+    low, high = scene.friction_range("kinetic")
+    if np.array_equal(low, high):
+        return None
+    path = FrictionPath(low, high)
+    count = args.friction_samples
+    ts = np.array([1.0]) if count == 1 else 0.5 * (lobatto(count) + 1.0)
+    return [path.at(t) for t in ts]
+
+
+def _exact_over_range(found: Search, scene: Scene, mass: Any) -> Search:
+    """The best candidates with their margins exact over the friction range, best first."""
+    import dataclasses
+
+    best = [
+        dataclasses.replace(c, margin=_range_margin(scene, mass, c.point, c.direction))
+        for c in found.best
+    ]
+    best.sort(key=lambda c: -c.margin)
+    return dataclasses.replace(found, best=tuple(best))
+
+
+def _range_margin(scene: Scene, mass: Any, point: np.ndarray, direction: np.ndarray) -> float:
+    """The exact margin (rad) of a load at ``point`` along ``direction`` over the scene's
+    kinetic friction range: the least, over the cases, of the design margin over the range
+    (:mod:`kcheck.range_analysis`)."""
+    from kcheck.analysis import analyse
+    from kcheck.suggest import with_load
+
+    analysis = analyse(with_load(scene, point, direction), mass)
+    info = analysis.friction_range
+    worst = [w[1] for w in getattr(info, "worst", ()) if w is not None]
+    if len(worst) < len(scene.supports):
+        return -float("inf")
+    return float(min(worst))
 
 
 class _Progress:
@@ -168,6 +227,7 @@ def run(args: argparse.Namespace) -> int:
         if scene.body is None:
             return fail(f"{args.scene}: the scene has no `body` (mass properties are needed)")
         mass = body_mass_properties(scene.body, scene.scale)
+        scene = _friction_scene(scene, args)
         load = scene.load
         magnitude = args.magnitude or (load.magnitude if load is not None else 0.0)
         if not magnitude > 0:
@@ -197,6 +257,8 @@ def run(args: argparse.Namespace) -> int:
             )
         finally:
             progress.close()
+        if _frictions(scene, args) is not None:
+            found = _exact_over_range(found, base, mass)
     except SuggestError as exc:
         return fail(f"{args.scene}: {exc}")
     except KcheckError as exc:
@@ -262,7 +324,9 @@ class _Report:
         if self.design is None:
             return None
         point, direction = self.design
-        caps = point_caps(problem_for(self.base, self.mass), _frictions(self.scene, self.args))
+        if _frictions(self.scene, self.args) is not None:
+            return _range_margin(self.base, self.mass, point, direction)
+        caps = point_caps(problem_for(self.base, self.mass), None)
         return float(cap_margins(caps.a, caps_at(caps, point[None])[0], direction[None])[0])
 
     def least_force(self) -> float | None:
@@ -345,7 +409,10 @@ class _Report:
         )
         if len(self.found.frictions) > 1:
             lo, hi = self.found.frictions[0], self.found.frictions[-1]
-            console.print(f"friction range {lo:g}–{hi:g}, {len(self.found.frictions)} values")
+            console.print(
+                f"kinetic friction range {lo:g}–{hi:g}: searched at {len(self.found.frictions)} "
+                "values, margins exact over the whole range"
+            )
         if self.design is not None and self.design_margin is not None:
             point, direction = self.design
             console.print(

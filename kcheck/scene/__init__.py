@@ -18,6 +18,7 @@ from kcheck.scene.types import (
     Body,
     ContactGeometry,
     ExplicitMass,
+    Friction,
     Load,
     Part,
     PointMass,
@@ -26,6 +27,7 @@ from kcheck.scene.types import (
     Support,
     Surface,
     Sweep,
+    Tolerances,
 )
 from kcheck.scene.validate import describe_pydantic
 
@@ -38,6 +40,8 @@ __all__ = [
     "Surface",
     "ContactGeometry",
     "Support",
+    "Friction",
+    "Tolerances",
     "Preload",
     "Load",
     "Sweep",

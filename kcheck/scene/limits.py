@@ -55,6 +55,8 @@ LIMITS: dict[str, Range] = {
     "friction": Range(0.0, 100.0, "", "μ"),
     "angle": Range(-360.0, 360.0, "deg", "angle"),
     "half_angle": Range(0.0, 90.0, "deg", "half angle", open=True),
+    "tolerance_length": Range(0.0, 1.0, "m", "± position"),
+    "tolerance_angle": Range(0.0, 30.0, "deg", "± angle"),
 }
 
 #: A direction's largest component must lie in [MIN_DIRECTION, MAX_DIRECTION] (its squared

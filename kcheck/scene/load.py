@@ -16,10 +16,21 @@ import numpy as np
 from pydantic import ValidationError
 
 from kcheck.scene.body import BodyReader, rotation_matrix
+from kcheck.scene.coefficients import resolve_friction
 from kcheck.scene.limits import MIN_FORCE
 from kcheck.scene.models import BodyModel, LoadModel, SceneModel, SweepModel
 from kcheck.scene.shorthands import contact_count, expand_coupling
-from kcheck.scene.types import PLANAR_TOL, Body, Load, Preload, Scene, Support, Sweep
+from kcheck.scene.types import (
+    PLANAR_TOL,
+    Body,
+    Friction,
+    Load,
+    Preload,
+    Scene,
+    Support,
+    Sweep,
+    Tolerances,
+)
 from kcheck.scene.validate import Problems, plain_value_problems, pydantic_problems
 from kcheck.units import LENGTH_TO_M
 from kcheck.yamlio import DEFAULT_LIMITS, FieldPath, YamlLimits, format_path, read_yaml
@@ -52,6 +63,13 @@ def load_scene(
     problems.raise_if_any()
     assert scene is not None
     return scene
+
+
+def _with_friction(support: Support, mu: Friction) -> Support:
+    """The support with its coefficients: ``friction`` the largest, the ranges kept when
+    they are more than one number."""
+    spec = None if mu.plain else mu
+    return dataclasses.replace(support, friction=mu.largest, friction_spec=spec)
 
 
 class _Builder:
@@ -94,6 +112,7 @@ class _Builder:
         if m.load is not None and sweep is not None:
             load = self.load(m.load, sweep, planar)
         preloads = self.preloads(planar)
+        tolerances = self.tolerances()
         # Without a known kind (the supports are wrong), don't judge a lone I_zz either way.
         body = None if m.body is None else self.body(m.body, planar or kind is None)
         if p.errors or kind is None or sweep is None:
@@ -114,6 +133,7 @@ class _Builder:
             notes=tuple(self.notes),
             preloads=preloads,
             columns=self.document.columns,
+            tolerances=tolerances,
         )
 
     # --- supports -------------------------------------------------------------------------
@@ -124,6 +144,7 @@ class _Builder:
         out: list[Support] = []
         fields: list[FieldPath] = []
         names: dict[str, FieldPath] = {}
+        scene_mu = resolve_friction(m.friction, ("friction",), p)
 
         for i, s in enumerate(m.supports):
             where: FieldPath = ("supports", i)
@@ -132,16 +153,21 @@ class _Builder:
             normal = p.direction((*where, "normal"), s.normal, "the normal")
             if position is None or normal is None:
                 continue
-            mu = m.friction if s.friction is None else s.friction
-            out.append(Support(s.name, position, normal, float(mu), None, where))
+            mu = scene_mu
+            if s.friction is not None:
+                mu = resolve_friction(s.friction, (*where, "friction"), p)
+            out.append(_with_friction(Support(s.name, position, normal, 0.0, None, where), mu))
             fields.append(where)
         for i, c in enumerate(m.couplings):
             where = ("couplings", i)
-            made = expand_coupling(c, where, self.p, self.scale, self.m.friction)
+            mu = scene_mu
+            if c.friction is not None:
+                mu = resolve_friction(c.friction, (*where, "friction"), p)
+            made = expand_coupling(c, where, self.p, self.scale, mu.largest)
             for k in range(1, contact_count(c) + 1):
                 self.unique_name(names, f"{c.name}.{k}", where)
             for s in made or ():
-                out.append(dataclasses.replace(s, field=where))
+                out.append(_with_friction(dataclasses.replace(s, field=where), mu))
                 fields.append(where)
             if made and c.type == "ball-cone":
                 self.notes.append(
@@ -274,6 +300,14 @@ class _Builder:
                 )
             out.append(Preload(pre.name, point, force))
         return tuple(out)
+
+    def tolerances(self) -> Tolerances | None:
+        """The `tolerances:` entry in SI (positions in m, angles in degrees)."""
+        t = self.m.tolerances
+        if t is None:
+            return None
+        self.p.in_range(("tolerances", "position"), t.position, "tolerance_length", self.scale)
+        return Tolerances(t.position * self.scale, t.normal, t.load_direction)
 
     # --- body -----------------------------------------------------------------------------
 

@@ -4,9 +4,9 @@ after conversion to SI, in :mod:`kcheck.scene.load`."""
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, ClassVar, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag, field_validator
 
 from kcheck.scene.limits import LIMITS
 
@@ -24,6 +24,10 @@ __all__ = [
     "SweepModel",
     "PreloadModel",
     "PointMassModel",
+    "FrictionRangeModel",
+    "FrictionPairModel",
+    "FrictionValue",
+    "TolerancesModel",
 ]
 
 UNITS = ("m", "cm", "mm", "um", "in")
@@ -44,6 +48,49 @@ def bounded(key: str, default: Any = ..., **kwargs: Any) -> Any:
 class _Model(BaseModel):
     # Strict: "10" is not 10. No inf/nan anywhere. Unknown keys are errors.
     model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False)
+
+
+class FrictionRangeModel(_Model):
+    """An uncertain coefficient: every value from `min` to `max` may occur."""
+
+    TAGGED: ClassVar[bool] = True  # a branch chosen by its keys (validate.py)
+    min: float = bounded("friction", description="The lowest coefficient")
+    max: float = bounded("friction", description="The highest coefficient")
+
+
+def _coefficient_kind(value: Any) -> str:
+    return "FrictionRangeModel" if isinstance(value, dict) else "float"
+
+
+Coefficient = Annotated[
+    Annotated[float, bounded("friction"), Tag("float")]
+    | Annotated[FrictionRangeModel, Tag("FrictionRangeModel")],
+    Discriminator(_coefficient_kind),
+]
+
+
+class FrictionPairModel(_Model):
+    """Static and kinetic coefficients, static at least kinetic; each a number or a range."""
+
+    TAGGED: ClassVar[bool] = True
+    static: Coefficient = Field(description="Friction before motion starts (holding, jamming)")
+    kinetic: Coefficient = Field(description="Friction while sliding (the dynamics)")
+
+
+def _friction_kind(value: Any) -> str:
+    if isinstance(value, dict):
+        pair = {"static", "kinetic"} & set(value)
+        return "FrictionPairModel" if pair else "FrictionRangeModel"
+    return "float"
+
+
+#: A Coulomb coefficient: a number, a range ``{min, max}`` or ``{static, kinetic}``.
+FrictionValue = Annotated[
+    Annotated[float, bounded("friction"), Tag("float")]
+    | Annotated[FrictionRangeModel, Tag("FrictionRangeModel")]
+    | Annotated[FrictionPairModel, Tag("FrictionPairModel")],
+    Discriminator(_friction_kind),
+]
 
 
 class AxisAngleModel(_Model):
@@ -115,7 +162,9 @@ class SupportModel(_Model):
     name: Name
     position: Vec3 = Field(description="Contact point on the body, scene units")
     normal: Vec3 = Field(description="Direction the support pushes the body; any length")
-    friction: float | None = bounded("friction", None, description="Coulomb coefficient")
+    friction: FrictionValue | None = Field(
+        None, description="Coulomb coefficient: a number, {min, max} or {static, kinetic}"
+    )
 
 
 class BallModel(_Model):
@@ -154,7 +203,9 @@ class _Coupling(_Model):
     ball_on: Literal["body", "base"] = Field(
         "body", description="Which side carries the ball; `base` flips every normal"
     )
-    friction: float | None = bounded("friction", None, description="For its contacts")
+    friction: FrictionValue | None = Field(
+        None, description="For its contacts: a number, {min, max} or {static, kinetic}"
+    )
 
 
 class BallVeeModel(_Coupling):
@@ -249,6 +300,20 @@ class SweepModel(_Model):
     zero: Vec3 = Field(default_factory=lambda: [1.0, 0.0, 0.0], description="Angle 0")
 
 
+class TolerancesModel(_Model):
+    """How far the made coupling may differ from the scene (the `tolerances` check)."""
+
+    position: float = Field(
+        0.0, ge=0, description="± every coordinate of every support position, scene units"
+    )
+    normal: float = bounded(
+        "tolerance_angle", 0.0, description="± tilt of every support normal, deg"
+    )
+    load_direction: float = bounded(
+        "tolerance_angle", 0.0, description="± tilt of the load's design direction, deg"
+    )
+
+
 class SceneModel(_Model):
     """A kcheck scene, version 1."""
 
@@ -260,11 +325,18 @@ class SceneModel(_Model):
     couplings: list[CouplingModel] = Field(
         default_factory=list, max_length=6, description="Shorthands expanded into supports"
     )
-    friction: float = bounded("friction", 0.0, description="Coulomb coefficient, every support")
+    friction: FrictionValue = Field(
+        0.0,
+        description="Coulomb coefficient of every support: a number, a range {min, max}, or "
+        "{static, kinetic} (each a number or a range)",
+    )
     gravity: Vec3 | None = Field(None, description="m/s^2")
     load: LoadModel | None = None
     preloads: list[PreloadModel] = Field(default_factory=list, max_length=100)
     sweep: SweepModel = Field(default_factory=SweepModel)
+    tolerances: TolerancesModel | None = Field(
+        None, description="Manufacturing tolerances, for the `tolerances` check"
+    )
     checks: dict[str, dict[str, Any] | None] = Field(
         default_factory=dict, description="Per-check options, keyed by check id"
     )

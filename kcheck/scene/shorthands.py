@@ -28,7 +28,7 @@ def expand_coupling(
     c: Any, where: FieldPath, p: Problems, scale: float, friction: float
 ) -> tuple[Support, ...] | None:
     """The supports (SI) of one `couplings:` entry, or None after recording its errors;
-    ``scale`` is metres per scene unit, ``friction`` the scene's coefficient."""
+    ``scale`` is metres per scene unit, ``friction`` the entry's (largest) coefficient."""
     ok = p.coordinates((*where, "ball", "center"), c.ball.center, scale) is not None
     ok &= p.in_range((*where, "ball", "radius"), c.ball.radius, "radius", scale)
     center = np.asarray(c.ball.center, dtype=float)
@@ -84,5 +84,4 @@ def expand_coupling(
         return None
     if not ok:
         return None
-    mu = friction if c.friction is None else c.friction
-    return couplings.supports(c.name, c.type, center, radius, contacts, c.ball_on, float(mu), scale)
+    return couplings.supports(c.name, c.type, center, radius, contacts, c.ball_on, friction, scale)

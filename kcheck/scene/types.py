@@ -17,6 +17,7 @@ __all__ = [
     "PLANAR_TOL",
     "Surface",
     "ContactGeometry",
+    "Friction",
     "Support",
     "Preload",
     "Load",
@@ -25,6 +26,7 @@ __all__ = [
     "PointMass",
     "ExplicitMass",
     "Body",
+    "Tolerances",
     "Scene",
     "line_of",
 ]
@@ -78,11 +80,60 @@ class ContactGeometry:
     line_contact: bool = False
 
 
+FrictionKind = Literal["static", "kinetic"]
+
+
+@dataclass(frozen=True)
+class Friction:
+    """A contact's Coulomb coefficients: ``static`` (what friction can hold before motion
+    starts) and ``kinetic`` (while sliding), each a closed range ``(low, high)`` of values that
+    may occur. A plain coefficient has all four equal; ``{min, max}`` gives both the same range.
+    """
+
+    static: tuple[float, float]
+    kinetic: tuple[float, float]
+
+    @classmethod
+    def of(cls, mu: float) -> Friction:
+        """One coefficient for everything."""
+        return cls((mu, mu), (mu, mu))
+
+    @property
+    def largest(self) -> float:
+        """The largest coefficient the contact may have."""
+        return max(self.static[1], self.kinetic[1])
+
+    @property
+    def plain(self) -> bool:
+        """Whether it is one number (no range, static = kinetic)."""
+        return self.static[0] == self.static[1] == self.kinetic[0] == self.kinetic[1]
+
+    @property
+    def two_valued(self) -> bool:
+        """Whether static and kinetic differ."""
+        return self.static != self.kinetic
+
+    def of_kind(self, kind: FrictionKind) -> tuple[float, float]:
+        """The range of the static or the kinetic coefficient."""
+        return self.static if kind == "static" else self.kinetic
+
+    def to_yaml(self) -> float | dict[str, Any]:
+        """The scene-file form: a number, ``{min, max}`` or ``{static, kinetic}``."""
+
+        def one(r: tuple[float, float]) -> float | dict[str, float]:
+            return r[0] if r[0] == r[1] else {"min": r[0], "max": r[1]}
+
+        if not self.two_valued:
+            return one(self.kinetic)
+        return {"static": one(self.static), "kinetic": one(self.kinetic)}
+
+
 @dataclass(frozen=True)
 class Support:
-    """A point support: contact point (m), unit normal into the body, Coulomb coefficient,
-    the contact's geometry when a coupling shorthand made it (None for explicit ones), and
-    the field that gave it."""
+    """A point support: contact point (m), unit normal into the body, Coulomb coefficient
+    (the largest it may have), the contact's geometry when a coupling shorthand made it (None
+    for explicit ones), the field that gave it, and its coefficients when they are a range
+    or a static/kinetic pair (:attr:`coefficients`)."""
 
     name: str
     position: np.ndarray
@@ -91,18 +142,31 @@ class Support:
     geometry: ContactGeometry | None = None
     #: Where the support is written in the scene file (a support, or the coupling entry).
     field: FieldPath = dataclasses.field(default=(), compare=False)
+    #: Static and kinetic ranges; None: exactly ``friction`` for both.
+    friction_spec: Friction | None = None
+
+    @property
+    def coefficients(self) -> Friction:
+        """Static and kinetic coefficient ranges (one number: all equal to ``friction``)."""
+        return Friction.of(self.friction) if self.friction_spec is None else self.friction_spec
 
     def to_json(self) -> dict[str, Any]:
-        """JSON form (SI): name, position, normal, friction, coupling (or None), kind."""
+        """JSON form (SI): name, position, normal, friction (the largest coefficient), its
+        static and kinetic ranges when they are not one number, coupling (or None), kind."""
         g = self.geometry
-        return {
+        out: dict[str, Any] = {
             "name": self.name,
             "position": self.position.tolist(),
             "normal": self.normal.tolist(),
             "friction": self.friction,
-            "coupling": None if g is None else g.coupling,
-            "kind": "explicit" if g is None else g.kind,
         }
+        mu = self.coefficients
+        if not mu.plain:
+            out["friction_static"] = list(mu.static)
+            out["friction_kinetic"] = list(mu.kinetic)
+        out["coupling"] = None if g is None else g.coupling
+        out["kind"] = "explicit" if g is None else g.kind
+        return out
 
 
 @dataclass(frozen=True)
@@ -208,6 +272,18 @@ class Body:
 
 
 @dataclass(frozen=True)
+class Tolerances:
+    """How far the made coupling may differ from the scene: every coordinate of every support
+    position by up to ``position`` (m), every support normal tilted by up to ``normal_deg``,
+    the load direction by up to ``load_direction_deg`` (degrees). Friction's uncertainty is
+    the scene's ``friction`` ranges."""
+
+    position: float = 0.0
+    normal_deg: float = 0.0
+    load_direction_deg: float = 0.0
+
+
+@dataclass(frozen=True)
 class Scene:
     """A validated scene in SI units."""
 
@@ -226,11 +302,18 @@ class Scene:
     notes: tuple[str, ...] = ()
     preloads: tuple[Preload, ...] = ()
     columns: LineMap = field(default_factory=dict, repr=False)
+    tolerances: Tolerances | None = None
 
     @property
     def dim(self) -> int:
         """2 for a planar scene (motion in the xy-plane), 3 for a spatial one."""
         return 2 if self.kind == "planar" else 3
+
+    def friction_range(self, kind: FrictionKind) -> tuple[np.ndarray, np.ndarray]:
+        """Per support, the lowest and the highest static or kinetic coefficient: (k,) each."""
+        ranges = np.array([s.coefficients.of_kind(kind) for s in self.supports], dtype=float)
+        ranges = ranges.reshape(len(self.supports), 2)
+        return ranges[:, 0], ranges[:, 1]
 
     @property
     def design_angle_deg(self) -> float | None:

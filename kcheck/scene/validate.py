@@ -195,7 +195,9 @@ def _branch(part: Any, models: list[type[BaseModel]]) -> tuple[str, Any] | None:
         if tag is not None and typing.get_args(tag.annotation) == (part,):
             return "tag", m
         if part == m.__name__:
-            return "model", m
+            # A branch chosen from the value itself (a callable discriminator) reports only
+            # its own errors: like a tag, every one of them is kept.
+            return ("tag" if getattr(m, "TAGGED", False) else "model"), m
     if "[" in part or part in ("float", "int", "str", "bool"):
         return "other", None
     return None
@@ -236,11 +238,21 @@ def did_you_mean(key: str, allowed: list[str]) -> str:
     return ""
 
 
+def _constraints(info: Any) -> list[Any]:
+    """A field's constraints, and those of the number branch of a union field (``friction``:
+    a number or a range)."""
+    found = list(getattr(info, "metadata", None) or [])
+    for arg in typing.get_args(getattr(info, "annotation", None)):
+        for extra in getattr(arg, "__metadata__", ()):
+            found.extend(getattr(extra, "metadata", None) or [])
+    return found
+
+
 def _bounds(info: Any, name: str) -> str | None:
     """The allowed range of a bounded field, e.g. ``0 ≤ magnitude ≤ 1e+07 N``."""
     low = high = None
     low_sign = high_sign = "≤"
-    for m in getattr(info, "metadata", None) or []:
+    for m in _constraints(info):
         for attr, sign in (("ge", "≤"), ("gt", "<")):
             if getattr(m, attr, None) is not None:
                 low, low_sign = getattr(m, attr), sign
@@ -265,8 +277,10 @@ def describe_pydantic(err: Mapping[str, Any], root: type[BaseModel] | None = Non
     if len(shown) > 60:
         shown = shown[:57] + "..."
     info: Any = None
+    name = str(err["loc"][-1]) if err["loc"] else ""
     if root is not None:
-        _, (info, _), _ = _resolve(tuple(err["loc"]), root)
+        path, (info, _), _ = _resolve(tuple(err["loc"]), root)
+        name = str(path[-1]) if path else name
     if kind == "missing":
         return "required field is missing"
     if kind == "extra_forbidden":
@@ -283,7 +297,7 @@ def describe_pydantic(err: Mapping[str, Any], root: type[BaseModel] | None = Non
             return f"expected at least {ctx.get('min_length')} item(s), got {len(got)}"
         return f"expected at most {ctx.get('max_length')} item(s), got {len(got)}"
     if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
-        bounds = _bounds(info, str(err["loc"][-1]))
+        bounds = _bounds(info, name)
         if bounds is not None:
             return f"out of range: expected {bounds}, got {shown}"
     if kind == "union_tag_not_found":

@@ -14,6 +14,7 @@ from kcheck.arcs import ArcSet, affine_arcs
 from kcheck.dynamics import Affine
 from kcheck.fmt import format_angle
 from kcheck.plugin import Check, Inputs, Options
+from kcheck.range_analysis import range_details
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.wording import (
@@ -89,6 +90,9 @@ def analytical_result(
     """Verdict of an analytical check from its analysis (planar sweep semantics)."""
     combined = analysis.combined
     details: dict[str, object] = {"max_condition": analysis.max_condition}
+    span = range_details(scene, analysis)
+    if span is not None:
+        details["friction_range"] = span
     if analysis.design_margin_deg is not None:
         details["design_margin_deg"] = analysis.design_margin_deg
     if analysis.nearest_safe_deg is not None and (analysis.design_margin_deg or 0) < 0:
@@ -178,8 +182,10 @@ class Analytical2D(Check):
         """Normal forces and acceleration against force angle, one panel per retracted support
         (thesis Figures 2.17-2.20), from the exact affine forms (needs the `plot` extra)."""
         from kcheck_checks.plots_analytical_2d import plot_analytical_2d
+        from kcheck_checks.plots_friction import plot_friction
 
-        return plot_analytical_2d(inputs, result, directory)
+        paths = plot_analytical_2d(inputs, result, directory)
+        return [*paths, *plot_friction(self.id, inputs, result, directory)]
 
 
 # --- partial ranges (the thesis reports motion and contact separately) ------------------------

@@ -21,6 +21,7 @@ from pydantic import Field
 from kcheck.analysis import Analysis, analyse, closing_force_reason, describe_ranges, sweep_ranges
 from kcheck.fmt import clean, format_angle, format_vector
 from kcheck.plugin import Check, Inputs
+from kcheck.range_analysis import range_details
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.analytical_2d import AnalyticalOptions
@@ -166,6 +167,9 @@ def spatial_result(
     Returns the result, the map and the analysis (with the sweep plane actually used)."""
     deg = float(np.degrees(1.0))
     details: dict[str, object] = {"max_condition": analysis.max_condition}
+    span = range_details(scene, analysis)
+    if span is not None:
+        details["friction_range"] = span
     findings = case_findings(scene, analysis)
     smap = None if not analysis.trustworthy else sphere_map(scene, analysis, options.sphere_points)
     chosen = False
@@ -312,8 +316,10 @@ class Analytical3D(Check):
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
         """Scene with screw axes, safe-direction map, normal forces per case (PNG and SVG)."""
         from kcheck_checks.plots_3d import plot_spatial
+        from kcheck_checks.plots_friction import plot_friction
 
         assert inputs.mass is not None and isinstance(inputs.options, Analytical3DOptions)
         analysis = analyse(inputs.scene, inputs.mass)
         _, smap, analysis = spatial_result(self.id, inputs.scene, analysis, inputs.options)
-        return plot_spatial(inputs.scene, analysis, smap, result, directory)
+        paths = plot_spatial(inputs.scene, analysis, smap, result, directory)
+        return [*paths, *plot_friction(self.id, inputs, result, directory)]

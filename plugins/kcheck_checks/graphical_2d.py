@@ -67,6 +67,7 @@ from kcheck.kinematics import (
     unit_rows,
 )
 from kcheck.plugin import Check, Inputs, Options
+from kcheck.range_analysis import coefficients_used
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.analytical_2d import design_findings
@@ -74,6 +75,7 @@ from kcheck_checks.koster import (
     GraphicalCase,
     condition_arc,
     construct_case,
+    friction_over_range,
     homogeneous_pole,
     tilted_twist,
     virtual_power,
@@ -305,7 +307,9 @@ def construct(scene: Scene, where: Attachment) -> Construction | None:
     singular = layout_singular_values(points, normals)
     if not singular[-1] > RANK_RTOL * singular[0]:
         return None
-    mu = np.array([s.friction for s in scene.supports])
+    # Koster's construction is about the start of motion: the static coefficients, and over a
+    # range the arcs that hold for every one of them.
+    low, mu = scene.friction_range("static")
     q = frame.point(where.point)
     arm = where.arm / frame.length
     fixed = tuple((frame.point(p), f[:2]) for p, f in where.fixed)
@@ -313,6 +317,10 @@ def construct(scene: Scene, where: Attachment) -> Construction | None:
     cases = tuple(
         construct_case(points, normals, mu, r, q, arm, e1, e2, fixed) for r in range(len(points))
     )
+    if not np.array_equal(low, mu):
+        cases = tuple(
+            friction_over_range(c, points, normals, low, mu, q, arm, e1, e2, fixed) for c in cases
+        )
     combined = intersect(*(c.safe for c in cases))
     sigma = float(singular[-1] / singular[0])
     return Construction(frame, points, normals, where, cases, combined, e1, e2, sigma)
@@ -362,6 +370,9 @@ class Graphical2D(Check):
             details["torque_arm_m"] = where.arm
         if where.notes:
             details["notes"] = list(where.notes)
+        used = coefficients_used(scene, "static")
+        if used is not None:
+            details["friction_range"] = used
         if built is None:
             return CheckResult(
                 self.id,
@@ -387,9 +398,11 @@ class Graphical2D(Check):
 
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
         """The construction like the thesis's Figure 2.8 (needs the `plot` extra)."""
+        from kcheck_checks.plots_friction import plot_friction
         from kcheck_checks.plots_graphical_2d import plot_graphical
 
-        return plot_graphical(inputs, result, directory)
+        paths = plot_graphical(inputs, result, directory)
+        return [*paths, *plot_friction(self.id, inputs, result, directory)]
 
 
 def _verdict(

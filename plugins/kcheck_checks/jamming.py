@@ -26,6 +26,7 @@ from kcheck.analysis import ranges_deg
 from kcheck.arcs import FULL, TAU, ArcSet, complement, intersect, margin
 from kcheck.fmt import format_angle, format_number, format_ranges
 from kcheck.plugin import Check, Inputs, Options
+from kcheck.range_analysis import coefficients_used
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck.statics import PYRAMID_EDGES
@@ -142,6 +143,10 @@ def jamming_result(
     }
     if dim == 2:
         details.pop("pyramid_edges")
+    used = coefficients_used(scene, "static")
+    if used is not None:
+        # The held set only grows with friction: the top of a static range is its worst.
+        details["friction_range"] = {**used, "worst_mu": used["max"]}
     smap = jam_map(analysis, options.sphere_points) if dim == 3 else None
     findings: list[Finding] = []
     undetermined = [r for r in results if r.outcome == "undetermined"]
@@ -257,10 +262,13 @@ def _finding(
         return Finding(message, code="jams", field=scene.support_field(r), hint=hint)
     mu = float(statics.friction[analysis.cases[r].keep].max())
     held = "against a closing load" if outcome == "jams" else "although the load opens it"
+    # Holding is the start of motion: the static coefficient (the top of its range: the held
+    # set only grows with friction).
+    which = "μ" if all(s.coefficients.plain for s in scene.supports) else "static μ"
     message = (
         f"retract {names[r]} → friction can hold the body at the design direction, {held}"
-        f"{where} (equilibrium exists for μ ≥ {format_number(least, 3)}; the scene has μ = "
-        f"{format_number(mu, 3)})"
+        f"{where} (equilibrium exists for μ ≥ {format_number(least, 3)}; the scene has "
+        f"{which} = {format_number(mu, 3)})"
     )
     hint = f"lower the friction at {others} below {format_number(least, 3)}"
     if arcs is not None and arcs.held != FULL:
@@ -306,7 +314,9 @@ class Jamming(Check):
 
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
         """Sweep circle per case (planar) or sphere map (spatial); needs the `plot` extra."""
+        from kcheck_checks.plots_friction import plot_friction
         from kcheck_checks.plots_jamming import plot_jamming
 
         _, analysis, smap = run_jamming(inputs)
-        return plot_jamming(inputs.scene, analysis, smap, result, directory)
+        paths = plot_jamming(inputs.scene, analysis, smap, result, directory)
+        return [*paths, *plot_friction(self.id, inputs, result, directory)]

@@ -120,7 +120,7 @@ def jam_statics(
     statics = build_statics(
         points=np.array([s.position for s in scene.supports]),
         normals=np.array([s.normal for s in scene.supports]),
-        friction=np.array([s.friction for s in scene.supports]),
+        friction=scene.friction_range("static")[1],
         names=tuple(s.name for s in scene.supports),
         dim=dim,
         force=force,

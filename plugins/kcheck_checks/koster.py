@@ -6,11 +6,13 @@ the funnel, friction and jamming arcs in closed form.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
+from kcheck import chebyshev as cheb
 from kcheck.arcs import ArcSet, affine_arcs, complement, intersect
 from kcheck.dynamics import friction_directions
 from kcheck.kinematics import (
@@ -29,6 +31,7 @@ __all__ = [
     "tilted_twist",
     "condition_arc",
     "construct_case",
+    "friction_over_range",
 ]
 
 EPS = float(np.finfo(float).eps)
@@ -150,4 +153,52 @@ def construct_case(
         jamming=intersect(funnel, complement(friction)),
         safe=intersect(funnel, friction),
         error_rad=max((e for e in (err_f, err_t) if e is not None), default=None),
+    )
+
+
+def friction_over_range(
+    case: GraphicalCase,
+    points: np.ndarray,
+    normals: np.ndarray,
+    low: np.ndarray,
+    high: np.ndarray,
+    q: np.ndarray,
+    arm: float,
+    e1: np.ndarray,
+    e2: np.ndarray,
+    fixed: Sequence[tuple[np.ndarray, np.ndarray]] = (),
+) -> GraphicalCase:
+    """The case with its friction condition held for **every** coefficient from ``low`` to
+    ``high`` (k,), exactly.
+
+    The tilted rows are affine in the coefficients, so their cross product (unnormalised,
+    signed as at ``mu = 0``) and with it the virtual power ``a + c . d`` are quadratic along
+    the range: :func:`kcheck.friction_range.range_arcs` intersects the arcs over it (ends of the
+    range and envelope points, one exact decision per piece).
+    """
+    from kcheck.friction_range import RangeCase, range_arcs
+
+    if case.tilted is None:
+        return case
+    keep, free = case.keep, case.free
+    t_dir, _ = friction_directions(free.twist, points[keep], +1)
+    plain_rows = wrenches(points[keep], normals[keep])
+    sign = 1.0 if float(cross3(plain_rows[0], plain_rows[1]) @ free.twist) > 0 else -1.0
+    x = cheb.lobatto(5)
+    samples = []
+    for t in 0.5 * (x + 1.0):
+        mu = low + t * (high - low)
+        rows = wrenches(points[keep], normals[keep] + mu[keep, None] * t_dir)
+        a, c = virtual_power(sign * cross3(rows[0], rows[1]), q, arm, fixed)
+        samples.append(np.concatenate([[a], c]))
+    series = cheb.interpolate(x, np.array(samples))  # (1 + dim, 5)
+    one = np.zeros(5)
+    one[0] = 1.0  # mass-free: no effective mass to turn negative
+    condition = RangeCase(case.retracted, np.stack([one, one]), series[None], True)
+    friction, _ = range_arcs(condition, e1, e2)
+    return dataclasses.replace(
+        case,
+        friction=friction,
+        jamming=intersect(case.funnel, complement(friction)),
+        safe=intersect(case.funnel, friction),
     )

@@ -13,6 +13,7 @@ import numpy as np
 from kcheck.analysis import Analysis
 from kcheck.caps import FOUR_PI, Region, deepest_point, region, signed_distance
 from kcheck.dynamics import EPS, Problem, closing_conditions, with_load
+from kcheck.friction_range import range_caps
 from kcheck.kinematics import unit_rows
 from kcheck.scene import Scene
 from kcheck.sphere import SafeFraction, safe_fraction
@@ -67,29 +68,42 @@ def direction_caps(
     With a load the direction is the load's; without one it is gravity's, whose magnitude is
     kept: the wrench ``[torque; |m g| d]`` plus the preloads about the centre of mass.
     Returns ``(swept, a, c, owner, cap_errors)``: ``cap_errors`` (k,) the angular error (rad)
-    of each cap's boundary.
+    of each cap's boundary. Over a kinetic friction range, each case's caps are those of
+    :func:`kcheck.friction_range.range_caps` (closing for every coefficient), and their error
+    includes how far a sampled envelope may lie from the true boundary.
     """
     swept: Literal["load", "gravity"] = "load" if problem.load_scale > 0 else "gravity"
-    a_all, c_all, owner, err_all = [], [], [], []
+    a_all, c_all, owner, err_all, extra = [], [], [], [], []
     weight = float(np.linalg.norm(problem.gravity))
     b0 = np.concatenate([problem.torque, np.zeros(3)])
     if problem.preload is not None:
         b0 = b0 + problem.preload
     big_b = np.vstack([np.zeros((3, 3)), weight * np.eye(3)])
+    ranged = analysis.friction_range
+    forms = None
+    if ranged is not None:
+        forms = ranged.range_cases if swept == "load" else ranged.for_wrench(b0, big_b)
     for i, case in enumerate(analysis.cases):
         if case.forward is None or not case.well_conditioned:
             continue
         if swept == "gravity":
             case = with_load(case, b0, big_b)
         a, c, err = closing_conditions(case)
+        moved = 0.0
+        if forms is not None and forms[i] is not None:
+            # Over a friction range: the caps that close for every coefficient of it, their
+            # coefficients as exact as the equations (condition number times rounding).
+            a, c, moved = range_caps(forms[i])
+            err = case.forward.condition * EPS * (np.abs(a) + np.abs(c).sum(axis=1))
         a_all.append(a)
         c_all.append(c)
         owner.append(np.full(len(a), i))
         err_all.append(err)
+        extra.append(np.full(len(a), moved))
     if not a_all:
         return swept, np.zeros(0), np.zeros((0, 3)), np.zeros(0, int), np.zeros(0)
     a_cat, c_cat = np.concatenate(a_all), np.vstack(c_all)
-    errors = _cap_errors(a_cat, c_cat, np.concatenate(err_all))
+    errors = _cap_errors(a_cat, c_cat, np.concatenate(err_all)) + np.concatenate(extra)
     return swept, a_cat, c_cat, np.concatenate(owner), errors
 
 

@@ -84,17 +84,27 @@ def _why(result: CaseResult, intervals: FrictionIntervals | None) -> tuple[str, 
     details = result.details
     mu = "" if intervals is None else f" at {mu_text(intervals)}"
     tail = _friction_tail(intervals)
+    at = note = ""  # over a friction range: the coefficient the outcome is reported at
+    span = details.get("friction_range")
+    if isinstance(span, dict) and "worst_mu" in span:
+        low, high = (format_number(span[k], 3) for k in ("min", "max"))
+        mu = at = f" at μ = {format_number(span['worst_mu'], 3)}"
+        note = f", the worst of the friction range {low}–{high}"
     match result.outcome:
         case "jams":
-            return "jams", f"jams{mu} (friction holds the body){tail}"
+            return "jams", f"jams{mu} (friction holds the body){note}{tail}"
         case "loses_contact":
-            return "loses-contact", f"{_lost(result)}{tail}"
+            return "loses-contact", f"{_lost(result)}{at}{note}{tail}"
         case "opens":
-            return "opens", f"the body moves away from the retracted support (opens){tail}"
+            return (
+                "opens",
+                f"the body moves away from the retracted support (opens){at}{note}{tail}",
+            )
         case "opens_loses_contact":
             return (
                 "opens-loses-contact",
-                f"the body moves away from the retracted support and {_lost(result)}{tail}",
+                f"the body moves away from the retracted support and {_lost(result)}{at}{note}"
+                f"{tail}",
             )
         case "ambiguous":
             start = details.get("painleve_from_mu")
@@ -118,13 +128,17 @@ def _why(result: CaseResult, intervals: FrictionIntervals | None) -> tuple[str, 
 
 def case_findings(scene: Scene, analysis: Analysis) -> list[Finding]:
     """One finding per retracted case that does not close: "retract y1 → jams at μ = 0.6; it
-    closes for μ ≤ 0.122", located at the retracted support."""
+    closes for μ ≤ 0.122", located at the retracted support. With static and kinetic
+    coefficients, "kinetic μ" (the dynamics slide)."""
     out = []
     friction = analysis.friction or (None,) * len(analysis.results)
+    kinetic = any(s.coefficients.two_valued for s in scene.supports)
     for result, intervals in zip(analysis.results, friction, strict=True):
         if result.outcome in ("closes", "swept"):
             continue
         why = _why(result, intervals)
+        if why is not None and kinetic:
+            why = (why[0], why[1].replace(" at μ = ", " at kinetic μ = ", 1))
         if why is None:
             continue
         code, sentence = why

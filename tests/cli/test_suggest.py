@@ -123,3 +123,27 @@ def test_bad_input_is_exit_2(cli, write_scene, tmp_path):
     assert code == 2 and "--magnitude must be positive" in err
     code, _, err = cli("suggest", str(tmp_path / "missing.kcheck.yaml"))
     assert code == 2 and "missing.kcheck.yaml" in err
+
+
+def test_suggestion_over_the_scene_friction_range(cli, fixture_copy):
+    """`suggest` reads the scene's friction range (no option needed): the best candidate's
+    margin is exact over the whole range — the margin analytical-3d reports for the written
+    scene, which keeps the range — and `--friction MIN MAX` on a plain scene gives the same."""
+    folder = fixture_copy("three-groove")
+    scene = folder / "coupling.kcheck.yaml"
+    plain = scene.read_text()
+    ranged = folder / "ranged.kcheck.yaml"
+    ranged.write_text(plain.replace("friction: 0.1", "friction: {min: 0.05, max: 0.15}"))
+    out = folder / "suggested.kcheck.yaml"
+    code, stdout, _ = cli("suggest", str(ranged), *FAST, "--format", "json", "--write", str(out))
+    assert code == 0
+    doc = json.loads(stdout)
+    best = doc["best"][0]
+    assert doc["friction"][0] == 0.05 and doc["friction"][-1] == 0.15
+    check = _analytical_3d(out)
+    assert check.details["friction_range"]["min"] == 0.05  # the range went into the file
+    assert check.details["design_margin_deg"] == pytest.approx(best["margin_deg"], abs=1e-6)
+    code, again, _ = cli(
+        "suggest", str(scene), *FAST, "--format", "json", "--friction", "0.05", "0.15"
+    )
+    assert json.loads(again)["best"][0]["margin_deg"] == pytest.approx(best["margin_deg"])

@@ -190,3 +190,25 @@ def test_deepest_point_of_an_octant() -> None:
     best, depth = deepest_point(region(np.zeros(3), np.eye(3)))
     np.testing.assert_allclose(best, np.ones(3) / np.sqrt(3), atol=1e-14)
     assert depth == pytest.approx(np.arcsin(1 / np.sqrt(3)), abs=1e-14)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_deepest_point_of_many_caps_by_active_set(seed: int) -> None:
+    """Sixty caps (more than the active set starts with): the active set's answer equals the
+    full enumeration of every single, pair and triple of caps (independent: no subset), for
+    regions empty and not, and no lattice direction is deeper."""
+    from kcheck.caps import _deepest_among
+
+    rng = np.random.default_rng(100 + seed)
+    a, c = random_caps(rng, 60)
+    if seed % 2:  # a non-empty region: every cap holds at a common direction
+        d = rng.normal(size=3)
+        d /= np.linalg.norm(d)
+        a = np.maximum(a, -(c @ d) + 0.05 * np.linalg.norm(c, axis=1))
+    reg = region(a, c)
+    best, depth = deepest_point(reg)
+    _, full = _deepest_among(reg.caps, np.arange(len(reg.caps.radius)))
+    assert depth == pytest.approx(full, abs=1e-12)
+    lattice = fibonacci_sphere(20_000)
+    assert cap_margins(a, c, lattice).max() <= depth + 1e-12
+    assert cap_margins(a, c, best[None])[0] == pytest.approx(depth, abs=1e-12)

@@ -348,6 +348,8 @@ DOC_ROWS = {
     "friction": "| friction",
     "angle": "| angles",
     "half_angle": "| `half_angle`",
+    "tolerance_length": "| tolerance of positions",
+    "tolerance_angle": "| tolerance of angles",
 }
 
 

@@ -436,7 +436,8 @@ def test_partial_ranges_block(tmp_path: Path) -> None:
 
 
 def test_plots_are_written(tmp_path: Path) -> None:
-    """`kcheck check --plots` writes the analytical-2d PNG and SVG for a planar scene."""
+    """`kcheck check --plots` writes the analytical-2d PNG and SVG for a planar scene, and its
+    picture against friction (plots_friction)."""
     scene = write_scene(tmp_path, block_scene(name="Block §7"))
     plots = tmp_path / "plots"
     out = tmp_path / "out.json"
@@ -446,7 +447,9 @@ def test_plots_are_written(tmp_path: Path) -> None:
     png, svg = plots / "block-7-analytical-2d.png", plots / "block-7-analytical-2d.svg"
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
     assert "<svg" in svg.read_text()[:2000]
-    assert sorted(json.loads(out.read_text())["scenes"][0]["plots"]) == sorted([str(png), str(svg)])
+    against = [plots / f"block-7-analytical-2d-friction.{ext}" for ext in ("png", "svg")]
+    written = sorted(json.loads(out.read_text())["scenes"][0]["plots"])
+    assert written == sorted([str(png), str(svg), *map(str, against)])
 
 
 # --- Painlevé-type cases (tests/kcheck/test_dynamics.py derives the onset by hand) -----------

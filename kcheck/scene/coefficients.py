@@ -1,0 +1,51 @@
+"""Friction coefficients of a scene file: a number, a range ``{min, max}`` or
+``{static, kinetic}`` (each a number or a range), checked and turned into
+:class:`~kcheck.scene.types.Friction`."""
+
+from __future__ import annotations
+
+from kcheck.fmt import format_number
+from kcheck.scene.models import FrictionPairModel, FrictionRangeModel
+from kcheck.scene.types import Friction
+from kcheck.scene.validate import Problems
+from kcheck.yamlio import FieldPath
+
+__all__ = ["resolve_friction"]
+
+Value = float | FrictionRangeModel | FrictionPairModel
+
+
+def _range(value: float | FrictionRangeModel, where: FieldPath, p: Problems) -> tuple[float, float]:
+    """``(low, high)`` of a number or a range; an error (kept as given) when min > max."""
+    if isinstance(value, FrictionRangeModel):
+        if value.min > value.max:
+            p.add(
+                where,
+                f"a friction range needs min ≤ max, got min {format_number(value.min, 6)} > "
+                f"max {format_number(value.max, 6)}",
+            )
+        return float(value.min), float(value.max)
+    return float(value), float(value)
+
+
+def _text(span: tuple[float, float]) -> str:
+    low, high = (format_number(x, 6) for x in span)
+    return low if span[0] == span[1] else f"{low}–{high}"
+
+
+def resolve_friction(value: Value, where: FieldPath, p: Problems) -> Friction:
+    """The coefficients of a ``friction`` field; errors recorded at ``where`` (min > max, or
+    static below kinetic)."""
+    if not isinstance(value, FrictionPairModel):
+        span = _range(value, where, p)
+        return Friction(span, span)
+    static = _range(value.static, (*where, "static"), p)
+    kinetic = _range(value.kinetic, (*where, "kinetic"), p)
+    if static[0] < kinetic[0] or static[1] < kinetic[1]:
+        p.add(
+            where,
+            "static friction must be at least the kinetic one (the force that starts sliding "
+            f"is at least the one that keeps it going), got static {_text(static)} below "
+            f"kinetic {_text(kinetic)}; swap them?",
+        )
+    return Friction(static, kinetic)
