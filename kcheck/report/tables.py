@@ -122,7 +122,7 @@ def case_table(check: CheckResult, units: str | None, kind: str | None = None) -
         thetas = [c.details.get("theta_deg") for c in cases]
         columns.append([t if t == "–" else f"{t}°" for t in fixed(thetas, 3, 1)])
     if any(c.safe_ranges_deg is not None for c in cases):
-        headers.append("safe force angles")
+        headers.append(str(check.details.get("case_ranges_label", "safe force angles")))
         numeric.append(False)
         columns.append([_ranges_cell(c.safe_ranges_deg) for c in cases])
     table = Table(f"{check.id} per retracted support", headers, numeric)

@@ -138,6 +138,8 @@ def jamming_result(
     error_deg = float(np.degrees(max((a.error for a in determined), default=0.0)))
     details: dict[str, Any] = {
         "swept_direction": analysis.swept,
+        # A case's `safe_ranges_deg` here are the angles friction cannot hold it at.
+        "case_ranges_label": "jam-free force angles",
         "jam_free_deg": _ranges(jam_free),
         "pyramid_edges": analysis.edges if dim == 3 else None,
     }
