@@ -192,7 +192,7 @@ def jamming_result(
         details["sweep_plane"] = {
             "normal": scene.sweep.normal.tolist(),
             "zero": scene.sweep.e1.tolist(),
-            "chosen": "the scene's sweep" if scene.sweep.given else "the xy-plane (no sweep given)",
+            "chosen": "the scene's sweep" if scene.sweep.given else "the xy-plane: no sweep given",
         }
     if smap is not None:
         details.update(
