@@ -129,3 +129,49 @@ def test_planar_scene_is_refused(write_scene):
     mass = body_mass_properties(scene.body, scene.scale)
     with pytest.raises(SuggestError, match="spatial"):
         point_caps(problem_for(scene, mass))
+
+
+def _closes_anywhere(scene, mass, magnitude: float, radius: float) -> float:
+    """Convex relaxation, independent of suggest's search: the best scaled slack of the closing
+    conditions of every case over ALL wrenches whose force has at most ``magnitude`` (400
+    Fibonacci half-spaces around the unit ball: a superset of it) and whose moment about the
+    centre of mass is at most ``radius`` (nondimensional) per component — every force acting
+    within that distance of the centre of mass is among them. Negative: none closes."""
+    from scipy.optimize import linprog
+
+    loaded = with_load(scene, scene.load.point, scene.load.direction, magnitude)
+    # Every case's conditions a + g . (r x d) + h . d > 0 for a force along d at r from the
+    # centre of mass (the caps, tested against fresh solves above): a + g . M + h . F with
+    # (M, F) the load's wrench about the centre of mass, per unit of ``magnitude``.
+    cap = point_caps(problem_for(loaded, mass))
+    wrench = np.hstack([cap.g, cap.h])  # condition a + g . (r x d) + h . d: M = r x d
+    norm = np.linalg.norm(wrench, axis=1)
+    ball = fibonacci_sphere(400)
+    a_ub = np.vstack(
+        [
+            np.hstack([-wrench, norm[:, None]]),
+            np.hstack([np.zeros((len(ball), 3)), ball, np.zeros((len(ball), 1))]),
+        ]
+    )
+    b_ub = np.concatenate([cap.a, np.ones(len(ball))])
+    bounds = [(-radius, radius)] * 3 + [(None, None)] * 3 + [(None, 1.0)]
+    res = linprog(np.r_[np.zeros(6), -1.0], A_ub=a_ub, b_ub=b_ub, bounds=bounds)
+    assert res.status == 0
+    return float(-res.fun)
+
+
+def test_no_force_of_10_newtons_closes_the_block_anywhere():
+    """Issue 12's 3-2-1 block, 10 N (weight 67.5 N, μ = 0.11): not only does suggest find no
+    safe placement on the surface — no force of at most 10 N acting anywhere within the
+    block's bounding sphere closes every retraction (the relaxation above is infeasible), and
+    not even of 15 N; the least force suggest reports (about 17 N) lies above that bound."""
+    scene = load_scene(FIXTURES / "block-321" / "block.kcheck.yaml")
+    mass = body_mass_properties(scene.body, scene.scale)
+    problem = problem_for(scene, mass)
+    corners = np.array(
+        [[x, y, z] for x in (0, 0.2) for y in (0, 0.15) for z in (0, 0.085)]
+    )  # the 200 x 150 x 85 mm block
+    radius = max(np.linalg.norm(problem.frame.point(p) - problem.com) for p in corners)
+    assert _closes_anywhere(scene, mass, 10.0, radius) < 0
+    assert _closes_anywhere(scene, mass, 15.0, radius) < 0
+    assert _closes_anywhere(scene, mass, 20.0, radius) > 0  # the relaxation is not vacuous
