@@ -148,6 +148,16 @@ def missing_force(scene: Scene) -> str | None:
     return None
 
 
+def attachment_of(inputs: Inputs) -> Attachment | str:
+    """:func:`attachment` of a check's inputs (the centre of mass and mass when known)."""
+    mass = inputs.mass
+    return attachment(
+        inputs.scene,
+        com=None if mass is None else mass.center_of_mass,
+        mass=None if mass is None else mass.mass,
+    )
+
+
 def _weight_in_plane(scene: Scene) -> bool:
     return bool(np.any(scene.gravity[:2]))
 
@@ -352,12 +362,7 @@ class Graphical2D(Check):
         """Construct every case and intersect the safe ranges."""
         scene, opts = inputs.scene, inputs.options
         assert isinstance(opts, GraphicalOptions)
-        mass = inputs.mass
-        where = attachment(
-            scene,
-            com=None if mass is None else mass.center_of_mass,
-            mass=None if mass is None else mass.mass,
-        )
+        where = attachment_of(inputs)
         if isinstance(where, str):
             return CheckResult(self.id, Status.SKIPPED, where)
         built = construct(scene, where)

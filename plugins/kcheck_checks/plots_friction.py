@@ -217,14 +217,9 @@ def plot_friction(
         return _band_picture(scene, result, check, "kinetic", safe, "safe angles", directory)
     if check == "graphical-2d":
         from kcheck.analysis import ranges_deg
-        from kcheck_checks.graphical_2d import attachment, construct
+        from kcheck_checks.graphical_2d import attachment_of, construct
 
-        mass = inputs.mass
-        where = attachment(
-            scene,
-            com=None if mass is None else mass.center_of_mass,
-            mass=None if mass is None else mass.mass,
-        )
+        where = attachment_of(inputs)
         if isinstance(where, str):
             return ()
 
