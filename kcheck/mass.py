@@ -263,6 +263,7 @@ def body_mass_properties(body: Body, scale: float | None = None) -> MassProperti
     """Mass properties of a scene's body: explicit values win over the mesh parts; point
     masses are added to either. (``scale`` is not used: each part carries its own.)"""
     points = [point_mass(p.mass, p.point) for p in body.point_masses]
+    added = _point_masses_note(body)
     if body.explicit is not None:
         e = body.explicit
         notes = (
@@ -274,10 +275,16 @@ def body_mass_properties(body: Body, scale: float | None = None) -> MassProperti
         if not points:
             return explicit
         combined = combine([explicit, *points])
-        return dataclasses.replace(combined, notes=(*notes, f"{len(points)} point mass(es) added"))
+        return dataclasses.replace(combined, notes=(*notes, added))
     props = combine([*(part_mass_properties(p) for p in body.parts), *points])
     if points:
-        props = dataclasses.replace(
-            props, notes=(*props.notes, f"{len(points)} point mass(es) added")
-        )
+        props = dataclasses.replace(props, notes=(*props.notes, added))
     return props
+
+
+def _point_masses_note(body: Body) -> str:
+    """ "point mass added: magnet (0.012 kg)" — what was added to the meshes, by name."""
+    if not body.point_masses:
+        return ""
+    named = ", ".join(f"{p.name} ({p.mass:.4g} kg)" for p in body.point_masses)
+    return f"point mass{'es' if len(body.point_masses) > 1 else ''} added: {named}"

@@ -26,7 +26,6 @@ __all__ = ["HtmlReporter", "render_page"]
 
 #: Nothing may be fetched: no scripts, fonts, images or styles from anywhere.
 CSP = "default-src 'none'; style-src 'unsafe-inline'; img-src data:"
-GOOD_OUTCOMES = ("closes", "ok", "swept")
 
 
 def _e(text: object) -> str:
@@ -64,7 +63,7 @@ def _table(view: tables.Table) -> str:
         for k, (cell, numeric) in enumerate(zip(row, view.numeric, strict=True)):
             css = "num" if numeric else "nowrap"
             if k == 1 and view.headers[1] == "outcome":
-                good = str(outcome) in GOOD_OUTCOMES
+                good = str(outcome) in views.GOOD_OUTCOMES
                 css += " outcome-ok" if good else " outcome-bad"
             cells.append(f'<td class="{css}">{_e(cell).replace(chr(10), "<br>")}</td>')
         rows.append(f"<tr>{''.join(cells)}</tr>")

@@ -34,7 +34,7 @@ STYLE = {
     "error": "bold magenta",
     "n/a": "dim",
 }
-OUTCOME_STYLE = {"closes": "green", "ok": "green", "swept": "cyan"}
+OUTCOME_STYLE = {o: "green" for o in views.GOOD_OUTCOMES} | {"swept": "cyan"}
 # Width of a console that never wraps (pipes, files): lines stay whole.
 UNWRAPPED = 100_000
 

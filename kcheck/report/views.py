@@ -12,6 +12,7 @@ the documented detail keys (``design_margin_deg``, ``safe_solid_angle_fraction``
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -55,6 +56,10 @@ ANGLE_CONVENTION = (
 
 #: Verdict words in the order a summary counts them.
 VERDICTS = ("pass", "warn", "fail", "error")
+
+# Case outcomes that are good news: the case closes (analytical, graphical), the layout is
+# fine (maxwell), only ranges were asked for, or friction cannot hold the body (jamming).
+GOOD_OUTCOMES = ("closes", "ok", "swept", "moves")
 
 
 def verdict(check: CheckResult) -> str:
@@ -181,9 +186,14 @@ def _reason(finding: Finding) -> Reason:
 
 def reasons(check: CheckResult) -> list[Reason]:
     """Why a check failed or erred: its findings, or its one-line message when it has none."""
-    if check.findings:
-        return [_reason(f) for f in check.findings]
-    return [Reason(check.message)]
+    if not check.findings:
+        return [Reason(check.message)]
+    out = [_reason(f) for f in check.findings]
+    # The same hint after each of a run of findings says it once, after the run.
+    return [
+        dataclasses.replace(r, hint=None) if r.hint and r.hint == nxt.hint else r
+        for r, nxt in zip(out, [*out[1:], Reason("")], strict=True)
+    ]
 
 
 def limitations(check: CheckResult) -> list[str]:
@@ -237,8 +247,10 @@ def short_summary(scenes: Sequence[SceneResult]) -> list[tuple[str, str, str]]:
         for check in scene.checks:
             word = verdict(check)
             if word in ("fail", "warn", "error"):
-                first = reasons(check)[0]
-                out.append((word, location(scene.path, first.line), f"{check.id}: {first.text}"))
+                why = reasons(check)
+                more = f" (and {len(why) - 1} more)" if len(why) > 1 else ""
+                text = f"{check.id}: {why[0].text}{more}"
+                out.append((word, location(scene.path, why[0].line), text))
         for warning in scene.warnings:
             out.append(("warn", location(scene.path, warning.line), warning.message))
     return out

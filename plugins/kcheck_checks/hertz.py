@@ -244,7 +244,7 @@ def _stress_findings(
             Finding(
                 f"{scene.supports[i].name}: peak pressure {_pressure(worst.max_pressure[i])} "
                 f"exceeds {weak.name}'s allowable {_pressure(weak.allowable_pressure)}{factor} "
-                f"({100 * utilisation[i]:.0f} %)",
+                f"({100 * utilisation[i]:.0f}%)",
                 "contact-stress",
                 _support_field(scene, i),
                 # p0 ~ (P / R^2)^(1/3): radii u^(3/2) times larger or a force u^3 times smaller
@@ -313,7 +313,7 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
     i = int(np.argmax(utilisation))
     parts = [
         f"peak contact pressure {_pressure(worst.max_pressure[i])} at {scene.supports[i].name} "
-        f"({100 * utilisation[i]:.0f} % of {_pressure(allowable[i])} allowed)"
+        f"({100 * utilisation[i]:.0f}% of {_pressure(allowable[i])} allowed)"
     ]
     if size > 0.1:
         parts.append(large)

@@ -205,10 +205,9 @@ def jamming_result(
             }
         )
         what = "force" if analysis.swept == "load" else "gravity"
-        parts.append(
-            f"{what} directions free of jamming: {100 * smap.jam_free:.1f}%–"
-            f"{100 * smap.jam_free_upper:.1f}% of the sphere"
-        )
+        low, high = f"{100 * smap.jam_free:.1f}%", f"{100 * smap.jam_free_upper:.1f}%"
+        share = low if low == high else f"{low}–{high}"
+        parts.append(f"{what} directions free of jamming: {share} of the sphere")
         results = [_with_map_share(res, smap, i, analysis) for i, res in enumerate(results)]
     return (
         CheckResult(

@@ -11,7 +11,7 @@ import numpy as np
 from pydantic import Field
 
 from kcheck.analysis import support_layout
-from kcheck.fmt import format_angle, format_number
+from kcheck.fmt import format_angle
 from kcheck.kinematics import (
     RANK_RTOL,
     free_twist,
@@ -103,7 +103,7 @@ class Maxwell(Check):
             Finding(
                 f"retracting {c.retracted} frees a motion at "
                 f"{format_angle(c.details['theta_deg'])} from its normal "
-                f"(cos θ = {format_number(c.cos_maxwell, 3)}, below {opts.min_cos:g})",
+                f"(cos θ = {c.cos_maxwell:.3f}, below {opts.min_cos:g})",
                 code="maxwell",
                 field=scene.support_field(i),
                 hint="tilt the neighbouring contacts so the freed motion meets this normal "
@@ -117,13 +117,13 @@ class Maxwell(Check):
             status = Status.FAIL
             message = (
                 f"cos θ below {opts.min_cos:g} at {names}; worst {worst.retracted} "
-                f"cos θ = {format_number(worst.cos_maxwell, 3)}"
+                f"cos θ = {worst.cos_maxwell:.3f}"
             )
         else:
             status = Status.PASS
             message = (
                 f"deterministic; every cos θ ≥ {opts.min_cos:g} "
-                f"(worst {worst.retracted}: {format_number(worst.cos_maxwell, 3)})"
+                f"(worst {worst.retracted}: {worst.cos_maxwell:.3f})"
             )
         if near:
             message += f"; nearly singular layout (scaled σ_min {sigma:.1e})"
