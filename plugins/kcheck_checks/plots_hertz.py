@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from kcheck.fmt import format_vector
 from kcheck.plotting import figure, save, slug
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
@@ -100,6 +101,6 @@ def _stiffness_panel(ax: Any, compliance: np.ndarray, scene: Scene, point: list[
         e[:, i], e[:, j] = np.cos(t), np.sin(t)
         k = 1.0 / np.einsum("ni,ij,nj->n", e, compliance, e)
         ax.plot(t, k / 1e6, style, lw=2, label=f"{label} plane (angle from {label[0]})")
-    shown = ", ".join(f"{v / scene.scale:.4g}" for v in point)
-    ax.set_title(f"stiffness at ({shown}) {scene.units}, N/µm", fontsize=9)
+    shown = format_vector(np.asarray(point) / scene.scale)
+    ax.set_title(f"stiffness at {shown} {scene.units}, N/µm", fontsize=9)
     ax.legend(fontsize=7, loc="lower left", bbox_to_anchor=(-0.1, -0.15))

@@ -53,6 +53,18 @@ def _bars(ax: Any, arcs: ArcSet, radius: float, height: float, **kw: Any) -> Non
         ax.bar((s + e) / 2, height, width=e - s, bottom=radius, **kw)
 
 
+def _end_labels(ax: Any, ends: list[float]) -> None:
+    """Angle labels (rad) outside the rings; a label within 12° of the one before it moves
+    further out so that the two do not overlap."""
+    previous = None
+    for end in sorted(e % (2 * np.pi) for e in ends):
+        close = previous is not None and abs(end - previous[0]) < np.radians(12)
+        radius = 1.26 if close and previous[1] == 1.12 else 1.12
+        ax.text(end, radius, format_angle(np.degrees(end) % 360, 1), fontsize=7,
+                ha="center", va="center")  # fmt: skip
+        previous = (end, radius)
+
+
 def circle_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckResult) -> None:
     """One polar panel per retracted support: rings of closing, held and lift-off angles."""
     e1, e2 = scene.sweep.e1[:2], scene.sweep.e2[:2]
@@ -71,16 +83,15 @@ def circle_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
             if arcs.lifts_off:
                 _bars(ax, arcs.lifts_off, 0.7, 0.3, color="white", edgecolor=COLOURS["lifts"],
                       hatch="////", lw=0.4)  # fmt: skip
-            for s, e in arcs.held:
-                for end in (s, e):
-                    ax.text(end, 1.12, format_angle(np.degrees(end) % 360, 1), fontsize=7,
-                            ha="center", va="center")  # fmt: skip
+            _end_labels(ax, [end for s, e in arcs.held for end in (s, e)])
             res = cases.get(name)
             if res is not None:
                 title += f": {res.outcome}"
                 least = res.details.get("holding_friction")
-                if "holding_friction" in res.details:
-                    title += f"\nheld for μ ≥ {format_number(least, 3)}"
+                if least is not None:
+                    title += f"\nheld at the design for μ ≥ {format_number(least, 3)}"
+                elif "holding_friction" in res.details:
+                    title += "\nnot held for any μ ≤ 100"
         else:
             title += ": undetermined"
         if analysis.design is not None:
