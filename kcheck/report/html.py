@@ -52,6 +52,13 @@ def _anchor(index: int) -> str:
     return f"scene-{index + 1}"
 
 
+def _path(path: str) -> str:
+    """A path that breaks only after a slash (never at a hyphen inside a folder name)."""
+    parts = _e(path).split("/")
+    pieces = [f"{p}/" for p in parts[:-1]] + [parts[-1]]
+    return "".join(f'<span class="nobr">{p}</span>' for p in pieces if p)
+
+
 def _table(view: tables.Table) -> str:
     head = "".join(
         f'<th class="{"num" if n else ""}">{_e(h)}</th>'
@@ -184,7 +191,7 @@ def _summary(scenes: Sequence[SceneResult]) -> str:
             what = "; ".join(text for _, _, text in lines[:3])
             if len(lines) > 3:
                 what += f" (and {len(lines) - 3} more)"
-        path = f'<div class="where">{_e(scene.path)}</div>' if scene.name else ""
+        path = f'<div class="where">{_path(scene.path)}</div>' if scene.name else ""
         rows.append(
             f"<tr><td>{_badge(word)}</td>"
             f'<td><a href="#{_anchor(i)}">{_e(scene.name or scene.path)}</a>{path}</td>'
