@@ -37,6 +37,7 @@ from kcheck.statics import (
     closing_condition,
     equilibria,
     forward_limit,
+    friction_candidates,
     holds,
     holds_exactly,
     least_friction,
@@ -266,8 +267,17 @@ def least_holding_friction(
     statics = analysis.statics
     rough = rough_supports(statics.friction).astype(float)
     start = max(float(statics.friction.max()), 0.05)
-    # Within 1e-4 (relative): messages show three significant digits.
-    return least_friction(lambda mu: held_at(analysis, case, design, mu * rough), start, rtol=1e-4)
+    # Planar: exact, among the coefficients where the cone's boundary can pass the wrench.
+    # Spatial: within 1e-4 (relative); messages show three significant digits.
+    candidates = None
+    if statics.dim == 2:
+        candidates = friction_candidates(statics, case.keep, statics.wrench(design), rough)
+    return least_friction(
+        lambda mu: held_at(analysis, case, design, mu * rough),
+        start,
+        rtol=1e-4,
+        candidates=candidates,
+    )
 
 
 # --- the sphere of directions (spatial) -----------------------------------------------------
