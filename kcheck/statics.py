@@ -54,6 +54,7 @@ __all__ = [
     "equilibrium_forces",
     "friction_candidates",
     "least_friction",
+    "least_friction_exactly",
     "rough_supports",
 ]
 
@@ -62,6 +63,8 @@ __all__ = [
 #: `pyramid_edges`; the error it makes in degrees is measured and reported).
 PYRAMID_EDGES = 8
 EPS = float(np.finfo(float).eps)
+#: Most Dinkelbach-type steps of :func:`least_friction_exactly` (it needs 3 to 8).
+STEPS = 30
 Pyramid = Literal["inscribed", "circumscribed"]
 
 
@@ -325,30 +328,126 @@ def equilibrium_forces(
     tolerances 1e-8): unknowns per support are the normal force and two tangential
     components, with ``|f_t| <= mu f_n``.
     """
+    mu = statics.friction if mu is None else np.asarray(mu, float)
+    axes, columns = _contact_axes(statics, keep)
+    local = _solve_conic(columns, wrench, mu[keep], None)
+    return None if local is None else np.einsum("ki,kij->kj", local[0], axes)
+
+
+def _contact_axes(statics: Statics, keep: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each kept contact's axes (k, 3, 3: normal, two tangents) and their unit wrenches as
+    the columns (3k, 6) of the equilibrium equations."""
+    frames = tangent_frames(statics.normals[keep])
+    axes = np.stack([statics.normals[keep], frames[:, 0], frames[:, 1]], axis=1)
+    columns = wrenches(statics.points[keep][:, None, :], axes).reshape(3 * len(keep), -1)
+    return axes, columns
+
+
+def _solve_conic(
+    columns: np.ndarray, wrench: np.ndarray, mu: np.ndarray, shrink: np.ndarray | None
+) -> tuple[np.ndarray, float] | None:
+    """Forces in the contacts' axes (k, 3) balancing ``wrench`` with ``|f_t| <= mu f_n``; or,
+    with ``shrink`` (k,), those minimising ``s >= -1`` subject to
+    ``|f_t| <= mu f_n + s shrink`` (a step of :func:`least_friction_exactly`), and ``s``.
+    None unless clarabel solves it."""
     import clarabel
     from scipy import sparse
 
-    mu = statics.friction if mu is None else np.asarray(mu, float)
-    k = len(keep)
-    frames = tangent_frames(statics.normals[keep])
-    axes = np.stack([statics.normals[keep], frames[:, 0], frames[:, 1]], axis=1)  # (k, 3, 3)
-    points = statics.points[keep]
-    columns = wrenches(points[:, None, :], axes).reshape(3 * k, -1)
-    cone_rows = -np.eye(3 * k)
-    cone_rows[0::3] *= mu[keep][:, None]
-    matrix = sparse.csc_matrix(np.vstack([columns.T, cone_rows]))
+    k, n = len(mu), len(wrench)
+    extra = 0 if shrink is None else 1
+    size = 3 * k + extra
+    equal = np.zeros((n, size))
+    equal[:, : 3 * k] = columns.T
+    cone_rows = np.zeros((3 * k + extra, size))
+    cone_rows[np.arange(3 * k), np.arange(3 * k)] = -1.0
+    cone_rows[0 : 3 * k : 3, 0 : 3 * k : 3] *= mu[:, None] * np.eye(k)
     rhs = np.concatenate([-wrench, np.zeros(3 * k)])
-    cones = [clarabel.ZeroConeT(len(wrench))] + [clarabel.SecondOrderConeT(3)] * k
+    cones = [clarabel.ZeroConeT(n)] + [clarabel.SecondOrderConeT(3)] * k
+    cost = np.zeros(size)
+    if shrink is not None:
+        cone_rows[0 : 3 * k : 3, -1] = -shrink
+        cone_rows[-1, -1] = -1.0  # s >= -1: the step stays bounded
+        rhs = np.append(rhs, 1.0)
+        cones.append(clarabel.NonnegativeConeT(1))
+        cost[-1] = 1.0
     settings = clarabel.DefaultSettings()
     settings.verbose = False
     solver = clarabel.DefaultSolver(
-        sparse.csc_matrix((3 * k, 3 * k)), np.zeros(3 * k), matrix, rhs, cones, settings
+        sparse.csc_matrix((size, size)),
+        cost,
+        sparse.csc_matrix(np.vstack([equal, cone_rows])),
+        rhs,
+        cones,
+        settings,
     )
     solution = solver.solve()
     if str(solution.status) not in ("Solved", "AlmostSolved"):
         return None
-    local = np.asarray(solution.x).reshape(k, 3)
-    return np.einsum("ki,kij->kj", local, axes)
+    x = np.asarray(solution.x)
+    return x[: 3 * k].reshape(k, 3), float(x[-1]) if extra else 0.0
+
+
+def _largest_ratio(local: np.ndarray, scale: np.ndarray) -> float:
+    """The largest ``|f_t| / (scale f_n)`` over the contacts with a share of the normal
+    force (forces in the contacts' axes, (k, 3))."""
+    fn = local[:, 0] * scale
+    tangential = np.linalg.norm(local[:, 1:], axis=1)
+    pressed = (scale > 0) & (fn > 1e-9 * max(float(np.abs(local[:, 0]).max()), 1e-300))
+    ratios = tangential[pressed] / fn[pressed]
+    return float(ratios.max()) if len(ratios) else 0.0
+
+
+def least_friction_exactly(
+    statics: Statics,
+    keep: np.ndarray,
+    wrench: np.ndarray,
+    scale: np.ndarray,
+    upper: float = 1.0,
+    *,
+    largest: float = 100.0,
+    rtol: float = 1e-6,
+) -> float | None:
+    """Spatial: the smallest common coefficient ``mu`` for which the supports ``keep``, with
+    coefficients ``mu * scale`` and exact circular cones, balance ``wrench``; None when not
+    even ``largest`` does.
+
+    The least coefficient is ``min over balancing forces of max_j |f_t,j| / (scale_j f_n,j)``,
+    a generalised fractional programme. From a balance found at a feasible coefficient
+    (doubling ``upper``), Dinkelbach-type steps (Crouzeix, Ferland & Schaible 1985), each a
+    conic programme (:func:`_solve_conic`), lower the largest ratio of actual balancing
+    forces; they stop when a step gains less than ``rtol / 1000``. The result is then checked
+    as bisection would have found it: it holds, and ``(1 - rtol)`` times it does not (else
+    bisection below it decides). About 7 conic solves instead of bisection's 17.
+    """
+    scale = np.asarray(scale, float)
+
+    def feasible(mu: float) -> bool:
+        return equilibrium_forces(statics, keep, wrench, mu * scale) is not None
+
+    if feasible(0.0):
+        return 0.0
+    axes, columns = _contact_axes(statics, keep)
+    mu = max(upper, 1e-3)
+    while (found := _solve_conic(columns, wrench, mu * scale[keep], None)) is None:
+        if mu >= largest:
+            return None
+        mu = min(2.0 * mu, largest)
+    local, kept = found[0], scale[keep]
+    ratio = _largest_ratio(local, kept)
+    for _ in range(STEPS):
+        step = _solve_conic(columns, wrench, ratio * kept, np.maximum(local[:, 0] * kept, 0.0))
+        if step is None:
+            break
+        lower = _largest_ratio(step[0], kept)
+        if not lower < ratio:
+            break
+        gain = ratio - lower
+        local, ratio = step[0], lower
+        if gain <= 1e-3 * rtol * ratio:
+            break
+    if feasible(ratio * (1.0 - rtol)):  # not converged (degenerate): bisection below it
+        return least_friction(feasible, ratio, largest=largest, rtol=rtol)
+    return ratio
 
 
 def rough_supports(friction: np.ndarray) -> np.ndarray:

@@ -41,6 +41,7 @@ from kcheck.statics import (
     holds,
     holds_exactly,
     least_friction,
+    least_friction_exactly,
     rough_supports,
 )
 
@@ -269,9 +270,10 @@ def least_holding_friction(
     start = max(float(statics.friction.max()), 0.05)
     # Planar: exact, among the coefficients where the cone's boundary can pass the wrench.
     # Spatial: within 1e-4 (relative); messages show three significant digits.
-    candidates = None
-    if statics.dim == 2:
-        candidates = friction_candidates(statics, case.keep, statics.wrench(design), rough)
+    wrench = statics.wrench(design)
+    if statics.dim == 3:
+        return least_friction_exactly(statics, case.keep, wrench, rough, start, rtol=1e-4)
+    candidates = friction_candidates(statics, case.keep, wrench, rough)
     return least_friction(
         lambda mu: held_at(analysis, case, design, mu * rough),
         start,

@@ -240,3 +240,33 @@ def test_planar_least_friction_from_candidates_equals_bisection() -> None:
                     assert not feasible(exact * (1 - 1e-7) - 1e-9)
                 compared += 1
     assert compared > 150 and infeasible > 10  # both outcomes exercised
+
+
+def test_spatial_least_friction_by_fractional_steps_equals_bisection() -> None:
+    """``least_friction_exactly`` (Dinkelbach-type steps on the largest friction ratio of
+    balancing forces) against bisection over the exact conic decision run to 1e-8 (the
+    reference), on the spatial block: two retracted supports, 8 load directions, all
+    supports rough or z2 frictionless. It is never below the reference by more than the
+    solver's tolerance, and within the requested 1e-4 above it."""
+    from kcheck.statics import least_friction_exactly
+
+    statics = spatial_block(MU)
+    rng = np.random.default_rng(2)
+    compared = 0
+    for r, scale in ((5, np.ones(6)), (3, np.array([1.0, 0.0, 1.0, 1.0, 1.0, 1.0]))):
+        keep = np.flatnonzero(np.arange(6) != r)
+        for theta in rng.uniform(0.0, 0.6, 4):
+            d = np.array([-np.sin(theta), rng.uniform(-0.3, 0.3), -np.cos(theta)])
+            wrench = statics.wrench(d / np.linalg.norm(d))
+
+            def feasible(mu: float, k=keep, w=wrench, s=scale) -> bool:
+                return holds_exactly(statics, k, w, mu * s)
+
+            reference = least_friction(feasible, 0.1, rtol=1e-8)
+            found = least_friction_exactly(statics, keep, wrench, scale, 0.1, rtol=1e-4)
+            assert (found is None) == (reference is None)
+            if reference is None:
+                continue
+            assert reference * (1 - 1e-7) <= found <= reference * (1 + 1e-4)
+            compared += 1
+    assert compared >= 6
