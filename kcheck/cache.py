@@ -72,17 +72,15 @@ def _code_fingerprint() -> str:
     """kcheck and trimesh versions and the source of kcheck.mass (what computes the values)."""
     global _CODE_FINGERPRINT
     if _CODE_FINGERPRINT is None:
-        import importlib.metadata
         import importlib.util
+
+        from kcheck.distributions import version
 
         spec = importlib.util.find_spec("kcheck.mass")
         source = b""
         if spec is not None and spec.origin is not None:
             source = Path(spec.origin).read_bytes()
-        try:
-            trimesh_version = importlib.metadata.version("trimesh")
-        except importlib.metadata.PackageNotFoundError:  # pragma: no cover
-            trimesh_version = "?"
+        trimesh_version = version("trimesh") or "?"
         _CODE_FINGERPRINT = hashlib.sha256(
             f"{__version__}|{trimesh_version}|".encode() + source
         ).hexdigest()

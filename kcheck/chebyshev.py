@@ -11,7 +11,6 @@ from __future__ import annotations
 import functools
 
 import numpy as np
-from numpy.polynomial import chebyshev as cheb
 
 __all__ = [
     "lobatto",
@@ -40,6 +39,9 @@ def lobatto(count: int) -> np.ndarray:
 def interpolate(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Coefficients (..., m) of the series through ``y`` (m, ...) at the m points ``x``: the
     trailing axes of ``y`` become leading axes of the result."""
+    # numpy.polynomial costs ~8 ms to import: only scenes with friction ranges need it
+    from numpy.polynomial import chebyshev as cheb
+
     m = len(x)
     flat = y.reshape(m, -1)
     coefs = np.linalg.solve(cheb.chebvander(x, m - 1), flat)  # (m, p)
@@ -48,11 +50,15 @@ def interpolate(x: np.ndarray, y: np.ndarray) -> np.ndarray:
 
 def values(coefs: np.ndarray, x: np.ndarray) -> np.ndarray:
     """Values of a stack of series (..., d + 1) at points ``x`` (m,): (..., m)."""
+    from numpy.polynomial import chebyshev as cheb
+
     return coefs @ cheb.chebvander(np.asarray(x, float), coefs.shape[-1] - 1).T
 
 
 def derivative(coefs: np.ndarray) -> np.ndarray:
     """Derivatives (..., d + 1) of a stack of series (the top coefficient becomes 0)."""
+    from numpy.polynomial import chebyshev as cheb
+
     flat = coefs.reshape(-1, coefs.shape[-1])
     out = np.zeros_like(flat)
     if flat.shape[1] > 1:
@@ -136,6 +142,8 @@ def real_roots(
 def _polish(coefs: np.ndarray, x: np.ndarray, steps: int = 2) -> np.ndarray:
     """Newton steps on roots ``x`` (p, r) of series (p, d + 1); a step that does not reduce
     the residual is not taken."""
+    from numpy.polynomial import chebyshev as cheb
+
     der = derivative(coefs)
     for _ in range(steps):
         vander = cheb.chebvander(np.nan_to_num(x), coefs.shape[1] - 1)  # (p, r, d + 1)
@@ -153,6 +161,8 @@ def _polish(coefs: np.ndarray, x: np.ndarray, steps: int = 2) -> np.ndarray:
 def positive(coefs: np.ndarray, lo: float = -1.0, hi: float = 1.0) -> np.ndarray:
     """Whether each series of a stack (..., d + 1) is positive on all of [lo, hi] (a root where
     it only touches zero counts as positive: a single point)."""
+    from numpy.polynomial import chebyshev as cheb
+
     shape = coefs.shape[:-1]
     flat = coefs.reshape(-1, coefs.shape[-1])
     roots = real_roots(flat, lo, hi)

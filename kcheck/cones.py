@@ -12,6 +12,8 @@ from typing import Literal
 
 import numpy as np
 
+from kcheck.arrays import unique_rows
+
 __all__ = ["FACET_TOL", "cone_facets", "pointing", "essential_rows"]
 
 # Relative tolerance of "generator on the facet's plane" and of facets through the origin.
@@ -50,7 +52,7 @@ def cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "f
     facets = np.vstack([normals[upper], -normals[lower & ~upper]])
     if not len(facets):
         return "everywhere"
-    return np.unique(np.round(facets, 9 if n > 3 else 13), axis=0)
+    return unique_rows(np.round(facets, 9 if n > 3 else 13))
 
 
 def pointing(vectors: np.ndarray) -> np.ndarray | None:

@@ -7,7 +7,6 @@ Discovery is two typed steps: find the entry points, then load them.
 
 from __future__ import annotations
 
-import importlib.metadata
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -15,9 +14,12 @@ from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
 
 from pydantic import BaseModel, ConfigDict
 
+from kcheck.distributions import EntryPoint, distributions
 from kcheck.errors import PluginError
 
 if TYPE_CHECKING:
+    import importlib.metadata
+
     from kcheck.mass import MassProperties
     from kcheck.result import CheckResult, Severity
     from kcheck.scene import Scene
@@ -100,7 +102,7 @@ class CheckSpec(NamedTuple):
 
     package: str
     version: str
-    entry_point: importlib.metadata.EntryPoint
+    entry_point: EntryPoint | importlib.metadata.EntryPoint
 
     @property
     def name(self) -> str:
@@ -121,14 +123,26 @@ class LoadedCheck(NamedTuple):
 
 
 def find_checks() -> list[CheckSpec]:
-    """Every installed ``kcheck.checks`` entry point, sorted by name for determinism."""
+    """Every installed ``kcheck.checks`` entry point, sorted by name for determinism.
+
+    The metadata folders are read directly (:mod:`kcheck.distributions`, sparing every run
+    the import of :mod:`importlib.metadata`), unless only importlib.metadata can list them."""
     specs: dict[tuple[str, str], CheckSpec] = {}
-    for dist in importlib.metadata.distributions():
-        eps = [ep for ep in dist.entry_points if ep.group == GROUP]
-        for ep in eps:
-            package = dist.metadata["Name"] or "unknown"
+    dists = distributions()
+    if dists is None:
+        import importlib.metadata
+
+        for dist in importlib.metadata.distributions():
+            for ep in dist.entry_points:
+                if ep.group == GROUP:
+                    package = dist.metadata["Name"] or "unknown"
+                    specs.setdefault((package, ep.name), CheckSpec(package, dist.version, ep))
+        return sorted(specs.values(), key=lambda s: (s.name, s.package))
+    for folder in dists:
+        for ep in folder.entry_points(GROUP):
+            package = folder.name or "unknown"
             # A distribution seen twice on sys.path (e.g. editable + installed) counts once.
-            specs.setdefault((package, ep.name), CheckSpec(package, dist.version, ep))
+            specs.setdefault((package, ep.name), CheckSpec(package, folder.version, ep))
     return sorted(specs.values(), key=lambda s: (s.name, s.package))
 
 

@@ -6,7 +6,6 @@ import argparse
 import contextlib
 import dataclasses
 import sys
-import tempfile
 import time
 from collections.abc import Iterator, Sequence
 from pathlib import Path
@@ -195,6 +194,8 @@ def _pictures(
     elif plots is not None:
         yield plots, tuple(dict.fromkeys((*plot_formats, "svg")))
     else:
+        import tempfile  # only for an HTML page without --plots (shutil, random: ~10 ms)
+
         with tempfile.TemporaryDirectory(prefix="kcheck-html-") as tmp:
             yield Path(tmp), ("svg",)
 

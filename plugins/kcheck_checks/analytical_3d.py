@@ -14,6 +14,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from pydantic import Field
@@ -25,14 +26,6 @@ from kcheck.range_analysis import range_details
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.analytical_2d import AnalyticalOptions
-from kcheck_checks.sphere_map import (
-    SphereMap,
-    default_plane,
-    direction_caps,
-    disjoint_cases,
-    sphere_map,
-    sweep_given,
-)
 from kcheck_checks.wording import (
     case_findings,
     load_field,
@@ -44,11 +37,22 @@ from kcheck_checks.wording import (
 __all__ = [
     "Analytical3D",
     "Analytical3DOptions",
-    "SphereMap",
-    "direction_caps",
-    "sphere_map",
-    "default_plane",
 ]
+
+if TYPE_CHECKING:
+    from kcheck_checks.sphere_map import SphereMap
+
+#: Re-exported from :mod:`kcheck_checks.sphere_map`, imported on first use: discovering the
+#: checks (every run) does not load the sphere map's modules.
+_SPHERE_MAP_NAMES = ("SphereMap", "direction_caps", "sphere_map", "default_plane")
+
+
+def __getattr__(name: str) -> Any:
+    if name in _SPHERE_MAP_NAMES:
+        from kcheck_checks import sphere_map as module
+
+        return getattr(module, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 class Analytical3DOptions(AnalyticalOptions):
@@ -68,6 +72,8 @@ def _sphere_findings(
 ) -> list[Finding]:
     """Why the map fails: nothing safe (and why), the design direction outside (how far, the
     nearest safe direction) or too close to a boundary."""
+    from kcheck_checks.sphere_map import disjoint_cases
+
     deg = float(np.degrees(1.0))
     names = analysis.problem.names
     if smap.empty:
@@ -165,6 +171,8 @@ def spatial_result(
     """Verdict of the spatial check: the sphere map decides, a sweep plane is reported.
 
     Returns the result, the map and the analysis (with the sweep plane actually used)."""
+    from kcheck_checks.sphere_map import default_plane, sphere_map, sweep_given
+
     deg = float(np.degrees(1.0))
     details: dict[str, object] = {"max_condition": analysis.max_condition}
     span = range_details(scene, analysis)

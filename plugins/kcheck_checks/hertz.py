@@ -12,27 +12,19 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from kcheck.fmt import format_number, format_vector
-from kcheck.hertz import HertzContact, hertz
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Preload, Scene, Support
-from kcheck.seat import (
-    Seat,
-    contact_forces,
-    external_wrench,
-    point_compliance,
-    point_translation,
-    seat_layout,
-    seated_loads,
-    stiffness_matrix,
-    twist_from_approach,
-)
 from kcheck_checks.hertz_materials import Contacts, HertzOptions, contacts_of
+
+if TYPE_CHECKING:  # the computation is imported when the check runs, not when it is found
+    from kcheck.hertz import HertzContact
+    from kcheck.seat import Seat
 
 __all__ = ["Hertz", "hertz_result"]
 
@@ -177,6 +169,8 @@ def _forces(
     scene: Scene, seat: Seat, loads: Sequence[Preload], torque: np.ndarray, options: HertzOptions
 ) -> tuple[_Forces | None, float, dict[str, Any]]:
     """Seated and disturbed contact forces, or None on a singular layout; the condition."""
+    from kcheck.seat import contact_forces, external_wrench
+
     seated = contact_forces(seat, external_wrench(seat, loads, torque))
     if seated.value is None or seated.error is None:
         return None, seated.condition, {}
@@ -258,6 +252,16 @@ def _stress_findings(
 
 def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) -> CheckResult:
     """The hertz check's result for a scene whose supports all carry contact geometry."""
+    from kcheck.hertz import hertz
+    from kcheck.seat import (
+        point_compliance,
+        point_translation,
+        seat_layout,
+        seated_loads,
+        stiffness_matrix,
+        twist_from_approach,
+    )
+
     bad = _unknown_couplings(scene, options)
     if bad is not None:
         return bad

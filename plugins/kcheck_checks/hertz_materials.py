@@ -13,7 +13,6 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from kcheck.elastic import MATERIALS, Material, material
-from kcheck.hertz import contact_modulus, curvature_sums, curvature_tensor
 from kcheck.plugin import Options
 from kcheck.scene import Scene
 
@@ -125,6 +124,8 @@ class Contacts:
 
 def contacts_of(scene: Scene, options: HertzOptions) -> Contacts:
     """Curvature sums, major axes and materials of every contact (supports with geometry)."""
+    from kcheck.hertz import contact_modulus, curvature_sums, curvature_tensor
+
     normals = np.array([s.normal for s in scene.supports])
     tensors = np.zeros((len(normals), 3, 3))
     balls, seats = [], []

@@ -37,9 +37,11 @@ from kcheck.statics import (
     closing_condition,
     equilibria,
     forward_limit,
+    friction_candidates,
     holds,
     holds_exactly,
     least_friction,
+    least_friction_exactly,
     rough_supports,
 )
 
@@ -266,8 +268,18 @@ def least_holding_friction(
     statics = analysis.statics
     rough = rough_supports(statics.friction).astype(float)
     start = max(float(statics.friction.max()), 0.05)
-    # Within 1e-4 (relative): messages show three significant digits.
-    return least_friction(lambda mu: held_at(analysis, case, design, mu * rough), start, rtol=1e-4)
+    # Planar: exact, among the coefficients where the cone's boundary can pass the wrench.
+    # Spatial: within 1e-4 (relative); messages show three significant digits.
+    wrench = statics.wrench(design)
+    if statics.dim == 3:
+        return least_friction_exactly(statics, case.keep, wrench, rough, start, rtol=1e-4)
+    candidates = friction_candidates(statics, case.keep, wrench, rough)
+    return least_friction(
+        lambda mu: held_at(analysis, case, design, mu * rough),
+        start,
+        rtol=1e-4,
+        candidates=candidates,
+    )
 
 
 # --- the sphere of directions (spatial) -----------------------------------------------------

@@ -17,7 +17,7 @@ when the scene asks for it.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from pydantic import Field
@@ -28,9 +28,10 @@ from kcheck.plugin import Check, Inputs, Options
 from kcheck.range_analysis import RangeInfo
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
-from kcheck.stats import clopper_pearson
-from kcheck.tolerance import Perturbed, perturb, sample_margins
 from kcheck_checks.wording import verdict
+
+if TYPE_CHECKING:  # the sampling is imported when the check runs, not when it is found
+    from kcheck.tolerance import Perturbed
 
 __all__ = ["Tolerances", "TolerancesOptions"]
 
@@ -63,6 +64,8 @@ class TolerancesOptions(Options):
 def _nominal_worst(scene: Scene, inputs: Inputs, design: np.ndarray | None) -> float:
     """The nominal coupling's least design margin (rad) over its kinetic friction range,
     exactly (one coefficient: its design margin)."""
+    from kcheck.tolerance import Perturbed, sample_margins
+
     assert inputs.mass is not None
     analysis = analyse(scene, inputs.mass)
     info = analysis.friction_range
@@ -102,6 +105,9 @@ class Tolerances(Check):
 
     def run(self, inputs: Inputs) -> CheckResult:
         """Sample the box, count the passes, find the worst."""
+        from kcheck.stats import clopper_pearson
+        from kcheck.tolerance import perturb, sample_margins
+
         scene, opts = inputs.scene, inputs.options
         assert inputs.mass is not None and isinstance(opts, TolerancesOptions)
         assert scene.tolerances is not None

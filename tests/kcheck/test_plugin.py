@@ -124,3 +124,33 @@ def test_third_party_check_is_listed_and_run(installed_example, write_scene):
     assert [c["outcome"] for c in checks["friction-ceiling"]["cases"]] == ["too_high"] * 3
     assert checks["maxwell"]["status"] == "pass"
     assert proc.returncode == 1
+
+
+def test_entry_points_read_from_folders_equal_importlib_metadata(monkeypatch):
+    """kcheck.distributions reads the metadata folders itself (sparing the start-up the import
+    of importlib.metadata); the reference is importlib.metadata's own answer, taken by
+    forcing the fallback: the same checks, packages, versions and targets."""
+    import kcheck.distributions as dists
+
+    direct = [(s.name, s.package, s.version, s.entry_point.value) for s in find_checks()]
+    assert dists.distributions() is not None  # this environment: the direct reading
+    monkeypatch.setattr(dists, "distributions", lambda: None)
+    monkeypatch.setattr("kcheck.plugin.distributions", lambda: None)
+    fallback = [(s.name, s.package, s.version, s.entry_point.value) for s in find_checks()]
+    assert direct == fallback and len(direct) >= 7
+    monkeypatch.undo()
+    for name in ("trimesh", "numpy", "pydantic", "kcheck"):
+        assert dists.version(name) == importlib.metadata.version(name)
+    assert dists.version("no-such-distribution-here") is None
+
+
+def test_entry_point_loads_like_importlib_metadata():
+    from kcheck.distributions import EntryPoint
+
+    ep = EntryPoint("maxwell", "kcheck_checks.maxwell:Maxwell", "kcheck.checks")
+    reference = importlib.metadata.EntryPoint("maxwell", ep.value, "kcheck.checks")
+    assert ep.load() is reference.load()
+    assert (
+        EntryPoint("x", "os.path", "g").load()
+        is importlib.metadata.EntryPoint("x", "os.path", "g").load()
+    )
