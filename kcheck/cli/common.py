@@ -34,9 +34,17 @@ def fail(message: str) -> int:
 
 
 def write_text(text: str, output: Path | None) -> None:
-    """Write a document to stdout, or to a file (its folder created)."""
+    """Write a document to stdout, or to a file (its folder created); a file that cannot be
+    written is a UsageError naming it."""
+    from kcheck.errors import UsageError
+    from kcheck.paths import check_output_file, describe_os_error
+
     if output is None:
         sys.stdout.write(text)
-    else:
+        return
+    check_output_file(output, "--output")
+    try:
         output.parent.mkdir(parents=True, exist_ok=True)
-        output.write_text(text, encoding="utf-8")
+        output.write_text(text, encoding="utf-8", errors="backslashreplace")
+    except OSError as exc:
+        raise UsageError(f"--output {output}: {describe_os_error(exc)}") from None

@@ -155,3 +155,24 @@ def test_check_tables_validated_against_installed_checks(project, cli, table, ex
     (project / "kcheck.toml").write_text(table)
     code, _, err = cli("check", ".")
     assert code == 2 and expected in err, err
+
+
+@pytest.mark.parametrize("target", ["/dev/zero", "pipe"])
+def test_a_device_or_pipe_as_configuration_is_refused_at_once(project, target):
+    # Fuzz finding (issue 13): `--config /dev/zero` read until 23 GB of memory were taken,
+    # and `--config pipe` waited forever for a writer.
+    import os
+
+    if target == "pipe":
+        os.mkfifo(project / "pipe")
+        target = str(project / "pipe")
+    with pytest.raises(ConfigError) as info:
+        load_config(Path(target))
+    assert "not a regular file" in str(info.value)
+
+
+def test_configuration_that_is_not_utf8(project):
+    (project / "kcheck.toml").write_bytes("select = ['maxwell']  # Größe\n".encode("latin-1"))
+    with pytest.raises(ConfigError) as info:
+        load_config()
+    assert "not UTF-8" in str(info.value)
