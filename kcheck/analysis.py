@@ -7,17 +7,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kcheck.arcs import FULL, ArcSet, intersect, margin, to_degrees
+from kcheck.arcs import FULL, ArcSet, contains, intersect, margin, to_degrees
 from kcheck.dynamics import (
     Case,
     Problem,
-    analyse_case,
+    analyse_cases,
     build_problem,
-    limiting_friction,
     outcome,
     safe_arcs,
 )
-from kcheck.kinematics import Frame
+from kcheck.fmt import clean, format_ranges
+from kcheck.friction import FrictionIntervals, friction_intervals_many
+from kcheck.kinematics import Frame, row_norms, unit_rows
 from kcheck.mass import MassProperties
 from kcheck.result import CaseResult
 from kcheck.scene import Scene
@@ -29,9 +30,17 @@ __all__ = [
     "motion_details",
     "Analysis",
     "analyse",
+    "sweep_ranges",
+    "nearest_end",
     "describe_ranges",
     "ranges_deg",
+    "intervals_json",
 ]
+
+# A rotation whose pole lies beyond 1e12 layout sizes is reported as a translation, a screw
+# whose pitch is below 1e-9 layout sizes per radian as a pure rotation.
+INFINITE_POLE = 1e-12
+NO_PITCH = 1e-9
 
 
 def support_layout(scene: Scene) -> tuple[Frame, np.ndarray, np.ndarray]:
@@ -39,7 +48,12 @@ def support_layout(scene: Scene) -> tuple[Frame, np.ndarray, np.ndarray]:
     positions = np.array([s.position for s in scene.supports])
     frame = Frame.for_points(positions, scene.dim, 1.0)
     normals = np.array([s.normal for s in scene.supports])[:, : scene.dim]
-    return frame, frame.point(positions), normals / np.linalg.norm(normals, axis=1, keepdims=True)
+    return frame, frame.point(positions), unit_rows(normals)
+
+
+def has_preloads(scene: Scene) -> bool:
+    """Whether the scene's preloads push with any force in the plane of motion."""
+    return any(np.any(p.force[: scene.dim] != 0) for p in scene.preloads)
 
 
 def closing_force_reason(scene: Scene) -> str | None:
@@ -47,8 +61,13 @@ def closing_force_reason(scene: Scene) -> str | None:
     if scene.body is None:
         return "needs the body's mass properties; the scene has no `body`"
     has_load = scene.load is not None and scene.load.magnitude > 0
-    if not has_load and not np.any(scene.gravity[: scene.dim]):
-        return "the scene has no closing force (no load magnitude and no gravity in the plane)"
+    if not has_load and not np.any(scene.gravity[: scene.dim]) and not has_preloads(scene):
+        return (
+            "the scene has no closing force (no load magnitude, no gravity and no preload in "
+            "the plane)"
+            if scene.dim == 2
+            else "the scene has no closing force (no load magnitude, no gravity, no preload)"
+        )
     return None
 
 
@@ -68,34 +87,38 @@ def problem_for(scene: Scene, mass: MassProperties) -> Problem:
         load_magnitude=0.0 if load is None else load.magnitude,
         load_point=None if load is None else load.point,
         torque=np.zeros(3) if load is None else load.torque,
+        preloads=tuple((p.point, p.force) for p in scene.preloads),
     )
 
 
 def motion_details(problem: Problem, case: Case) -> dict[str, object]:
-    """The free motion in physical terms: the pole (2D) or screw axis and pitch (3D)."""
+    """The free motion in physical terms: the pole (2D), the screw axis and pitch, or the pure
+    rotation axis (3D), or the translation direction; rounding noise cleaned away."""
     frame, twist = problem.frame, case.free.twist
     nw = 1 if problem.dim == 2 else 3
     w, v = twist[:nw], twist[nw:]
     wn = float(np.linalg.norm(w))
-    # A rotation whose pole lies beyond 1e12 layout sizes is reported as a translation.
-    if wn <= 1e-12 * float(np.linalg.norm(v)):
-        direction = v / np.linalg.norm(v)
+    if wn <= INFINITE_POLE * float(np.linalg.norm(v)):
+        direction = unit_rows(clean(v))
         return {"motion": "translation", "direction": _pad(direction, problem.dim).tolist()}
     if problem.dim == 2:
         pole = np.array([-v[1], v[0]]) / w[0]
         return {
             "motion": "rotation",
-            "pole": (frame.origin[:2] + frame.length * pole).tolist(),
+            "pole": clean(frame.origin[:2] + frame.length * clean(pole, 1.0 + row_norms(pole))),
             "sense": "ccw" if w[0] > 0 else "cw",
         }
-    axis = w / wn
-    pitch = float(w @ v) / wn**2 * frame.length
-    point = np.cross(w, v) / wn**2 * frame.length + frame.origin
+    axis = unit_rows(clean(w / wn))
+    pitch = float(w @ v) / wn**2
+    foot = clean(np.cross(w, v) / wn**2, 1.0 + float(row_norms(np.cross(w, v))) / wn**2)
+    point = frame.origin + frame.length * foot
+    if abs(pitch) <= NO_PITCH:
+        return {"motion": "rotation", "axis": axis.tolist(), "axis_point": point.tolist()}
     return {
         "motion": "screw",
         "axis": axis.tolist(),
         "axis_point": point.tolist(),
-        "pitch_m": pitch,
+        "pitch_m": pitch * frame.length,
     }
 
 
@@ -105,7 +128,14 @@ def _pad(vector: np.ndarray, dim: int) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Analysis:
-    """Everything the analytical checks report, before a verdict."""
+    """Everything the analytical checks report, before a verdict.
+
+    ``arcs`` (per case) and ``combined`` are the exact safe ranges in the sweep plane ``plane``
+    (``(e1, e2)``, nondimensional components); None without a load to sweep. ``design_margin_deg``
+    is the design direction's signed distance to the combined ranges (negative outside: the
+    distance to the nearest safe angle, ``nearest_safe_deg``); None when nothing is safe.
+    ``friction`` holds each evaluated case's friction intervals.
+    """
 
     problem: Problem
     cases: tuple[Case, ...]
@@ -114,103 +144,197 @@ class Analysis:
     combined: ArcSet | None
     design: np.ndarray | None  # unit direction (dim,) or None
     design_margin_deg: float | None
-    error_deg: float
+    error_deg: float | None
     max_condition: float
+    plane: tuple[np.ndarray, np.ndarray] | None = None
+    nearest_safe_deg: float | None = None
+    friction: tuple[FrictionIntervals | None, ...] = ()
 
     @property
     def every_case_closes(self) -> bool:
-        """Whether every case closes at the design direction (or gravity alone)."""
+        """Whether every case closes at the design direction (or under the fixed wrench)."""
         return all(r.outcome == "closes" for r in self.results)
 
+    @property
+    def trustworthy(self) -> bool:
+        """Whether every case has a determined, well-conditioned answer."""
+        return all(r.outcome not in ("undetermined", "ill_conditioned") for r in self.results)
 
-def analyse(scene: Scene, mass: MassProperties) -> Analysis:
-    """Free motion, outcome, forces, limiting friction and exact safe arcs for every case."""
+
+def intervals_json(intervals: tuple[tuple[float, float], ...]) -> list[list[float | None]]:
+    """Friction intervals as JSON lists ``[lo, hi]``, ``hi`` None when unbounded."""
+    return [[lo, hi if np.isfinite(hi) else None] for lo, hi in intervals]
+
+
+def _case_details(problem: Problem, case: Case) -> dict[str, object]:
+    """Determinacy, motion, conditioning and diagnostics of one case."""
+    names = problem.names
+    details: dict[str, object] = {"determinacy": case.free.determinacy}
+    if not case.determined:
+        details["diagnostic"] = (
+            "the free motion is not unique (the remaining normals are degenerate)"
+            if case.free.determinacy <= 1e-10
+            else "the layout is singular (e.g. normals through one point): the motion "
+            "freed by removing this support does not move it towards the support"
+        )
+        return details
+    details.update(motion_details(problem, case))
+    assert case.forward is not None and case.backward is not None
+    condition = max(case.forward.condition, case.backward.condition)
+    details["condition"] = condition
+    stuck = [names[j] for j, s in zip(case.keep, case.sliding, strict=True) if not s]
+    if stuck:
+        details["friction_undetermined"] = stuck
+        details["diagnostic"] = (
+            f"contact(s) {', '.join(stuck)} do not slide (the pole is on them): friction "
+            "direction undetermined, taken as zero"
+        )
+    if not case.well_conditioned:
+        details["diagnostic"] = (
+            f"equations of motion nearly singular (condition {condition:.1e}); no numbers reported"
+        )
+    elif case.effective_mass is not None and case.painleve:
+        details["effective_mass"] = list(case.effective_mass)
+    return details
+
+
+def _evaluated(
+    problem: Problem,
+    case: Case,
+    direction: np.ndarray | None,
+    intervals: FrictionIntervals,
+    details: dict[str, object],
+) -> tuple[str, dict[str, float] | None, float | None]:
+    """Outcome, normal forces (N) and acceleration (m/s^2) at a direction (or under the fixed
+    wrench alone); adds the friction details."""
+    names = problem.names
+    verdict, x = outcome(case, direction)
+    forces = accel = None
+    if x is not None:
+        # Forces beyond the largest float (a mass of 1e308 kg) become inf: JSON null.
+        newtons = problem.newtons(x[1:])
+        forces = {names[j]: float(newtons[i]) for i, j in enumerate(case.keep)}
+        with np.errstate(over="ignore"):
+            accel = float(x[0] * problem.acceleration_scale() * case.free.closing)
+    details["friction_intervals"] = intervals_json(intervals.intervals)
+    if not intervals.uniform:
+        details["friction_scaled"] = True
+    start = intervals.painleve_from
+    if verdict == "ambiguous" and start is not None:
+        details["painleve_from_mu"] = start
+    return verdict, forces, accel
+
+
+def analyse(
+    scene: Scene, mass: MassProperties, plane: tuple[np.ndarray, np.ndarray] | None = None
+) -> Analysis:
+    """Free motion, outcome, forces, friction intervals and exact safe arcs for every case.
+
+    ``plane`` (``e1, e2``, 3-vectors) overrides the scene's sweep plane for the ranges.
+    """
     problem = problem_for(scene, mass)
-    dim = problem.dim
-    e1, e2 = scene.sweep.e1[:dim], scene.sweep.e2[:dim]
     load = scene.load
     sweeping = load is not None and load.magnitude > 0
     design = None
     if sweeping and load is not None and load.direction is not None:
-        design = load.direction[:dim]
+        design = load.direction[: problem.dim]
     evaluate = design is not None or not sweeping
-    force, accel_scale = problem.frame.force, problem.acceleration_scale()
-    cases, results, arcs = [], [], []
-    error = 0.0
+    cases = analyse_cases(problem)
+    good = [c.determined and c.well_conditioned for c in cases]
+    friction: list[FrictionIntervals | None] = [None] * len(cases)
+    if evaluate:
+        chosen = [c for c, g in zip(cases, good, strict=True) if g]
+        found = iter(friction_intervals_many(problem, chosen, design))
+        friction = [next(found) if g else None for g in good]
+    results = []
     max_condition = 0.0
     names = problem.names
-    for r in range(len(names)):
-        case = analyse_case(problem, r)
-        cases.append(case)
-        details: dict[str, object] = {"determinacy": case.free.determinacy}
+    for r, case in enumerate(cases):
+        details = _case_details(problem, case)
         if not case.determined:
-            details["diagnostic"] = (
-                "the free motion is not unique (the remaining normals are degenerate)"
-                if case.free.determinacy <= 1e-10
-                else "the layout is singular (e.g. normals through one point): the motion "
-                "freed by removing this support does not move it towards the support"
-            )
             results.append(CaseResult(names[r], "undetermined", details=details))
-            arcs.append(())
             continue
-        details.update(motion_details(problem, case))
-        assert case.forward is not None and case.backward is not None
-        condition = max(case.forward.condition, case.backward.condition)
-        max_condition = max(max_condition, condition)
-        details["condition"] = condition
-        stuck = [names[j] for j, s in zip(case.keep, case.sliding, strict=True) if not s]
-        if stuck:
-            details["friction_undetermined"] = stuck
-            details["diagnostic"] = (
-                f"contact(s) {', '.join(stuck)} do not slide (the pole is on them): friction "
-                "direction undetermined, taken as zero"
-            )
+        max_condition = max(max_condition, float(details["condition"]))  # type: ignore[arg-type]
         if not case.well_conditioned:
-            details["diagnostic"] = (
-                f"equations of motion nearly singular (condition {condition:.1e}); "
-                "no numbers reported"
-            )
             results.append(CaseResult(names[r], "ill_conditioned", details=details))
-            arcs.append(())
             continue
-        case_arcs = None
-        if sweeping:
-            case_arcs, arc_error = safe_arcs(case.forward, e1, e2)
-            error = max(error, float(np.degrees(arc_error)))
-            arcs.append(case_arcs)
-        verdict, forces, accel, mu_lim = "swept", None, None, None
-        if evaluate:
-            verdict, x = outcome(case, design)
-            if x is not None:
-                forces = {names[j]: float(x[1 + i] * force) for i, j in enumerate(case.keep)}
-                accel = float(x[0] * accel_scale * case.free.closing)
-            mu_lim = limiting_friction(problem, case, design)
+        verdict, forces, accel, intervals = "swept", None, None, friction[r]
+        if intervals is not None:
+            verdict, forces, accel = _evaluated(problem, case, design, intervals, details)
         results.append(
             CaseResult(
                 names[r],
                 verdict,
                 normal_forces=forces,
                 acceleration=accel,
-                limiting_friction=mu_lim,
-                safe_ranges_deg=None if case_arcs is None else ranges_deg(case_arcs),
+                limiting_friction=None if intervals is None else intervals.limiting,
                 details=details,
             )
         )
-    combined = intersect(*arcs) if sweeping else None
-    design_margin = None
-    if combined is not None and design is not None:
-        angle = float(np.arctan2(design @ e2, design @ e1))
-        design_margin = float(np.degrees(margin(combined, angle)))
-    return Analysis(
+    analysis = Analysis(
         problem=problem,
         cases=tuple(cases),
         results=tuple(results),
-        arcs=tuple(arcs) if sweeping else None,
-        combined=combined,
+        arcs=None,
+        combined=None,
         design=design,
-        design_margin_deg=design_margin,
-        error_deg=error,
+        design_margin_deg=None,
+        error_deg=None,
         max_condition=max_condition,
+        friction=tuple(friction),
+    )
+    if not sweeping:
+        return analysis
+    e1, e2 = (scene.sweep.e1, scene.sweep.e2) if plane is None else plane
+    return sweep_ranges(analysis, np.asarray(e1)[: problem.dim], np.asarray(e2)[: problem.dim])
+
+
+def nearest_end(arcs: ArcSet, angle: float) -> float:
+    """The angle (rad, in [0, 2 pi)) of the arc set nearest to ``angle`` (itself if inside)."""
+    if contains(arcs, angle) or arcs == FULL:
+        return angle % (2 * np.pi)
+    ends = np.array([x for arc in arcs for x in arc])
+    gap = np.abs((angle - ends + np.pi) % (2 * np.pi) - np.pi)
+    return float(ends[int(np.argmin(gap))] % (2 * np.pi))
+
+
+def sweep_ranges(analysis: Analysis, e1: np.ndarray, e2: np.ndarray) -> Analysis:
+    """The analysis with exact safe ranges in the plane ``(e1, e2)`` (dim-vectors): per case,
+    combined, the design margin and the nearest safe angle."""
+    from dataclasses import replace
+
+    arcs: list[ArcSet] = []
+    error: float | None = None
+    results = []
+    for case, result in zip(analysis.cases, analysis.results, strict=True):
+        if not case.determined or not case.well_conditioned:
+            arcs.append(())
+            results.append(result)
+            continue
+        case_arcs, arc_error = safe_arcs(case, e1, e2)
+        if arc_error is not None:
+            error = max(error or 0.0, float(np.degrees(arc_error)))
+        arcs.append(case_arcs)
+        results.append(replace(result, safe_ranges_deg=ranges_deg(case_arcs)))
+    combined = intersect(*arcs)
+    design_margin = nearest = None
+    design = analysis.design
+    in_plane = (
+        design is not None and abs(float(np.linalg.norm([design @ e1, design @ e2])) - 1) < 1e-9
+    )
+    if combined and design is not None and in_plane:
+        angle = float(np.arctan2(design @ e2, design @ e1))
+        design_margin = float(np.degrees(margin(combined, angle)))
+        nearest = float(np.degrees(nearest_end(combined, angle)))
+    return replace(
+        analysis,
+        results=tuple(results),
+        arcs=tuple(arcs),
+        combined=combined,
+        design_margin_deg=design_margin,
+        nearest_safe_deg=nearest,
+        error_deg=error if analysis.trustworthy else None,
+        plane=(e1, e2),
     )
 
 
@@ -220,9 +344,8 @@ def ranges_deg(arcs: ArcSet) -> tuple[tuple[float, float], ...]:
 
 
 def describe_ranges(arcs: ArcSet) -> str:
-    """Human text for an arc set in degrees."""
-    if arcs == FULL:
-        return "every direction"
+    """Human text for an arc set, in the one angle convention (:func:`kcheck.fmt.format_ranges`):
+    ``292.41°–5.05° (through 0°)``, ``every direction``, ``no direction``."""
     if not arcs:
         return "no direction"
-    return ", ".join(f"{s:.2f}°–{e:.2f}°" for s, e in to_degrees(arcs))
+    return format_ranges(ranges_deg(arcs))

@@ -12,6 +12,8 @@ and ``start < end <= start + 2 pi``, sorted by start; the full circle is ``((0, 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 __all__ = [
@@ -44,7 +46,7 @@ def positive_arc(a: float, b: float, c: float, *, zero_tol: float = 0.0) -> ArcS
     ``zero_tol`` is the size below which ``hypot(b, c)`` counts as zero (then the sign of ``a``
     decides for every angle).
     """
-    r = float(np.hypot(b, c))
+    r = math.hypot(b, c)
     if r <= zero_tol:
         return FULL if a > 0 else ()
     ratio = -a / r
@@ -52,36 +54,81 @@ def positive_arc(a: float, b: float, c: float, *, zero_tol: float = 0.0) -> ArcS
         return FULL
     if ratio >= 1.0:
         return ()
-    half = float(np.arccos(ratio))
-    start = float((np.arctan2(c, b) - half) % TAU)
+    half = math.acos(ratio)
+    start = (math.atan2(c, b) - half) % TAU
     return ((start, start + 2.0 * half),)
 
 
 def affine_arcs(
-    a: np.ndarray, c: np.ndarray, e1: np.ndarray, e2: np.ndarray, error: np.ndarray
-) -> tuple[ArcSet, float]:
+    a: np.ndarray,
+    c: np.ndarray,
+    e1: np.ndarray,
+    e2: np.ndarray,
+    error: np.ndarray | None,
+) -> tuple[ArcSet, float | None]:
     """Angles (from ``e1`` towards ``e2``) where every ``a_k + c_k . d`` is positive.
 
     ``a`` (k,), ``c`` (k, dim) and the absolute errors ``error`` (k,) of the coefficients.
-    Returns the arc set and an estimate of the error of its ends in radians: each condition's
-    error over its rate of change at the crossing, ``sqrt(b^2 + c^2 - a^2)``.
+    Returns the arc set and an estimate of the error of its ends in radians: at each end, the
+    error of the condition that vanishes there over its rate of change across the end,
+    ``sqrt(b^2 + c^2 - a^2)``; None when the set has no ends (empty or full circle) or when
+    ``error`` is None (no estimate wanted).
     """
     a = np.asarray(a, dtype=float)
     b, s = c @ e1, c @ e2
+    if len(a) == 1:
+        return _one_arc(float(a[0]), float(b[0]), float(s[0]), float(np.abs(c).max()), error)
     # Per condition: a direction term below rounding of that condition's own size is no term.
     # A tolerance shared by all would erase the direction term of a small unknown whenever
     # another one is huge (e.g. a heavy body's weight on one support).
     zero_tol = 64 * EPS * np.maximum(np.abs(a), np.abs(c).max(axis=1))
-    arcs = intersect(
-        *(
-            positive_arc(ak, bk, sk, zero_tol=float(tk))
-            for ak, bk, sk, tk in zip(a, b, s, zero_tol, strict=True)
-        )
-    )
-    slope2 = b**2 + s**2 - a**2
+    # positive_arc for every condition at once: full, empty, or one arc.
+    r = np.hypot(b, s)
+    flat = r <= zero_tol
     with np.errstate(divide="ignore", invalid="ignore"):
-        err = np.where(slope2 > 0, error / np.sqrt(np.maximum(slope2, 0)), 0.0)
-    return arcs, float(np.nanmax(err)) if len(err) else 0.0
+        ratio = np.where(flat, np.where(a > 0, -np.inf, np.inf), -a / np.where(flat, 1.0, r))
+    if np.any(ratio >= 1.0):
+        arcs: ArcSet = ()
+    else:
+        bounded = ratio > -1.0
+        half = np.arccos(np.clip(ratio[bounded], -1.0, 1.0))
+        start = (np.arctan2(s[bounded], b[bounded]) - half) % TAU
+        arcs = intersect(
+            *(((float(x), float(x + 2.0 * h)),) for x, h in zip(start, half, strict=True))
+        )
+    if error is None or not arcs or arcs == FULL:
+        return arcs, None
+    ends = boundary_angles(arcs)
+    # Scaled per condition so that squares cannot overflow.
+    size = np.maximum(np.maximum(np.abs(a), np.abs(b)), np.abs(s))
+    size = np.where(size > 0, size, 1.0)
+    an, bn, sn = a / size, b / size, s / size
+    slope = np.sqrt(np.maximum(bn * bn + sn * sn - an * an, 0.0))
+    values = np.abs(an + np.outer(np.cos(ends), bn) + np.outer(np.sin(ends), sn))  # (ends, k)
+    # The end moves by the coefficients' error over the slope; arccos and atan2 add rounding
+    # of the same kind (eps |a| / slope) and of the angle itself (eps of 2 pi).
+    rounding = EPS * (np.abs(an) + np.hypot(bn, sn))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        miss = np.where(slope > 0, values / slope, np.inf)  # angular distance to its zero
+        per = np.where(slope > 0, (error / size + rounding) / slope, np.inf) + EPS * TAU
+    active = np.argmin(miss, axis=1)
+    return arcs, float(np.max(per[active]))
+
+
+def _one_arc(
+    a: float, b: float, s: float, size_c: float, error: np.ndarray | None
+) -> tuple[ArcSet, float | None]:
+    """:func:`affine_arcs` for a single condition, in scalar arithmetic (no array overhead)."""
+    arcs = positive_arc(a, b, s, zero_tol=64 * EPS * max(abs(a), size_c))
+    if error is None or not arcs or arcs == FULL:
+        return arcs, None
+    size = max(abs(a), abs(b), abs(s)) or 1.0
+    an, bn, sn = a / size, b / size, s / size
+    slope = math.sqrt(max(bn * bn + sn * sn - an * an, 0.0))
+    if slope == 0.0:
+        return arcs, float("inf")
+    rounding = EPS * (abs(an) + math.hypot(bn, sn))
+    return arcs, (float(error[0]) / size + rounding) / slope + EPS * TAU
 
 
 def _intervals(arcs: ArcSet) -> list[tuple[float, float]]:

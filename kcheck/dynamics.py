@@ -7,41 +7,69 @@ assumption only, and whose right-hand side (the external wrench about the centre
 affine in the force direction ``d``. So every unknown is ``x(d) = a + C d`` — exact safe ranges
 follow in closed form (:mod:`kcheck.arcs`).
 
-All arrays are nondimensional (:class:`kcheck.kinematics.Frame`): lengths by the layout size
-``L``, forces by the force scale ``F`` (the load, or the weight without one), masses by ``m``
-(so the nondimensional mass is 1 and inertia is ``I / (m L^2)``). Equations are ordered
-``[moment about the centre of mass; force]``, like the wrenches of :mod:`kcheck.kinematics`.
+All arrays are nondimensional (:mod:`kcheck.problem`): lengths by the layout size
+``L``, forces by the force scale ``F`` (the largest of the load, the weight and the preloads),
+masses by ``m`` (so the nondimensional mass is 1 and inertia is ``I / (m L^2)``). Equations are
+ordered ``[moment about the centre of mass; force]``, like the wrenches of
+:mod:`kcheck.kinematics`.
+
+Painlevé-type cases: with friction the system matrix ``K(mu)`` can turn singular as ``mu``
+grows; ``det K(mu) / det K(0)`` is the effective mass along the free twist under that friction
+(``xi'^T M xi`` with ``xi'`` the free twist of the friction-tilted reaction lines, followed
+continuously from ``mu = 0``). Where it is not positive for forward or backward sliding,
+rigid-body Coulomb friction gives more than one consistent outcome, or none: such a case is
+``ambiguous`` and has no safe direction.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Literal
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from typing import Literal, get_args
 
 import numpy as np
 
 from kcheck.arcs import ArcSet, affine_arcs
-from kcheck.kinematics import Frame, FreeTwist, free_twist, point_velocity, wrenches
+from kcheck.kinematics import FreeTwist, free_twists, point_velocity, wrenches
+from kcheck.problem import Problem, build_problem, log_size, relative
 
 __all__ = [
     "Problem",
     "Affine",
     "Case",
     "Outcome",
+    "OUTCOMES",
     "SLIP_TOL",
     "ILL_CONDITIONED",
     "build_problem",
+    "log_size",
+    "relative",
     "friction_directions",
     "system_matrix",
+    "system_parts",
     "solve_affine",
     "analyse_case",
+    "analyse_cases",
+    "with_load",
+    "closing_conditions",
     "outcome",
     "outcomes",
     "safe_arcs",
     "limiting_friction",
 ]
 
-Outcome = Literal["closes", "loses_contact", "opens", "jams", "undetermined", "ill_conditioned"]
+Outcome = Literal[
+    "closes",
+    "loses_contact",
+    "opens",
+    "opens_loses_contact",
+    "jams",
+    "ambiguous",
+    "undetermined",
+    "ill_conditioned",
+]
+#: Every outcome of a retracted case; only ``closes`` passes.
+OUTCOMES: tuple[str, ...] = get_args(Outcome)
 
 # A contact whose nondimensional speed under the unit free twist is below this does not slide:
 # its friction direction is undetermined and, as in the thesis, its friction is set to zero.
@@ -51,46 +79,12 @@ ILL_CONDITIONED = 1e12
 # Free-motion determinacy (smallest/largest singular value) below which it is not unique.
 UNDETERMINED = 1e-10
 EPS = float(np.finfo(float).eps)
-
-
-@dataclass(frozen=True)
-class Problem:
-    """A scene's dynamics, nondimensional. ``dim`` is 2 (planar) or 3 (spatial)."""
-
-    frame: Frame
-    names: tuple[str, ...]
-    points: np.ndarray  # (k, dim)
-    normals: np.ndarray  # (k, dim) unit
-    friction: np.ndarray  # (k,)
-    com: np.ndarray  # (dim,)
-    inertia: np.ndarray  # (nw, nw), I / (m L^2) about the centre of mass
-    gravity: np.ndarray  # (dim,), m g / F
-    torque: np.ndarray  # (nw,), M / (F L)
-    load_point: np.ndarray  # (dim,)
-    load_scale: float  # load magnitude / F (1, or 0 when gravity is the closing force)
-    mass: float  # kg, for converting back
-
-    @property
-    def dim(self) -> int:
-        """2 or 3."""
-        return self.points.shape[1]
-
-    def load_basis(self) -> tuple[np.ndarray, np.ndarray]:
-        """External wrench about the centre of mass as ``b0 + B d``: returns ``(b0, B)``."""
-        r = self.load_point - self.com
-        eye = np.eye(self.dim)
-        lever = wrenches(np.broadcast_to(r, (self.dim, self.dim)), eye).T  # (n, dim)
-        b0 = np.concatenate([self.torque, self.gravity])
-        return b0, self.load_scale * lever
-
-    def wrench(self, direction: np.ndarray | None) -> np.ndarray:
-        """External wrench for a unit force direction (dim,), or gravity and torque alone."""
-        b0, big_b = self.load_basis()
-        return b0 if direction is None else b0 + big_b @ direction
-
-    def acceleration_scale(self) -> float:
-        """m/s^2 per unit of nondimensional lambda."""
-        return self.frame.force / self.mass
+TINY = float(np.finfo(float).tiny)
+# Forward error of a solve: this many roundings per unit of condition number, and of a free
+# twist per unit of its inverse determinacy (calibrated against 50-digit solutions: the
+# estimate stays above the actual error, typically within 10x; tests/kcheck/test_errors.py).
+ROUNDINGS = 1.0
+TWIST_ROUNDINGS = 1.0
 
 
 @dataclass(frozen=True)
@@ -104,13 +98,18 @@ class Affine:
     error: np.ndarray  # estimated absolute error of each unknown (nondimensional)
 
     def at(self, direction: np.ndarray | None) -> np.ndarray:
-        """Unknowns for a unit force direction, or for gravity and torque alone."""
+        """Unknowns for a unit force direction, or for the fixed wrench alone."""
         return self.a if direction is None else self.a + self.c @ direction
 
 
 @dataclass(frozen=True)
 class Case:
-    """One retracted support: free motion, sliding of the others, both friction assumptions."""
+    """One retracted support: free motion, sliding of the others, both friction assumptions.
+
+    ``effective_mass`` is ``det K / det K(mu = 0)`` under forward and under backward friction:
+    the effective mass along the free twist relative to the frictionless one (1 without
+    friction); a value <= 0 makes the case Painlevé-type (``ambiguous``).
+    """
 
     retracted: int
     keep: np.ndarray  # indices of the remaining supports
@@ -118,6 +117,9 @@ class Case:
     sliding: np.ndarray  # (k-1,) bool: does the contact slide under the free twist
     forward: Affine | None
     backward: Affine | None
+    effective_mass: tuple[float, float] | None = None
+    k0: np.ndarray | None = None  # system matrix without friction
+    k_friction: np.ndarray | None = None  # its change per unit of mu (scene's pattern)
 
     @property
     def determined(self) -> bool:
@@ -131,50 +133,10 @@ class Case:
             s is not None and s.condition < ILL_CONDITIONED for s in (self.forward, self.backward)
         )
 
-
-def build_problem(
-    *,
-    points: np.ndarray,
-    normals: np.ndarray,
-    friction: np.ndarray,
-    names: tuple[str, ...],
-    dim: int,
-    mass: float,
-    com: np.ndarray,
-    inertia: np.ndarray,
-    gravity: np.ndarray,
-    load_magnitude: float,
-    load_point: np.ndarray | None,
-    torque: np.ndarray,
-) -> Problem:
-    """Nondimensionalise a scene (SI inputs, 3-vectors) into a :class:`Problem`.
-
-    The force scale is the load magnitude, or the weight when there is no load.
-    """
-    g = np.asarray(gravity, float)[:dim]
-    force = load_magnitude if load_magnitude > 0 else mass * float(np.linalg.norm(g))
-    if not force > 0:
-        raise ValueError("no closing force: the load magnitude and gravity are both zero")
-    frame = Frame.for_points(points, dim, force)
-    nw = 1 if dim == 2 else 3
-    moments = np.asarray(inertia, float)
-    moments = moments[2:, 2:] if dim == 2 else moments
-    q = com if load_point is None else load_point
-    return Problem(
-        frame=frame,
-        names=names,
-        points=frame.point(points),
-        normals=np.asarray(normals, float)[:, :dim]
-        / np.linalg.norm(np.asarray(normals, float)[:, :dim], axis=1, keepdims=True),
-        friction=np.asarray(friction, float),
-        com=frame.point(com),
-        inertia=moments / (mass * frame.length**2),
-        gravity=mass * g / force,
-        torque=np.asarray(torque, float)[3 - nw :] / (force * frame.length),
-        load_point=frame.point(q),
-        load_scale=load_magnitude / force,
-        mass=mass,
-    )
+    @property
+    def painleve(self) -> bool:
+        """Whether friction makes the effective mass along the free twist non-positive."""
+        return self.effective_mass is not None and min(self.effective_mass) <= 0.0
 
 
 def friction_directions(
@@ -186,97 +148,251 @@ def friction_directions(
     not slide get a zero direction (undetermined friction, set to zero as in the thesis).
     """
     u = point_velocity(twist, points)
-    speed = np.linalg.norm(u, axis=1)
+    speed = np.sqrt(np.einsum("ij,ij->i", u, u))
     sliding = speed > SLIP_TOL
-    t = np.zeros_like(u)
-    t[sliding] = -sense * u[sliding] / speed[sliding, None]
+    t = np.where(sliding[:, None], -sense * u / np.where(sliding, speed, 1.0)[:, None], 0.0)
     return t, sliding
+
+
+def _parts(
+    problem: Problem, twists: np.ndarray, keeps: np.ndarray, mu: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`system_parts` for a stack of cases: twists (c, n), kept supports (c, k-1), friction
+    coefficients ``mu`` (k,) per support. Returns ``K0``, ``F`` (c, n, n) and sliding (c, k-1)."""
+    nw = 1 if problem.dim == 2 else 3
+    points = problem.points[keeps]  # (c, k-1, dim)
+    u = point_velocity(twists[:, None, :], points)
+    speed = np.sqrt(np.sum(u * u, axis=-1))
+    sliding = speed > SLIP_TOL
+    t = np.where(sliding[..., None], -u / np.where(sliding, speed, 1.0)[..., None], 0.0)
+    lever = points - problem.com
+    normal = -wrenches(lever, problem.normals[keeps])  # (c, k-1, n)
+    friction = -wrenches(lever, mu[keeps][..., None] * t)
+    inertial = np.concatenate(
+        [twists[:, :nw] @ problem.inertia.T, point_velocity(twists, problem.com)], axis=-1
+    )  # (c, n)
+    k0 = np.concatenate([inertial[:, :, None], np.swapaxes(normal, 1, 2)], axis=2)
+    big_f = np.concatenate([np.zeros_like(inertial)[:, :, None], np.swapaxes(friction, 1, 2)], 2)
+    return k0, big_f, sliding
+
+
+def system_parts(
+    problem: Problem, twist: np.ndarray, keep: np.ndarray, mu: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``K = K0 + F`` under forward friction ``mu`` (``K0 - F`` under backward): ``(K0, F)``,
+    and which contacts slide.
+
+    Column 0 of ``K0`` is the inertial wrench of the unit twist acceleration ``[I w, m u(c)]``;
+    column ``1 + j`` is minus the wrench of the unit normal force ``n_j``; ``F`` holds minus the
+    wrenches of the friction forces ``mu_j t_j`` (``t_j`` opposing forward sliding). ``mu``
+    holds the coefficients of the kept supports.
+    """
+    full = np.zeros(len(problem.points))
+    full[keep] = mu
+    k0, big_f, sliding = _parts(problem, twist[None], np.asarray(keep)[None], full)
+    return k0[0], big_f[0], sliding[0]
 
 
 def system_matrix(
     problem: Problem, twist: np.ndarray, keep: np.ndarray, mu: np.ndarray, sense: int
 ) -> np.ndarray:
-    """Matrix of ``[lambda, N_j]`` in Newton–Euler about the centre of mass.
-
-    Column 0 is the inertial wrench of the unit twist acceleration ``[I w, m u(c)]``; column
-    ``1 + j`` is minus the wrench of the contact force ``n_j + mu_j t_j`` (unit normal force).
-    """
-    nw = 1 if problem.dim == 2 else 3
-    t, _ = friction_directions(twist, problem.points[keep], sense)
-    forces = problem.normals[keep] + mu[:, None] * t
-    contact = -wrenches(problem.points[keep] - problem.com, forces)
-    inertial = np.concatenate([problem.inertia @ twist[:nw], point_velocity(twist, problem.com)])
-    return np.column_stack([inertial, contact.T])
+    """Matrix of ``[lambda, N_j]`` in Newton–Euler about the centre of mass, friction ``mu``
+    opposing forward (``sense = +1``) or backward (``-1``) sliding (:func:`system_parts`)."""
+    k0, big_f, _ = system_parts(problem, twist, keep, mu)
+    return k0 + sense * big_f
 
 
-def _equilibrate(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Row and column scale factors that make every row and column's largest entry 1."""
-    rows = np.abs(matrix).max(axis=1)
-    rows = np.where(rows > 0, 1.0 / np.where(rows > 0, rows, 1.0), 1.0)
-    cols = np.abs(matrix * rows[:, None]).max(axis=0)
-    cols = np.where(cols > 0, 1.0 / np.where(cols > 0, cols, 1.0), 1.0)
+def _equilibrate(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Row and column scale factors (..., n) making every row and column's largest entry 1."""
+    size = np.abs(matrices)
+    rows = size.max(axis=-1)
+    # A row or column below the smallest normal number carries nothing: leave it unscaled
+    # (its reciprocal would overflow).
+    rows = 1.0 / np.where(rows > TINY, rows, 1.0)
+    cols = (size * rows[..., :, None]).max(axis=-2)
+    cols = 1.0 / np.where(cols > TINY, cols, 1.0)
     return rows, cols
+
+
+def _solve_many(
+    matrices: np.ndarray, rhs: np.ndarray, matrix_error: np.ndarray | None = None
+) -> list[Affine]:
+    """:func:`solve_affine` for a stack of matrices (s, n, n) sharing one right-hand side
+    (n, 1 + dim), in one batch of numpy calls. ``matrix_error`` (s,): the relative error the
+    matrices carry from their construction (e.g. the free twist's), for the error estimate."""
+    rows, cols = _equilibrate(matrices)
+    scaled = matrices * rows[..., :, None] * cols[..., None, :]
+    n = rhs.shape[0]
+    with np.errstate(all="ignore"):
+        try:
+            singular = np.linalg.svd(scaled, compute_uv=False)
+        except np.linalg.LinAlgError:  # non-finite entries
+            singular = np.zeros(scaled.shape[:-1])
+        condition = np.where(singular[..., -1] > 0, singular[..., 0] / singular[..., -1], np.inf)
+    good = np.isfinite(condition) & (condition <= 1 / EPS)
+    out: list[Affine] = []
+    sol = np.full((len(matrices), n, rhs.shape[1]), np.nan)
+    if np.any(good):
+        scaled_rhs = rhs[None, :, :] * rows[good][:, :, None]
+        try:
+            sol[good] = np.linalg.solve(scaled[good], scaled_rhs) * cols[good][:, :, None]
+        except np.linalg.LinAlgError:
+            good[:] = False
+    for k, matrix in enumerate(matrices):
+        if not good[k]:
+            nan = np.full((n, rhs.shape[1]), np.nan)
+            out.append(Affine(matrix, nan[:, 0], nan[:, 1:], float("inf"), np.full(n, np.inf)))
+            continue
+        x = sol[k]
+        scale = np.abs(x).sum(axis=1)
+        # Forward error: the condition number times the matrix's own relative error and the
+        # solve's rounding (LU with pivoting is backward stable: its residual is of that size).
+        cond = float(condition[k])
+        built = 0.0 if matrix_error is None else float(matrix_error[k])
+        error = cond * (EPS * ROUNDINGS + built) * scale
+        out.append(Affine(matrix, x[:, 0], x[:, 1:], cond, error))
+    return out
 
 
 def solve_affine(matrix: np.ndarray, b0: np.ndarray, big_b: np.ndarray) -> Affine:
     """Solve ``K x = b0 + B d`` for the affine coefficients, with conditioning and error.
 
     Rows and columns are equilibrated first, so the condition number measures the geometry,
-    not the choice of units or how mass compares with inertia.
+    not the choice of units or how mass compares with inertia. A singular (or non-finite)
+    system gives NaN coefficients and an infinite condition number.
     """
-    rows, cols = _equilibrate(matrix)
-    scaled = matrix * rows[:, None] * cols[None, :]
-    singular = np.linalg.svd(scaled, compute_uv=False)
-    condition = float(singular[0] / singular[-1]) if singular[-1] > 0 else float("inf")
-    rhs = np.column_stack([b0, big_b]) * rows[:, None]
-    if not np.isfinite(condition) or condition > 1 / EPS:
-        nan = np.full((len(b0), 1 + big_b.shape[1]), np.nan)
-        return Affine(matrix, nan[:, 0], nan[:, 1:], condition, np.full(len(b0), np.inf))
-    sol = np.linalg.solve(scaled, rhs) * cols[:, None]
-    residual = np.abs(matrix @ sol - np.column_stack([b0, big_b])).max()
-    scale = np.abs(sol).sum(axis=1)
-    # Forward error: conditioning times rounding, plus the residual carried through.
-    error = (condition * EPS * 8) * scale + condition * residual * cols
-    return Affine(matrix, sol[:, 0], sol[:, 1:], condition, error)
+    return _solve_many(matrix[None], np.column_stack([b0, big_b]))[0]
+
+
+def _effective_masses(k0: np.ndarray, big_f: np.ndarray) -> list[tuple[float, float] | None]:
+    """Per case, ``det(K0 + F) / det K0`` and ``det(K0 - F) / det K0`` (see :class:`Case`);
+    ``k0``, ``big_f`` (c, n, n)."""
+    rows, cols = _equilibrate(k0)
+    scale = rows[:, None, :, None] * cols[:, None, None, :]  # one scaling keeps the ratios
+    stack = np.stack([k0, k0 + big_f, k0 - big_f], axis=1) * scale
+    with np.errstate(all="ignore"):
+        try:
+            sign, logdet = np.linalg.slogdet(stack)
+        except np.linalg.LinAlgError:
+            return [None] * len(k0)
+        ratio = sign[:, 1:] * sign[:, :1] * np.exp(logdet[:, 1:] - logdet[:, :1])
+    good = (sign[:, 0] != 0) & np.all(np.isfinite(logdet), axis=1)
+    return [(float(r[0]), float(r[1])) if g else None for r, g in zip(ratio, good, strict=True)]
+
+
+def analyse_cases(problem: Problem, retracted: Sequence[int] | None = None) -> tuple[Case, ...]:
+    """Free motion and both friction-assumption systems for each retracted support (default:
+    every support), in one batch of numpy calls."""
+    k = len(problem.points)
+    which = np.arange(k) if retracted is None else np.asarray(retracted, dtype=int)
+    frees = free_twists(problem.points, problem.normals, which)
+    keeps = np.array([np.flatnonzero(np.arange(k) != r) for r in which])
+    twists = np.array([f.twist for f in frees])
+    pattern, mu = problem.friction_pattern()
+    k0, unit_f, sliding = _parts(problem, twists, keeps, pattern)
+    big_f = mu * unit_f
+    cases = [
+        Case(int(r), keeps[i], frees[i], sliding[i], None, None, None, k0[i], unit_f[i])
+        for i, r in enumerate(which)
+    ]
+    live = [i for i, case in enumerate(cases) if case.determined]
+    if not live:
+        return tuple(cases)
+    b0, big_b = problem.load_basis()
+    stack = np.concatenate([k0[live] + big_f[live], k0[live] - big_f[live]])
+    # The free twist (a null vector) is off by about eps over its singular-value gap; the
+    # matrix built from it (inertial column, friction directions) inherits that.
+    twist_error = np.array([TWIST_ROUNDINGS * EPS / cases[i].free.determinacy for i in live])
+    solved = _solve_many(
+        stack, np.column_stack([b0, big_b]), np.concatenate([twist_error, twist_error])
+    )
+    masses = _effective_masses(k0[live], big_f[live])
+    for n, i in enumerate(live):
+        cases[i] = replace(
+            cases[i], forward=solved[n], backward=solved[len(live) + n], effective_mass=masses[n]
+        )
+    return tuple(cases)
 
 
 def analyse_case(problem: Problem, retracted: int) -> Case:
     """Free motion and both friction-assumption systems for one retracted support."""
-    keep = np.flatnonzero(np.arange(len(problem.points)) != retracted)
-    free = free_twist(problem.points, problem.normals, retracted)
-    _, sliding = friction_directions(free.twist, problem.points[keep], +1)
-    case = Case(retracted, keep, free, sliding, None, None)
-    if not case.determined:
+    return analyse_cases(problem, [retracted])[0]
+
+
+def with_load(case: Case, b0: np.ndarray, big_b: np.ndarray) -> Case:
+    """The same case with another external wrench ``b0 + B d`` (e.g. gravity's direction swept
+    instead of the load's): both systems solved again, the friction assumptions unchanged."""
+    if case.forward is None or case.backward is None:
         return case
-    b0, big_b = problem.load_basis()
-    mu = problem.friction[keep]
-    fwd = solve_affine(system_matrix(problem, free.twist, keep, mu, +1), b0, big_b)
-    bwd = solve_affine(system_matrix(problem, free.twist, keep, mu, -1), b0, big_b)
-    return Case(retracted, keep, free, sliding, fwd, bwd)
+    fwd, bwd = _solve_many(
+        np.stack([case.forward.matrix, case.backward.matrix]), np.column_stack([b0, big_b])
+    )
+    return replace(case, forward=fwd, backward=bwd)
 
 
-def _decide(forward: np.ndarray, backward_lambda: np.ndarray) -> np.ndarray:
-    """The outcome rule on forward unknowns (..., n) and the backward ``lambda`` (...,).
+def closing_conditions(case: Case) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Conditions ``a_k + c_k . d > 0`` that together mean "the case closes": under forward
+    sliding ``lambda > 0`` and every ``N_j > 0``. Returns ``(a, c, error)``.
 
-    Forward first: ``lambda > 0`` with all ``N > 0`` closes, with some ``N <= 0`` loses
-    contact; else backward: ``lambda < 0`` opens; else friction holds the body: jams.
+    Closing is then the only sliding solution: backward sliding with positive normal forces
+    as well would give, subtracting the two Newton–Euler systems and multiplying by ``xi``,
+    ``(lambda_f - lambda_b) xi^T M xi = -mu sum (N_f + N_b) |u_j| < 0``, impossible with
+    ``lambda_f > 0 > lambda_b``. A Painlevé-type case gets one condition that never holds.
     """
-    closing = np.where(np.all(forward[..., 1:] > 0, axis=-1), "closes", "loses_contact")
-    held = np.where(backward_lambda < 0, "opens", "jams")
-    return np.where(forward[..., 0] > 0, closing, held)
+    assert case.forward is not None
+    fwd = case.forward
+    if case.painleve:
+        return np.array([-1.0]), np.zeros((1, fwd.c.shape[1])), np.zeros(1)
+    return fwd.a, fwd.c, fwd.error
+
+
+def _decide(forward: np.ndarray, backward: np.ndarray, painleve: bool) -> np.ndarray:
+    """The outcome rule on forward and backward unknowns (..., n) (methods.md §3).
+
+    Forward sliding first: ``lambda > 0`` closes (all ``N > 0``) or loses contact; else
+    backward: ``lambda < 0`` opens (all ``N > 0``) or opens while losing contact; else friction
+    holds the body (jams). Every direction of a Painlevé-type case is ambiguous.
+    """
+    fwd = forward[..., 0] > 0
+    bwd = backward[..., 0] < 0
+    if painleve:
+        return np.full(fwd.shape, "ambiguous")
+    kept_f = np.all(forward[..., 1:] > 0, axis=-1)
+    kept_b = np.all(backward[..., 1:] > 0, axis=-1)
+    return np.select(
+        [fwd & kept_f, fwd, bwd & kept_b, bwd],
+        ["closes", "loses_contact", "opens", "opens_loses_contact"],
+        "jams",
+    )
+
+
+def _decide_one(forward: np.ndarray, backward: np.ndarray, painleve: bool) -> Outcome:
+    """:func:`_decide` for one direction, without array overhead."""
+    if painleve:
+        return "ambiguous"
+    if forward[0] > 0:
+        return "closes" if bool(np.all(forward[1:] > 0)) else "loses_contact"
+    if backward[0] < 0:
+        return "opens" if bool(np.all(backward[1:] > 0)) else "opens_loses_contact"
+    return "jams"
 
 
 def outcome(case: Case, direction: np.ndarray | None) -> tuple[Outcome, np.ndarray | None]:
-    """Outcome for one force direction (or gravity and torque alone), and the unknowns of the
-    assumption that holds (:func:`_decide`)."""
+    """Outcome for one force direction (or the fixed wrench alone), and the unknowns of the
+    assumption that holds (forward for closes/loses contact, backward for the opening
+    outcomes; None when jammed or ambiguous) (:func:`_decide`)."""
     if not case.determined:
         return "undetermined", None
     if not case.well_conditioned:
         return "ill_conditioned", None
     assert case.forward is not None and case.backward is not None
     x, xb = case.forward.at(direction), case.backward.at(direction)
-    state = str(_decide(x, xb[0]))
-    return state, (xb if state == "opens" else x)  # type: ignore[return-value]
+    state = _decide_one(x, xb, case.painleve)
+    if state in ("closes", "loses_contact"):
+        return state, x
+    if state in ("opens", "opens_loses_contact"):
+        return state, xb
+    return state, None
 
 
 def outcomes(case: Case, directions: np.ndarray) -> np.ndarray:
@@ -284,62 +400,28 @@ def outcomes(case: Case, directions: np.ndarray) -> np.ndarray:
     case: :func:`outcome` vectorised over directions."""
     assert case.forward is not None and case.backward is not None
     forward = case.forward.a + directions @ case.forward.c.T
-    backward_lambda = case.backward.a[0] + directions @ case.backward.c[0]
-    return _decide(forward, backward_lambda)
+    backward = case.backward.a + directions @ case.backward.c.T
+    return _decide(forward, backward, case.painleve)
 
 
-def safe_arcs(affine: Affine, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, float]:
-    """Force angles in the sweep plane where the case closes (every unknown positive).
+def safe_arcs(case: Case, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, float | None]:
+    """Force angles in the sweep plane where the case closes, uniquely
+    (:func:`closing_conditions`).
 
     Returns the arc set (radians from ``e1`` towards ``e2``) and an estimate of the absolute
-    error of its ends in radians (:func:`kcheck.arcs.affine_arcs`).
+    error of its ends in radians, None without ends (:func:`kcheck.arcs.affine_arcs`).
     """
-    return affine_arcs(affine.a, affine.c, e1, e2, affine.error)
+    a, c, error = closing_conditions(case)
+    return affine_arcs(a, c, e1, e2, error)
 
 
 def limiting_friction(problem: Problem, case: Case, direction: np.ndarray | None) -> float | None:
-    """Largest common friction coefficient for which the case still closes at ``direction``.
+    """Upper end of the interval of friction coefficients, containing the scene's, for which
+    the case closes at ``direction`` (:func:`kcheck.friction.friction_intervals`).
 
-    Every support gets the same ``mu``, except that supports the scene makes frictionless
-    (``friction: 0`` while others have friction: rollers, air bearings, the plane carrying a
-    planar body) stay frictionless. The closing state can only change where ``lambda`` or
-    an ``N_j`` crosses zero or the system turns singular; with ``K(mu) = K0 + mu K1`` those are
-    the real roots of ``det K(mu)`` and of ``det`` of ``K(mu)`` with one column replaced by
-    the right-hand side (Cramer) — generalised eigenvalues (compare Patti & Vogels 2019).
-    Returns ``None`` when the case does not close even without friction and ``inf`` when no
-    friction coefficient stops it.
+    ``inf`` when no larger coefficient stops it; None when the case does not close at the
+    scene's friction.
     """
-    from scipy.linalg import eigvals
+    from kcheck.friction import friction_intervals
 
-    if not case.determined:
-        return None
-    twist, keep = case.free.twist, case.keep
-    zeros = np.zeros(len(keep))
-    rough = problem.friction[keep] > 0 if np.any(problem.friction > 0) else np.ones(len(keep))
-    k0 = system_matrix(problem, twist, keep, zeros, +1)
-    k1 = system_matrix(problem, twist, keep, np.asarray(rough, float), +1) - k0
-    rhs = problem.wrench(direction)
-
-    def closes(mu: float) -> bool:
-        sol = solve_affine(k0 + mu * k1, rhs, np.zeros((len(rhs), 0)))
-        return bool(sol.condition < ILL_CONDITIONED and sol.a[0] > 0 and np.all(sol.a[1:] > 0))
-
-    if not closes(0.0):
-        return None
-    candidates = []
-    pencils = [(k0, k1)]
-    for k in range(k0.shape[1]):
-        a0, a1 = k0.copy(), k1.copy()
-        a0[:, k], a1[:, k] = rhs, 0.0
-        pencils.append((a0, a1))
-    for a0, a1 in pencils:
-        with np.errstate(all="ignore"):
-            values = eigvals(a0, -a1)
-        real = values[np.isfinite(values) & (np.abs(values.imag) <= 1e-9 * (1 + np.abs(values)))]
-        candidates.extend(float(v) for v in real.real if v > 0)
-    candidates = sorted(set(candidates))
-    for i, mu in enumerate(candidates):
-        upper = candidates[i + 1] if i + 1 < len(candidates) else 2 * mu + 1
-        if not closes(0.5 * (mu + upper)):
-            return mu
-    return float("inf")
+    return friction_intervals(problem, case, direction).limiting

@@ -4,8 +4,9 @@ so one convention holds everywhere.
 
 Angle convention: degrees, counter-clockwise about the sweep plane's normal from its zero
 direction (a planar scene: from +x towards +y). A range ``[start, end]`` runs counter-clockwise
-from ``start`` to ``end``, both in [0°, 360°); a range that passes 0° is written
-"292.41°–5.00° (through 0°)". The full circle is ``[0, 360]``.
+from ``start`` to ``end``, ``start`` in [0°, 360°) and ``end`` in (0°, 360°] (360 for a range
+that ends at 0°); a range that passes 0° is written "292.41°–5.00° (through 0°)". The full
+circle is ``[0, 360]``.
 """
 
 from __future__ import annotations
@@ -25,6 +26,9 @@ __all__ = [
     "format_number",
     "format_length",
     "format_vector",
+    "format_direction",
+    "format_point",
+    "describe_sweep",
 ]
 
 FULL_TURN = 360.0
@@ -33,7 +37,8 @@ NOISE_RTOL = 1e-9
 
 
 def normalise_range(start: float, end: float) -> tuple[float, float]:
-    """A range in degrees as ``(start, end)`` both in [0, 360); ``(0, 360)`` for a full turn.
+    """A range in degrees as ``(start, end)``, ``start`` in [0, 360) and ``end`` in (0, 360]:
+    ``(0, 360)`` for a full turn, ``end = 360`` for a range that ends at 0°.
 
     ``end < start`` afterwards means the range passes through 0°.
     """
@@ -43,7 +48,9 @@ def normalise_range(start: float, end: float) -> tuple[float, float]:
     s = float(start % FULL_TURN)
     e = float(end % FULL_TURN)
     # Rounding can put an end a hair below 360: keep it in [0, 360).
-    return (0.0 if s >= FULL_TURN else s), (0.0 if e >= FULL_TURN else e)
+    s, e = (0.0 if s >= FULL_TURN else s), (0.0 if e >= FULL_TURN else e)
+    # A range that ends at 0° ends at 360° (it does not pass through 0°).
+    return s, (FULL_TURN if e == 0.0 and width > 0 else e)
 
 
 def format_angle(value: float, decimals: int = 2) -> str:
@@ -55,10 +62,17 @@ def format_angle(value: float, decimals: int = 2) -> str:
 
 
 def format_range(start: float, end: float, decimals: int = 2) -> str:
-    """One range, e.g. ``292.41°–5.00° (through 0°)`` or ``every direction``."""
+    """One range, e.g. ``292.41°–5.00° (through 0°)`` or ``every direction``.
+
+    Ends are compared as written: a start that rounds to 360° is written 0°, and an end that
+    rounds to 0° (or 360°) closes the turn, ``184.78°–360.00°``, without "through 0°".
+    """
     s, e = normalise_range(start, end)
-    if e == FULL_TURN:
+    if (s, e) == (0.0, FULL_TURN):
         return "every direction"
+    s, e = round(s, decimals) % FULL_TURN, round(e, decimals)
+    if e in (0.0, FULL_TURN):
+        e = FULL_TURN
     text = f"{format_angle(s, decimals)}–{format_angle(e, decimals)}"
     return text + (" (through 0°)" if e < s else "")
 
@@ -106,3 +120,38 @@ def format_length(value_m: float, scale: float, units: str, decimals: int | None
 def format_vector(values: Sequence[float] | np.ndarray, digits: int = 4) -> str:
     """A vector with noise cleaned, e.g. ``(0, 1, 0)``."""
     return "(" + ", ".join(format_number(float(v), digits) for v in clean(values)) + ")"
+
+
+_AXIS_NAMES = {
+    (1, 0, 0): "+x", (-1, 0, 0): "−x", (0, 1, 0): "+y",
+    (0, -1, 0): "−y", (0, 0, 1): "+z", (0, 0, -1): "−z",
+}  # fmt: skip
+
+
+def format_direction(values: Sequence[float] | np.ndarray, decimals: int = 3) -> str:
+    """A unit direction: ``+x``, ``−z`` for a coordinate axis, else ``(0.707, 0.000, -0.707)``."""
+    v = clean(values)
+    key = tuple(int(round(x)) for x in v) + (0,) * (3 - len(v))  # a planar (x, y) too
+    if key in _AXIS_NAMES and np.allclose(v, key[: len(v)], atol=1e-9):
+        return _AXIS_NAMES[key]
+    return format_point(v, decimals)
+
+
+def format_point(values: Sequence[float] | np.ndarray, decimals: int = 3) -> str:
+    """Coordinates with ``decimals`` decimals, noise cleaned, never ``-0.00``:
+    ``(50.00, 45.50)``."""
+    parts = []
+    for x in clean(values):
+        text = f"{x:.{decimals}f}"
+        parts.append(text[1:] if text.startswith("-") and float(text) == 0 else text)
+    return "(" + ", ".join(parts) + ")"
+
+
+def describe_sweep(normal: Sequence[float] | np.ndarray, zero: Sequence[float] | np.ndarray) -> str:
+    """Where 0° is and which way angles turn in a sweep plane:
+    ``0° along +x, 90° along +y, counter-clockwise about +z``."""
+    n, z = np.asarray(normal, float), np.asarray(zero, float)
+    return (
+        f"0° along {format_direction(z)}, 90° along {format_direction(np.cross(n, z))}, "
+        f"counter-clockwise about {format_direction(n)}"
+    )

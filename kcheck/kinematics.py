@@ -19,17 +19,43 @@ import numpy as np
 
 __all__ = [
     "Frame",
+    "unit_rows",
+    "row_norms",
     "FreeTwist",
     "moment",
     "wrenches",
     "point_velocity",
     "layout_singular_values",
     "free_twist",
+    "free_twists",
+    "cross3",
     "maxwell_cos",
+    "maxwell_angle",
 ]
 
 # Singular values below this fraction of the largest count as zero (rank decisions).
 RANK_RTOL = 1e-10
+
+
+def row_norms(vectors: np.ndarray) -> np.ndarray:
+    """Euclidean norms of the rows of ``vectors`` (..., n) without overflow or underflow.
+
+    Each row is divided by its largest magnitude before squaring, so a component of 1e300 or
+    1e-300 gives its norm instead of ``inf`` or 0.
+    """
+    v = np.asarray(vectors, dtype=float)
+    big = np.abs(v).max(axis=-1, keepdims=True)
+    safe = np.where(big > 0, big, 1.0)
+    return np.sqrt(np.sum((v / safe) ** 2, axis=-1)) * big[..., 0]
+
+
+def unit_rows(vectors: np.ndarray) -> np.ndarray:
+    """Rows scaled to unit length (overflow-safe, see :func:`row_norms`); zero rows stay zero."""
+    v = np.asarray(vectors, dtype=float)
+    big = np.abs(v).max(axis=-1, keepdims=True)
+    scaled = v / np.where(big > 0, big, 1.0)
+    norm = np.sqrt(np.sum(scaled * scaled, axis=-1, keepdims=True))
+    return scaled / np.where(norm > 0, norm, 1.0)
 
 
 @dataclass(frozen=True)
@@ -53,9 +79,11 @@ class Frame:
     def for_points(cls, points: np.ndarray, dim: int, force: float) -> Frame:
         """Frame centred on the support centroid, length = largest distance from it."""
         points = np.asarray(points, dtype=float)
-        origin = points.mean(axis=0)
-        length = float(np.linalg.norm(points - origin, axis=1).max())
-        if not length > 0:
+        big = float(np.abs(points).max()) if points.size else 0.0
+        scale = big if big > 0 and np.isfinite(big) else 1.0
+        origin = (points / scale).mean(axis=0) * scale
+        length = float(row_norms(points - origin).max()) if len(points) else 0.0
+        if not (length > 0 and np.isfinite(length)):
             length = 1.0
         return cls(origin, length, force, dim)
 
@@ -78,11 +106,18 @@ def _cross2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
 
 
+def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross product of 3-vectors (..., 3), broadcasting; ``np.cross`` without its overhead."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+
+
 def moment(points: np.ndarray, forces: np.ndarray) -> np.ndarray:
     """Moment ``p x f`` about the origin: (..., 1) in 2D, (..., 3) in 3D."""
     if points.shape[-1] == 2:
         return _cross2(points, forces)[..., None]
-    return np.cross(points, forces)
+    return cross3(points, forces)
 
 
 def wrenches(points: np.ndarray, forces: np.ndarray) -> np.ndarray:
@@ -90,8 +125,8 @@ def wrenches(points: np.ndarray, forces: np.ndarray) -> np.ndarray:
 
     With unit normals these are the constraint rows: ``wrenches(p, n) @ xi = n . u(p)``.
     """
-    points, forces = np.broadcast_arrays(points, forces)
-    return np.concatenate([moment(points, forces), forces], axis=-1)
+    m = moment(points, forces)
+    return np.concatenate([m, np.broadcast_to(forces, m.shape[:-1] + forces.shape[-1:])], axis=-1)
 
 
 def point_velocity(twist: np.ndarray, points: np.ndarray) -> np.ndarray:
@@ -101,29 +136,53 @@ def point_velocity(twist: np.ndarray, points: np.ndarray) -> np.ndarray:
     w, v = twist[..., :nw], twist[..., nw:]
     if dim == 2:
         return v + w * np.stack([-points[..., 1], points[..., 0]], axis=-1)
-    return v + np.cross(w, points)
+    return v + cross3(w, points)
 
 
 def layout_singular_values(points: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    """Singular values (descending) of the full constraint matrix; rank = determinacy."""
-    return np.linalg.svd(wrenches(points, normals), compute_uv=False)
+    """Singular values (descending) of the full constraint matrix; rank = determinacy.
+
+    All zeros when the SVD does not converge (only on non-finite input): "not determined".
+    """
+    rows = wrenches(points, normals)
+    try:
+        return np.linalg.svd(rows, compute_uv=False)
+    except np.linalg.LinAlgError:
+        return np.zeros(min(rows.shape))
+
+
+def free_twists(
+    points: np.ndarray, normals: np.ndarray, retracted: np.ndarray | None = None
+) -> list[FreeTwist]:
+    """Free twists of the supports other than each ``retracted`` one (default: every support),
+    oriented to close its gap, all from one batched SVD.
+
+    The null space of the remaining rows (methods.md §2). A pole at infinity (parallel normals)
+    is a twist with ``w = 0`` and needs no special case.
+    """
+    k = len(points)
+    which = np.arange(k) if retracted is None else np.asarray(retracted, dtype=int)
+    rows = wrenches(points, normals)  # (k, n)
+    keep = np.array([np.flatnonzero(np.arange(k) != r) for r in which])
+    try:
+        _, s, vt = np.linalg.svd(rows[keep])
+    except np.linalg.LinAlgError:  # only on non-finite input: no free motion to speak of
+        return [FreeTwist(np.zeros(rows.shape[1]), 0.0, 0.0) for _ in which]
+    twist = vt[:, -1, :]
+    gap_rate = np.einsum("ij,ij->i", rows[which], twist)  # n_r . u(p_r)
+    sign = np.where(gap_rate > 0, -1.0, 1.0)
+    out = []
+    for i in range(len(which)):
+        top = s[i, 0]
+        determinacy = float(s[i, -1] / top) if top > 0 else 0.0
+        out.append(FreeTwist(sign[i] * twist[i], determinacy, float(-sign[i] * gap_rate[i])))
+    return out
 
 
 def free_twist(points: np.ndarray, normals: np.ndarray, retracted: int) -> FreeTwist:
-    """Free twist of the supports other than ``retracted``, oriented to close its gap.
-
-    The null space of the remaining rows, from the SVD (methods.md §2). A pole at infinity
-    (parallel normals) is a twist with ``w = 0`` and needs no special case.
-    """
-    keep = np.arange(len(points)) != retracted
-    rows = wrenches(points[keep], normals[keep])
-    _, s, vt = np.linalg.svd(rows)
-    twist = vt[-1]
-    determinacy = float(s[-1] / s[0]) if s[0] > 0 else 0.0
-    gap_rate = float(normals[retracted] @ point_velocity(twist, points[retracted]))
-    if gap_rate > 0:
-        twist, gap_rate = -twist, -gap_rate
-    return FreeTwist(twist, determinacy, -gap_rate)
+    """Free twist of the supports other than ``retracted``, oriented to close its gap
+    (:func:`free_twists` for one support)."""
+    return free_twists(points, normals, np.array([retracted]))[0]
 
 
 def maxwell_cos(free: FreeTwist, point: np.ndarray, normal: np.ndarray) -> float:
@@ -133,3 +192,14 @@ def maxwell_cos(free: FreeTwist, point: np.ndarray, normal: np.ndarray) -> float
     if speed == 0.0:
         return float("nan")
     return abs(float(normal @ u)) / speed
+
+
+def maxwell_angle(free: FreeTwist, point: np.ndarray, normal: np.ndarray) -> float:
+    """The angle (rad, in [0, pi/2]) between the free motion of a contact and its normal line,
+    from the normal and tangential speeds (accurate near 0, unlike ``arccos`` of the cosine)."""
+    u = point_velocity(free.twist, point)
+    along = abs(float(normal @ u))
+    across = float(np.linalg.norm(u - (normal @ u) * normal))
+    if along == 0.0 and across == 0.0:
+        return float("nan")
+    return float(np.arctan2(across, along))

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from kcheck.plotting import figure, save
+from kcheck.plotting import figure, formats, save
 from kcheck.scene import Scene
 from kcheck.suggest import Search
 
@@ -23,8 +23,8 @@ def plot_suggestion(
     found: Search,
     design: tuple[np.ndarray, np.ndarray] | None,
     path: Path,
-) -> tuple[Path, Path]:
-    """Write ``path`` (its stem, as PNG and SVG): the candidate points coloured by their best
+) -> tuple[Path, ...]:
+    """Write ``path`` (PNG or SVG, by its suffix): the candidate points coloured by their best
     margin in 3D, from above and from the front, with the best candidate's force and the
     design's."""
     from matplotlib.colors import TwoSlopeNorm
@@ -70,7 +70,8 @@ def plot_suggestion(
         f"{scene.name}: where to put the closing force — {len(pts)} points, {best_text}",
         fontsize=11,
     )
-    return save(fig, path.parent, path.stem)
+    with formats((path.suffix.lstrip(".").lower(),)):
+        return save(fig, path.parent, path.stem)
 
 
 def _view(

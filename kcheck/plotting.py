@@ -1,15 +1,82 @@
-"""Shared plumbing for pictures: matplotlib (the `plot` extra) is imported only here, lazily."""
+"""Shared plumbing for pictures: matplotlib (the `plot` extra) is imported only here, lazily.
+
+Pictures are written as PNG by default; ``--plot-format`` (and the HTML report, which inlines
+SVG) ask for other formats through :func:`formats`, which the runner sets around each check's
+``plot`` call. Figures come from a small pool (:func:`figure`) and are cleared and reused:
+building a new figure and canvas for every picture costs more than drawing a simple one.
+"""
 
 from __future__ import annotations
 
 import re
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["figure", "save", "slug"]
+__all__ = [
+    "PLOT_FORMATS",
+    "OUTCOME_COLOURS",
+    "VERDICT_COLOURS",
+    "figure",
+    "formats",
+    "save",
+    "slug",
+    "outcome_colour",
+    "sweep_note",
+]
+
+#: Formats a picture can be written in (``--plot-format``).
+PLOT_FORMATS = ("png", "svg")
+#: Resolution of PNG pictures (dots per inch).
+PNG_DPI = 110
+#: Colours of case outcomes, the same in every picture; any other outcome gets UNKNOWN.
+OUTCOME_COLOURS = {
+    "closes": "#2ca02c",
+    "ok": "#2ca02c",
+    "swept": "#17becf",
+    "loses_contact": "#ff7f0e",
+    "opens": "#d62728",
+    "jams": "#7f7f7f",
+    "opens_loses_contact": "#8c1c13",
+    "ambiguous": "#9467bd",
+    "wrong_sense": "#d62728",
+}
+UNKNOWN_OUTCOME = "#8c564b"
+#: Colours of verdicts (the text and HTML reports use the same hues).
+VERDICT_COLOURS = {"pass": "#1a7f37", "warn": "#9a6700", "fail": "#cf222e", "error": "#8250df"}
+
+_formats: ContextVar[tuple[str, ...]] = ContextVar("kcheck_plot_formats", default=("png",))
+_pool: dict[tuple[float, float], Figure] = {}
+
+
+@contextmanager
+def formats(names: Sequence[str]) -> Iterator[None]:
+    """Write pictures in ``names`` (each in :data:`PLOT_FORMATS`) within the block."""
+    unknown = [n for n in names if n not in PLOT_FORMATS]
+    if unknown or not names:
+        raise ValueError(f"picture formats must be among {', '.join(PLOT_FORMATS)}")
+    token = _formats.set(tuple(dict.fromkeys(names)))
+    try:
+        yield
+    finally:
+        _formats.reset(token)
+
+
+def outcome_colour(outcome: str) -> str:
+    """The colour of a case outcome (a colour for any outcome, known or not)."""
+    return OUTCOME_COLOURS.get(outcome, UNKNOWN_OUTCOME)
+
+
+def sweep_note(normal: object, zero: object) -> str:
+    """The angle convention of a sweep plane, for a caption."""
+    from kcheck.fmt import describe_sweep
+
+    return f"angles: {describe_sweep(normal, zero)}"  # type: ignore[arg-type]
 
 
 def slug(text: str) -> str:
@@ -17,18 +84,40 @@ def slug(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9]+", "-", text).strip("-").lower() or "scene"
 
 
-def figure(**kwargs: Any) -> Figure:
-    """A new matplotlib figure on the non-interactive Agg canvas (no display needed)."""
+def figure(figsize: tuple[float, float] = (8.0, 6.0), **kwargs: Any) -> Figure:
+    """A cleared matplotlib figure on the non-interactive Agg canvas (no display needed).
+
+    Figures of one size are reused (cleared) from a pool; a figure is only valid until the
+    next call for the same size, so draw and :func:`save` one picture at a time.
+    """
     from matplotlib.figure import Figure
 
-    kwargs.setdefault("layout", "constrained")
-    return Figure(**kwargs)
+    layout = kwargs.pop("layout", "constrained")
+    key = (float(figsize[0]), float(figsize[1]))
+    fig = _pool.get(key)
+    if fig is None or kwargs:
+        fig = Figure(figsize=figsize, layout=layout, **kwargs)
+        if not kwargs:
+            _pool[key] = fig
+    else:
+        fig.clear()
+        fig.set_layout_engine(layout)
+    return fig
 
 
-def save(fig: Figure, directory: Path, stem: str) -> tuple[Path, Path]:
-    """Write a figure as PNG (150 dpi) and SVG; return both paths."""
+def save(fig: Figure, directory: Path, stem: str) -> tuple[Path, ...]:
+    """Write a figure in each requested format; return the paths."""
     directory.mkdir(parents=True, exist_ok=True)
-    png, svg = directory / f"{stem}.png", directory / f"{stem}.svg"
-    fig.savefig(png, dpi=150)
-    fig.savefig(svg)
-    return png, svg
+    written = []
+    for ext in _formats.get():
+        path = directory / f"{stem}.{ext}"
+        if ext == "svg":
+            # Text as text (small, searchable); no date, so files do not change needlessly.
+            import matplotlib
+
+            with matplotlib.rc_context({"svg.fonttype": "none"}):
+                fig.savefig(path, metadata={"Date": None})
+        else:
+            fig.savefig(path, dpi=PNG_DPI)
+        written.append(path)
+    return tuple(written)

@@ -114,7 +114,7 @@ def to_json_value(value: Any) -> Any:
 
 
 def ranges_json(ranges: Ranges) -> list[list[float]]:
-    """Arc ranges in degrees as JSON lists ``[start, end]``, both in [0, 360).
+    """Arc ranges in degrees as JSON lists ``[start, end]``: start in [0, 360), end in (0, 360].
 
     The range runs counter-clockwise from ``start`` to ``end``; ``end < start`` means it passes
     through 0°. The full circle is ``[0, 360]``. (:func:`kcheck.fmt.normalise_range`.)
@@ -214,7 +214,9 @@ class SceneResult:
     ``errors`` are the input errors (every one found, located); ``error`` is the first, as
     text. ``warnings`` are sanity warnings about the scene (a units slip, reversed normals).
     ``units`` is the scene's length unit, for reports (JSON stays SI). ``supports`` are the
-    scene's supports as checked (SI), each saying which coupling shorthand made it.
+    scene's supports as checked (SI), each saying which coupling shorthand made it. ``sweep`` is
+    the sweep plane as ``(normal, zero)`` unit vectors: angles turn counter-clockwise about
+    ``normal`` from ``zero`` (reports state it; None when the file could not be read).
     """
 
     path: str
@@ -231,6 +233,7 @@ class SceneResult:
     units: str | None = None
     runtime_s: float = 0.0
     supports: tuple[Mapping[str, Any], ...] = ()
+    sweep: tuple[tuple[float, ...], tuple[float, ...]] | None = None
 
     def to_json(self) -> dict[str, Any]:
         """JSON form of one scene."""
@@ -253,6 +256,8 @@ class SceneResult:
             out["units"] = self.units
         if self.supports:
             out["supports"] = [to_json_value(s) for s in self.supports]
+        if self.sweep is not None:
+            out["sweep"] = {"normal": list(self.sweep[0]), "zero": list(self.sweep[1])}
         if self.notes:
             out["notes"] = list(self.notes)
         if self.plots:

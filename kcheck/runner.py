@@ -29,6 +29,9 @@ from kcheck.yamlio import DEFAULT_LIMITS
 
 __all__ = ["Settings", "discover", "check_scene", "run_batch", "scene_status"]
 
+#: Top-level modules of the `plot` extra: only their absence means "install the extra".
+PLOT_EXTRA = ("matplotlib", "networkx")
+
 #: Key of a check's options in a scene that sets the check's severity, not an option.
 SEVERITY_KEY = "severity"
 
@@ -60,6 +63,7 @@ class Settings:
     memory_bytes: int | None = None
     max_file_bytes: int | None = None
     max_mesh_bytes: int | None = None
+    plot_formats: tuple[str, ...] = ("png",)
 
 
 def discover(paths: Iterable[Path | str]) -> tuple[list[Path], list[SceneResult]]:
@@ -99,16 +103,15 @@ def _error(path: Path, message: str, errors: tuple[Finding, ...] = ()) -> SceneR
 def _input_error(path: Path, exc: SceneError) -> SceneResult:
     """An error result listing every input error of the file, each located."""
     findings = tuple(
-        Finding(
-            e.message,
-            # a field given as text (``load.magnitude``) stays readable as a one-part path
-            field=e.where if e.where is not None else ((e.field,) if e.field else None),
-            line=e.line,
-            column=e.column,
-        )
+        Finding(e.message, field=e.where or _field(e.field), line=e.line, column=e.column)
         for e in exc.all()
     )
     return _error(path, str(exc.all()[0]), findings)
+
+
+def _field(text: str | None) -> tuple[str, ...] | None:
+    """A field given as text (``supports[2].normal``) as a one-part field path."""
+    return None if not text else (text,)
 
 
 def scene_status(checks: Sequence[CheckResult], warnings: Sequence[Finding] = ()) -> Status:
@@ -261,11 +264,8 @@ def check_scene(
         )
         results.append(result)
         if settings.plots is not None and result.status in (Status.PASS, Status.FAIL):
-            try:
-                files = lc.check.plot(inputs, result, settings.plots)
-            except ImportError as exc:
-                files = ()
-                notes = (*notes, f"plots need the `plot` extra ({exc})")
+            files, note = _plot(lc, inputs, result, settings)
+            notes = notes if note is None else (*notes, note)
             written.extend(str(f) for f in files)
     warnings = _locate(scene, scene_warnings(scene, mass, results))
     return SceneResult(
@@ -281,6 +281,11 @@ def check_scene(
         runtime_s=time.perf_counter() - started,
         warnings=warnings,
         supports=tuple(s.to_json() for s in scene.supports),
+        # The scene's own plane: planar scenes, or a `sweep:` entry (a spatial check that
+        # chooses a plane of its own reports it in its `sweep_plane`).
+        sweep=(tuple(scene.sweep.normal.tolist()), tuple(scene.sweep.e1.tolist()))
+        if scene.kind == "planar" or scene.sweep.given
+        else None,
     )
 
 
@@ -311,6 +316,24 @@ def _budget_error(path: Path, outcome: Any, settings: Settings) -> SceneResult:
             text += f", most likely past {memory}"
         text += "; the batch went on without it"
     return _error(path, f"{path}: checking this scene {text}")
+
+
+def _plot(
+    lc: LoadedCheck, inputs: Inputs, result: CheckResult, settings: Settings
+) -> tuple[Sequence[Path], str | None]:
+    """A check's pictures, or none and a note saying why: a picture never stops a batch."""
+    from kcheck.plotting import formats
+
+    assert settings.plots is not None
+    try:
+        with formats(settings.plot_formats):
+            return lc.check.plot(inputs, result, settings.plots), None
+    except ModuleNotFoundError as exc:
+        if (exc.name or "").split(".")[0] not in PLOT_EXTRA:
+            return (), f"pictures of {lc.spec.name} failed (ModuleNotFoundError: {exc})"
+        return (), f"pictures need the plot extra: pip install 'kcheck[plot]' ({exc})"
+    except Exception as exc:  # a picture must not take the batch down
+        return (), f"pictures of {lc.spec.name} failed ({type(exc).__name__}: {exc})"
 
 
 def run_batch(

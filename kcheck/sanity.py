@@ -13,7 +13,8 @@ public results, never at a check's internals.
 * ``body-size``: a body smaller than 0.1 mm or larger than 20 m across.
 * ``part-size-outlier``: a mesh part whose size is out of line with the others (a part in cm
   in a mm assembly).
-* ``normals-reversed``: every case opens, yet with every normal reversed every case closes.
+* ``normals-reversed``: every case opens, with every normal reversed every case closes, and
+  the normals do not clearly point towards the centre of mass.
 * and the mesh warnings carried by the mass properties (``mesh-repaired``).
 """
 
@@ -203,7 +204,7 @@ def _every_case_opens(checks: Sequence[CheckResult]) -> bool:
         if not check.cases:
             continue
         outcomes = {c.outcome for c in check.cases}
-        if outcomes == {"opens"}:
+        if outcomes and outcomes <= {"opens", "opens_loses_contact"}:
             return True
         if outcomes == {"swept"} and all(not c.safe_ranges_deg for c in check.cases):
             return True
@@ -213,9 +214,23 @@ def _every_case_opens(checks: Sequence[CheckResult]) -> bool:
 def _normals_reversed(
     scene: Scene, mass: MassProperties, checks: Sequence[CheckResult]
 ) -> list[Finding]:
-    """Every case opens (or no direction closes any case), and the same scene with every
-    normal reversed closes every case: re-evaluated with :func:`kcheck.analysis.analyse`."""
+    """Every case opens (or no direction closes any case), the same scene with every normal
+    reversed closes every case (re-evaluated with :func:`kcheck.analysis.analyse`), and the
+    normals do not clearly point towards the centre of mass.
+
+    The dynamics alone cannot tell reversed normals from a reversed load: without friction
+    and gravity both give the same equations. Geometry can veto: a support pushes the body, so
+    when most normals point within 60° of the centre of mass they are probably right and the
+    load is what is wrong (the checks' findings say where to turn it).
+    """
     if not _every_case_opens(checks):
+        return []
+    points = np.array([s.position for s in scene.supports])
+    normals = np.array([s.normal for s in scene.supports])
+    towards = mass.center_of_mass - points
+    distance = np.linalg.norm(towards, axis=1)
+    cosine = np.einsum("ij,ij->i", normals, towards) / np.where(distance > 0, distance, 1.0)
+    if np.count_nonzero(cosine > 0.5) > len(cosine) / 2:
         return []
     from kcheck.analysis import analyse, closing_force_reason
 

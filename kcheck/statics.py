@@ -198,11 +198,12 @@ class Equilibria:
 
     def arcs(self, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, float]:
         """Held directions in the sweep plane (rad from ``e1`` towards ``e2``) and the error
-        of the arc ends (rad) from rounding of the facet coefficients."""
+        of the arc ends (rad) from rounding of the facet coefficients (0 without ends)."""
         if self.kind != "cone":
             return (FULL if self.kind == "everywhere" else ()), 0.0
         scale = np.abs(self.a) + np.linalg.norm(self.c, axis=1)
-        return affine_arcs(self.a, self.c, e1, e2, 64 * EPS * scale)
+        arcs, error = affine_arcs(self.a, self.c, e1, e2, 64 * EPS * scale)
+        return arcs, 0.0 if error is None else error
 
 
 def equilibria(

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from kcheck.analysis import analyse, problem_for
-from kcheck.arcs import cap_margin_matrix, cap_margins
+from kcheck.arcs import cap_margin_matrix
 from kcheck.candidates import Sampler, SuggestError
 from kcheck.dynamics import Problem, analyse_case, solve_affine
 from kcheck.scene import Load, Scene
@@ -276,9 +276,8 @@ def search(
     refined = []
     for j in order:
         c = caps_at(caps, points[j : j + 1])[0]
-        per_point = cap_margin_matrix(caps.a, c, grid).min(axis=1)
-        direction, _ = most_robust_direction(caps.a, c, directions, margins=per_point)
-        refined.append((float(cap_margins(caps.a, c, direction[None])[0]), j, direction))
+        direction, margin = most_robust_direction(caps.a, c)
+        refined.append((margin, j, direction))
     refined.sort(key=lambda t: -t[0])
     chosen = set(_distinct(points, np.array([j for _, j, _ in refined]), keep, sampler.spacing))
     best = []

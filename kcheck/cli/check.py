@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import sys
+import tempfile
 import time
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TextIO
 
@@ -19,6 +21,22 @@ if TYPE_CHECKING:
 
 __all__ = ["add_parser", "run"]
 
+EPILOG = """\
+exit codes:
+  0  every check passed (checks of severity warning may have failed; see --strict)
+  1  a check failed
+  2  bad input or usage; every other scene is still checked
+
+examples:
+  kcheck check parts/                  one line per scene, reasons for failures
+  kcheck check parts/ -v               every table, mass properties, sweep plane
+  kcheck check parts/ --html review.html --plots plots/
+  kcheck check --format github --output-format sarif:kcheck.sarif    in CI
+"""
+
+#: The format whose page inlines SVG pictures: asking for it makes the run draw them.
+PAGE_FORMAT = "html"
+
 
 def add_parser(sub: Any) -> None:
     """Register the ``check`` command."""
@@ -29,27 +47,31 @@ def add_parser(sub: Any) -> None:
         help="check scene files (default: every *.kcheck.yaml in .)",
         description="Check scene files and report; exit 0 when every check passed, 1 when a "
         "check failed, 2 on bad input or usage (other scenes are still checked).",
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     check.add_argument(
         "paths",
         nargs="*",
         type=Path,
         help="scene files and folders (searched recursively for *.kcheck.yaml); a mesh file "
-        "checks the scenes that use it (default: configuration `paths`, else .)",
+        "checks the scenes that use it (default: configuration paths, else .)",
     )
     check.add_argument(
         "--format",
         choices=tuple(FORMATS),
         help="report format on standard output or --output: text (for people), json, "
         "concise (path:line: check: message), github (workflow annotations), markdown "
-        "(pull-request comment), junit, sarif (default: text)",
+        "(pull-request comment), junit, sarif, html (one self-contained page) "
+        "(default: text)",
     )
     check.add_argument("--output", "-o", type=Path, help="write the report to this file")
     check.add_argument(
         "--plots",
         type=Path,
         metavar="DIR",
-        help="write pictures (PNG and SVG) into DIR (needs the `plot` extra)",
+        help="write pictures into DIR, PNG unless --plot-format says otherwise "
+        "(needs the plot extra: pip install 'kcheck[plot]')",
     )
     check.add_argument(
         "--color",
@@ -64,7 +86,48 @@ def add_parser(sub: Any) -> None:
         help="let scenes use meshes outside their own folder",
     )
     add_gate_options(check)
+    _add_report_options(check)
     check.set_defaults(handler=run)
+
+
+def _add_report_options(check: Any) -> None:
+    """How much the text report says, progress, pictures' format, the HTML page."""
+    group = check.add_argument_group("report")
+    amount = group.add_mutually_exclusive_group()
+    amount.add_argument(
+        "-v",
+        "--verbose",
+        action="store_true",
+        help="every scene in full: sweep plane, mass properties, notes, every check with its "
+        "tables, pictures written",
+    )
+    amount.add_argument(
+        "-q",
+        "--quiet",
+        action="store_true",
+        help="only scenes that did not pass, and the summary",
+    )
+    group.add_argument(
+        "--progress",
+        choices=("auto", "always", "never"),
+        default="auto",
+        help="progress line on stderr while scenes are checked (default: auto, shown when "
+        "stderr is a terminal; it disappears when the run is done)",
+    )
+    group.add_argument(
+        "--html",
+        type=Path,
+        metavar="FILE",
+        help="also write one self-contained HTML page (summary first, then every scene with "
+        "its tables and pictures inline as SVG; needs the plot extra for pictures); the same "
+        "as --output-format html:FILE",
+    )
+    group.add_argument(
+        "--plot-format",
+        default="png",
+        metavar="FORMATS",
+        help="picture formats for --plots, comma-separated from png, svg (default: png)",
+    )
 
 
 def _slim(result: SceneResult) -> SceneResult:
@@ -115,8 +178,30 @@ def _open(path: Path) -> TextIO:
     return path.open("w", encoding="utf-8", errors="backslashreplace")
 
 
+def _plot_formats(text: str) -> tuple[str, ...] | None:
+    from kcheck.plotting import PLOT_FORMATS
+
+    names = tuple(dict.fromkeys(n.strip().lower() for n in text.split(",") if n.strip()))
+    return names if names and all(n in PLOT_FORMATS for n in names) else None
+
+
+@contextlib.contextmanager
+def _pictures(
+    plots: Path | None, plot_formats: tuple[str, ...], page: bool
+) -> Iterator[tuple[Path | None, tuple[str, ...]]]:
+    """Where pictures go and in which formats: an HTML page inlines SVG, so with a page the
+    pictures include SVG, in a temporary folder when --plots is not given."""
+    if not page:
+        yield plots, plot_formats
+    elif plots is not None:
+        yield plots, tuple(dict.fromkeys((*plot_formats, "svg")))
+    else:
+        with tempfile.TemporaryDirectory(prefix="kcheck-html-") as tmp:
+            yield Path(tmp), ("svg",)
+
+
 def run(args: argparse.Namespace) -> int:
-    """Check every scene, stream the report, choose the exit code."""
+    """Check every scene, stream the reports, choose the exit code."""
     from kcheck.cli.config import cache_folder, effective_config, output_targets, plan_checks
     from kcheck.paths import check_output_dir, check_output_file
     from kcheck.plugin import load_checks
@@ -129,13 +214,20 @@ def run(args: argparse.Namespace) -> int:
     plan = plan_checks(config, checks)
     if config["format"] not in FORMATS:
         return fail(f"unknown format `{config['format']}`; known: {', '.join(FORMATS)}")
+    plot_formats = _plot_formats(args.plot_format)
+    if plot_formats is None:
+        return fail(f"--plot-format: expected png, svg or png,svg; got {args.plot_format!r}")
     # Every output is checked before any scene runs.
     if args.output is not None:
         check_output_file(args.output, "--output")
     targets = output_targets(config)
+    if args.html is not None:
+        check_output_file(args.html, "--html")
+        targets.append((PAGE_FORMAT, args.html))
     _refuse_shared_outputs([("--output", args.output)] if args.output is not None else [], targets)
     if args.plots is not None:
         check_output_dir(args.plots, "--plots")
+    page = PAGE_FORMAT in {config["format"], *(name for name, _ in targets)}
 
     paths = [Path(p) for p in config["paths"]] or [Path(".")]
     files, missing = discover(paths)
@@ -143,22 +235,9 @@ def run(args: argparse.Namespace) -> int:
         from kcheck.vcs import changed_scenes
 
         files = changed_scenes(files, args.since or "HEAD")
-    jobs = config["jobs"] or _cores()
-    settings = Settings(
-        allow_outside=config["allow_outside_paths"],
-        plots=args.plots,
-        severities=plan.severities,
-        check_options=plan.options,
-        selected=plan.selected,
-        cache_dir=cache_folder(config),
-        jobs=jobs,
-        timeout_s=config["timeout"],
-        memory_bytes=int(config["memory_limit"] * 2**20),
-        max_file_bytes=int(config["max_file_size"] * 2**20),
-        max_mesh_bytes=int(config["max_mesh_size"] * 2**20),
-    )
     options = ReportOptions(
         color=args.color,
+        verbosity=1 if args.verbose else -1 if args.quiet else 0,
         to_file=args.output is not None,
         fail_on=config["fail_on"],
         checks={lc.spec.name: lc.check.summary for lc in checks},
@@ -182,17 +261,26 @@ def run(args: argparse.Namespace) -> int:
                 stream.close()
         return fail(f"cannot open a report file: {describe_os_error(exc)} ({exc.filename})")
     tee = _Tee(streams)
-    results: list[SceneResult] = []
     try:
-        started = time.perf_counter()
-        tee.start(len(files) + len(missing))
-        for result in missing:
-            results.append(result)
-            tee.scene(result)
-        for result in run_batch(files, checks, settings):
-            tee.scene(result)
-            results.append(_slim(result))
-        tee.finish(results, time.perf_counter() - started)
+        with _pictures(args.plots, plot_formats, page) as (plots, formats):
+            settings = Settings(
+                allow_outside=config["allow_outside_paths"],
+                plots=plots,
+                plot_formats=formats,
+                severities=plan.severities,
+                check_options=plan.options,
+                selected=plan.selected,
+                cache_dir=cache_folder(config),
+                jobs=config["jobs"] or _cores(),
+                timeout_s=config["timeout"],
+                memory_bytes=int(config["memory_limit"] * 2**20),
+                max_file_bytes=int(config["max_file_size"] * 2**20),
+                max_mesh_bytes=int(config["max_mesh_size"] * 2**20),
+            )
+            doing = "checking" + (", plotting" if plots is not None else "")
+            results, elapsed = _run(
+                tee, files, missing, run_batch(files, checks, settings), args, doing
+            )
     finally:
         for _, _, stream in streams:
             if stream is not sys.stdout:
@@ -200,9 +288,9 @@ def run(args: argparse.Namespace) -> int:
                     stream.close()
                 except OSError as exc:
                     tee.failures.append(f"cannot write {stream.name}: {exc.strerror}")
-    for r in results:
-        if r.status is Status.ERROR and r.error:
-            print(f"kcheck: error: {r.error}", file=sys.stderr)
+    if not (config["format"] == "text" and args.output is None):
+        _errors_to_stderr(results)
+        _summary_to_terminal(results, elapsed, args.output)
     for message in tee.failures:
         print(f"kcheck: error: {message}", file=sys.stderr)
     states = {r.status for r in results}
@@ -242,3 +330,61 @@ def _cores() -> int:
     from kcheck.config import cpu_count
 
     return cpu_count()
+
+
+def _run(
+    tee: _Tee,
+    files: list[Path],
+    missing: list[SceneResult],
+    batch: Iterator[SceneResult],
+    args: argparse.Namespace,
+    doing: str,
+) -> tuple[list[SceneResult], float]:
+    """Feed every reporter each result as it arrives, with a progress line on stderr;
+    return the (slimmed) results and the wall time."""
+    from kcheck.report.progress import ProgressLine
+
+    started = time.perf_counter()
+    tee.start(len(files) + len(missing))
+    results: list[SceneResult] = []
+    for result in missing:
+        results.append(result)
+        tee.scene(result)
+    with ProgressLine(args.progress, len(files), doing) as progress:
+        progress.next(files[0] if files else None)
+        for k, result in enumerate(batch):
+            with progress.paused():
+                tee.scene(result)
+            results.append(_slim(result))
+            progress.next(files[k + 1] if k + 1 < len(files) else None)
+    elapsed = time.perf_counter() - started
+    tee.finish(results, elapsed)
+    return results, elapsed
+
+
+def _errors_to_stderr(results: list[SceneResult]) -> None:
+    """Input errors on stderr, once each, when stdout is not the text report (which shows
+    them in the scene's block)."""
+    from kcheck.report import views
+    from kcheck.report.safe import printable
+
+    encoding = getattr(sys.stderr, "encoding", None) or "utf-8"
+    for r in results:
+        if not r.error:
+            continue
+        for e in r.errors or ():
+            where, message = views.error_line(r.path, e)
+            print(printable(f"kcheck: error: {where}: {message}", encoding), file=sys.stderr)
+        if not r.errors:
+            print(printable(f"kcheck: error: {r.error}", encoding), file=sys.stderr)
+
+
+def _summary_to_terminal(results: list[SceneResult], elapsed: float, output: Path | None) -> None:
+    """With --output the report is in a file; the terminal still gets the run's last line."""
+    if output is None:
+        return
+    from kcheck.report import views
+    from kcheck.report.safe import printable
+
+    line = f"{views.run_line(results, elapsed)}; report written to {output}"
+    print(printable(line, getattr(sys.stdout, "encoding", None) or "utf-8"))

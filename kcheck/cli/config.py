@@ -67,7 +67,7 @@ def add_gate_options(parser: argparse.ArgumentParser) -> None:
     gate = parser.add_argument_group(
         "configuration and CI gate",
         "These override [tool.kcheck] in pyproject.toml or kcheck.toml (found from the "
-        "working directory upwards, up to the repository root); `kcheck config` shows the "
+        "working directory upwards, up to the repository root); kcheck config shows the "
         "result.",
     )
     gate.add_argument("--config", type=Path, metavar="FILE", help="use this configuration file")
@@ -289,11 +289,11 @@ def add_parser(sub: Any) -> None:
     parser = sub.add_parser(
         "config",
         help="print the effective configuration and where each value came from",
-        description="Print the configuration `kcheck check` would use: every key, its value "
+        description="Print the configuration kcheck check would use: every key, its value "
         "and its origin (default, a configuration file, or the command line).",
     )
     parser.add_argument("--json", action="store_true", help="print it as JSON")
-    parser.add_argument("--format", help="override the report format (as for `check`)")
+    parser.add_argument("--format", help="override the report format (as for check)")
     add_gate_options(parser)
     parser.set_defaults(handler=run)
 

@@ -66,7 +66,12 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--top", type=int, default=5, help="candidates to print (default 5)")
     p.add_argument("--seed", type=int, default=0, help="seed of the surface sampling")
     p.add_argument("--jobs", "-j", type=int, default=1, help="processes (default 1)")
-    p.add_argument("--plot", type=Path, metavar="FILE", help="picture of the margin (PNG + SVG)")
+    p.add_argument(
+        "--plot",
+        type=Path,
+        metavar="FILE",
+        help="picture of the margin over the candidate points, PNG or SVG by the file's suffix",
+    )
     p.add_argument(
         "--write", type=Path, metavar="FILE", help="write the scene with the best candidate's load"
     )
@@ -100,6 +105,12 @@ def _usage(args: argparse.Namespace) -> str | None:
             return "--friction-samples must be at least 1"
     if args.box is not None and any(a > b for a, b in zip(args.box[:3], args.box[3:], strict=True)):
         return "--box needs XMIN <= XMAX, YMIN <= YMAX and ZMIN <= ZMAX"
+    if args.plot is not None and args.plot.suffix.lower() not in (".png", ".svg"):
+        return f"--plot {args.plot}: expected a .png or .svg file"
+    if args.plot is not None:
+        from kcheck.paths import check_output_file
+
+        check_output_file(args.plot, "--plot")  # before the search, not after it
     return None
 
 

@@ -36,6 +36,7 @@ FORMATS: dict[str, str] = {
     "markdown": "kcheck.report.markdown:MarkdownReporter",
     "junit": "kcheck.report.junit:JunitReporter",
     "sarif": "kcheck.report.sarif:SarifReporter",
+    "html": "kcheck.report.html:HtmlReporter",
 }
 
 
@@ -84,8 +85,11 @@ def make_console(color: str = "auto", file: TextIO | None = None, stderr: bool =
     return make(color, file=file, stderr=stderr)
 
 
-def render_mass(console: Console, mass: MassProperties, indent: str = "  ") -> None:
-    """Mass properties as an engineer reads them (:func:`kcheck.report.text.render_mass`)."""
+def render_mass(
+    console: Console, mass: MassProperties, indent: str = "  ", units: str | None = None
+) -> None:
+    """Mass properties as an engineer reads them, lengths in ``units`` (default m)
+    (:func:`kcheck.report.text.render_mass`)."""
     from kcheck.report.text import render_mass as render
 
-    render(console, mass, indent)
+    render(console, mass, indent, units)

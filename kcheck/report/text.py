@@ -1,212 +1,274 @@
-"""Terminal report with rich: per scene the verdict, mass properties and a table per check.
+"""The terminal report (rich): one line per passing scene, the reasons for every failure, a
+short summary at the end.
 
-Rendering only: results come in finished; nothing here computes physics. Tables are built
-from whatever fields the cases carry, so a third-party check is shown like a built-in one.
+Verbosity: ``-q`` (-1) only scenes that did not pass and the summary; default (0) one line
+per passing scene and, for a scene that did not pass, each check's verdict with its reasons
+and hints; ``-v`` (1) every scene in full: sweep plane, mass properties, notes, every check
+with its tables. What is said comes from :mod:`kcheck.report.views`; this module only lays
+it out. On a terminal prose wraps at the width but numbers never break; anywhere else
+(pipes, files, CI logs) nothing wraps, so every line stays whole for grep.
 """
 
 from __future__ import annotations
 
 import os
-import sys
 from collections.abc import Sequence
 from typing import Any, TextIO
 
-import numpy as np
 from rich.console import Console
+from rich.padding import Padding
 from rich.table import Table
 from rich.text import Text
 
-from kcheck.mass import MassProperties, principal_axes
-from kcheck.report import ReportOptions
+from kcheck.report import ReportOptions, tables, views
+from kcheck.report.safe import SafeStream
+from kcheck.report.safe import stdout as safe_stdout
 from kcheck.result import CheckResult, SceneResult, Status
 
-__all__ = ["TextReporter", "make_console", "render", "render_mass"]
+__all__ = ["TextReporter", "make_console", "render_scene", "render_summary", "render_mass"]
 
 STYLE = {
-    Status.PASS: "bold green",
-    Status.WARN: "bold yellow",
-    Status.FAIL: "bold red",
-    Status.ERROR: "bold magenta",
-    Status.SKIPPED: "dim",
+    "pass": "bold green",
+    "warn": "bold yellow",
+    "fail": "bold red",
+    "error": "bold magenta",
+    "n/a": "dim",
 }
+OUTCOME_STYLE = {"closes": "green", "ok": "green", "swept": "cyan"}
+# Width of a console that never wraps (pipes, files): lines stay whole.
+UNWRAPPED = 100_000
 
 
 def make_console(color: str = "auto", file: TextIO | None = None, stderr: bool = False) -> Console:
     """A console honouring ``--color``: ``auto`` follows the TTY and FORCE_COLOR, and a
-    non-empty NO_COLOR turns off every ANSI style, not only colours (plain logs in CI)."""
+    non-empty NO_COLOR turns off every ANSI style, not only colours (plain logs in CI).
+
+    The stream is wrapped in :class:`SafeStream` (no character can crash the report). When
+    it is not a terminal nothing wraps, whatever COLUMNS says.
+    """
     kwargs: dict[str, Any] = {"markup": False, "highlight": False, "emoji": False}
     if color == "always":
         kwargs["force_terminal"] = True
     elif color == "never" or os.environ.get("NO_COLOR"):
         kwargs["no_color"] = True
         kwargs["color_system"] = None
-    console = Console(file=file, stderr=stderr, **kwargs)
-    if not console.is_terminal and file is None:
-        # Logs and CI pages are wider than 80 columns; avoid wrapping tables there.
-        console = Console(file=file, stderr=stderr, width=120, **kwargs)
+    if file is None:
+        import sys
+
+        stream = SafeStream(lambda: sys.stderr) if stderr else safe_stdout()
+    else:
+        stream = file if isinstance(file, SafeStream) else SafeStream(file)
+    console = Console(file=stream, **kwargs)  # type: ignore[arg-type]
+    if not console.is_terminal:
+        console = Console(file=stream, width=UNWRAPPED, soft_wrap=True, **kwargs)  # type: ignore[arg-type]
     return console
 
 
-def _fmt(value: Any) -> str:
-    if value is None:
-        return "–"
-    if isinstance(value, float):
-        if not np.isfinite(value):
-            return "∞" if value > 0 else "-∞"
-        return f"{value:.4g}"
-    return str(value)
+def _indented(console: Console, text: Text, indent: int) -> None:
+    """Print ``text`` with every wrapped line indented (no indent padding when unwrapped)."""
+    console.print(Padding(text, (0, 0, 0, indent), expand=False))
 
 
-def _vec(values: Any) -> str:
-    return "(" + ", ".join(f"{v:.5g}" for v in np.asarray(values, dtype=float)) + ")"
+def _hanging(console: Console, indent: int, left: Text, right: Text) -> None:
+    """``left`` then ``right``; on a terminal, lines of ``right`` that wrap start under it."""
+    if console.width >= UNWRAPPED:
+        console.print(Text(" " * indent).append_text(left).append_text(right))
+        return
+    left = Text(" " * indent).append_text(left)
+    grid = Table.grid(padding=0, pad_edge=False)
+    grid.add_column(no_wrap=True)
+    grid.add_column()
+    grid.add_row(left, right)
+    console.print(grid)
 
 
-def render_mass(console: Console, mass: MassProperties, indent: str = "  ") -> None:
-    """Mass properties as an engineer reads them from a CAD package (SI units)."""
-    console.print(
-        f"{indent}mass {mass.mass:.6g} kg ({mass.source})"
-        + (f", volume {mass.volume:.6g} m^3" if mass.volume is not None else "")
-    )
-    console.print(f"{indent}centre of mass {_vec(mass.center_of_mass)} m")
-    inertia = mass.inertia
-    if np.all(np.isfinite(inertia)):
-        console.print(f"{indent}inertia about the centre of mass (kg m^2):")
-        for row in inertia:
-            console.print(f"{indent}  [" + "  ".join(f"{v:12.6g}" for v in row) + " ]")
-        moments, axes = principal_axes(inertia)
-        console.print(f"{indent}principal moments {_vec(moments)} kg m^2")
-        for i in range(3):
-            console.print(f"{indent}  axis {i + 1} {_vec(axes[:, i])}")
-    else:
-        console.print(f"{indent}I_zz about the centre of mass {inertia[2, 2]:.6g} kg m^2")
-    for note in mass.notes:
+def _word(word: str) -> Text:
+    return Text(f"{word:<5}", style=STYLE.get(word, "bold"))
+
+
+def render_mass(
+    console: Console, mass: Any, indent: str = "  ", units: str | None = None, notes: bool = True
+) -> None:
+    """Mass properties as an engineer reads them from a CAD package, in the scene's units."""
+    for line in tables.mass_lines(mass, units):
+        console.print(f"{indent}{line}")
+    for note in mass.notes if notes else ():
         console.print(f"{indent}note: {note}", style="yellow")
 
 
-def _ranges(ranges: Sequence[Sequence[float]] | None) -> str:
-    if ranges is None:
-        return "–"
-    if not ranges:
-        return "none"
-    return ", ".join(f"{s:.2f}–{e:.2f}" for s, e in ranges)
+def _print_table(console: Console, view: tables.Table, indent: int) -> None:
+    """A table, indented, without trailing blanks. When it is wider than the terminal, each
+    row becomes one line of ``header value`` pairs instead, so no number is ever cut."""
+    _indented(console, Text(view.title, style="dim"), indent)
+    table = _table(view)
+    width = console.width - indent
+    if console.measure(table).maximum > width:
+        for row, outcome in zip(view.rows, view.styles, strict=True):
+            pairs = Text(row[0], style="bold")
+            pairs.append(f"  {row[1]}", style=OUTCOME_STYLE.get(str(outcome), "red"))
+            for header, cell in zip(view.headers[2:], row[2:], strict=True):
+                pairs.append(f"  {header} {cell}".replace("\n", ", "))
+            _hanging(console, indent, Text(), pairs)
+        return
+    options = console.options.update(width=width)
+    for line in console.render_lines(table, options, pad=False, new_lines=False):
+        text = Text.assemble(" " * indent, *((seg.text, seg.style) for seg in line))
+        text.rstrip()
+        console.print(text)
 
 
-_CASE_COLUMNS = (
-    ("cos_maxwell", "cos θ"),
-    ("acceleration", "accel. m/s²"),
-    ("limiting_friction", "μ limit"),
-    ("normal_forces", "normal forces N"),
-    ("safe_ranges_deg", "safe angles °"),
-)
-
-
-def _case_table(check: CheckResult) -> Table:
-    table = Table(show_header=True, header_style="bold", box=None, pad_edge=False, padding=(0, 2))
-    table.add_column("retracted")
-    table.add_column("outcome")
-    present = [
-        (attr, title)
-        for attr, title in _CASE_COLUMNS
-        if any(getattr(c, attr) is not None for c in check.cases)
-    ]
-    for _, title in present:
-        table.add_column(title, overflow="fold")
-    notes = any("diagnostic" in c.details for c in check.cases)
-    if notes:
-        table.add_column("diagnostic", overflow="fold")
-    for case in check.cases:
-        style = {"closes": "green", "ok": "green", "swept": "cyan"}.get(case.outcome, "red")
-        row: list[Any] = [case.retracted, Text(case.outcome, style=style)]
-        for attr, _ in present:
-            value = getattr(case, attr)
-            if attr == "normal_forces" and value is not None:
-                row.append(" ".join(f"{k} {v:.4g}" for k, v in value.items()))
-            elif attr == "safe_ranges_deg":
-                row.append(_ranges(value))
-            else:
-                row.append(_fmt(value))
-        if notes:
-            row.append(str(case.details.get("diagnostic", "")))
-        table.add_row(*row)
+def _table(view: tables.Table) -> Table:
+    table = Table(show_header=True, header_style="bold", box=None, pad_edge=False, padding=(0, 1))
+    for header, numeric in zip(view.headers, view.numeric, strict=True):
+        table.add_column(header, justify="right" if numeric else "left", no_wrap=True)
+    for row, outcome in zip(view.rows, view.styles, strict=True):
+        cells: list[Any] = list(row)
+        cells[1] = Text(cells[1], style=OUTCOME_STYLE.get(str(outcome), "red"))
+        table.add_row(*cells)
     return table
 
 
-def render_scene(console: Console, scene: SceneResult) -> None:
-    """One scene: verdict line, mass properties, then each check."""
-    head = Text()
-    head.append(f"{scene.status.value.upper():<5}", style=STYLE[scene.status])
-    head.append(f"  {scene.name or scene.path}", style="bold")
-    head.append(f"  {scene.path}" + (f"  [{scene.kind}]" if scene.kind else ""), style="dim")
-    console.print(head)
-    if scene.error:
-        console.print(f"  error: {scene.error}", style="magenta")
-        console.print()
+def _reason(console: Console, word: str, text: str, line: int | None, hint: str | None) -> None:
+    """One reason (``✗ why  (line n)``) and what to change (``→ hint``), hanging at 8."""
+    body = Text(text)
+    if line is not None:
+        body.append(f"  (line {line})", style="dim")
+    _hanging(console, 8, Text("✗ ", style=STYLE.get(word, "bold")), body)
+    if hint:
+        _hanging(console, 8, Text("→ ", style="cyan"), Text(hint, style="cyan"))
+
+
+def _check_line(console: Console, scene: SceneResult, check: CheckResult) -> None:
+    """The verdict of one check, then why (findings and hints) and where checks disagree."""
+    word = views.verdict(check)
+    line = Text(check.id, style="bold")
+    line.append(f"  {check.message}")
+    for limit in views.limitations(check):
+        line.append(f" ({limit})", style="yellow")
+    _hanging(console, 2, _word(word).append(" "), line)
+    plane = views.check_sweep_text(scene, check)
+    if plane is not None:
+        _hanging(console, 8, Text(), Text(plane, style="dim"))
+    if word in ("fail", "warn", "error") and check.findings:
+        for reason in views.reasons(check):
+            _reason(console, word, reason.text, reason.line, reason.hint)
+    for other in views.disagreements(scene, check):
+        _hanging(console, 8, Text("but ", style="bold yellow"), Text(other))
+
+
+def _errors(console: Console, scene: SceneResult) -> None:
+    """Every input error of the file, once, compiler style: ``path:line:col: field: message``."""
+    errors = scene.errors or ()
+    if not errors and scene.error:
+        _hanging(console, 2, Text(), Text(scene.error, style="magenta"))
         return
-    if scene.mass_properties is not None:
-        render_mass(console, scene.mass_properties)
+    for e in errors:
+        where, message = views.error_line(scene.path, e)
+        _hanging(console, 2, Text(f"{where}: ", style="bold"), Text(message))
+        if e.hint:
+            _hanging(console, 4, Text("→ ", style="cyan"), Text(e.hint, style="cyan"))
+
+
+def render_scene(console: Console, scene: SceneResult, verbosity: int = 0) -> bool | None:
+    """One scene: its verdict line; unless it passed (or with -v) the details. Returns
+    whether the block ended with a blank line (details do; a one-line scene does not), or
+    None when nothing was printed (-q and a passing scene)."""
+    word = views.scene_verdict(scene)
+    if verbosity < 0 and word == "pass":
+        return None
+    head = Text(f"{scene.name or scene.path}", style="bold")
+    if scene.name:
+        head.append(f"  {scene.path}", style="dim")
+    headline = views.headline(scene)
+    if headline and (word == "pass" or verbosity > 0):
+        head.append(f"  {headline}")
+    _hanging(console, 0, Text(f"{word.upper():<7}", style=STYLE.get(word, "bold")), head)
+    verbose = verbosity > 0
+    if word == "pass" and not verbose:
+        return False
+    if scene.error or scene.errors:
+        _errors(console, scene)
+        console.print()
+        return True
+    sweep = views.sweep_text(scene)
+    if sweep and (verbose or not views.default_sweep(scene)):
+        _hanging(console, 2, Text(), Text(sweep, style="dim"))
+    if verbose and scene.mass_properties is not None:
+        render_mass(console, scene.mass_properties, units=scene.units, notes=False)
     for note in scene.notes:
-        if scene.mass_properties is None or note not in scene.mass_properties.notes:
-            console.print(f"  note: {note}", style="yellow")
+        _hanging(console, 2, Text("note: ", style="yellow"), Text(note))
+    for warning in scene.warnings:
+        _reason(console, "warn", warning.message, warning.line, warning.hint)
+    skipped = [c for c in scene.checks if c.status is Status.SKIPPED]
     for check in scene.checks:
-        line = Text("  ")
-        line.append(f"{check.status.value:<7}", style=STYLE[check.status])
-        line.append(f" {check.id}", style="bold")
-        line.append(f"  {check.message}")
-        if check.status is not Status.SKIPPED:
-            extra = f"  ({check.runtime_s * 1e3:.1f} ms"
-            if check.error_estimate is not None:
-                extra += f", error ≤ {check.error_estimate:.1e}"
-            line.append(extra + ")", style="dim")
-        console.print(line)
-        if check.cases:
-            table = _case_table(check)
-            console.print(table, style=None)
-    for plot in scene.plots:
-        console.print(f"  plot written: {plot}", style="cyan")
+        if check.status is Status.SKIPPED and not verbose:
+            continue
+        _check_line(console, scene, check)
+        if verbose:
+            for view in (
+                tables.case_table(check, scene.units, scene.kind),
+                tables.forces_table(check),
+            ):
+                if view is not None:
+                    _print_table(console, view, 4)
+    if skipped and not verbose:
+        console.print(f"  {len(skipped)} n/a: {', '.join(c.id for c in skipped)}", style="dim")
+    if verbose:
+        for plot in scene.plots:
+            console.print(f"  picture: {plot}", style="cyan")
     console.print()
+    return True
 
 
-def render(console: Console, scenes: Sequence[SceneResult]) -> None:
-    """The whole report: every scene, then a summary across scenes."""
-    for scene in scenes:
-        render_scene(console, scene)
-    render_summary(console, scenes)
-
-
-def render_summary(console: Console, scenes: Sequence[SceneResult]) -> None:
-    """A table of every scene's verdict and the counts."""
-    counts = {s: sum(1 for x in scenes if x.status is s) for s in Status}
-    summary = Table(title="Summary", show_header=True, header_style="bold")
-    summary.add_column("scene")
-    summary.add_column("verdict")
-    summary.add_column("checks")
-    for scene in scenes:
-        checks = ", ".join(f"{c.id} {c.status.value}" for c in scene.checks) or (scene.error or "")
-        summary.add_row(
-            scene.name or scene.path, Text(scene.status.value, style=STYLE[scene.status]), checks
-        )
-    console.print(summary)
-    console.print(
-        f"{len(scenes)} scene(s): {counts[Status.PASS]} passed, {counts[Status.WARN]} with "
-        f"warnings, {counts[Status.FAIL]} failed, {counts[Status.ERROR]} with errors"
-    )
+def render_summary(
+    console: Console,
+    scenes: Sequence[SceneResult],
+    elapsed_s: float,
+    plots: int = 0,
+    blank: bool = True,
+) -> None:
+    """pytest-style short summary (one line per failure), then the run's counts and time;
+    ``blank``: whether a blank line precedes it already."""
+    lines = views.short_summary(scenes)
+    if lines:
+        if not blank:
+            console.print()
+        console.print("short summary", style="bold")
+        for word, where, text in lines:
+            line = Text(where, style="bold")
+            line.append(f"  {text}")
+            _hanging(console, 0, Text(f"{word.upper():<6}", style=STYLE.get(word, "bold")), line)
+    if plots:
+        console.print(f"{plots} picture file{'s' if plots > 1 else ''} written", style="cyan")
+    n = views.counts(scenes)
+    worst = next((k for k in ("error", "fail", "warn") if n[k]), "pass")
+    console.print(views.run_line(scenes, elapsed_s), style=STYLE[worst])
 
 
 class TextReporter:
     """The terminal report: each scene as it finishes, then the summary."""
 
     def __init__(self, stream: TextIO, options: ReportOptions) -> None:
+        import sys
+
         color = "never" if options.to_file else options.color
         self.console = make_console(color, file=None if stream is sys.stdout else stream)
         self.options = options
+        self.verbosity = options.verbosity
+        self.blank = True
 
     def start(self, total: int) -> None:
-        """Nothing before the first scene."""
+        """State the angle convention once, before the first scene."""
+        if self.verbosity >= 0 and total:
+            _indented(self.console, Text(views.ANGLE_CONVENTION, style="dim"), 0)
+            self.console.print()
 
     def scene(self, result: SceneResult) -> None:
         """Print one scene."""
-        render_scene(self.console, result)
+        blank = render_scene(self.console, result, self.verbosity)
+        self.blank = self.blank if blank is None else blank
 
     def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
-        """Print the summary."""
-        render_summary(self.console, results)
+        """Print the short summary and the counts."""
+        plots = sum(len(r.plots) for r in results)
+        render_summary(self.console, results, elapsed_s, plots, self.blank)

@@ -80,7 +80,7 @@ class _Builder:
         if not p.errors:
             kind = self.kind(supports, fields)
         planar = kind == "planar"
-        sweep = self.sweep(m.sweep, planar)
+        sweep = self.sweep(m.sweep, planar, given="sweep" in m.model_fields_set)
         gravity = np.zeros(3)
         if m.gravity is not None:
             g = p.magnitude(("gravity",), m.gravity, "gravity")
@@ -201,7 +201,7 @@ class _Builder:
 
     # --- forces and frames ----------------------------------------------------------------
 
-    def sweep(self, model: SweepModel, planar: bool) -> Sweep | None:
+    def sweep(self, model: SweepModel, planar: bool, given: bool) -> Sweep | None:
         p = self.p
         normal = p.direction(("sweep", "normal"), model.normal, "the sweep plane normal")
         zero = p.direction(("sweep", "zero"), model.zero, "the sweep zero direction")
@@ -215,7 +215,7 @@ class _Builder:
         if planar and abs(abs(normal[2]) - 1) > PLANAR_TOL:
             p.add(("sweep", "normal"), "a planar scene sweeps in the xy-plane: use [0, 0, 1]")
             return None
-        return Sweep(normal, e1, np.cross(normal, e1))
+        return Sweep(normal, e1, np.cross(normal, e1), given)
 
     def load(self, model: LoadModel, sweep: Sweep, planar: bool) -> Load | None:
         p = self.p

@@ -128,11 +128,16 @@ class Load:
 
 @dataclass(frozen=True)
 class Sweep:
-    """Orthonormal frame of the sweep plane: angle alpha is the direction cos a e1 + sin a e2."""
+    """Orthonormal frame of the sweep plane: angle alpha is the direction cos a e1 + sin a e2.
+
+    ``given``: whether the scene file chose it (a ``sweep:`` entry); otherwise it is the
+    xy-plane, and a spatial check may choose a plane of its own (and says which).
+    """
 
     normal: np.ndarray
     e1: np.ndarray
     e2: np.ndarray
+    given: bool = False
 
     def direction(self, angle_deg: np.ndarray | float) -> np.ndarray:
         """Unit force directions (..., 3) for angles in degrees."""
@@ -233,6 +238,20 @@ class Scene:
         if self.load is None or self.load.direction is None:
             return None
         return self.sweep.angle_of(self.load.direction)
+
+    def support_field(self, index: int) -> FieldPath:
+        """Where support ``index`` is written: its item under `supports`, or the coupling
+        entry that made it (findings about a support point there). A support built in code
+        has no recorded field: couplings then count in the order their names first appear,
+        explicit supports in their own order (as a file lists them)."""
+        support = self.supports[index]
+        if support.field:
+            return support.field
+        if support.geometry is not None:
+            names = list(dict.fromkeys(s.geometry.coupling for s in self.supports if s.geometry))
+            return ("couplings", names.index(support.geometry.coupling))
+        explicit = [i for i, s in enumerate(self.supports) if s.geometry is None]
+        return ("supports", explicit.index(index))
 
     def line_of(self, path: FieldPath) -> int | None:
         """Line of a field (or of its nearest enclosing field) in the scene file."""

@@ -12,14 +12,22 @@ from pydantic import Field
 from kcheck.analysis import Analysis, analyse, closing_force_reason, describe_ranges, ranges_deg
 from kcheck.arcs import ArcSet, affine_arcs
 from kcheck.dynamics import Affine
+from kcheck.fmt import format_angle
 from kcheck.plugin import Check, Inputs, Options
-from kcheck.result import CaseResult, CheckResult, Status
+from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
+from kcheck_checks.wording import (
+    case_findings,
+    empty_range_findings,
+    load_field,
+    merge_findings,
+    verdict,
+)
 
 # Range ends less certain than this (deg) are reported with a diagnostic.
 UNCERTAIN_DEG = 0.01
 
-__all__ = ["Analytical2D", "AnalyticalOptions", "analytical_result"]
+__all__ = ["Analytical2D", "AnalyticalOptions", "analytical_result", "design_findings"]
 
 
 class AnalyticalOptions(Options):
@@ -30,16 +38,69 @@ class AnalyticalOptions(Options):
     )
 
 
-def analytical_result(check_id: str, analysis: Analysis, min_margin_deg: float) -> CheckResult:
+def design_findings(
+    scene: Scene,
+    design_deg: float,
+    margin_deg: float | None,
+    nearest_deg: float | None,
+    ranges_text: str,
+    min_margin_deg: float,
+    what: str = "design direction",
+) -> list[Finding]:
+    """Why a design direction is not good enough: outside the safe ranges (by how much, and
+    the nearest safe angle), or inside by less than the required margin. None when no range
+    is safe (the empty ranges have their own finding)."""
+    if margin_deg is None:
+        return []
+    design = format_angle(design_deg % 360.0)
+    field = load_field(scene)
+    if margin_deg < 0:
+        near = (
+            ""
+            if nearest_deg is None
+            else f"; the nearest safe angle is {format_angle(nearest_deg)}"
+        )
+        return [
+            Finding(
+                f"the {what} {design} lies {format_angle(-margin_deg)} outside the safe "
+                f"range {ranges_text}{near}",
+                code="design-outside",
+                field=field,
+                hint=None
+                if nearest_deg is None
+                else f"turn the force to {format_angle(nearest_deg)} or further in",
+            )
+        ]
+    if margin_deg < min_margin_deg:
+        return [
+            Finding(
+                f"the {what} {design} is {format_angle(margin_deg)} inside the safe range "
+                f"{ranges_text}, less than the required {min_margin_deg:g}°",
+                code="margin",
+                field=field,
+            )
+        ]
+    return []
+
+
+def analytical_result(
+    check_id: str, scene: Scene, analysis: Analysis, min_margin_deg: float
+) -> CheckResult:
     """Verdict of an analytical check from its analysis (planar sweep semantics)."""
-    bad = [r for r in analysis.results if r.outcome in ("undetermined", "ill_conditioned")]
     combined = analysis.combined
     details: dict[str, object] = {"max_condition": analysis.max_condition}
     if analysis.design_margin_deg is not None:
         details["design_margin_deg"] = analysis.design_margin_deg
+    if analysis.nearest_safe_deg is not None and (analysis.design_margin_deg or 0) < 0:
+        details["nearest_safe_deg"] = analysis.nearest_safe_deg
     ranges = None if combined is None else ranges_deg(combined)
-    if bad:
-        names = ", ".join(f"{r.retracted} ({r.outcome})" for r in bad)
+    findings = case_findings(scene, analysis)
+    if not analysis.trustworthy:
+        names = ", ".join(
+            f"{r.retracted} ({r.outcome.replace('_', ' ')})"
+            for r in analysis.results
+            if r.outcome in ("undetermined", "ill_conditioned")
+        )
         return CheckResult(
             check_id,
             Status.FAIL,
@@ -47,32 +108,44 @@ def analytical_result(check_id: str, analysis: Analysis, min_margin_deg: float) 
             error_estimate=None,
             cases=analysis.results,
             details=details,
+            findings=tuple(findings),
         )
-    failing = [r for r in analysis.results if r.outcome not in ("closes", "swept")]
     parts = []
-    ok = True
     if combined is not None:
-        parts.append(f"safe force angles: {describe_ranges(combined)}")
-        ok = bool(combined)
-    if failing:
-        ok = False
-        parts.append(
-            "at the design direction "
-            + ", ".join(f"{r.retracted} {r.outcome.replace('_', ' ')}" for r in failing)
-        )
-    if analysis.design_margin_deg is not None:
-        parts.append(f"design direction margin {analysis.design_margin_deg:.2f}°")
-        if analysis.design_margin_deg < min_margin_deg:
-            ok = False
-            parts.append(f"(required {min_margin_deg:g}°)")
+        if combined:
+            parts.append(f"safe force angles: {describe_ranges(combined)}")
+        else:
+            parts.append("no safe force angle")
+            findings = merge_findings(findings, empty_range_findings(scene, analysis.results))
+        design_deg = scene.design_angle_deg
+        if design_deg is not None:
+            findings.extend(
+                design_findings(
+                    scene,
+                    design_deg,
+                    analysis.design_margin_deg,
+                    analysis.nearest_safe_deg,
+                    describe_ranges(combined),
+                    min_margin_deg,
+                )
+            )
+            if combined and analysis.design_margin_deg is not None and not findings:
+                parts.append(
+                    f"design {format_angle(design_deg)} is "
+                    f"{format_angle(analysis.design_margin_deg)} inside"
+                )
+    elif not findings:
+        parts.append("every retraction closes under the fixed forces (weight, preloads)")
+    ok = not findings
     return CheckResult(
         check_id,
         Status.PASS if ok else Status.FAIL,
-        "; ".join(parts),
+        verdict(parts, findings),
         error_estimate=analysis.error_deg,
         safe_ranges_deg=ranges,
         cases=analysis.results,
         details=details,
+        findings=tuple(findings),
     )
 
 
@@ -98,7 +171,7 @@ class Analytical2D(Check):
         """Analyse every retracted case and intersect the safe ranges."""
         assert inputs.mass is not None and isinstance(inputs.options, AnalyticalOptions)
         analysis = analyse(inputs.scene, inputs.mass)
-        result = analytical_result(self.id, analysis, inputs.options.min_margin_deg)
+        result = analytical_result(self.id, inputs.scene, analysis, inputs.options.min_margin_deg)
         return with_partial_ranges(result, analysis, inputs.scene)
 
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
@@ -115,8 +188,8 @@ class Analytical2D(Check):
 def partial_ranges(affine: Affine, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, ArcSet]:
     """Force angles (rad) where the forward-sliding ``lambda > 0`` (the body moves the desired
     way, thesis Figure 2.17) and where every normal force is positive (Figures 2.18-2.20)."""
-    motion, _ = affine_arcs(affine.a[:1], affine.c[:1], e1, e2, affine.error[:1])
-    contact, _ = affine_arcs(affine.a[1:], affine.c[1:], e1, e2, affine.error[1:])
+    motion, _ = affine_arcs(affine.a[:1], affine.c[:1], e1, e2, None)
+    contact, _ = affine_arcs(affine.a[1:], affine.c[1:], e1, e2, None)
     return motion, contact
 
 
@@ -138,7 +211,7 @@ def with_partial_ranges(result: CheckResult, analysis: Analysis, scene: Scene) -
         cases.append(dataclasses.replace(case_result, details=details))
     details = dict(result.details)
     message = result.message
-    if analysis.error_deg > UNCERTAIN_DEG:
+    if analysis.error_deg is not None and analysis.error_deg > UNCERTAIN_DEG:
         details["diagnostic"] = (
             f"range ends uncertain by up to {analysis.error_deg:.2g}° (nearly cancelling terms)"
         )

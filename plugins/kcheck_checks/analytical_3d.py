@@ -1,175 +1,226 @@
 """Analytical 3D: Newton–Euler of a six-support coupling with the full inertia tensor.
 
-Besides the planar-style report (outcome, forces, limiting friction, exact ranges in the sweep
+Besides the planar-style report (outcome, forces, friction intervals, exact ranges in a sweep
 plane), the spatial check maps the safe force directions on the whole sphere: per retracted
 case every unknown is affine in the unit force direction, so each condition is a spherical cap
-and the safe region is their intersection (:mod:`kcheck.sphere`). Without a load, gravity is
-the closing force and the map is over gravity directions relative to the body (its tilt).
+and the safe region is their intersection, computed exactly (:mod:`kcheck.caps`): its area, the
+design direction's signed distance to it, the nearest safe direction and the most robust one.
+Without a load, gravity is the closing force and the map is over gravity directions relative to
+the body (its tilt).
 """
 
 from __future__ import annotations
 
 import dataclasses
 from collections.abc import Sequence
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Literal
 
 import numpy as np
 from pydantic import Field
 
-from kcheck.analysis import Analysis, analyse, closing_force_reason, describe_ranges
-from kcheck.arcs import cap_margin_matrix, cap_margins
-from kcheck.dynamics import Problem, solve_affine
+from kcheck.analysis import Analysis, analyse, closing_force_reason, describe_ranges, sweep_ranges
+from kcheck.fmt import clean, format_angle, format_vector
 from kcheck.plugin import Check, Inputs
-from kcheck.result import CheckResult, Status
+from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
-from kcheck.sphere import (
-    SafeFraction,
-    fibonacci_sphere,
-    most_robust_direction,
-    safe_fraction,
+from kcheck_checks.analytical_2d import AnalyticalOptions
+from kcheck_checks.sphere_map import (
+    SphereMap,
+    default_plane,
+    direction_caps,
+    disjoint_cases,
+    sphere_map,
+    sweep_given,
 )
-from kcheck_checks.analytical_2d import AnalyticalOptions, analytical_result
+from kcheck_checks.wording import (
+    case_findings,
+    load_field,
+    merge_findings,
+    support_field,
+    verdict,
+)
 
-__all__ = ["Analytical3D", "Analytical3DOptions", "SphereMap", "direction_caps", "sphere_map"]
+__all__ = [
+    "Analytical3D",
+    "Analytical3DOptions",
+    "SphereMap",
+    "direction_caps",
+    "sphere_map",
+    "default_plane",
+]
 
 
 class Analytical3DOptions(AnalyticalOptions):
     """Options of the ``analytical-3d`` check."""
 
     sphere_points: int = Field(
-        20000, ge=100, le=5_000_000, description="Fibonacci points for the safe solid angle"
+        0,
+        ge=0,
+        le=5_000_000,
+        description="Also count the safe share on a Fibonacci lattice of this many directions "
+        "(a cross-check of the exact area; 0: off)",
     )
 
 
-@dataclass(frozen=True)
-class SphereMap:
-    """Safe directions on the sphere of force (or gravity) directions, all cases together.
+def _sphere_findings(
+    scene: Scene, analysis: Analysis, smap: SphereMap, what: str, min_margin_deg: float
+) -> list[Finding]:
+    """Why the map fails: nothing safe (and why), the design direction outside (how far, the
+    nearest safe direction) or too close to a boundary."""
+    deg = float(np.degrees(1.0))
+    names = analysis.problem.names
+    if smap.empty:
+        nowhere = [i for i in np.unique(smap.owner) if smap.case_fractions[i] == 0]
+        if nowhere:
+            return [
+                Finding(
+                    f"retract {names[i]} → no {what} direction closes it",
+                    code="no-safe-direction",
+                    field=support_field(scene, names[i]),
+                )
+                for i in nowhere
+            ]
+        pair = disjoint_cases(smap, analysis)
+        if pair is not None:
+            i, j = pair
+            return [
+                Finding(
+                    f"the {what} directions that close {names[i]} "
+                    f"({100 * smap.case_fractions[i]:.2f}% of the sphere) and those that "
+                    f"close {names[j]} ({100 * smap.case_fractions[j]:.2f}%) do not overlap",
+                    code="ranges-disjoint",
+                    field=support_field(scene, names[i]),
+                )
+            ]
+        return [
+            Finding(
+                f"no {what} direction closes every retraction (each closes on its own, "
+                "not all together)",
+                code="no-safe-direction",
+                field=("supports",),
+            )
+        ]
+    if smap.design is None or smap.design_margin is None:
+        if smap.robust_margin * deg < min_margin_deg:
+            return [
+                Finding(
+                    f"the most robust {what} direction {format_vector(smap.robust, 3)} is "
+                    f"only {format_angle(smap.robust_margin * deg)} from the nearest "
+                    f"boundary, less than the required {min_margin_deg:g}°",
+                    code="margin",
+                    field=("load",) if smap.swept == "load" else ("gravity",),
+                )
+            ]
+        return []
+    field = load_field(scene) if smap.swept == "load" else ("gravity",)
+    margin = smap.design_margin * deg
+    if margin < 0:
+        assert smap.nearest is not None
+        return [
+            Finding(
+                f"the design {what} direction {format_vector(smap.design, 3)} lies "
+                f"{format_angle(-margin)} outside the safe region; the nearest safe direction "
+                f"is {format_vector(smap.nearest, 3)}",
+                code="design-outside",
+                field=field,
+                hint=f"tilt the {what} by more than {format_angle(-margin)} towards "
+                f"{format_vector(smap.nearest, 3)}; the most robust direction "
+                f"{format_vector(smap.robust, 3)} keeps "
+                f"{format_angle(smap.robust_margin * deg)} from every boundary",
+            )
+        ]
+    if margin < min_margin_deg:
+        return [
+            Finding(
+                f"the design {what} direction {format_vector(smap.design, 3)} is "
+                f"{format_angle(margin)} from the nearest boundary, less than the required "
+                f"{min_margin_deg:g}°",
+                code="margin",
+                field=field,
+                hint=f"the most robust direction {format_vector(smap.robust, 3)} keeps "
+                f"{format_angle(smap.robust_margin * deg)}",
+            )
+        ]
+    return []
 
-    ``a`` (k,), ``c`` (k, 3) are the caps ``a + c . d > 0`` (forward assumption, every unknown
-    of every case); ``owner`` (k,) the index of the case each cap belongs to. Angles in rad.
-    """
 
-    swept: Literal["load", "gravity"]
-    a: np.ndarray
-    c: np.ndarray
-    owner: np.ndarray
-    design: np.ndarray | None
-    fraction: SafeFraction
-    robust: np.ndarray
-    robust_margin: float
-    design_margin: float | None
-    case_fractions: np.ndarray
-    boundary_error: float  # rad, estimated error of the cap boundaries (and so of margins)
-
-
-def direction_caps(
-    problem: Problem, analysis: Analysis
-) -> tuple[Literal["load", "gravity"], np.ndarray, np.ndarray, np.ndarray]:
-    """Caps of every case's unknowns as affine functions of the swept unit direction.
-
-    With a load the direction is the load's (``Case.forward``); without one it is gravity's,
-    whose magnitude is kept: the wrench ``[torque; |m g| d]`` about the centre of mass.
-    """
-    swept: Literal["load", "gravity"] = "load" if problem.load_scale > 0 else "gravity"
-    a_all, c_all, owner, err_all = [], [], [], []
-    for i, case in enumerate(analysis.cases):
-        if case.forward is None or not case.well_conditioned:
-            continue
-        if swept == "load":
-            a, c, err = case.forward.a, case.forward.c, case.forward.error
-        else:
-            weight = float(np.linalg.norm(problem.gravity))
-            b0 = np.concatenate([problem.torque, np.zeros(3)])
-            big_b = np.vstack([np.zeros((3, 3)), weight * np.eye(3)])
-            affine = solve_affine(case.forward.matrix, b0, big_b)
-            a, c, err = affine.a, affine.c, affine.error
-        a_all.append(a)
-        c_all.append(c)
-        owner.append(np.full(len(a), i))
-        err_all.append(err)
-    if not a_all:
-        return swept, np.zeros(0), np.zeros((0, 3)), np.zeros(0, int), np.zeros(0)
-    a_cat, c_cat = np.concatenate(a_all), np.vstack(c_all)
-    return swept, a_cat, c_cat, np.concatenate(owner), _boundary_error(a_cat, c_cat, err_all)
-
-
-def _boundary_error(a: np.ndarray, c: np.ndarray, errors: list[np.ndarray]) -> float:
-    """Angular error (rad) of the cap boundaries: each condition's coefficient error over its
-    rate of change across the boundary, ``sqrt(|c|^2 - a^2)`` (as for the sweep-plane arcs)."""
-    slope2 = np.sum(c * c, axis=1) - a * a
-    err = np.concatenate(errors)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        per_cap = np.where(slope2 > 0, err / np.sqrt(np.maximum(slope2, 0)), 0.0)
-    return float(np.nanmax(per_cap)) if len(per_cap) else 0.0
-
-
-def sphere_map(scene: Scene, analysis: Analysis, points: int) -> SphereMap | None:
-    """The safe-direction map of a spatial scene, or None when no case can be mapped."""
-    problem = analysis.problem
-    swept, a, c, owner, boundary_error = direction_caps(problem, analysis)
-    if not len(a):
-        return None
-    design = None
-    if swept == "load":
-        design = analysis.design
-    elif np.any(scene.gravity):
-        design = scene.gravity / np.linalg.norm(scene.gravity)
-    # One evaluation of the grid serves the fraction, the robust search and the case shares.
-    per_cap = cap_margin_matrix(a, c, fibonacci_sphere(points))
-    margins = per_cap.min(axis=1)
-    robust, robust_margin = most_robust_direction(a, c, points, margins=margins)
-    design_margin = None if design is None else float(cap_margins(a, c, design[None])[0])
-    cases = np.unique(owner)
-    case_fractions = np.full(len(analysis.cases), np.nan)
-    for i in cases:
-        case_fractions[i] = np.count_nonzero(per_cap[:, owner == i].min(axis=1) > 0) / points
-    return SphereMap(
-        swept=swept,
-        a=a,
-        c=c,
-        owner=owner,
-        design=design,
-        fraction=safe_fraction(a, c, points, margins=margins),
-        robust=robust,
-        robust_margin=robust_margin,
-        design_margin=design_margin,
-        case_fractions=case_fractions,
-        boundary_error=boundary_error,
+def _plane_text(analysis: Analysis, chosen: bool) -> str:
+    """The sweep-plane part of the message."""
+    where = (
+        "in the plane through the design and most robust directions"
+        if chosen
+        else ("in the sweep plane")
     )
-
-
-def _vector(v: np.ndarray) -> str:
-    return "(" + ", ".join(f"{x:.3f}" for x in v) + ")"
+    if analysis.combined is None:
+        return ""
+    if not analysis.combined:
+        return f"no safe direction {where}"
+    return f"{where}: {describe_ranges(analysis.combined)}"
 
 
 def spatial_result(
     check_id: str, scene: Scene, analysis: Analysis, options: Analytical3DOptions
-) -> tuple[CheckResult, SphereMap | None]:
-    """Verdict of the spatial check: the sphere map decides, the sweep plane is reported."""
-    base = analytical_result(check_id, analysis, options.min_margin_deg)
-    smap = sphere_map(scene, analysis, options.sphere_points)
-    details = dict(base.details)
-    details.pop("design_margin_deg", None)
-    if analysis.design_margin_deg is not None and analysis.design is not None:
-        normal = scene.sweep.normal
-        if abs(float(analysis.design @ normal)) < 1e-9:
-            details["sweep_design_margin_deg"] = analysis.design_margin_deg
-    bad = [r for r in analysis.results if r.outcome in ("undetermined", "ill_conditioned")]
-    if smap is None or bad:
-        return base, smap
+) -> tuple[CheckResult, SphereMap | None, Analysis]:
+    """Verdict of the spatial check: the sphere map decides, a sweep plane is reported.
+
+    Returns the result, the map and the analysis (with the sweep plane actually used)."""
     deg = float(np.degrees(1.0))
+    details: dict[str, object] = {"max_condition": analysis.max_condition}
+    findings = case_findings(scene, analysis)
+    smap = None if not analysis.trustworthy else sphere_map(scene, analysis, options.sphere_points)
+    chosen = False
+    if analysis.combined is not None and smap is not None and not sweep_given(scene):
+        design3 = None if analysis.design is None else analysis.design
+        e1, e2 = default_plane(design3, smap.robust)
+        analysis = sweep_ranges(analysis, e1, e2)
+        chosen = True
+    if analysis.plane is not None:
+        e1, e2 = analysis.plane
+        details["sweep_plane"] = {
+            "normal": np.cross(e1, e2).tolist(),
+            "zero": list(e1),
+            "chosen": "through the design and most robust directions"
+            if chosen and analysis.design is not None
+            else ("through the most robust direction" if chosen else "the scene's sweep"),
+        }
+        if analysis.design_margin_deg is not None:
+            details["sweep_design_margin_deg"] = analysis.design_margin_deg
+    if smap is None:
+        names = ", ".join(
+            f"{r.retracted} ({r.outcome.replace('_', ' ')})"
+            for r in analysis.results
+            if r.outcome in ("undetermined", "ill_conditioned")
+        )
+        message = f"no trustworthy answer for {names}" if names else "nothing to map"
+        result = CheckResult(
+            check_id,
+            Status.FAIL,
+            message,
+            cases=analysis.results,
+            details=details,
+            findings=tuple(findings),
+        )
+        return result, smap, analysis
+    what = "force" if smap.swept == "load" else "gravity"
     details.update(
         {
             "swept_direction": smap.swept,
             "safe_solid_angle_fraction": smap.fraction.fraction,
             "safe_solid_angle_fraction_error": smap.fraction.error,
-            "sphere_points": smap.fraction.points,
-            "most_robust_direction": smap.robust.tolist(),
-            "robust_margin_deg": smap.robust_margin * deg,
         }
     )
+    if smap.lattice is not None:
+        details["sphere_points"] = smap.lattice.points
+        details["lattice_fraction"] = smap.lattice.fraction
+        details["lattice_fraction_error"] = smap.lattice.error
+    full = smap.region is not None and smap.region.full
+    if not smap.empty and not full:
+        details["most_robust_direction"] = clean(smap.robust).tolist()
+        details["robust_margin_deg"] = smap.robust_margin * deg
+    if smap.design_margin is not None and not full:
+        details["design_margin_deg"] = smap.design_margin * deg
+    if smap.nearest is not None:
+        details["nearest_safe_direction"] = clean(smap.nearest).tolist()
     cases = tuple(
         dataclasses.replace(
             r,
@@ -177,44 +228,60 @@ def spatial_result(
         )
         if np.isfinite(smap.case_fractions[i])
         else r
-        for i, r in enumerate(base.cases)
+        for i, r in enumerate(analysis.results)
     )
-    what = "force" if smap.swept == "load" else "gravity"
-    parts = [
-        f"safe {what} directions {100 * smap.fraction.fraction:.2f}% "
-        f"(±{100 * smap.fraction.error:.2f}%) of the sphere",
-        f"most robust {_vector(smap.robust)} with margin {smap.robust_margin * deg:.2f}°",
-    ]
-    failing = [r for r in analysis.results if r.outcome not in ("closes", "swept")]
-    if smap.design is not None and smap.design_margin is not None:
-        margin = smap.design_margin * deg
-        details["design_margin_deg"] = margin
-        ok = not failing and margin > 0 and margin >= options.min_margin_deg
-        parts.append(f"design {what} direction margin {margin:.2f}°")
-        if margin < options.min_margin_deg:
-            parts.append(f"(required {options.min_margin_deg:g}°)")
-        if failing:
-            parts.append(
-                "at the design direction "
-                + ", ".join(f"{r.retracted} {r.outcome.replace('_', ' ')}" for r in failing)
-            )
+    # Each case's reason (with the map's word about that case), the map's verdict first.
+    findings = merge_findings(
+        findings, _sphere_findings(scene, analysis, smap, what, options.min_margin_deg)
+    )
+    findings.sort(key=lambda f: f.code not in ("design-outside", "margin"))
+    if smap.empty:
+        parts = [f"no safe {what} direction"]
+    elif full:
+        parts = [f"every {what} direction closes every retraction"]
     else:
-        margin = smap.robust_margin * deg
-        ok = margin > 0 and margin >= options.min_margin_deg
-        if margin < options.min_margin_deg:
-            parts.append(f"(required {options.min_margin_deg:g}°)")
-    if analysis.combined is not None:
-        parts.append(f"sweep plane: {describe_ranges(analysis.combined)}")
-    result = dataclasses.replace(
-        base,
-        status=Status.PASS if ok else Status.FAIL,
-        message="; ".join(parts),
+        parts = [f"safe {what} directions: {100 * smap.fraction.fraction:.2f}% of the sphere"]
+        if smap.design_margin is not None and smap.design_margin >= 0 and not findings:
+            parts.append(
+                f"design direction {format_angle(smap.design_margin * deg)} from the nearest "
+                "boundary"
+            )
+        elif smap.design is None and not findings:
+            parts.append(
+                f"most robust {format_vector(smap.robust, 3)}, "
+                f"{format_angle(smap.robust_margin * deg)} from every boundary"
+            )
+        plane = _plane_text(analysis, chosen)
+        if plane:
+            parts.append(plane)
+    result = CheckResult(
+        check_id,
+        Status.PASS if not findings else Status.FAIL,
+        verdict(parts, findings),
+        # Degrees: the sweep-plane range ends and the map's margins, whichever is worse.
+        error_estimate=_error_deg(analysis, smap),
+        safe_ranges_deg=None if analysis.combined is None else _ranges(analysis),
         cases=cases,
         details=details,
-        # Degrees: the sweep-plane range ends and the sphere map's margins, whichever is worse.
-        error_estimate=max(base.error_estimate or 0.0, smap.boundary_error * deg),
+        findings=tuple(findings),
     )
-    return result, smap
+    return result, smap, analysis
+
+
+def _error_deg(analysis: Analysis, smap: SphereMap) -> float | None:
+    """The check's error estimate (deg): the sweep-plane range ends and the safe region's
+    boundary (its margins), whichever is worse; None when neither exists."""
+    errors = [] if analysis.error_deg is None else [analysis.error_deg]
+    if not smap.empty and (smap.region is None or not smap.region.full):
+        errors.append(float(np.degrees(smap.boundary_error)))
+    return max(errors) if errors else None
+
+
+def _ranges(analysis: Analysis) -> tuple[tuple[float, float], ...]:
+    from kcheck.analysis import ranges_deg
+
+    assert analysis.combined is not None
+    return ranges_deg(analysis.combined)
 
 
 class Analytical3D(Check):
@@ -223,8 +290,8 @@ class Analytical3D(Check):
     id = "analytical-3d"
     summary = (
         "Newton–Euler per retracted support with the full inertia tensor: outcome, normal "
-        "forces, limiting friction, exact safe ranges in the sweep plane, map of safe "
-        "directions on the sphere"
+        "forces, friction intervals, exact safe region on the sphere of directions (share, "
+        "margins, most robust direction) and ranges in a sweep plane"
     )
     applies_to = "spatial scenes (6 supports) with a body and a closing force"
     needs_mass = True
@@ -248,5 +315,5 @@ class Analytical3D(Check):
 
         assert inputs.mass is not None and isinstance(inputs.options, Analytical3DOptions)
         analysis = analyse(inputs.scene, inputs.mass)
-        _, smap = spatial_result(self.id, inputs.scene, analysis, inputs.options)
+        _, smap, analysis = spatial_result(self.id, inputs.scene, analysis, inputs.options)
         return plot_spatial(inputs.scene, analysis, smap, result, directory)

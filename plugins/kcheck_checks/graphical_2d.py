@@ -7,16 +7,20 @@ translation). No line intersections are computed, so parallel and nearly paralle
 no special case.
 
 For a force of direction ``d`` (per unit force; ``arm = M_z / F`` in metres adds a torque) at
-the attachment point ``q``:
+the attachment point ``q``, together with the fixed forces — the weight at the centre of mass
+and the scene's preloads, a resultant whose line of action moves with ``d`` — the virtual
+power along a twist is ``a + c . d`` with ``c = u(q)`` and
+``a = w arm + sum_k (f_k / F) . u(p_k)``:
 
-* funnel (frictionless): ``xi_r . W(d) = w arm + d . u_r(q) > 0`` — the moment about the pole
-  has the needed sense; a half circle of directions (less or more with a torque);
+* funnel (frictionless): ``xi_r . W(d) > 0`` — the moment of the resultant about the pole has
+  the needed sense; a half circle of directions (less or more with a torque or fixed forces);
 * friction: with forward-sliding friction the remaining reaction lines tilt to
   ``n_j + mu_j t_j``; their free twist ``xi'_r`` is the rotation about the friction pole
-  ``P'`` where they meet, oriented so ``xi'_r . xi_r > 0`` (nondimensional metric);
+  ``P'`` where they meet, followed continuously from ``xi_r`` as friction grows from zero
+  (the cross product of the two tilted constraint rows, signed as at ``mu = 0``);
   ``xi'_r . W(d) > 0`` is the right moment sense about ``P'``. Directions the funnel allows
   but this forbids are the jamming area: both contact forces inside their friction cones
-  balance the load.
+  balance the resultant.
 
 Safe per case = funnel ∩ friction; the check's safe set is the intersection over cases, exact
 in closed form (:mod:`kcheck.arcs`). The construction cannot see contact loss (methods.md
@@ -25,12 +29,14 @@ forward ``lambda`` changes sign is exactly a friction boundary here (inertia pla
 ``lambda = 0``).
 
 Mass: the check declares ``needs_mass = False`` so it runs on scenes without a body. It needs
-only the attachment point: ``load.point`` when the scene gives one; otherwise the load acts at
-the centre of mass, and ``needs_mass_for`` asks the runner for the mass properties (computed
-once per scene, shared with the other checks; explicit mass properties need no mesh). Without
-a load point and without a body it is skipped with that reason. With a
-load the construction ignores gravity (it is mass-free; ``analytical-2d`` includes it); with no
-load but gravity in the plane, the weight at the centre of mass is the force swept.
+the attachment point — ``load.point`` when the scene gives one, else the centre of mass — and,
+with gravity in the plane, the weight and the centre of mass; only then does
+``needs_mass_for`` ask the runner for the mass properties (computed once per scene, shared with
+the other checks; explicit mass properties need no mesh). Without a load point and without a
+body it is skipped with that reason; a scene with gravity but no body is constructed without
+the weight, and says so. With no load but gravity in the plane, the weight at the centre of
+mass is the force swept. The construction has no inertia (it is "mass-free"): it cannot see
+contact loss, and the message says so.
 """
 
 from __future__ import annotations
@@ -43,29 +49,36 @@ from typing import Any
 import numpy as np
 from pydantic import Field
 
-from kcheck.analysis import describe_ranges, ranges_deg, support_layout
+from kcheck.analysis import describe_ranges, nearest_end, ranges_deg, support_layout
 from kcheck.arcs import (
     ArcSet,
-    affine_arcs,
     complement,
     contains,
     intersect,
     margin,
     union,
 )
-from kcheck.dynamics import friction_directions
+from kcheck.dynamics import log_size, relative
+from kcheck.fmt import format_angle
 from kcheck.kinematics import (
     RANK_RTOL,
     Frame,
-    FreeTwist,
-    free_twist,
     layout_singular_values,
-    point_velocity,
-    wrenches,
+    unit_rows,
 )
 from kcheck.plugin import Check, Inputs, Options
-from kcheck.result import CaseResult, CheckResult, Status
+from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
+from kcheck_checks.analytical_2d import design_findings
+from kcheck_checks.koster import (
+    GraphicalCase,
+    condition_arc,
+    construct_case,
+    homogeneous_pole,
+    tilted_twist,
+    virtual_power,
+)
+from kcheck_checks.wording import empty_range_findings, ranges_text, support_field, verdict
 
 __all__ = [
     "Graphical2D",
@@ -85,7 +98,8 @@ __all__ = [
     "construct_case",
 ]
 
-EPS = float(np.finfo(float).eps)
+# Said with every verdict: the construction has no inertia.
+MASS_FREE = "mass-free: contact loss not checked"
 # A rotation whose pole lies beyond 1e12 layout sizes is reported as a translation
 # (the same threshold as kcheck.analysis.motion_details).
 INFINITE_POLE = 1e-12
@@ -102,111 +116,15 @@ class GraphicalOptions(Options):
 @dataclass(frozen=True)
 class Attachment:
     """Where and how the swept force acts: point (m, 3), ``arm = M_z / F`` (m), design
-    direction (unit 3-vector or None), and notes for the result."""
+    direction (unit 3-vector or None), and notes for the result. ``fixed`` are the forces that
+    act with it — the weight, preloads — as ``(point m, force / F)`` (3-vectors)."""
 
     point: np.ndarray
     arm: float
     design: np.ndarray | None
     source: str
     notes: tuple[str, ...]
-
-
-@dataclass(frozen=True)
-class GraphicalCase:
-    """The construction for one retracted support (nondimensional twists, arcs in radians)."""
-
-    retracted: int
-    keep: np.ndarray
-    free: FreeTwist
-    tilted: np.ndarray | None  # friction twist xi'_r, None when it cannot be oriented
-    sliding: np.ndarray  # (2,) bool per remaining support
-    funnel: ArcSet
-    friction: ArcSet
-    jamming: ArcSet
-    safe: ArcSet
-    error_rad: float
-
-
-# --- pure construction -------------------------------------------------------------------
-
-
-def homogeneous_pole(twist: np.ndarray) -> np.ndarray:
-    """Homogeneous pole ``(-v_y, v_x, w)`` of a planar twist ``(w, v_x, v_y)``."""
-    return np.array([-twist[2], twist[1], twist[0]])
-
-
-def virtual_power(twist: np.ndarray, point: np.ndarray, arm: float) -> tuple[float, np.ndarray]:
-    """``xi . W(d) = a + c . d`` for a unit force ``d`` at ``point`` with torque ``arm * |F|``.
-
-    Nondimensional: ``point`` and ``arm`` in layout lengths. ``c = u(point)``, ``a = w arm``.
-    """
-    return float(twist[0] * arm), point_velocity(twist, point)
-
-
-def tilted_twist(
-    points: np.ndarray, normals: np.ndarray, mu: np.ndarray, free: FreeTwist, keep: np.ndarray
-) -> tuple[np.ndarray | None, np.ndarray, float]:
-    """Free twist of the friction-tilted reaction lines ``n_j + mu_j t_j`` of the kept supports.
-
-    ``t_j`` opposes forward sliding under ``free``; a contact that does not slide keeps its
-    normal (friction undetermined, zero as in the thesis). Returns the twist oriented to
-    ``xi' . xi > 0`` (None if it is orthogonal to ``xi``), the sliding mask and the
-    determinacy (smallest over largest singular value) of the tilted rows.
-    """
-    t, sliding = friction_directions(free.twist, points[keep], +1)
-    forces = normals[keep] + mu[keep, None] * t
-    _, s, vt = np.linalg.svd(wrenches(points[keep], forces))
-    tilted = vt[-1]
-    determinacy = float(s[-1] / s[0]) if s[0] > 0 else 0.0
-    dot = float(tilted @ free.twist)
-    if abs(dot) <= 1e-9:
-        return None, sliding, determinacy
-    return (tilted if dot > 0 else -tilted), sliding, determinacy
-
-
-def condition_arc(
-    a: float, c: np.ndarray, e1: np.ndarray, e2: np.ndarray, coef_error: float
-) -> tuple[ArcSet, float]:
-    """Angles from ``e1`` towards ``e2`` where ``a + c . d > 0``, and the ends' error (rad)."""
-    return affine_arcs(np.array([a]), c[None, :], e1, e2, np.array([coef_error]))
-
-
-def construct_case(
-    points: np.ndarray,
-    normals: np.ndarray,
-    mu: np.ndarray,
-    retracted: int,
-    q: np.ndarray,
-    arm: float,
-    e1: np.ndarray,
-    e2: np.ndarray,
-) -> GraphicalCase:
-    """Koster's construction for one retracted support (all inputs nondimensional)."""
-    keep = np.flatnonzero(np.arange(len(points)) != retracted)
-    free = free_twist(points, normals, retracted)
-    scale = 1.0 + float(np.linalg.norm(q)) + abs(arm)
-    # A null vector is perturbed by about eps over its singular-value gap.
-    a, c = virtual_power(free.twist, q, arm)
-    funnel, err_f = condition_arc(a, c, e1, e2, 8 * EPS / max(free.determinacy, EPS) * scale)
-    tilted, sliding, det_t = tilted_twist(points, normals, mu, free, keep)
-    if tilted is None:
-        friction: ArcSet = ()
-        err_t = 0.0
-    else:
-        at, ct = virtual_power(tilted, q, arm)
-        friction, err_t = condition_arc(at, ct, e1, e2, 8 * EPS / max(det_t, EPS) * scale)
-    return GraphicalCase(
-        retracted=retracted,
-        keep=keep,
-        free=free,
-        tilted=tilted,
-        sliding=sliding,
-        funnel=funnel,
-        friction=friction,
-        jamming=intersect(funnel, complement(friction)),
-        safe=intersect(funnel, friction),
-        error_rad=max(err_f, err_t),
-    )
+    fixed: tuple[tuple[np.ndarray, np.ndarray], ...] = ()
 
 
 # --- scene level ---------------------------------------------------------------------------
@@ -228,46 +146,74 @@ def missing_force(scene: Scene) -> str | None:
     return None
 
 
+def _weight_in_plane(scene: Scene) -> bool:
+    return bool(np.any(scene.gravity[:2]))
+
+
 def needs_centre_of_mass(scene: Scene) -> bool:
-    """Whether the swept force acts at the centre of mass (no load point, or the weight)."""
+    """Whether the construction needs the mass properties: the swept force acts at the centre
+    of mass (no load point, or the weight), or the weight acts with the load."""
     load = scene.load
-    return load is None or load.magnitude <= 0 or load.point is None
+    if load is None or load.magnitude <= 0 or load.point is None:
+        return True
+    return _weight_in_plane(scene) and scene.body is not None
+
+
+def _plane_point(scene: Scene, point: np.ndarray) -> np.ndarray:
+    point = np.asarray(point, float)
+    if point.shape == (2,):
+        point = np.append(point, scene.supports[0].position[2])
+    return point
 
 
 def attachment(
-    scene: Scene, point: np.ndarray | None = None, com: np.ndarray | None = None
+    scene: Scene,
+    point: np.ndarray | None = None,
+    com: np.ndarray | None = None,
+    mass: float | None = None,
 ) -> Attachment | str:
     """The swept force's attachment, or the reason the construction has none.
 
     ``point`` (m) overrides the attachment point, e.g. one already found in a result; ``com``
-    (m) is the centre of mass, used when the force acts there.
+    (m) and ``mass`` (kg) are the centre of mass and mass, used when the force acts there and
+    for the weight.
     """
     reason = missing_force(scene)
     if reason is not None:
         return reason
     load = scene.load
-    gravity = scene.gravity[:2]
+    gravity = np.append(scene.gravity[:2], 0.0)
+    log_weight = log_size(gravity) + (log_size(mass) if mass is not None else -np.inf)
     notes: list[str] = []
+    fixed: list[tuple[np.ndarray, np.ndarray]] = []
     if load is not None and load.magnitude > 0:
         point = load.point if point is None else point
-        if np.any(gravity):
-            notes.append(
-                "gravity ignored: the construction is mass-free (analytical-2d includes it)"
-            )
+        log_swept = log_size(load.magnitude)
         arm = float(load.torque[2]) / load.magnitude
         design, source = load.direction, "load"
+        if _weight_in_plane(scene):
+            if com is None or mass is None:
+                notes.append("gravity left out: the scene has no `body` for the weight")
+            else:
+                weight = relative(gravity, log_swept, log_weight)
+                fixed.append((np.asarray(com, float), weight))
+                notes.append("the weight acts with the load (their resultant is swept)")
     else:
         arm, source = 0.0, "weight"
-        design = np.append(gravity / np.linalg.norm(gravity), 0.0)
+        design = unit_rows(gravity)
+        log_swept = log_weight
     if point is None:
         if com is None:
             return "the force acts at the centre of mass, which is not known"
         point = com
         notes.append("force at the centre of mass")
-    point = np.asarray(point, float)
-    if point.shape == (2,):
-        point = np.append(point, scene.supports[0].position[2])
-    return Attachment(point, arm, design, source, tuple(notes))
+    pushing = [p for p in scene.preloads if np.any(p.force[:2] != 0)]
+    if pushing and np.isfinite(log_swept):
+        for p in pushing:
+            force = relative(np.append(p.force[:2], 0.0), log_swept)
+            fixed.append((_plane_point(scene, p.point), force))
+        notes.append("preloads act with the swept force")
+    return Attachment(_plane_point(scene, point), arm, design, source, tuple(notes), tuple(fixed))
 
 
 def _pole_details(frame: Frame, twist: np.ndarray, prefix: str = "") -> dict[str, Any]:
@@ -362,9 +308,10 @@ def construct(scene: Scene, where: Attachment) -> Construction | None:
     mu = np.array([s.friction for s in scene.supports])
     q = frame.point(where.point)
     arm = where.arm / frame.length
+    fixed = tuple((frame.point(p), f[:2]) for p, f in where.fixed)
     e1, e2 = scene.sweep.e1[:2], scene.sweep.e2[:2]
     cases = tuple(
-        construct_case(points, normals, mu, r, q, arm, e1, e2) for r in range(len(points))
+        construct_case(points, normals, mu, r, q, arm, e1, e2, fixed) for r in range(len(points))
     )
     combined = intersect(*(c.safe for c in cases))
     sigma = float(singular[-1] / singular[0])
@@ -397,13 +344,19 @@ class Graphical2D(Check):
         """Construct every case and intersect the safe ranges."""
         scene, opts = inputs.scene, inputs.options
         assert isinstance(opts, GraphicalOptions)
-        where = attachment(scene, com=None if inputs.mass is None else inputs.mass.center_of_mass)
+        mass = inputs.mass
+        where = attachment(
+            scene,
+            com=None if mass is None else mass.center_of_mass,
+            mass=None if mass is None else mass.mass,
+        )
         if isinstance(where, str):
             return CheckResult(self.id, Status.SKIPPED, where)
         built = construct(scene, where)
         details: dict[str, Any] = {
             "attachment_point": where.point[:2].tolist(),
             "force": where.source,
+            "limitations": [MASS_FREE],
         }
         if where.arm:
             details["torque_arm_m"] = where.arm
@@ -415,6 +368,15 @@ class Graphical2D(Check):
                 Status.FAIL,
                 "not determined: the three normals meet in one point (or are all parallel), "
                 "so a motion stays free with every support in place; no ranges",
+                findings=(
+                    Finding(
+                        "the three normals meet in one point (or are all parallel): a motion "
+                        "stays free with every support in place",
+                        code="not-determined",
+                        field=("supports",),
+                        hint="turn one normal so that its line misses the others' meeting point",
+                    ),
+                ),
                 cases=tuple(
                     CaseResult(s.name, "undetermined", details={"diagnostic": "not determined"})
                     for s in scene.supports
@@ -444,37 +406,76 @@ def _verdict(
     senses = [str(r.details["sense"]) for r in results]
     details["senses"] = senses
     details["smallest_scaled_singular_value"] = built.sigma
-    parts = [f"safe force angles: {describe_ranges(combined)}"]
-    ok = bool(combined)
-    if not combined and senses[0] in ("ccw", "cw") and len(set(senses)) == 1:
-        details["pole_triangle"] = _pole_triangle(built.frame, built.cases)
-        details["requires"] = "torque_or_arm_outside_pole_triangle"
-        parts.append(
-            f"every pole needs the same sense ({senses[0]}): a pure rotation is needed — "
-            "a torque, or a force on an arm reaching outside the pole triangle"
-        )
+    what = "force" if where.source == "load" else "weight"
+    findings: list[Finding] = []
+    if combined:
+        parts = [f"safe {what} angles: {describe_ranges(combined)}"]
+    else:
+        parts = [f"no safe {what} angle"]
+        if senses[0] in ("ccw", "cw") and len(set(senses)) == 1:
+            details["pole_triangle"] = _pole_triangle(built.frame, built.cases)
+            details["requires"] = "torque_or_arm_outside_pole_triangle"
+            findings.append(
+                Finding(
+                    f"every pole needs the same sense ({senses[0]}): a pure rotation is needed — "
+                    "a torque, or a force on an arm reaching outside the pole triangle",
+                    code="same-sense",
+                    field=("load",),
+                    hint="add a torque, or attach the force outside the pole triangle",
+                )
+            )
+        else:
+            findings.extend(empty_range_findings(scene, results, ""))
     if angle_deg is not None:
         details["design_angle_deg"] = angle_deg
-        design_margin = float(np.degrees(margin(combined, angle)))  # type: ignore[arg-type]
-        details["design_margin_deg"] = design_margin
-        if not combined:
-            parts.append(f"design direction {angle_deg:.2f}° therefore unsafe")
-            ok = False
-        elif design_margin < 0:
-            parts.append(f"design direction {angle_deg:.2f}° outside by {-design_margin:.2f}°")
-            ok = False
-        else:
-            parts.append(f"design direction {angle_deg:.2f}° margin {design_margin:.2f}°")
-            if design_margin < min_margin_deg:
-                ok = False
-                parts.append(f"(required {min_margin_deg:g}°)")
-    error_deg = float(np.degrees(max(c.error_rad for c in built.cases)))
+        for c in results:
+            if c.outcome in ("wrong_sense", "jams"):
+                why = (
+                    "the resultant turns it the wrong way about the pole"
+                    if c.outcome == "wrong_sense"
+                    else "friction holds the body (the resultant passes through the jamming area)"
+                )
+                findings.append(
+                    Finding(
+                        f"retract {c.retracted} → {why}",
+                        code=c.outcome.replace("_", "-"),
+                        field=support_field(scene, c.retracted),
+                        hint=f"this retraction closes for {what} angles "
+                        f"{ranges_text(c.safe_ranges_deg)}",
+                    )
+                )
+        if combined:
+            design_margin = float(np.degrees(margin(combined, angle)))  # type: ignore[arg-type]
+            details["design_margin_deg"] = design_margin
+            nearest = None
+            if design_margin < 0:
+                nearest = float(np.degrees(nearest_end(combined, angle)))  # type: ignore[arg-type]
+                details["nearest_safe_deg"] = nearest
+            found = design_findings(
+                scene,
+                angle_deg,
+                design_margin,
+                nearest,
+                describe_ranges(combined),
+                min_margin_deg,
+                what=f"design {what} direction",
+            )
+            # The cases that do not close already say why the design direction is outside.
+            findings.extend(f for f in found if f.code != "design-outside" or not findings)
+            if not found and not findings:
+                parts.append(
+                    f"design {format_angle(angle_deg)} is {format_angle(design_margin)} inside"
+                )
+    parts.append(MASS_FREE)
+    errors = [c.error_rad for c in built.cases if c.error_rad is not None]
+    error_deg = float(np.degrees(max(errors))) if errors else None
     return CheckResult(
         check_id,
-        Status.PASS if ok else Status.FAIL,
-        "; ".join(parts),
+        Status.PASS if not findings else Status.FAIL,
+        verdict(parts, findings),
         error_estimate=error_deg,
         safe_ranges_deg=ranges_deg(combined),
         cases=results,
         details=details,
+        findings=tuple(findings),
     )

@@ -38,16 +38,8 @@ __all__ = ["Hertz", "hertz_result"]
 
 
 def _support_field(scene: Scene, index: int) -> tuple[str | int, ...]:
-    """The scene field of a support: its coupling entry, or its item under `supports`.
-
-    Couplings expand in their order, so the k-th distinct coupling name is `couplings[k]`.
-    """
-    support = scene.supports[index]
-    if support.geometry is not None:
-        names = list(dict.fromkeys(s.geometry.coupling for s in scene.supports if s.geometry))
-        return ("couplings", names.index(support.geometry.coupling))
-    explicit = [i for i, s in enumerate(scene.supports) if s.geometry is None]
-    return ("supports", explicit.index(index))
+    """The scene field of a support: its coupling entry, or its item under `supports`."""
+    return scene.support_field(index)
 
 
 # --- the check ------------------------------------------------------------------------------

@@ -41,6 +41,7 @@ from kcheck_checks.jamming_cases import (
     jam_statics,
     least_holding_friction,
     needs_body,
+    tidy,
 )
 
 __all__ = ["Jamming", "JammingOptions", "jamming_result", "run_jamming"]
@@ -106,7 +107,7 @@ def _case(
         a, c = case.closing
         held = held_at(analysis, case, design, statics.friction)
         outcome = ("jams" if a + c @ design > 0 else "holds") if held else "moves"
-    safe = None if arcs is None else ranges_deg(complement(arcs.held))
+    safe = None if arcs is None else ranges_deg(tidy(complement(arcs.held)))
     return CaseResult(
         name, outcome, limiting_friction=None, safe_ranges_deg=safe, details=details
     ), mu_least
@@ -130,8 +131,9 @@ def jamming_result(
         results.append(res)
         least.append(mu)
     determined = [a for a in all_arcs if a is not None]
-    jam_free = intersect(*(complement(a.held) for a in determined))
-    safe = intersect(*(intersect(a.closing, complement(a.held)) for a in determined))
+    # Rounding leaves slivers where boundaries of different cases coincide: drop them.
+    jam_free = tidy(intersect(*(complement(a.held) for a in determined)))
+    safe = tidy(intersect(*(intersect(a.closing, complement(a.held)) for a in determined)))
     error_deg = float(np.degrees(max((a.error for a in determined), default=0.0)))
     details: dict[str, Any] = {
         "swept_direction": analysis.swept,
@@ -179,6 +181,12 @@ def jamming_result(
     if undetermined:
         parts.append("no answer for " + ", ".join(r.retracted for r in undetermined))
     parts.append(f"jam-free in the sweep plane: {_text(jam_free)}")
+    if dim == 3:
+        details["sweep_plane"] = {
+            "normal": scene.sweep.normal.tolist(),
+            "zero": scene.sweep.e1.tolist(),
+            "chosen": "the scene's sweep" if scene.sweep.given else "the xy-plane (no sweep given)",
+        }
     if smap is not None:
         details.update(
             {
@@ -246,7 +254,7 @@ def _finding(
             return None
         message = f"retract {names[r]} → friction can hold the body{where}"
         hint = f"keep the {what} direction out of {_text(arcs.held)}"
-        return Finding(message, code="jams", field=("supports", r), hint=hint)
+        return Finding(message, code="jams", field=scene.support_field(r), hint=hint)
     mu = float(statics.friction[analysis.cases[r].keep].max())
     held = "against a closing load" if outcome == "jams" else "although the load opens it"
     message = (
@@ -259,7 +267,7 @@ def _finding(
         hint += f", or turn the {what} out of {_text(arcs.held)}"
     elif statics.dim == 3:
         hint += f", or turn the {what} away from the held directions (see the sphere map)"
-    return Finding(message, code=outcome, field=("supports", r), hint=hint)
+    return Finding(message, code=outcome, field=scene.support_field(r), hint=hint)
 
 
 def run_jamming(inputs: Inputs) -> tuple[CheckResult, JamAnalysis | None, JamMap | None]:

@@ -1,4 +1,9 @@
-"""Maxwell's criterion and the determinacy of the support layout (methods.md §2)."""
+"""Maxwell's criterion and the determinacy of the support layout (methods.md §2).
+
+Maxwell's criterion is a rule of thumb: a low cos(theta) does not stop a coupling from
+closing (the analytical checks decide that). So the check's default severity is ``warning``:
+it is shown, and fails a run only with ``--strict`` (or a severity set to ``error``).
+"""
 
 from __future__ import annotations
 
@@ -6,9 +11,16 @@ import numpy as np
 from pydantic import Field
 
 from kcheck.analysis import support_layout
-from kcheck.kinematics import RANK_RTOL, free_twist, layout_singular_values, maxwell_cos
+from kcheck.fmt import format_angle, format_number
+from kcheck.kinematics import (
+    RANK_RTOL,
+    free_twist,
+    layout_singular_values,
+    maxwell_angle,
+    maxwell_cos,
+)
 from kcheck.plugin import Check, Inputs, Options
-from kcheck.result import CaseResult, CheckResult, Status
+from kcheck.result import CaseResult, CheckResult, Finding, Status
 
 __all__ = ["Maxwell", "MaxwellOptions"]
 
@@ -29,6 +41,7 @@ class Maxwell(Check):
     applies_to = "planar (3 supports) and spatial (6 supports) scenes"
     needs_mass = False
     options = MaxwellOptions
+    severity = "warning"
 
     def run(self, inputs: Inputs) -> CheckResult:
         """Rank and smallest scaled singular value of the layout; cos(theta) per support."""
@@ -48,50 +61,72 @@ class Maxwell(Check):
                 continue
             cos = maxwell_cos(free, points[r], normals[r])
             # The null vector is perturbed by about eps / (its singular-value gap).
-            worst_error = max(worst_error, 8 * EPS / free.determinacy)
+            worst_error = max(worst_error, EPS / free.determinacy)
             outcome = "ok" if cos >= opts.min_cos else "poor"
             cases.append(
                 CaseResult(
                     support.name,
                     outcome,
                     cos_maxwell=cos,
-                    details={"theta_deg": float(np.degrees(np.arccos(min(cos, 1.0))))},
+                    details={
+                        "theta_deg": float(np.degrees(maxwell_angle(free, points[r], normals[r])))
+                    },
                 )
             )
         details = {"rank": rank, "smallest_scaled_singular_value": sigma, "min_cos": opts.min_cos}
         if not deterministic:
+            free = len(points) - rank
             return CheckResult(
                 self.id,
                 Status.FAIL,
                 f"not deterministic: constraint matrix rank {rank} of {len(points)}, so "
-                f"{len(points) - rank} motion(s) stay free with every support in place "
+                f"{free} motion(s) stay free with every support in place "
                 "(e.g. all normals through one point)",
                 error_estimate=None,
                 cases=tuple(cases),
                 details=details,
+                findings=(
+                    Finding(
+                        f"the supports leave {free} motion(s) free with every support in place "
+                        f"(constraint matrix rank {rank} of {len(points)})",
+                        code="not-deterministic",
+                        field=("supports",),
+                        hint="turn or move a support so the normals no longer meet in one "
+                        "point (planar) or one line (spatial)",
+                    ),
+                ),
             )
         poor = [c for c in cases if c.outcome != "ok"]
         worst = min(cases, key=lambda c: c.cos_maxwell if c.cos_maxwell is not None else -1)
         near = sigma < 1e-6
+        findings = tuple(
+            Finding(
+                f"retracting {c.retracted} frees a motion at "
+                f"{format_angle(c.details['theta_deg'])} from its normal "
+                f"(cos θ = {format_number(c.cos_maxwell, 3)}, below {opts.min_cos:g})",
+                code="maxwell",
+                field=scene.support_field(i),
+                hint="tilt the neighbouring contacts so the freed motion meets this normal "
+                "more squarely",
+            )
+            for i, c in enumerate(cases)
+            if c in poor and c.cos_maxwell is not None
+        )
         if poor:
             names = ", ".join(c.retracted for c in poor)
-            status, message = (
-                Status.FAIL,
-                (
-                    f"cos(theta) below {opts.min_cos} at {names}; worst {worst.retracted} "
-                    f"cos = {worst.cos_maxwell:.3f}"
-                ),
+            status = Status.FAIL
+            message = (
+                f"cos θ below {opts.min_cos:g} at {names}; worst {worst.retracted} "
+                f"cos θ = {format_number(worst.cos_maxwell, 3)}"
             )
         else:
-            status, message = (
-                Status.PASS,
-                (
-                    f"deterministic; every cos(theta) >= {opts.min_cos} "
-                    f"(worst {worst.retracted}: {worst.cos_maxwell:.3f})"
-                ),
+            status = Status.PASS
+            message = (
+                f"deterministic; every cos θ ≥ {opts.min_cos:g} "
+                f"(worst {worst.retracted}: {format_number(worst.cos_maxwell, 3)})"
             )
         if near:
-            message += f"; nearly singular layout (scaled sigma_min {sigma:.1e})"
+            message += f"; nearly singular layout (scaled σ_min {sigma:.1e})"
         return CheckResult(
             self.id,
             status,
@@ -99,4 +134,5 @@ class Maxwell(Check):
             error_estimate=worst_error,
             cases=tuple(cases),
             details=details,
+            findings=findings,
         )

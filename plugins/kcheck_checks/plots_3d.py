@@ -1,32 +1,59 @@
-"""Pictures of the spatial check: the scene with screw axes, the safe-direction map, and the
-normal forces per retracted support. matplotlib comes in through :mod:`kcheck.plotting`."""
+"""Pictures of the spatial check: plan and elevation of the scene with each case's free motion,
+the map of safe directions (:mod:`kcheck_checks.plots_sphere`), and the normal forces per
+retracted support (:mod:`kcheck_checks.plots_forces`). matplotlib comes in through
+:mod:`kcheck.plotting`.
+
+The scene is drawn as an engineering drawing: for every retracted support a plan (x–y, seen
+from +z) above an elevation (x–z, seen from −y) sharing the x axis. A screw axis is a dashed
+line with its rotation sense: a circular arrow where the axis points at the viewer, or ⊙
+(towards the viewer) and ⊗ (away) either side of an axis lying in the drawing plane.
+"""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from kcheck.analysis import Analysis
-from kcheck.arcs import cap_margins
-from kcheck.plotting import figure, save, slug
-from kcheck.result import CheckResult
+from kcheck.plotting import VERDICT_COLOURS, figure, outcome_colour, save, slug
+from kcheck.report.tables import motion_text
+from kcheck.report.views import verdict
+from kcheck.result import CaseResult, CheckResult
 from kcheck.scene import Scene
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
     from kcheck_checks.analytical_3d import SphereMap
 
-__all__ = ["plot_spatial", "scene_panel", "sphere_panel", "forces_panel"]
+__all__ = ["plot_spatial", "scene_views", "clip_segment"]
 
-OUTCOME_COLOURS = {
-    "closes": "tab:green",
-    "loses_contact": "tab:orange",
-    "opens": "tab:red",
-    "jams": "tab:red",
-}
-# Largest number of mesh triangles drawn; more only slows matplotlib's 3D sorting down.
-MAX_TRIANGLES = 4000
+# Largest number of mesh triangles drawn (the body is a rasterised silhouette anyway).
+MAX_TRIANGLES = 6000
+SUPPORT = "#1f77b4"
+RETRACTED = "#d62728"
+LOAD = "#ff7f0e"
+GRAVITY = "#6b4226"
+MOTION = "#7b2cbf"
+
+
+@dataclass(frozen=True)
+class View:
+    """An orthographic view: which coordinates go right and up, and from where it is seen."""
+
+    name: str
+    axes: tuple[int, int]
+    towards_viewer: np.ndarray  # right × up
+
+
+VIEWS = (
+    View("plan", (0, 1), np.array([0.0, 0.0, 1.0])),
+    View("elevation", (0, 2), np.array([0.0, -1.0, 0.0])),
+)
+AXIS_NAMES = "xyz"
 
 
 def plot_spatial(
@@ -36,19 +63,19 @@ def plot_spatial(
     result: CheckResult,
     directory: Path,
 ) -> list[Path]:
-    """Write ``<scene>-analytical-3d-{scene,sphere,forces}.png/.svg``; return the paths."""
+    """Write ``<scene>-analytical-3d-{scene,sphere,forces}`` pictures; return the paths."""
+    from kcheck_checks.plots_forces import forces_panel
+    from kcheck_checks.plots_sphere import sphere_figure
+
     stem = f"{slug(scene.name)}-analytical-3d"
-    written: list[Path] = []
-    fig = figure(figsize=(15, 9.5))
-    scene_panel(fig, scene, analysis, result)
-    written.extend(save(fig, directory, f"{stem}-scene"))
+    written: list[Path] = list(
+        save(scene_views(scene, analysis, result), directory, f"{stem}-scene")
+    )
     if smap is not None:
-        fig = figure(figsize=(12, 6.8))
-        sphere_panel(fig, scene, analysis, smap)
-        written.extend(save(fig, directory, f"{stem}-sphere"))
-    fig = figure(figsize=(12, 5.5))
-    forces_panel(fig, scene, analysis, result)
-    written.extend(save(fig, directory, f"{stem}-forces"))
+        written.extend(
+            save(sphere_figure(scene, analysis, smap, result), directory, f"{stem}-sphere")
+        )
+    written.extend(save(forces_panel(scene, result), directory, f"{stem}-forces"))
     return written
 
 
@@ -65,306 +92,282 @@ def _mesh_triangles(scene: Scene) -> np.ndarray | None:
     return triangles
 
 
-def clip_line(
-    point: np.ndarray, axis: np.ndarray, lo: np.ndarray, hi: np.ndarray
+def clip_segment(
+    point: np.ndarray, direction: np.ndarray, lo: np.ndarray, hi: np.ndarray
 ) -> np.ndarray | None:
-    """Ends of the part of the line ``point + t axis`` inside the box [lo, hi], or None."""
+    """Ends of the part of the line ``point + t direction`` inside the box [lo, hi] (any
+    dimension), or None when the line misses it."""
     t0, t1 = -np.inf, np.inf
-    for k in range(3):
-        if abs(axis[k]) < 1e-12:
+    for k in range(len(point)):
+        if abs(direction[k]) < 1e-12:
             if not lo[k] <= point[k] <= hi[k]:
                 return None
             continue
-        a, b = sorted(((lo[k] - point[k]) / axis[k], (hi[k] - point[k]) / axis[k]))
+        a, b = sorted(((lo[k] - point[k]) / direction[k], (hi[k] - point[k]) / direction[k]))
         t0, t1 = max(t0, a), min(t1, b)
     if not t1 > t0:
         return None
-    return np.array([point + t0 * axis, point + t1 * axis])
+    return np.array([point + t0 * direction, point + t1 * direction])
 
 
-def scene_panel(fig: Any, scene: Scene, analysis: Analysis, result: CheckResult) -> None:
-    """One 3D panel per retracted support: body, supports and normals, load, screw axis."""
-    unit = scene.units
+@dataclass(frozen=True)
+class Drawing:
+    """Everything a view needs, in scene units."""
+
+    points: np.ndarray
+    normals: np.ndarray
+    names: list[str]
+    triangles: np.ndarray | None
+    forces: list[tuple[np.ndarray, np.ndarray, str, str]]  # point, unit direction, label, colour
+    lo: np.ndarray
+    hi: np.ndarray
+    arrow: float
+
+
+def _drawing(scene: Scene, analysis: Analysis) -> Drawing:
     s = scene.scale
     points = np.array([sp.position for sp in scene.supports]) / s
-    normals = np.array([sp.normal for sp in scene.supports])
+    normals = np.array([sp.normal for sp in scene.supports], float)
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
     triangles = _mesh_triangles(scene)
     cloud = points if triangles is None else np.vstack([points, triangles.reshape(-1, 3)])
     lo, hi = cloud.min(axis=0), cloud.max(axis=0)
-    centre, size = 0.5 * (lo + hi), float(np.max(hi - lo))
-    arrow = 0.18 * size
-    # The view box: the scene plus room for arrows, no axis thinner than 40 % of the largest.
-    half = np.maximum(0.5 * (hi - lo) + 0.25 * size, 0.2 * size)
-    box_lo, box_hi = centre - half, centre + half
+    size = float(np.max(hi - lo)) or 1.0
+    arrow = 0.16 * size
+    frame, problem = analysis.problem.frame, analysis.problem
+    forces = []
     load = scene.load
-    load_point = None
     if load is not None and load.magnitude > 0 and load.direction is not None:
-        frame = analysis.problem.frame
-        load_point = (frame.origin + frame.length * analysis.problem.load_point) / s
-        load_dir = load.direction
-    elif np.any(scene.gravity):
-        com = analysis.problem.frame.origin + analysis.problem.frame.length * analysis.problem.com
-        load_point = com / s
-        load_dir = scene.gravity / np.linalg.norm(scene.gravity)
-    cases = {r.retracted: r for r in result.cases}
-    n = len(scene.supports)
-    cols = 3
-    rows = int(np.ceil(n / cols))
-    for i, support in enumerate(scene.supports):
-        ax = fig.add_subplot(rows, cols, i + 1, projection="3d")
-        if triangles is not None:
-            from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+        q = (frame.origin + frame.length * problem.load_point) / s
+        forces.append((q, np.asarray(load.direction, float), "load", LOAD))
+    if np.any(scene.gravity):
+        com = (frame.origin + frame.length * problem.com) / s
+        g = np.asarray(scene.gravity, float)
+        forces.append((com, g / np.linalg.norm(g), "gravity", GRAVITY))
+    ends = [points - 1.3 * arrow * normals, points]
+    ends += [np.array([q - 1.5 * arrow * d, q]) for q, d, _, _ in forces]
+    every = np.vstack([cloud, *ends])
+    pad = 0.1 * size  # room for the support names
+    return Drawing(
+        points,
+        normals,
+        [sp.name for sp in scene.supports],
+        triangles,
+        forces,
+        every.min(axis=0) - pad,
+        every.max(axis=0) + pad,
+        arrow,
+    )
 
-            ax.add_collection3d(
-                Poly3DCollection(
-                    triangles, facecolor="0.8", edgecolor="0.65", linewidth=0.1, alpha=0.18
-                )
+
+def _labels(ax: Axes, d: Drawing, view: View, keep: np.ndarray, size: float, nudge: bool) -> None:
+    """Support names just beyond the tail of each normal arrow (or outwards from the
+    supports' centre when the normal points at the viewer); a name that would land on another
+    is nudged aside (``nudge``) or left out."""
+    k = list(view.axes)
+    centre = d.points[:, k].mean(axis=0)
+    placed: list[np.ndarray] = []
+    for j in np.flatnonzero(keep):
+        p, n = d.points[j, k], d.normals[j, k]
+        if np.linalg.norm(n) > 0.3:
+            away = -n / np.linalg.norm(n)
+            at = p + away * (1.3 * d.arrow * np.linalg.norm(n) + 0.03 * size)
+        else:
+            radial = p - centre
+            away = (
+                radial / np.linalg.norm(radial)
+                if np.linalg.norm(radial) > 0
+                else np.array([0, 1.0])
             )
-        keep = np.arange(n) != i
-        ax.quiver(
-            *points[keep].T,
-            *(arrow * normals[keep]).T,
-            color="tab:blue",
-            linewidth=1.2,
-            arrow_length_ratio=0.25,
+            at = p + away * 0.06 * size
+        crowded = any(np.linalg.norm(at - other) < 0.07 * size for other in placed)
+        if crowded and not nudge:
+            continue  # the plan names it; no blob of names here
+        if crowded:
+            at = at + np.array([-away[1], away[0]]) * 0.08 * size
+        placed.append(at)
+        ax.text(
+            *at, d.names[j], fontsize=8, color=SUPPORT, weight="bold",
+            ha="left" if away[0] > 0.3 else "right" if away[0] < -0.3 else "center",
+            va="bottom" if away[1] > 0.3 else "top" if away[1] < -0.3 else "center",
+            zorder=6,
+        )  # fmt: skip
+
+
+def _rotation_sense(ax: Axes, centre: np.ndarray, axis: np.ndarray, view: View, r: float) -> None:
+    """The rotation's sense about ``axis`` (right-handed) drawn around ``centre`` (3D)."""
+    k = list(view.axes)
+    facing = float(axis @ view.towards_viewer)
+    if abs(facing) >= 0.35:
+        u = np.cross(axis, view.towards_viewer if abs(facing) < 0.99 else [1.0, 0, 0])
+        u = np.cross(axis, u)
+        u /= np.linalg.norm(u)
+        v = np.cross(axis, u)
+        t = np.linspace(0.0, 1.6 * np.pi, 60)
+        arc = centre + r * (np.cos(t)[:, None] * u + np.sin(t)[:, None] * v)
+        ax.plot(*arc[:-2, k].T, color=MOTION, lw=1.6, zorder=7)
+        ax.annotate(
+            "", xy=tuple(arc[-1, k]), xytext=tuple(arc[-4, k]),
+            arrowprops={"arrowstyle": "-|>", "color": MOTION, "lw": 1.6}, zorder=7,
+        )  # fmt: skip
+        return
+    # The axis lies (nearly) in the drawing plane: ⊙ where the body comes towards the viewer.
+    side = np.cross(view.towards_viewer, axis)
+    side /= np.linalg.norm(side)
+    for sign in (1.0, -1.0):
+        at = centre + sign * r * side
+        towards = float(np.cross(axis, sign * side) @ view.towards_viewer) > 0
+        ax.text(
+            *at[k], "⊙" if towards else "⊗", fontsize=12, color=MOTION,
+            ha="center", va="center", zorder=7,
+        )  # fmt: skip
+
+
+def _motion(ax: Axes, d: Drawing, view: View, case: CaseResult, retracted: int, s: float) -> None:
+    k = list(view.axes)
+    size = float(np.max(d.hi - d.lo))
+    motion = case.details.get("motion")
+    if motion in ("screw", "rotation") and "axis" in case.details:  # rotation: no pitch
+        axis = np.asarray(case.details["axis"], float)
+        foot = np.asarray(case.details["axis_point"], float) / s
+        centre3 = 0.5 * (d.lo + d.hi)
+        nearest = foot + ((centre3 - foot) @ axis) * axis
+        seg = (
+            clip_segment(nearest[k], axis[k], d.lo[k], d.hi[k])
+            if np.linalg.norm(axis[k]) > 1e-9
+            else None
         )
-        ax.scatter(*points[keep].T, color="tab:blue", s=12, depthshade=False)
-        ax.scatter(*points[i], color="tab:red", marker="X", s=70, depthshade=False)
-        ax.quiver(*points[i], *(arrow * normals[i]), color="tab:red", linestyle=":")
-        for j in np.flatnonzero(keep):
-            ax.text(*(points[j] + 0.06 * size * normals[j]), scene.supports[j].name, fontsize=7)
-        if load_point is not None:
-            ax.quiver(
-                *(load_point - 1.6 * arrow * load_dir),
-                *(1.6 * arrow * load_dir),
-                color="tab:orange",
-                linewidth=2.0,
-                arrow_length_ratio=0.2,
+        if seg is not None:
+            ax.plot(*seg.T, color=MOTION, ls="--", lw=1.6, zorder=5)
+        inside = np.all((nearest[k] >= d.lo[k]) & (nearest[k] <= d.hi[k]))
+        if inside:
+            _rotation_sense(ax, nearest, axis, view, 0.07 * size)
+    elif motion == "translation":
+        direction = np.asarray(case.details["direction"], float)
+        p = d.points[retracted]
+        if np.linalg.norm(direction[k]) > 1e-6:
+            ax.annotate(
+                "", xy=tuple(p[k] + 1.3 * d.arrow * direction[k]), xytext=tuple(p[k]),
+                arrowprops={"arrowstyle": "-|>", "color": MOTION, "lw": 2.0}, zorder=7,
+            )  # fmt: skip
+        else:
+            towards = float(direction @ view.towards_viewer) > 0
+            ax.text(
+                *p[k], "⊙" if towards else "⊗", fontsize=12, color=MOTION, ha="center", va="center"
             )
-        case = cases.get(support.name)
-        title = f"{support.name} retracted"
+
+
+def _view(
+    ax: Axes, d: Drawing, view: View, retracted: int, case: CaseResult | None, s: float
+) -> None:
+    """One orthographic view of the scene with the free motion of one retracted support."""
+    from matplotlib.collections import PolyCollection
+
+    k = list(view.axes)
+    size = float(np.max(d.hi - d.lo))
+    if d.triangles is not None:
+        body = PolyCollection(
+            d.triangles[:, :, k], facecolor="0.86", edgecolor="none", zorder=0, rasterized=True
+        )
+        ax.add_collection(body)
+    keep = np.arange(len(d.points)) != retracted
+    tails = d.points - d.arrow * d.normals
+    ax.quiver(
+        *tails[keep][:, k].T, *(d.arrow * d.normals[keep][:, k]).T,
+        angles="xy", scale_units="xy", scale=1, color=SUPPORT, width=0.006, zorder=4,
+    )  # fmt: skip
+    ax.plot(*d.points[keep][:, k].T, "o", color=SUPPORT, ms=3.5, zorder=5)
+    ax.plot(*d.points[retracted, k], "X", color=RETRACTED, ms=9, mec="white", zorder=6)
+    ax.plot(
+        *np.array([tails[retracted], d.points[retracted]])[:, k].T, ":", color=RETRACTED, lw=1.5
+    )
+    _labels(ax, d, view, keep, size, nudge=view.name == "plan")
+    for q, direction, label, colour in d.forces:
+        tail = q - 1.5 * d.arrow * direction
+        if np.linalg.norm(direction[k]) > 1e-6:
+            ax.annotate(
+                "", xy=tuple(q[k]), xytext=tuple(tail[k]),
+                arrowprops={"arrowstyle": "-|>", "color": colour, "lw": 2.2}, zorder=6,
+            )  # fmt: skip
+            ax.text(*tail[k], f" {label}", color=colour, fontsize=8, va="center", zorder=6)
+        else:
+            towards = float(direction @ view.towards_viewer) > 0
+            ax.text(
+                *q[k], ("⊙ " if towards else "⊗ ") + label, color=colour, fontsize=9, zorder=6,
+                va="bottom" if label == "load" else "top",
+            )  # fmt: skip
+    if case is not None:
+        _motion(ax, d, view, case, retracted, s)
+    ax.set_xlim(d.lo[k[0]], d.hi[k[0]])
+    ax.set_ylim(d.lo[k[1]], d.hi[k[1]])
+    ax.set_aspect("equal")
+    ax.locator_params(nbins=5)  # fewer tick labels: text is most of the drawing time
+    ax.tick_params(labelsize=7)
+    ax.set_ylabel(f"{AXIS_NAMES[k[1]]}", fontsize=8, rotation=0, labelpad=6)
+    ax.grid(True, lw=0.3, alpha=0.5)
+
+
+def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
+    """Plan over elevation for every retracted support, three supports a row."""
+    d = _drawing(scene, analysis)
+    n = len(d.points)
+    cols = min(3, n)
+    rows = int(np.ceil(n / cols))
+    extent = d.hi - d.lo
+    plan_h = max(extent[1] / extent[0], 0.25)
+    elev_h = max(extent[2] / extent[0], 0.25)
+    width = 4.6
+    # The drawing width of a panel (the figure's margins and gaps taken off), in inches.
+    drawn = cols * width * 0.94 / (cols + 0.2 * (cols - 1))
+    pair = drawn * (plan_h + elev_h) + 0.35  # one plan over its elevation, inches
+    height = rows * (pair + 0.45) + 0.95
+    fig = figure(figsize=(cols * width, height), layout=None)
+    outer = fig.add_gridspec(
+        rows, cols, left=0.05, right=0.99, bottom=0.35 / height, top=1 - 0.95 / height,
+        hspace=0.4 / pair, wspace=0.2,
+    )  # fmt: skip
+    cases = {c.retracted: c for c in result.cases}
+    for i, name in enumerate(d.names):
+        inner = outer[divmod(i, cols)].subgridspec(
+            2, 1, height_ratios=[plan_h, elev_h], hspace=0.35 / pair
+        )
+        plan = fig.add_subplot(inner[0])
+        elev = fig.add_subplot(inner[1], sharex=plan)
+        case = cases.get(name)
+        for ax, view in zip((plan, elev), VIEWS, strict=True):
+            _view(ax, d, view, i, case, scene.scale)
+        plan.set_anchor("S")  # the elevation sits right under its plan
+        elev.set_anchor("N")
+        # Every panel has the same limits: numbers only on the outer edges (text is most of
+        # the drawing time), grid lines everywhere.
+        plan.tick_params(labelbottom=False)
+        if i % cols:
+            for ax in (plan, elev):
+                ax.tick_params(labelleft=False)
+                ax.set_ylabel("")
+        if i + cols < n:
+            elev.tick_params(labelbottom=False)
+        else:
+            elev.set_xlabel(f"x ({scene.units})", fontsize=8)
+        title = f"{name} retracted"
         colour = "black"
         if case is not None:
-            title += f": {case.outcome.replace('_', ' ')}"
-            colour = OUTCOME_COLOURS.get(case.outcome, "black")
-            segment = None
-            if case.details.get("motion") == "screw":
-                foot = np.asarray(case.details["axis_point"]) / s
-                segment = clip_line(foot, np.asarray(case.details["axis"]), box_lo, box_hi)
-            if case.details.get("motion") == "screw":
-                pitch = case.details["pitch_m"] / s
-                if segment is not None:
-                    ax.plot(*segment.T, color="tab:purple", linestyle="--", linewidth=1.8)
-                    title += f"\nscrew axis (purple), pitch {pitch:.3g} {unit}"
-                else:
-                    title += f"\nscrew axis outside the view, pitch {pitch:.3g} {unit}"
-            elif case.details.get("motion") == "translation":
-                d = np.asarray(case.details["direction"])
-                ax.quiver(*points[i], *(1.5 * arrow * d), color="tab:purple", linewidth=1.5)
-                title += "\ntranslation (purple arrow)"
-        ax.set_title(title, fontsize=9, color=colour)
-        ax.set_xlim(box_lo[0], box_hi[0])
-        ax.set_ylim(box_lo[1], box_hi[1])
-        ax.set_zlim(box_lo[2], box_hi[2])
-        ax.set_box_aspect(tuple(box_hi - box_lo))
-        ax.set_xlabel(f"x ({unit})", fontsize=7)
-        ax.set_ylabel(f"y ({unit})", fontsize=7)
-        ax.set_zlabel(f"z ({unit})", fontsize=7)
-        ax.tick_params(labelsize=6)
-        ax.view_init(elev=28, azim=-60)
-    what = "load (orange)" if load is not None and load.magnitude > 0 else "gravity (orange)"
-    fig.suptitle(
-        f"{scene.name}: free motion when each support is retracted — supports and normals "
-        f"(blue), retracted support (red ×), {what}",
-        fontsize=11,
-    )
-
-
-def _tangent_basis(centre: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Unit vectors e1, e2 completing ``centre`` to a right-handed frame (e1 ~ world x or z)."""
-    helper = np.array([0.0, 0.0, 1.0]) if abs(centre[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
-    e1 = helper - (helper @ centre) * centre
-    e1 /= np.linalg.norm(e1)
-    return e1, np.cross(centre, e1)
-
-
-def lambert_inverse(x: np.ndarray, y: np.ndarray, centre: np.ndarray) -> np.ndarray:
-    """Directions (..., 3) of points of a Lambert azimuthal equal-area disc about ``centre``.
-
-    The disc radius ``r = 2 sin(theta / 2)`` (theta from the centre) keeps areas; the
-    hemisphere around the centre fills ``r <= sqrt(2)``.
-    """
-    e1, e2 = _tangent_basis(centre)
-    r = np.hypot(x, y)
-    theta = 2.0 * np.arcsin(np.clip(r / 2.0, 0.0, 1.0))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        ux, uy = np.where(r > 0, x / r, 1.0), np.where(r > 0, y / r, 0.0)
-    s = np.sin(theta)[..., None]
-    return np.cos(theta)[..., None] * centre + s * ux[..., None] * e1 + s * uy[..., None] * e2
-
-
-def lambert_forward(d: np.ndarray, centre: np.ndarray) -> tuple[float, float]:
-    """Disc coordinates of a direction in the Lambert map about ``centre``."""
-    e1, e2 = _tangent_basis(centre)
-    theta = float(np.arccos(np.clip(d @ centre, -1.0, 1.0)))
-    psi = float(np.arctan2(d @ e2, d @ e1))
-    r = 2.0 * np.sin(theta / 2.0)
-    return r * np.cos(psi), r * np.sin(psi)
-
-
-def sphere_panel(fig: Any, scene: Scene, analysis: Analysis, smap: SphereMap) -> None:
-    """Equal-area map of the safe directions: the hemisphere about the design (or most robust)
-    direction and the opposite hemisphere, side by side (Lambert azimuthal projections)."""
-    deg = float(np.degrees(1.0))
-    centre = smap.design if smap.design is not None else smap.robust
-    named = "design" if smap.design is not None else "most robust"
-    edge = np.sqrt(2.0)
-    t = np.linspace(-edge, edge, 301)
-    x, y = np.meshgrid(t, t)
-    inside = np.hypot(x, y) <= edge * (1 + 1e-9)
-    axes = fig.subplots(1, 2)
-    top = max(smap.robust_margin * deg, 1.0)
-    levels = np.concatenate([[-181.0, 0.0], np.linspace(0, top, 8)[1:]])
-    colours = [(0.9, 0.9, 0.9)] + [tuple(c) for c in _greens(np.linspace(0.3, 0.95, 7))]
-    filled = None
-    for k, (ax, sign) in enumerate(zip(axes, (1.0, -1.0), strict=True)):
-        c0 = sign * centre
-        dirs = lambert_inverse(x, y, c0)
-        margin = np.degrees(cap_margins(smap.a, smap.c, dirs.reshape(-1, 3))).reshape(x.shape)
-        margin = np.where(inside, margin, np.nan)
-        filled = ax.contourf(x, y, margin, levels=levels, colors=colours)
-        for i, result in enumerate(analysis.results):
-            mine = smap.owner == i
-            if not np.any(mine):
-                continue
-            m = cap_margins(smap.a[mine], smap.c[mine], dirs.reshape(-1, 3)).reshape(x.shape)
-            m = np.where(inside, m, np.nan)
-            if np.nanmin(m) < 0 < np.nanmax(m):
-                ax.contour(x, y, m, levels=[0.0], colors=[f"C{i}"], linewidths=0.8)
-            if k == 0:
-                ax.plot([], [], color=f"C{i}", lw=0.8, label=f"{result.retracted} closes inside")
-        if np.nanmin(margin) < 0 < np.nanmax(margin):
-            ax.contour(x, y, margin, levels=[0.0], colors="black", linewidths=1.8)
-        # Rings of equal angle from the centre direction.
-        for ring in (30, 60, 90):
-            theta = np.radians(ring if sign > 0 else 180 - ring)
-            r = 2 * np.sin(theta / 2)
-            if sign < 0:
-                r = 2 * np.sin((np.pi - theta) / 2)
-            ax.add_patch(_circle(r, ring == 90))
-            label = f"{ring}°" if sign > 0 else f"{180 - ring}°"
-            ax.text(0.71 * r, 0.71 * r, label, fontsize=7, color="0.35", ha="left", va="bottom")
-        for label, vec in {
-            "+x": (1, 0, 0), "−x": (-1, 0, 0), "+y": (0, 1, 0),
-            "−y": (0, -1, 0), "+z": (0, 0, 1), "−z": (0, 0, -1),
-        }.items():  # fmt: skip
-            v = np.array(vec, float)
-            if v @ c0 >= -1e-9:
-                px, py = lambert_forward(v, c0)
-                ax.plot(px, py, "+", color="0.25", ms=8)
-                ax.text(px, py, f" {label}", fontsize=9, color="0.25", va="bottom")
-        for d, marker, kw, text in (
-            (smap.robust, "o", {"mfc": "white", "mec": "black", "mew": 2, "ms": 10},
-             f"most robust {_v(smap.robust)}: margin {smap.robust_margin * deg:.1f}°"),
-            (smap.design, "*", {"mfc": "tab:orange", "mec": "black", "ms": 16},
-             None if smap.design_margin is None
-             else f"design {_v(smap.design)}: margin {smap.design_margin * deg:.1f}°"),
-        ):  # fmt: skip
-            if d is None:
-                continue
-            if d @ c0 >= 0:
-                ax.plot(*lambert_forward(d, c0), marker, label=text if k == 0 else None, **kw)
-            elif k == 0:
-                ax.plot([], [], marker, label=text, **kw)
-        ax.set_aspect("equal")
-        ax.set_xlim(-edge * 1.05, edge * 1.05)
-        ax.set_ylim(-edge * 1.05, edge * 1.05)
-        ax.axis("off")
-        ax.set_title(
-            f"within 90° of the {named} direction {_v(centre)}"
-            if sign > 0
-            else f"the opposite hemisphere, about {_v(-centre)}",
-            fontsize=10,
-        )
-    assert filled is not None
-    bar = fig.colorbar(filled, ax=list(axes), shrink=0.7, pad=0.02)
-    bar.set_ticks(levels[1:])
-    bar.set_ticklabels([f"{v:.1f}" for v in levels[1:]])
-    bar.set_label("margin to the nearest boundary (°); grey: not safe")
-    fig.legend(loc="lower center", ncol=4, fontsize=8, frameon=False)
-    what = "force" if smap.swept == "load" else "gravity"
-    frac = smap.fraction
-    fig.suptitle(
-        f"{scene.name}: {what} directions safe for every retracted support (green): "
-        f"{100 * frac.fraction:.1f}% ± {100 * frac.error:.1f}% of the sphere\n"
-        "equal-area (Lambert azimuthal) views; black: boundary of the safe region, "
-        "colours: where each case alone closes",
-        fontsize=11,
-    )
-
-
-def _circle(r: float, solid: bool) -> Any:
-    from matplotlib.patches import Circle
-
-    return Circle(
-        (0, 0), r, fill=False, color="0.2" if solid else "0.55",
-        linewidth=1.2 if solid else 0.5, linestyle="-" if solid else ":",
-    )  # fmt: skip
-
-
-def _greens(x: np.ndarray) -> np.ndarray:
-    import matplotlib
-
-    return matplotlib.colormaps["Greens"](x)
-
-
-def _v(v: np.ndarray) -> str:
-    return "(" + ", ".join(f"{x:.2f}" for x in v) + ")"
-
-
-def forces_panel(fig: Any, scene: Scene, analysis: Analysis, result: CheckResult) -> None:
-    """Grouped bars: the normal forces of the remaining supports per retracted support."""
-    ax = fig.add_subplot(1, 1, 1)
-    names = [s.name for s in scene.supports]
-    width = 0.8 / (len(names) - 1)
-    drawn: set[str] = set()
-    for g, case in enumerate(result.cases):
-        forces = case.normal_forces or {}
-        for k, name in enumerate(n for n in names if n in forces):
-            x = g - 0.4 + width * (k + 0.5)
-            value = forces[name]
-            colour = f"C{names.index(name)}"
-            ax.bar(
-                x,
-                value,
-                width,
-                color=colour,
-                edgecolor="black" if value <= 0 else colour,
-                label=None if name in drawn else name,
+            title += (
+                f": {case.outcome.replace('_', ' ')} — {motion_text(case.details, scene.units)}"
             )
-            drawn.add(name)
-            ax.text(x, value, f"{value:.3g}", ha="center", va="bottom" if value >= 0 else "top",
-                    fontsize=6.5)  # fmt: skip
-        ax.text(
-            g, 1.0, case.outcome.replace("_", " "), transform=ax.get_xaxis_transform(),
-            ha="center", va="bottom", fontsize=9,
-            color=OUTCOME_COLOURS.get(case.outcome, "black"),
-        )  # fmt: skip
-    ax.axhline(0, color="black", linewidth=0.8)
-    ax.set_xticks(range(len(result.cases)))
-    ax.set_xticklabels([f"{c.retracted}\nretracted" for c in result.cases])
-    ax.set_ylabel("normal force (N)")
-    handles, labels = ax.get_legend_handles_labels()
-    order = sorted(range(len(labels)), key=lambda k: names.index(labels[k]))
-    ax.legend(
-        [handles[k] for k in order], [labels[k] for k in order], title="support",
-        fontsize=8, loc="upper left", bbox_to_anchor=(1.005, 1.0),
+            colour = outcome_colour(case.outcome)
+        plan.set_title(title, fontsize=9.5, color=colour, loc="left")
+    word = verdict(result)
+    fig.suptitle(
+        f"{scene.name} — analytical-3d {word.upper()}: free motion when each support is "
+        f"retracted ({scene.units})",
+        fontsize=12, color=VERDICT_COLOURS.get(word, "black"), y=1 - 0.25 / height,
     )  # fmt: skip
-    ax.grid(True, axis="y", linewidth=0.4, alpha=0.6)
-    load = scene.load
-    at = (
-        "at the design direction"
-        if load is not None and load.magnitude > 0 and load.direction is not None
-        else "under gravity"
-    )
-    ax.set_title(f"{scene.name}: normal forces of the remaining supports {at}", pad=22)
+    fig.text(
+        0.5, 1 - 0.62 / height,
+        "each: plan (x–y, seen from +z) over elevation (x–z, seen from −y); blue: supports "
+        "pushing along their normals; red ×: the retracted one; purple: screw axis and "
+        "rotation sense (⊙ towards you, ⊗ away); orange: load; brown: gravity",
+        ha="center", fontsize=8.5, color="0.25",
+    )  # fmt: skip
+    return fig

@@ -16,7 +16,7 @@ from kcheck.plotting import figure, save, slug
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
 from kcheck_checks.jamming_cases import JamAnalysis, JamMap, case_arcs
-from kcheck_checks.plots_3d import _circle, lambert_forward, lambert_inverse
+from kcheck_checks.plots_sphere import lambert_forward, lambert_inverse, ring
 
 __all__ = ["plot_jamming", "circle_panel", "sphere_panel"]
 
@@ -155,10 +155,10 @@ def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
                         label=f"{analysis.statics.names[i]} can be held inside")  # fmt: skip
         shown = np.where(inside, count.reshape(x.shape), np.nan)
         filled = ax.contourf(x, y, shown, levels=levels, colors=_reds(len(levels) - 1))
-        for ring in (30, 60, 90):
-            r = 2 * np.sin(np.radians(ring) / 2)
-            ax.add_patch(_circle(r, ring == 90))
-            label = f"{ring}°" if sign > 0 else f"{180 - ring}°"
+        for angle in (30, 60, 90):
+            r = 2 * np.sin(np.radians(angle) / 2)
+            ax.add_patch(ring(r, solid=angle == 90))
+            label = f"{angle}°" if sign > 0 else f"{180 - angle}°"
             ax.text(0.71 * r, 0.71 * r, label, fontsize=7, color="0.35")
         for label, vec in (("+x", (1, 0, 0)), ("+y", (0, 1, 0)), ("+z", (0, 0, 1)),
                            ("−x", (-1, 0, 0)), ("−y", (0, -1, 0)), ("−z", (0, 0, -1))):  # fmt: skip

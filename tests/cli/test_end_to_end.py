@@ -98,8 +98,9 @@ def test_every_format_in_one_run(repo, cli):
     concise = (out / "concise").read_text().splitlines()
     where = f"{broken}:{BROKEN_LINE}:{BROKEN_COLUMN}"
     assert f"{where}: input-error: field `load.magnitude`: expected a valid " in concise[0]
-    assert any(x.startswith("couplings/fail.kcheck.yaml: analytical-2d: ") for x in concise)
-    assert "couplings/warn.kcheck.yaml: maxwell (warning): " in "\n".join(concise)
+    # each failing finding at the line of its support or field
+    assert any(re.match(r"couplings/fail.kcheck.yaml:\d+: analytical-2d: ", x) for x in concise)
+    assert re.search(r"couplings/warn.kcheck.yaml:\d+: maxwell \(warning\): ", "\n".join(concise))
     assert concise[-1] == "4 scenes: 1 passed, 1 with warnings, 1 failed, 1 with errors"
 
     github = (out / "github").read_text()
@@ -107,8 +108,10 @@ def test_every_format_in_one_run(repo, cli):
         f"::error file={broken},line={BROKEN_LINE},col={BROKEN_COLUMN},title=kcheck (input-error)::"
         in github
     )
-    assert "::error file=couplings/fail.kcheck.yaml,title=kcheck (analytical-2d)::" in github
-    assert "::warning file=couplings/warn.kcheck.yaml,title=kcheck (maxwell)::" in github
+    fail_at = r"::error file=couplings/fail.kcheck.yaml,line=\d+,title=kcheck \(analytical-2d/"
+    assert re.search(fail_at, github)
+    warn_at = r"::warning file=couplings/warn.kcheck.yaml,line=\d+,title=kcheck \(maxwell/"
+    assert re.search(warn_at, github)
 
     markdown = (out / "markdown").read_text()
     assert markdown.startswith("## ❌ kcheck failed")
@@ -137,13 +140,19 @@ def test_every_format_in_one_run(repo, cli):
     validate_sarif(sarif)
     results = sarif["runs"][0]["results"]
     located = {
-        (r["ruleId"], r["locations"][0]["physicalLocation"]["artifactLocation"]["uri"]): r
+        (
+            r["ruleId"].split("/")[0],
+            r["locations"][0]["physicalLocation"]["artifactLocation"]["uri"],
+        ): r
         for r in results
     }
     region = located[("input-error", broken)]["locations"][0]["physicalLocation"]["region"]
     assert region == {"startLine": BROKEN_LINE, "startColumn": BROKEN_COLUMN}
     assert located[("maxwell", "couplings/warn.kcheck.yaml")]["level"] == "warning"
     assert located[("analytical-2d", "couplings/fail.kcheck.yaml")]["level"] == "error"
+    # a check's finding is located at its support's line, under a rule per kind of finding
+    rule_ids = {r["ruleId"] for r in results}
+    assert any(rule.startswith("analytical-2d/") for rule in rule_ids)
     assert sarif["runs"][0]["invocations"][0]["executionSuccessful"] is False
 
 

@@ -52,8 +52,8 @@ def test_invalid_options_of_unselected_checks_are_still_reported(cli_json, write
 
 
 def test_unknown_check_in_scene_says_did_you_mean(cli, write_scene):
-    code, _, err = cli("check", str(write_scene(PLANAR_SCENE + "checks:\n  maxwel: {}\n")))
-    assert code == 2 and "options for unknown check `maxwel` (did you mean `maxwell`?)" in err
+    code, out, _ = cli("check", str(write_scene(PLANAR_SCENE + "checks:\n  maxwel: {}\n")))
+    assert code == 2 and "options for unknown check `maxwel` (did you mean `maxwell`?)" in out
 
 
 # -- scene paths ---------------------------------------------------------------------------

@@ -353,13 +353,17 @@ class Harness:
             found["broken-report"] = f"exit {run.code}; stdout {run.stdout[-300:]!r}"
             found["broken-report"] += f"; stderr {run.stderr[-300:]!r}"
         if doc is not None:
-            left = run.stderr
-            for scene in doc.get("scenes", []):
-                if scene.get("status") == "error" and scene.get("error"):
-                    left = left.replace(f"kcheck: error: {scene['error']}\n", "", 1)
-            left = re.sub(r"kcheck: error: cannot write [^\n]*\n", "", left)
-            if left.strip():
-                found["stray-output"] = left.strip()[:600]
+            # kcheck's own error lines; a line of a multi-line message is one of the JSON's.
+            said = json.dumps(doc["scenes"], ensure_ascii=False)
+            stray = [
+                line
+                for line in run.stderr.splitlines()
+                if line.strip()
+                and not line.startswith("kcheck: error: ")
+                and json.dumps(line, ensure_ascii=False)[1:-1] not in said
+            ]
+            if stray:
+                found["stray-output"] = "\n".join(stray)[:600]
             want = _exit_code(doc["scenes"])
             if run.code is not None and run.code != want and "cannot write" not in run.stderr:
                 found["wrong-exit"] = f"exit {run.code}, expected {want}"

@@ -77,7 +77,8 @@ def render(fmt: str, results=RESULTS, **options) -> str:
 
 
 def test_every_format_is_registered_and_lazy():
-    assert set(FORMATS) == {"text", "json", "concise", "github", "markdown", "junit", "sarif"}
+    expected = {"text", "json", "concise", "github", "markdown", "junit", "sarif", "html"}
+    assert set(FORMATS) == expected
     for name, target in FORMATS.items():
         assert target.startswith(f"kcheck.report.{name}:")
 

@@ -27,9 +27,9 @@ VERDICTS = {
     "thesis-appendix-a": "fail",
     "thesis-block-4-2": "pass",
     "thesis-block-5-2": "pass",
-    "thesis-potato": "fail",
+    "thesis-potato": "warn",  # only maxwell (severity warning) fails
     "three-groove": "pass",
-    "three-groove-beta-15": "fail",
+    "three-groove-beta-15": "warn",  # only maxwell (|90° - 2β| = 60°): it still closes
     "three-groove-beta-25": "pass",
     "three-groove-beta-35": "pass",
     "three-groove-beta-45": "pass",

@@ -1,4 +1,5 @@
-"""Safe directions on the sphere (kcheck.sphere) against closed forms.
+"""The lattice count of safe directions (kcheck.sphere), the oracle of kcheck.caps, against
+closed forms.
 
 References: the area of a spherical cap of angular radius r is 2 pi (1 - cos r), a fraction
 (1 - cos r) / 2 of the sphere; three orthogonal hemispheres meet in an octant (1/8), whose
@@ -13,7 +14,10 @@ import pytest
 from kcheck.arcs import cap_margin_matrix, cap_margins
 from kcheck.sphere import (
     cap_fraction,
+    fibonacci_chunks,
     fibonacci_sphere,
+    grid_spacing,
+    lattice_best,
     most_robust_direction,
     safe_fraction,
 )
@@ -64,25 +68,39 @@ def test_margin_matrix_reduces_to_cap_margins() -> None:
     np.testing.assert_array_equal(cap_margin_matrix(a, c, d).min(axis=1), cap_margins(a, c, d))
 
 
+def test_chunks_are_the_whole_lattice() -> None:
+    """The chunked lattice is the same point set, so counts do not depend on the chunk size."""
+    whole = fibonacci_sphere(1000)
+    np.testing.assert_array_equal(np.concatenate(list(fibonacci_chunks(1000, 128))), whole)
+    rng = np.random.default_rng(4)
+    a, c = rng.normal(size=5), rng.normal(size=(5, 3))
+    margins = cap_margins(a, c, whole)
+    best, value = lattice_best(a, c, 1000)
+    assert value == margins.max()
+    np.testing.assert_array_equal(best, whole[int(np.argmax(margins))])
+
+
 def test_most_robust_direction_of_an_octant() -> None:
-    direction, margin = most_robust_direction(OCTANT_A, OCTANT_C, 2000)
-    np.testing.assert_allclose(direction, np.ones(3) / np.sqrt(3), atol=1e-6)
-    assert margin == pytest.approx(np.arcsin(1 / np.sqrt(3)), abs=1e-8)
+    direction, margin = most_robust_direction(OCTANT_A, OCTANT_C)
+    np.testing.assert_allclose(direction, np.ones(3) / np.sqrt(3), atol=1e-12)
+    assert margin == pytest.approx(np.arcsin(1 / np.sqrt(3)), abs=1e-12)
 
 
 def test_most_robust_direction_of_one_cap_is_its_axis() -> None:
     axis = np.array([1.0, 2.0, -2.0]) / 3.0
-    direction, margin = most_robust_direction(np.array([-0.5]), 2.0 * axis[None], 500)
-    np.testing.assert_allclose(direction, axis, atol=1e-6)
-    assert margin == pytest.approx(np.arccos(0.25), abs=1e-6)  # radius arccos(-a / |c|)
+    direction, margin = most_robust_direction(np.array([-0.5]), 2.0 * axis[None])
+    np.testing.assert_allclose(direction, axis, atol=1e-12)
+    assert margin == pytest.approx(np.arccos(0.25), abs=1e-12)  # radius arccos(-a / |c|)
 
 
-def test_refinement_beats_the_grid() -> None:
+def test_exact_robust_direction_beats_every_lattice_point() -> None:
+    """The exact deepest point is at least as deep as the best of 2e5 lattice points, and at
+    most one lattice spacing deeper (the margin changes by at most the distance moved)."""
     rng = np.random.default_rng(7)
-    c = rng.normal(size=(12, 3))
-    a = 0.8 * np.linalg.norm(c, axis=1)  # generous caps: a region of safe directions exists
-    coarse = cap_margins(a, c, fibonacci_sphere(200)).max()
-    _, refined = most_robust_direction(a, c, 200)
-    _, fine = most_robust_direction(a, c, 200000)
-    assert refined >= coarse
-    assert refined == pytest.approx(fine, abs=1e-6)
+    for _ in range(5):
+        c = rng.normal(size=(12, 3))
+        a = 0.8 * np.linalg.norm(c, axis=1)  # generous caps: a region of safe directions exists
+        _, exact = most_robust_direction(a, c)
+        _, lattice = lattice_best(a, c, 200_000)
+        assert lattice <= exact + 1e-12
+        assert exact <= lattice + grid_spacing(200_000)

@@ -78,7 +78,7 @@ def test_symmetric_three_groove_optimum_is_on_the_axis(three_groove):
     caps = point_caps(problem_for(scene, mass))
 
     def robust(point):
-        return most_robust_direction(caps.a, caps_at(caps, np.array([point]))[0], 20000)[1]
+        return most_robust_direction(caps.a, caps_at(caps, np.array([point]))[0])[1]
 
     assert best.margin == pytest.approx(robust([0, 0, 6.5e-3]), abs=1e-8)
     assert robust([3e-3, 0, 6.5e-3]) < best.margin - np.radians(1)

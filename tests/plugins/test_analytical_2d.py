@@ -28,6 +28,7 @@ from kcheck.dynamics import (
     solve_affine,
     system_matrix,
 )
+from kcheck.friction import friction_intervals
 from kcheck.mass import body_mass_properties
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult, Status
@@ -195,7 +196,8 @@ def test_block_on_plane_slide_threshold(tmp_path: Path) -> None:
     ("alpha", "expected", "why"),
     [
         (225.0, "closes", "into the corner (methods.md §7)"),
-        (0.0, "opens", "pushes away from x1: lambda < 0 under backward friction"),
+        (315.0, "opens", "pushes away from x1 and down: lambda < 0 under backward friction"),
+        (45.0, "opens_loses_contact", "pushes away from x1 and up: N1 + N2 = -F_y < 0"),
         (268.0, "jams", "2 deg from the normal < atan(0.1): friction holds it (§1.1)"),
         (135.0, "loses_contact", "pulls up: N1 + N2 = -F_y < 0 while moving towards x1"),
     ],
@@ -226,44 +228,62 @@ def test_min_margin_pass_fail(tmp_path: Path) -> None:
 
 
 def _closes_with(problem: Any, retracted: int, mu: float, direction: np.ndarray) -> bool:
-    trial = dataclasses.replace(problem, friction=np.full(len(problem.friction), mu))
+    """Whether the case closes with friction ``mu`` times the scene's pattern (supports keep
+    their shares of the largest coefficient), by a fresh analysis of the case."""
+    pattern, _ = problem.friction_pattern()
+    trial = dataclasses.replace(problem, friction=pattern * mu)
     return outcome(analyse_case(trial, retracted), direction)[0] == "closes"
 
 
-def test_limiting_friction_by_bisection() -> None:
-    """``limiting_friction`` equals the first mu where ``outcome`` stops closing (bisection)."""
+def _bisect(problem: Any, r: int, lo: float, hi: float, direction: np.ndarray) -> float:
+    """Where ``closes`` changes between ``lo`` and ``hi`` (it differs at the two ends)."""
+    state = _closes_with(problem, r, lo, direction)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if _closes_with(problem, r, mid, direction) == state else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def test_friction_intervals_by_brute_force() -> None:
+    """``friction_intervals`` equals a scan of ``outcome`` over mu with fresh analyses: inside
+    and outside agree on a grid, and every finite interval end is a change found by bisection
+    (1e-9 relative). ``limiting_friction`` is the upper end of the interval holding the scene's
+    mu, None when the case does not close there."""
     rng = np.random.default_rng(7)
-    checked, infinite = 0, 0
+    checked = ends = 0
     for problem in random_problems(rng, 20):
+        _, mu_scene = problem.friction_pattern()
         for r in range(3):
             case_ = analyse_case(problem, r)
             if not (case_.determined and case_.well_conditioned):
                 continue
-            # A direction that closes without friction, found by trial (no arc formulas).
-            trials = [unit(a) for a in rng.uniform(0, TAU, 40)]
-            closing = [d for d in trials if _closes_with(problem, r, 0.0, d)]
-            if not closing:
-                assert limiting_friction(problem, case_, trials[0]) is None
-                continue
-            direction = closing[0]
-            mu_lim = limiting_friction(problem, case_, direction)
-            assert mu_lim is not None
-            if not np.isfinite(mu_lim):
-                assert all(_closes_with(problem, r, m, direction) for m in (1.0, 5.0, 50.0))
-                infinite += 1
-                continue
-            # No earlier failure on a grid below the limit; then bisect the change at the limit.
-            grid = np.linspace(0, mu_lim * (1 - 1e-6), 12)
-            assert all(_closes_with(problem, r, m, direction) for m in grid)
-            lo, hi = mu_lim * (1 - 1e-6), mu_lim * (1 + 1e-6)
-            assert not _closes_with(problem, r, hi, direction)
-            for _ in range(35):  # the bracket starts 2e-6 wide: 35 halvings reach 1e-16
-                mid = 0.5 * (lo + hi)
-                lo, hi = (mid, hi) if _closes_with(problem, r, mid, direction) else (lo, mid)
-            assert mu_lim == pytest.approx(lo, rel=1e-9)
+            direction = unit(rng.uniform(0, TAU))
+            found = friction_intervals(problem, case_, direction)
+            limit = limiting_friction(problem, case_, direction)
+            closes_here = outcome(case_, direction)[0] == "closes"
+            assert found.closes == closes_here and (limit is None) == (not closes_here)
+            grid = np.linspace(0.0, 3.0, 61)
+            for mu in grid:
+                gaps = [abs(mu - x) for lo, hi in found.intervals for x in (lo, hi)]
+                if min(gaps, default=1.0) < 1e-6:
+                    continue
+                inside = any(lo <= mu <= hi for lo, hi in found.intervals)
+                assert inside == _closes_with(problem, r, mu, direction), (r, mu, found)
+            for lo, hi in found.intervals:
+                for end in (lo, hi):
+                    if 0 < end < np.inf:
+                        a, b = end * (1 - 1e-7), end * (1 + 1e-7)
+                        assert _closes_with(problem, r, a, direction) != _closes_with(
+                            problem, r, b, direction
+                        )
+                        assert _bisect(problem, r, a, b, direction) == pytest.approx(end, rel=1e-9)
+                        ends += 1
+            if closes_here:
+                assert found.containing is not None
+                assert found.containing[0] <= mu_scene <= found.containing[1]
+                assert limit == found.containing[1]
             checked += 1
-    assert checked > 10
-    print(f"limiting friction: {checked} finite limits bisected, {infinite} infinite")
+    assert checked > 20 and ends > 10
 
 
 def test_limiting_friction_block_closed_form() -> None:
@@ -363,7 +383,7 @@ def test_closed_form_ranges_equal_brute_force() -> None:
             case_ = analyse_case(problem, r)
             if not (case_.determined and case_.well_conditioned):
                 continue
-            arcs, _ = safe_arcs(case_.forward, np.array([1.0, 0]), np.array([0, 1.0]))
+            arcs, _ = safe_arcs(case_, np.array([1.0, 0]), np.array([0, 1.0]))
             closed = np.sort(np.array([x % TAU for arc in arcs for x in arc if arc != (0, TAU)]))
             brute = brute_force_ends(case_)
             # An arc narrower than the sweep step can hide between samples; the sweep has 0.25
@@ -421,8 +441,48 @@ def test_plots_are_written(tmp_path: Path) -> None:
     plots = tmp_path / "plots"
     out = tmp_path / "out.json"
     args = ["check", str(scene), "--select", "analytical-2d", "--plots", str(plots)]
+    args += ["--plot-format", "png,svg"]
     assert main([*args, "--format", "json", "-o", str(out)]) == 0
     png, svg = plots / "block-7-analytical-2d.png", plots / "block-7-analytical-2d.svg"
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
     assert "<svg" in svg.read_text()[:2000]
     assert sorted(json.loads(out.read_text())["scenes"][0]["plots"]) == sorted([str(png), str(svg)])
+
+
+# --- Painlevé-type cases (tests/kcheck/test_dynamics.py derives the onset by hand) -----------
+
+ROD_MU_STAR = (-0.1 + np.sqrt(0.96)) / 1.9  # 0.46305: a = 0.2, b = 1, h = 0.1, k^2 = 0.01
+
+
+def rod_scene(mu: float) -> dict[str, Any]:
+    """The long light body of tests/kcheck/test_dynamics.py as a scene file (m)."""
+    return {
+        "version": 1,
+        "name": "long light body",
+        "units": "m",
+        "body": {"mass": 1.0, "center_of_mass": [0, 0.1, 0], "inertia": 0.01},
+        "supports": [
+            {"name": "y1", "position": [-0.2, 0, 0], "normal": [0, 1, 0]},
+            {"name": "y2", "position": [0.2, 0, 0], "normal": [0, 1, 0]},
+            {"name": "x1", "position": [-1.0, 0.1, 0], "normal": [1, 0, 0]},
+        ],
+        "friction": mu,
+        "load": {"magnitude": 1.0, "angle": 280.0},
+    }
+
+
+def test_painleve_case_is_ambiguous_and_fails(tmp_path: Path) -> None:
+    """Below the hand-derived onset the y1 case has an ordinary outcome; above it the check
+    reports `ambiguous` from that mu on, fails, and locates the finding at y1."""
+    below = case(run_check(write_scene(tmp_path, rod_scene(0.4), "below")), "y1")
+    assert below.outcome != "ambiguous" and "painleve_from_mu" not in below.details
+    result = run_check(write_scene(tmp_path, rod_scene(0.6), "above"))
+    y1 = case(result, "y1")
+    assert y1.outcome == "ambiguous"
+    assert y1.details["painleve_from_mu"] == pytest.approx(ROD_MU_STAR, rel=1e-12)
+    assert y1.safe_ranges_deg == () and y1.limiting_friction is None
+    assert result.status is Status.FAIL
+    (finding,) = [f for f in result.findings if f.code == "ambiguous"]
+    assert finding.field == ("supports", 0)
+    assert finding.message.startswith("retract y1 → ambiguous")
+    assert "from μ = 0.463 on (Painlevé)" in finding.message

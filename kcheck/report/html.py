@@ -1,0 +1,287 @@
+"""The HTML report: one self-contained page an engineer brings to a design review.
+
+Summary first (the run's verdict, each scene's verdict with a link to its section, every
+failure with its reason), then per scene the mass properties and each check's verdict,
+explanation, tables and pictures. Pictures are inlined as SVG; the page loads nothing (its
+Content-Security-Policy forbids every request), so it opens offline and archives as one file.
+What is said comes from :mod:`kcheck.report.views`, like the text report.
+"""
+
+from __future__ import annotations
+
+import datetime
+import re
+from collections.abc import Sequence
+from html import escape
+from importlib import resources
+from pathlib import Path
+from typing import TextIO
+
+from kcheck import __version__
+from kcheck.report import ReportOptions, tables, views
+from kcheck.report.safe import printable
+from kcheck.result import CheckResult, SceneResult, Status
+
+__all__ = ["HtmlReporter", "render_page"]
+
+#: Nothing may be fetched: no scripts, fonts, images or styles from anywhere.
+CSP = "default-src 'none'; style-src 'unsafe-inline'; img-src data:"
+GOOD_OUTCOMES = ("closes", "ok", "swept")
+
+
+def _e(text: object) -> str:
+    """Text made safe for HTML and for UTF-8 (a lone surrogate is escaped, never raised)."""
+    return escape(printable(str(text), "utf-8"))
+
+
+def _badge(word: str) -> str:
+    css = "na" if word == "n/a" else word
+    return f'<span class="badge {css}">{_e(word)}</span>'
+
+
+def _svg(path: Path) -> str | None:
+    """The ``<svg>`` element of a picture file, ready to inline (None if unreadable)."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return None
+    start = text.find("<svg")
+    return None if start < 0 else text[start:]
+
+
+def _anchor(index: int) -> str:
+    return f"scene-{index + 1}"
+
+
+def _table(view: tables.Table) -> str:
+    head = "".join(
+        f'<th class="{"num" if n else ""}">{_e(h)}</th>'
+        for h, n in zip(view.headers, view.numeric, strict=True)
+    )
+    rows = []
+    for row, outcome in zip(view.rows, view.styles, strict=True):
+        cells = []
+        for k, (cell, numeric) in enumerate(zip(row, view.numeric, strict=True)):
+            css = "num" if numeric else "nowrap"
+            if k == 1 and view.headers[1] == "outcome":
+                good = str(outcome) in GOOD_OUTCOMES
+                css += " outcome-ok" if good else " outcome-bad"
+            cells.append(f'<td class="{css}">{_e(cell).replace(chr(10), "<br>")}</td>')
+        rows.append(f"<tr>{''.join(cells)}</tr>")
+    return (
+        f'<div class="table-title">{_e(view.title)}</div>'
+        f'<table class="data"><thead><tr>{head}</tr></thead><tbody>{"".join(rows)}</tbody></table>'
+    )
+
+
+def _reasons(check: CheckResult) -> str:
+    word = views.verdict(check)
+    if word not in ("fail", "warn", "error") or not check.findings:
+        return ""
+    items = []
+    for r in views.reasons(check):
+        where = "" if r.line is None else f' <span class="where">line {r.line}</span>'
+        hint = "" if not r.hint else f'<span class="hint">{_e(r.hint)}</span>'
+        items.append(f"<li>{_e(r.text)}{where}{hint}</li>")
+    return f'<ul class="reasons">{"".join(items)}</ul>'
+
+
+def _check(scene: SceneResult, check: CheckResult, pictures: list[tuple[str, str]]) -> str:
+    word = views.verdict(check)
+    css = "na" if word == "n/a" else word
+    if check.status is Status.SKIPPED:
+        return (
+            f'<article class="check na"><h3>{_badge(word)} {_e(check.id)}'
+            f' <span class="muted small">{_e(check.message)}</span></h3></article>'
+        )
+    parts = [f'<article class="check {css}" id="{_e(scene.path)}::{_e(check.id)}">']
+    parts.append(f"<h3>{_badge(word)} {_e(check.id)}</h3>")
+    limits = "".join(f' <span class="limit">({_e(x)})</span>' for x in views.limitations(check))
+    parts.append(f'<p class="message">{_e(check.message)}{limits}</p>')
+    plane = views.check_sweep_text(scene, check)
+    if plane is not None:
+        parts.append(f'<p class="small muted">{_e(plane)}</p>')
+    parts.append(_reasons(check))
+    for other in views.disagreements(scene, check):
+        parts.append(f'<p class="disagree"><b>but</b> {_e(other)}</p>')
+    shown = [tables.case_table(check, scene.units, scene.kind), tables.forces_table(check)]
+    rendered = "".join(_table(t) for t in shown if t is not None)
+    if rendered:
+        parts.append(f'<div class="tables">{rendered}</div>')
+    for name, svg in pictures:
+        parts.append(f"<figure>{svg}<figcaption>{_e(name)}</figcaption></figure>")
+    parts.append("</article>")
+    return "".join(parts)
+
+
+def _mass(scene: SceneResult) -> str:
+    if scene.mass_properties is None:
+        return ""
+    view = tables.mass_view(scene.mass_properties, scene.units)
+    rows = [f"<dt>{_e(label)}</dt><dd>{_e(value)}</dd>" for label, value in view.facts]
+    if view.inertia is not None:
+        cells = "".join(
+            "<tr>" + "".join(f'<td class="num">{_e(c)}</td>' for c in row) + "</tr>"
+            for row in view.inertia
+        )
+        rows.append(
+            f"<dt>inertia about the centre of mass ({_e(view.inertia_unit)})</dt>"
+            f'<dd><table class="data">{cells}</table></dd>'
+        )
+    rows += [f"<dt>{_e(label)}</dt><dd>{_e(value)}</dd>" for label, value in view.principal]
+    return f'<dl class="mass">{"".join(rows)}</dl>'
+
+
+def _scene(index: int, scene: SceneResult, svgs: dict[str, str]) -> str:
+    word = views.scene_verdict(scene)
+    parts = [f'<section class="scene {word}" id="{_anchor(index)}">']
+    parts.append(
+        f'<div class="scene-head">{_badge(word)}<h2>{_e(scene.name or scene.path)}</h2></div>'
+    )
+    facts = [f'<span class="mono">{_e(scene.path)}</span>']
+    facts += [_e(x) for x in (scene.kind, scene.units and f"units {scene.units}") if x]
+    headline = views.headline(scene)
+    if headline:
+        facts.append(_e(headline))
+    parts.append(f'<div class="facts">{" · ".join(facts)}</div>')
+    if scene.errors or scene.error:
+        errors = scene.errors or ()
+        items = [
+            f"<li><b>{_e(where)}</b>: {_e(message)}</li>"
+            for where, message in (views.error_line(scene.path, e) for e in errors)
+        ] or [f"<li>{_e(scene.error)}</li>"]
+        parts.append(f'<ul class="errors">{"".join(items)}</ul></section>')
+        return "".join(parts)
+    sweep = views.sweep_text(scene)
+    if sweep:
+        parts.append(f'<p class="small muted">{_e(sweep)}</p>')
+    parts.append(_mass(scene))
+    for note in scene.notes:
+        parts.append(f'<p class="small">note: {_e(note)}</p>')
+    for w in scene.warnings:
+        where = "" if w.line is None else f" (line {w.line})"
+        hint = "" if not w.hint else f'<span class="hint">{_e(w.hint)}</span>'
+        parts.append(f'<p class="disagree">warning: {_e(w.message)}{_e(where)}{hint}</p>')
+    used: set[str] = set()
+    for check in scene.checks:
+        mine = [(n, s) for n, s in svgs.items() if n not in used and f"-{check.id}" in n]
+        used.update(n for n, _ in mine)
+        parts.append(_check(scene, check, mine))
+    for name, svg in svgs.items():
+        if name not in used:
+            parts.append(f"<figure>{svg}<figcaption>{_e(name)}</figcaption></figure>")
+    parts.append("</section>")
+    return "".join(parts)
+
+
+def _summary(scenes: Sequence[SceneResult]) -> str:
+    rows = []
+    for i, scene in enumerate(scenes):
+        word = views.scene_verdict(scene)
+        if word == "pass":
+            what = views.headline(scene)
+        else:
+            lines = views.short_summary([scene])
+            what = "; ".join(text for _, _, text in lines[:3])
+            if len(lines) > 3:
+                what += f" (and {len(lines) - 3} more)"
+        path = f'<div class="where">{_e(scene.path)}</div>' if scene.name else ""
+        rows.append(
+            f"<tr><td>{_badge(word)}</td>"
+            f'<td><a href="#{_anchor(i)}">{_e(scene.name or scene.path)}</a>{path}</td>'
+            f"<td>{_e(what)}</td></tr>"
+        )
+    return f'<table class="summary"><tbody>{"".join(rows)}</tbody></table>'
+
+
+def _failures(scenes: Sequence[SceneResult]) -> str:
+    items = []
+    for i, scene in enumerate(scenes):
+        for word, where, text in views.short_summary([scene]):
+            items.append(
+                f'<li>{_badge(word)} <a href="#{_anchor(i)}">{_e(where)}</a> {_e(text)}</li>'
+            )
+    if not items:
+        return ""
+    return f'<h2>Failures</h2><ul class="failures">{"".join(items)}</ul>'
+
+
+def render_page(
+    scenes: Sequence[SceneResult], elapsed_s: float, pictures: Sequence[dict[str, str]]
+) -> str:
+    """The whole page; ``pictures[i]`` maps picture file names of scene ``i`` to SVG."""
+    n = views.counts(scenes)
+    worst = next((k for k in ("error", "fail", "warn") if n[k]), "pass")
+    style = resources.files("kcheck.report").joinpath("report.css").read_text(encoding="utf-8")
+    when = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
+    body = [
+        "<main>",
+        "<h1>kcheck report</h1>",
+        f'<div class="muted small">kcheck {_e(__version__)} · {_e(when)}</div>',
+        f'<div class="banner {worst}"><span class="word">{worst.upper()}</span>'
+        f'<span class="line">{_e(views.run_line(scenes, elapsed_s))}</span></div>',
+        f'<p class="convention">{_e(views.ANGLE_CONVENTION)}</p>',
+        "<h2>Scenes</h2>",
+        _summary(scenes),
+        _failures(scenes),
+    ]
+    body += [_scene(i, s, pictures[i]) for i, s in enumerate(scenes)]
+    body.append(
+        "<footer>Written by kcheck. Lengths in each scene's units, forces in N, "
+        "accelerations in m/s², angles in degrees.</footer></main>"
+    )
+    return (
+        "<!DOCTYPE html>\n"
+        '<html lang="en"><head><meta charset="utf-8">'
+        f'<meta http-equiv="Content-Security-Policy" content="{CSP}">'
+        '<meta name="viewport" content="width=device-width, initial-scale=1">'
+        f"<title>kcheck report: {_e(views.run_line(scenes, elapsed_s))}</title>"
+        f"<style>{style}</style></head><body>{''.join(body)}</body></html>\n"
+    )
+
+
+class HtmlReporter:
+    """Collects every scene and its SVG pictures; writes the page when the run is done."""
+
+    def __init__(self, stream: TextIO, options: ReportOptions) -> None:
+        self.stream = stream
+        self.options = options
+        self.pictures: list[dict[str, str]] = []
+        # Whole results: the ones Reporter.finish gets are slimmed (no cases, no tables).
+        self.scenes: list[SceneResult] = []
+
+    def start(self, total: int) -> None:
+        """Nothing to write before the end (the summary comes first)."""
+
+    def scene(self, result: SceneResult) -> None:
+        """Keep the scene; read its SVG pictures now, while their folder exists."""
+        self.scenes.append(result)
+        found: dict[str, str] = {}
+        for plot in result.plots:
+            path = Path(plot)
+            if path.suffix == ".svg":
+                svg = _svg(path)
+                if svg is not None:
+                    found[path.name] = _unique_ids(svg, f"k{len(self.pictures)}x{len(found)}")
+        self.pictures.append(found)
+
+    def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
+        """Write the whole page."""
+        self.stream.write(render_page(self.scenes, elapsed_s, self.pictures))
+
+
+_ID = re.compile(r'\bid="([^"]+)"')
+
+
+def _unique_ids(svg: str, prefix: str) -> str:
+    """Prefix every id of one SVG (and the references to it) so that several pictures inlined
+    in one page never pick up each other's clip paths, markers or glyphs."""
+    ids = set(_ID.findall(svg))
+    if not ids:
+        return svg
+
+    def swap(match: re.Match[str]) -> str:
+        name = match.group(2)
+        return f"{match.group(1)}{prefix}-{name}" if name in ids else match.group(0)
+
+    return re.sub(r'(id="|#)([^"\)\s]+)', swap, svg)

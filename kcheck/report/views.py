@@ -1,0 +1,296 @@
+"""What a report says about a result, whatever the output format.
+
+The text and HTML reports (and any other) draw from here: the verdict word of a check (a
+failing check of severity ``warning`` is a warning), the key number of a scene, the reasons
+a check failed (its findings, or its message), where checks of one scene disagree, and the
+tables, with every number written through :mod:`kcheck.fmt` in the scene's units.
+
+Nothing here knows a check by its id: tables are built from the fields the cases carry and
+the documented detail keys (``design_margin_deg``, ``safe_solid_angle_fraction``,
+``limitations``, ``motion``, ...), so a third-party check is shown like a built-in one.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from kcheck.fmt import (
+    describe_sweep,
+    format_angle,
+    format_ranges,
+)
+from kcheck.result import CheckResult, Finding, SceneResult, Status
+
+__all__ = [
+    "ANGLE_CONVENTION",
+    "Reason",
+    "verdict",
+    "scene_verdict",
+    "counts",
+    "run_line",
+    "headline",
+    "reasons",
+    "disagreements",
+    "limitations",
+    "location",
+    "short_summary",
+    "sweep_text",
+    "check_sweep_text",
+    "duration",
+    "plain_error",
+    "error_line",
+    "default_sweep",
+]
+
+#: The angle convention, stated once per report (and in every picture).
+ANGLE_CONVENTION = (
+    "angles in degrees, counter-clockwise about the sweep plane's normal from its 0° "
+    "(planar scenes: from +x towards +y, seen from +z); a range a–b runs counter-clockwise "
+    "from a to b (a in [0°, 360°), b in (0°, 360°]) and says “through 0°” when it passes 0°"
+)
+
+#: Verdict words in the order a summary counts them.
+VERDICTS = ("pass", "warn", "fail", "error")
+
+
+def verdict(check: CheckResult) -> str:
+    """``pass``, ``warn`` (failed, severity warning), ``fail``, ``error`` or ``n/a``."""
+    if check.status is Status.SKIPPED:
+        return "n/a"
+    if check.status is Status.FAIL and check.severity == "warning":
+        return "warn"
+    return check.status.value
+
+
+def scene_verdict(scene: SceneResult) -> str:
+    """The scene's status as a word: ``pass``, ``warn``, ``fail`` or ``error``."""
+    return scene.status.value
+
+
+def counts(scenes: Sequence[SceneResult]) -> dict[str, int]:
+    """How many scenes have each verdict."""
+    out = dict.fromkeys(VERDICTS, 0)
+    for scene in scenes:
+        out[scene_verdict(scene)] = out.get(scene_verdict(scene), 0) + 1
+    return out
+
+
+def duration(seconds: float) -> str:
+    """A wall time as people read it: ``0.35 s``, ``2.1 s``, ``98 s``, ``4 min 05 s``."""
+    if seconds < 1:
+        return f"{seconds:.2f} s"
+    if seconds < 10:
+        return f"{seconds:.1f} s"
+    if seconds < 600:
+        return f"{seconds:.0f} s"
+    minutes, rest = divmod(round(seconds), 60)
+    return f"{minutes} min {rest:02d} s"
+
+
+def run_line(scenes: Sequence[SceneResult], elapsed_s: float) -> str:
+    """The last line of a run: ``13 scenes: 10 passed, 3 failed in 98 s``."""
+    n = counts(scenes)
+    words = {"pass": "passed", "warn": "with warnings", "fail": "failed", "error": "with errors"}
+    parts = [f"{n['pass']} passed"] + [
+        f"{n[k]} {words[k]}" for k in ("warn", "fail", "error") if n[k]
+    ]
+    noun = "scene" if len(scenes) == 1 else "scenes"
+    return f"{len(scenes)} {noun}: {', '.join(parts)} in {duration(elapsed_s)}"
+
+
+def _checks(scene: SceneResult) -> list[CheckResult]:
+    return [c for c in scene.checks if c.status is not Status.SKIPPED]
+
+
+def _range_width(ranges: Sequence[Sequence[float]]) -> float:
+    return sum((e - s) % 360.0 if e - s < 360.0 else 360.0 for s, e in ranges)
+
+
+def _nothing_safe(check: CheckResult) -> bool:
+    """Whether a check found no safe direction at all (its margin then means nothing)."""
+    fraction = check.details.get("safe_solid_angle_fraction")
+    if isinstance(fraction, (int, float)):
+        return fraction <= 0
+    return check.safe_ranges_deg is not None and len(check.safe_ranges_deg) == 0
+
+
+def headline(scene: SceneResult) -> str:
+    """The scene's key numbers on one line: the smallest design margin over the checks that
+    report one, the safe share of the sphere, or the narrowest safe range; n/a checks."""
+    parts: list[str] = []
+    checks = _checks(scene)
+    nothing = any(_nothing_safe(c) for c in checks)
+    if nothing:
+        parts.append("no safe force direction")
+    margins = [
+        c.details["design_margin_deg"]
+        for c in checks
+        if isinstance(c.details.get("design_margin_deg"), (int, float))
+        and math.isfinite(c.details["design_margin_deg"])
+        and not _nothing_safe(c)
+    ]
+    if margins and not nothing:
+        parts.append(f"design margin {format_angle(min(margins))}")
+    fractions = [
+        c.details["safe_solid_angle_fraction"]
+        for c in checks
+        if isinstance(c.details.get("safe_solid_angle_fraction"), (int, float))
+    ]
+    if fractions and not nothing:
+        parts.append(f"{100 * min(fractions):.2f}% of directions safe")
+    if not parts:
+        ranged = [c for c in checks if c.safe_ranges_deg is not None]
+        if ranged:
+            narrowest = min(ranged, key=lambda c: _range_width(c.safe_ranges_deg or ()))
+            parts.append(f"safe {format_ranges(narrowest.safe_ranges_deg)}")
+    skipped = sum(1 for c in scene.checks if c.status is Status.SKIPPED)
+    if skipped:
+        parts.append(f"{skipped} n/a")
+    if scene.notes:
+        parts.append(f"{len(scene.notes)} note{'s' if len(scene.notes) > 1 else ''}")
+    return ", ".join(parts)
+
+
+@dataclass(frozen=True)
+class Reason:
+    """One reason a check failed: the sentence, what to change, and where in the file."""
+
+    text: str
+    hint: str | None = None
+    line: int | None = None
+    column: int | None = None
+    field: str | None = None
+
+
+def _reason(finding: Finding) -> Reason:
+    from kcheck.errors import format_path
+
+    return Reason(
+        finding.message,
+        finding.hint,
+        finding.line,
+        finding.column,
+        None if finding.field is None else format_path(finding.field),
+    )
+
+
+def reasons(check: CheckResult) -> list[Reason]:
+    """Why a check failed or erred: its findings, or its one-line message when it has none."""
+    if check.findings:
+        return [_reason(f) for f in check.findings]
+    return [Reason(check.message)]
+
+
+def limitations(check: CheckResult) -> list[str]:
+    """What the check cannot see, as it declares in ``details["limitations"]`` (those its
+    message does not already say)."""
+    found = check.details.get("limitations") or ()
+    return [str(x) for x in found if str(x) not in check.message]
+
+
+def _answers_ranges(check: CheckResult) -> bool:
+    return check.safe_ranges_deg is not None or "design_margin_deg" in check.details
+
+
+def disagreements(scene: SceneResult, check: CheckResult) -> list[str]:
+    """For a passing check that judges force directions, every other such check of the scene
+    that failed: ``analytical-2d: FAIL — <its first reason>``."""
+    if check.status is not Status.PASS or not _answers_ranges(check):
+        return []
+    out = []
+    for other in scene.checks:
+        if other is check or other.status is not Status.FAIL or not _answers_ranges(other):
+            continue
+        out.append(f"{other.id}: {verdict(other).upper()} — {reasons(other)[0].text}")
+    return out
+
+
+def location(path: str, line: int | None, column: int | None = None) -> str:
+    """``path:line:column`` (the parts that are known), as compilers write it."""
+    out = path
+    if line is not None:
+        out += f":{line}"
+        if column is not None:
+            out += f":{column}"
+    return out
+
+
+def short_summary(scenes: Sequence[SceneResult]) -> list[tuple[str, str, str]]:
+    """One ``(verdict, path, reason)`` per failing, warning or erring check of every scene,
+    and one per scene with input errors."""
+    out: list[tuple[str, str, str]] = []
+    for scene in scenes:
+        if scene.status is Status.PASS:
+            continue
+        if scene.errors or (scene.error and not scene.checks):
+            n = len(scene.errors) or 1
+            first = scene.errors[0] if scene.errors else Finding(scene.error or "")
+            where, message = error_line(scene.path, first)
+            more = f" (and {n - 1} more)" if n > 1 else ""
+            out.append(("error", where, f"{message}{more}"))
+            continue
+        for check in scene.checks:
+            word = verdict(check)
+            if word in ("fail", "warn", "error"):
+                first = reasons(check)[0]
+                out.append((word, location(scene.path, first.line), f"{check.id}: {first.text}"))
+        for warning in scene.warnings:
+            out.append(("warn", location(scene.path, warning.line), warning.message))
+    return out
+
+
+def error_line(path: str, error: Finding) -> tuple[str, str]:
+    """An input error as ``(path:line:col, field `x`: message)``, compiler style."""
+    from kcheck.errors import format_path
+
+    what = f"field `{format_path(error.field)}`: " if error.field else ""
+    return location(path, error.line, error.column), what + plain_error(error.message, path)
+
+
+def plain_error(message: str, path: str) -> str:
+    """An input error's message without a leading ``path[:line[:col]]: `` already shown."""
+    if message.startswith(path):
+        rest = message[len(path) :]
+        while rest[:1] == ":" and rest[1:2].isdigit():
+            rest = rest[1:].lstrip("0123456789")
+        return rest.removeprefix(":").strip()
+    return message
+
+
+def sweep_text(scene: SceneResult) -> str | None:
+    """Where 0° is and which way angles turn in this scene's sweep plane, or None."""
+    sweep = getattr(scene, "sweep", None)
+    if sweep is None:
+        return None
+    return f"sweep plane: {describe_sweep(sweep[0], sweep[1])}"
+
+
+def check_sweep_text(scene: SceneResult, check: CheckResult) -> str | None:
+    """The sweep plane a spatial check's angles refer to, when it reports one of its own that
+    the scene does not state (a scene without `sweep:`), e.g. "sweep plane: 0° along +x, ...
+    (through the design and most robust directions)"; None otherwise."""
+    plane = check.details.get("sweep_plane")
+    if not isinstance(plane, Mapping) or "normal" not in plane or "zero" not in plane:
+        return None
+    own = getattr(scene, "sweep", None)
+    if (
+        own is not None
+        and np.allclose(own[0], plane["normal"])
+        and np.allclose(own[1], plane["zero"])
+    ):
+        return None
+    text = f"sweep plane: {describe_sweep(plane['normal'], plane['zero'])}"
+    chosen = plane.get("chosen")
+    return f"{text} ({chosen})" if chosen else text
+
+
+def default_sweep(scene: SceneResult) -> bool:
+    """Whether the scene sweeps angles from +x towards +y (the convention's default)."""
+    sweep = getattr(scene, "sweep", None)
+    if sweep is None:
+        return True
+    return bool(np.allclose(sweep[0], (0, 0, 1)) and np.allclose(sweep[1], (1, 0, 0)))

@@ -1,0 +1,211 @@
+"""What the analytical checks say: one located finding per reason, in a designer's words.
+
+Numbers go through :mod:`kcheck.fmt` (angles, ranges, numbers), so every check writes them the
+same way. A finding names the retracted support (``("supports", i)``) or the load direction
+(``("load", "direction")``) it is about, says why, and where it can, what would close the case.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+
+import numpy as np
+
+from kcheck.analysis import Analysis
+from kcheck.arcs import ArcSet, intersect
+from kcheck.errors import FieldPath
+from kcheck.fmt import format_angle, format_number, format_ranges
+from kcheck.friction import FrictionIntervals, describe_friction
+from kcheck.result import CaseResult, Finding
+from kcheck.scene import Scene
+
+__all__ = [
+    "verdict",
+    "merge_findings",
+    "support_field",
+    "load_field",
+    "ranges_text",
+    "mu_text",
+    "case_findings",
+    "empty_range_findings",
+]
+
+
+def support_field(scene: Scene, name: str) -> FieldPath:
+    """The scene field of a support, by name (:meth:`Scene.support_field`)."""
+    for i, s in enumerate(scene.supports):
+        if s.name == name:
+            return scene.support_field(i)
+    return ("supports",)
+
+
+def load_field(scene: Scene) -> FieldPath:
+    """The field of the design direction (``load.direction`` or ``load.angle``)."""
+    if ("load", "angle") in scene.lines:
+        return ("load", "angle")
+    return ("load", "direction")
+
+
+def ranges_text(ranges: Sequence[Sequence[float]] | None) -> str:
+    """Ranges in degrees, "every direction" or "none" (:func:`kcheck.fmt.format_ranges`)."""
+    if ranges and len(ranges) == 1 and ranges[0][1] - ranges[0][0] >= 360.0 - 1e-9:
+        return "every direction"
+    return format_ranges(ranges)
+
+
+def mu_text(intervals: FrictionIntervals) -> str:
+    """The scene's friction coefficient, e.g. "μ = 0.1" (the largest one when they differ)."""
+    text = f"μ = {format_number(intervals.mu, 3)}"
+    return text if intervals.uniform else text + " (largest coefficient, the others in proportion)"
+
+
+def _friction_tail(intervals: FrictionIntervals | None) -> str:
+    """ "; it closes for μ ≤ 0.122" when some other friction would close the case, else ""."""
+    if intervals is None or not intervals.intervals:
+        return ""
+    return f"; it {describe_friction(intervals)}"
+
+
+def _lost(result: CaseResult) -> str:
+    """Which remaining supports lose contact, with their normal forces."""
+    forces = result.normal_forces or {}
+    lost = [(n, f) for n, f in forces.items() if not f > 0]
+    if not lost:
+        return "a support loses contact"
+    names = " and ".join(n for n, _ in lost)
+    values = ", ".join(f"N = {format_number(f, 3)} N" for _, f in lost)
+    verb = "loses" if len(lost) == 1 else "lose"
+    return f"{names} {verb} contact ({values})"
+
+
+def _why(result: CaseResult, intervals: FrictionIntervals | None) -> tuple[str, str] | None:
+    """(code, sentence after "retract x →") for a case that does not close, or None."""
+    details = result.details
+    mu = "" if intervals is None else f" at {mu_text(intervals)}"
+    tail = _friction_tail(intervals)
+    match result.outcome:
+        case "jams":
+            return "jams", f"jams{mu} (friction holds the body){tail}"
+        case "loses_contact":
+            return "loses-contact", f"{_lost(result)}{tail}"
+        case "opens":
+            return "opens", f"the body moves away from the retracted support (opens){tail}"
+        case "opens_loses_contact":
+            return (
+                "opens-loses-contact",
+                f"the body moves away from the retracted support and {_lost(result)}{tail}",
+            )
+        case "ambiguous":
+            start = details.get("painleve_from_mu")
+            if "effective_mass" in details:
+                since = "" if start is None else f" from μ = {format_number(start, 3)} on"
+                return (
+                    "ambiguous",
+                    "ambiguous: friction makes the effective mass along the free motion "
+                    f"negative{since} (Painlevé), so rigid-body friction predicts two motions "
+                    f"or none{tail}",
+                )
+            return (
+                "ambiguous",
+                f"ambiguous: sliding towards and away from the support are both consistent{tail}",
+            )
+        case "undetermined" | "ill_conditioned":
+            diagnostic = str(details.get("diagnostic", result.outcome.replace("_", " ")))
+            return result.outcome.replace("_", "-"), f"no trustworthy answer: {diagnostic}"
+    return None
+
+
+def case_findings(scene: Scene, analysis: Analysis) -> list[Finding]:
+    """One finding per retracted case that does not close: "retract y1 → jams at μ = 0.6; it
+    closes for μ ≤ 0.122", located at the retracted support."""
+    out = []
+    friction = analysis.friction or (None,) * len(analysis.results)
+    for result, intervals in zip(analysis.results, friction, strict=True):
+        if result.outcome in ("closes", "swept"):
+            continue
+        why = _why(result, intervals)
+        if why is None:
+            continue
+        code, sentence = why
+        hint = None
+        if result.safe_ranges_deg:
+            hint = f"this retraction closes for force angles {ranges_text(result.safe_ranges_deg)}"
+        text = f"retract {result.retracted} → {sentence}"
+        out.append(
+            Finding(text, code=code, field=support_field(scene, result.retracted), hint=hint)
+        )
+    return out
+
+
+def _rad(ranges: Sequence[Sequence[float]]) -> ArcSet:
+    return tuple((float(np.radians(s)), float(np.radians(e))) for s, e in ranges)
+
+
+def empty_range_findings(
+    scene: Scene, results: Sequence[CaseResult], plane_text: str = ""
+) -> list[Finding]:
+    """Why no force angle is safe: cases that close nowhere, else two cases whose safe ranges
+    do not overlap, else all of them together ("the safe ranges of y1 (...) and y2 (...) do not
+    overlap")."""
+    usable = [r for r in results if r.safe_ranges_deg is not None]
+    nowhere = [r for r in usable if not r.safe_ranges_deg]
+    if nowhere:
+        return [
+            Finding(
+                f"retract {r.retracted} → no force angle{plane_text} closes this retraction",
+                code="no-safe-direction",
+                field=support_field(scene, r.retracted),
+            )
+            for r in nowhere
+        ]
+    for i, first in enumerate(usable):
+        for second in usable[i + 1 :]:
+            if not intersect(_rad(first.safe_ranges_deg or ()), _rad(second.safe_ranges_deg or ())):
+                return [
+                    Finding(
+                        f"the safe ranges of {first.retracted} "
+                        f"({ranges_text(first.safe_ranges_deg)}) and {second.retracted} "
+                        f"({ranges_text(second.safe_ranges_deg)}) do not overlap{plane_text}",
+                        code="ranges-disjoint",
+                        field=("load",),
+                    )
+                ]
+    listed = ", ".join(f"{r.retracted} ({ranges_text(r.safe_ranges_deg)})" for r in usable)
+    return [
+        Finding(
+            f"the safe ranges {listed} have no angle in common{plane_text}",
+            code="ranges-disjoint",
+            field=("load",),
+        )
+    ]
+
+
+def angle_text(value: float) -> str:
+    """An angle in [0°, 360°) (:func:`kcheck.fmt.format_angle`)."""
+    return format_angle(value % 360.0)
+
+
+def merge_findings(first: Sequence[Finding], more: Sequence[Finding]) -> list[Finding]:
+    """``first`` then ``more``; a finding of ``more`` about a support that ``first`` already
+    has a finding for is added to that one's message (one finding per support)."""
+    out = list(first)
+    for extra in more:
+        for i, found in enumerate(out):
+            if found.field == extra.field and extra.field not in (None, ("supports",)):
+                tail = extra.message.split(" → ", 1)[-1]
+                out[i] = dataclasses.replace(found, message=f"{found.message}; {tail}")
+                break
+        else:
+            out.append(extra)
+    return out
+
+
+def verdict(parts: Sequence[str], findings: Sequence[Finding]) -> str:
+    """The one-line message: the summary, the first reason, and how many more the findings
+    hold ("...; retract y1 → jams at μ = 0.6 (+2 more)")."""
+    line = [*parts]
+    if findings:
+        more = f" (+{len(findings) - 1} more)" if len(findings) > 1 else ""
+        line.append(findings[0].message + more)
+    return "; ".join(line)

@@ -1,0 +1,175 @@
+"""The HTML report in a real browser: Debian's headless Chromium renders the page written by
+``kcheck check --html``, with every verdict and picture present, and no network request.
+
+The browser is found on PATH (``.ci/run`` installs Debian's ``chromium`` when it is missing);
+the test is skipped, saying so, only where no Chromium is installed. Network requests are
+seen in Chromium's own net log (requests whose isolation key is the page's ``file://`` site)
+and in its console (a request the page's Content-Security-Policy blocks is still an attempt);
+a probe page that does make a request proves the detector sees one.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import subprocess
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+from tests.conftest import FIXTURES, PLANAR_SCENE
+
+BROWSERS = ("chromium", "chromium-browser", "google-chrome")
+FLAGS = (
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--hide-scrollbars",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--disable-default-apps",
+    "--disable-extensions",
+    "--no-first-run",
+    "--enable-logging=stderr",
+    "--v=0",
+    "--net-log-capture-mode=Default",
+)
+
+
+def _browser() -> str:
+    for name in BROWSERS:
+        found = shutil.which(name)
+        if found:
+            return found
+    pytest.skip("no Chromium on PATH (Debian: apt-get install chromium; .ci/run installs it)")
+
+
+def _open(page: Path, work: Path, screenshot: Path | None = None) -> tuple[str, list[str], str]:
+    """Load ``page`` headless: its DOM after load, the URLs the page requested, the console."""
+    net = work / f"{page.stem}-net.json"
+    args = [_browser(), *FLAGS, f"--user-data-dir={work / 'profile'}", f"--log-net-log={net}"]
+    if screenshot is not None:
+        args += [f"--screenshot={screenshot}", "--window-size=1280,2000"]
+    proc = subprocess.run(
+        [*args, "--dump-dom", page.as_uri()], capture_output=True, text=True, timeout=120
+    )
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    events = json.loads(net.read_text(encoding="utf-8"))["events"]
+    # Requests of the page (not of the browser itself) carry the page's site as isolation key.
+    requested = sorted(
+        {
+            e["params"]["url"]
+            for e in events
+            if "file://" in str(e.get("params", {}).get("network_isolation_key", ""))
+            and "url" in e["params"]
+        }
+    )
+    return proc.stdout, requested, proc.stderr
+
+
+@pytest.fixture(scope="module")
+def page(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, int, Path]:
+    """One run: a passing scene, a failing one (checks that disagree), and a bad file."""
+    from kcheck.cli import main
+
+    work = tmp_path_factory.mktemp("html")
+    bad = work / "bad" / "broken.kcheck.yaml"
+    bad.parent.mkdir()
+    text = (FIXTURES / "planar-block" / "block.kcheck.yaml").read_text()
+    bad.write_text(text.replace("friction: 0.1", "friction: -1"), encoding="utf-8")
+    html = work / "report.html"
+    plots = work / "plots"
+    scenes = [FIXTURES / "planar-block", FIXTURES / "thesis-appendix-a", bad]
+    code = main(["check", *map(str, scenes), "--html", str(html), "--plots", str(plots), "-q"])
+    return html, code, plots
+
+
+def test_page_is_self_contained(page: tuple[Path, int, Path]) -> None:
+    html, code, _ = page
+    assert code == 2  # the bad file is an input error; the other scenes are still reported
+    text = html.read_text(encoding="utf-8")
+    assert "Content-Security-Policy" in text and "default-src 'none'" in text
+    # Nothing to fetch: no external source, link target, style URL or import.
+    assert not re.search(r"""(src|href)\s*=\s*["'](?!#|data:)""", text)
+    assert not re.search(r"url\((?!#)", text)  # only references inside an SVG
+    assert "@import" not in text and "<script" not in text
+
+
+def test_page_renders_in_chromium(
+    page: tuple[Path, int, Path], tmp_path: Path, record_property: Callable[..., None]
+) -> None:
+    html, _, plots = page
+    shot = tmp_path / "report.png"
+    dom, requested, console = _open(html, tmp_path, screenshot=shot)
+    record_property("screenshot", str(shot))
+
+    # The summary first: the run's verdict, then one row per scene with its verdict.
+    assert dom.index('class="banner error"') < dom.index('class="summary"') < dom.index("<section")
+    badges = re.findall(r'<span class="badge (\w+)">([^<]+)</span>', dom)
+    summary = dom[dom.index('class="summary"') : dom.index("</table>", dom.index("summary"))]
+    assert re.findall(r'class="badge (\w+)"', summary) == ["pass", "fail", "error"]
+    assert {word for css, word in badges} >= {"pass", "fail", "error", "n/a"}
+    # Each scene has its section, reachable from the summary.
+    for i in (1, 2, 3):
+        assert f'href="#scene-{i}"' in dom and f'id="scene-{i}"' in dom
+    # The failing scene explains itself; the mass-free construction says what it cannot see
+    # and that the analytical check disagrees.
+    failing = dom[dom.index('id="scene-2"') : dom.index('id="scene-3"')]
+    assert "mass-free: contact loss not checked" in failing
+    assert "<b>but</b> analytical-2d: FAIL" in failing
+    assert "x3 loses contact" in failing
+    # The bad file: its error located by line.
+    assert re.search(r"broken\.kcheck\.yaml:\d+", dom[dom.index('id="scene-3"') :])
+    # Every picture is there, inline.
+    svgs = sorted(p.name for p in plots.glob("*.svg"))
+    assert len(svgs) >= 4
+    assert dom.count("<svg") == len(svgs)
+    for name in svgs:
+        assert f"<figcaption>{name}</figcaption>" in dom
+
+    # No request left the page, and none was even attempted (and blocked by the CSP).
+    assert requested == []
+    assert "Content Security Policy" not in console
+
+    # The screenshot shows the verdict at a glance: the banner in the error colour.
+    from PIL import Image
+
+    image = Image.open(shot).convert("RGB")
+    assert image.size == (1280, 2000)
+    colours = image.getcolors(maxcolors=1 << 20) or []
+    error_purple = (0x82, 0x50, 0xDF)
+    assert any(colour == error_purple and n > 20_000 for n, colour in colours)
+
+
+def test_the_request_detector_sees_a_request(tmp_path: Path) -> None:
+    """Positive control: a page that loads an image from the network is caught, and the same
+    page under kcheck's Content-Security-Policy shows the blocked attempt in the console."""
+    probe = tmp_path / "probe.html"
+    probe.write_text('<!DOCTYPE html><img src="http://127.0.0.1:9/x.png">', encoding="utf-8")
+    _, requested, _ = _open(probe, tmp_path)
+    assert requested == ["http://127.0.0.1:9/x.png"]
+    from kcheck.report.html import CSP
+
+    blocked = tmp_path / "blocked.html"
+    blocked.write_text(
+        f'<!DOCTYPE html><meta http-equiv="Content-Security-Policy" content="{CSP}">'
+        '<img src="http://127.0.0.1:9/x.png">',
+        encoding="utf-8",
+    )
+    _, requested, console = _open(blocked, tmp_path)
+    assert requested == [] and "Content Security Policy" in console
+
+
+def test_a_page_that_cannot_be_written_is_a_usage_error(cli, write_scene, tmp_path: Path) -> None:
+    scene = str(write_scene(PLANAR_SCENE))
+    blocker = tmp_path / "a-file"
+    blocker.write_text("", encoding="utf-8")
+    code, _, err = cli("check", scene, "--select", "maxwell", "--html", str(blocker / "r.html"))
+    assert code == 2 and "--html" in err and f"{blocker} is a file, not a folder" in err
+    if Path("/dev/full").exists():  # the disk fills up while the page is written
+        code, _, err = cli("check", scene, "--select", "maxwell", "--html", "/dev/full")
+        assert code == 2 and "--html /dev/full: no space left on the device" in err
+    assert "Traceback" not in err

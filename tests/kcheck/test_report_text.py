@@ -1,0 +1,338 @@
+"""The text report as an engineer and a CI log read it: one line per passing scene, reasons for
+failures, the short summary, no wrapping when piped, numbers never broken on an 80-column
+terminal, one angle convention, no numerical noise, severity, every input error shown once,
+and no character that can crash it (ASCII terminals, lone surrogates).
+
+Subprocess tests run the installed CLI exactly as a user would (``python -m kcheck``); the
+terminal ones give it a real pseudo-terminal of 80 columns.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.conftest import FIXTURES, PLANAR_SCENE
+
+APPENDIX_A = str(FIXTURES / "thesis-appendix-a")
+PLANAR = str(FIXTURES / "planar-block")
+NUMBER = re.compile(r"-?\d+\.\d+(?:°|%)?")
+
+
+def run(*args: str, **env: str) -> subprocess.CompletedProcess[str]:
+    """``kcheck`` in a subprocess with stdout piped; NO_COLOR and COLUMNS=80 unless given."""
+    full = {**os.environ, "NO_COLOR": "1", "COLUMNS": "80", **env}
+    full.pop("FORCE_COLOR", None)
+    return subprocess.run(
+        [sys.executable, "-m", "kcheck", *args],
+        capture_output=True,
+        text=True,
+        encoding="utf-8",
+        errors="backslashreplace",
+        env=full,
+        timeout=300,
+    )
+
+
+def run_tty(*args: str, columns: int = 80) -> str:
+    """``kcheck`` on a pseudo-terminal ``columns`` wide; its screen output as text."""
+    import fcntl
+    import pty
+    import struct
+    import termios
+
+    master, slave = pty.openpty()
+    fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 50, columns, 0, 0))
+    env = {**os.environ, "NO_COLOR": "1", "COLUMNS": str(columns)}
+    env.pop("FORCE_COLOR", None)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "kcheck", *args, "--progress", "never"],
+        stdout=slave,
+        stderr=slave,
+        stdin=subprocess.DEVNULL,
+        env=env,
+    )
+    os.close(slave)
+    chunks = []
+    while True:
+        try:
+            chunk = os.read(master, 1 << 16)
+        except OSError:
+            break
+        if not chunk:
+            break
+        chunks.append(chunk)
+    proc.wait(timeout=300)
+    os.close(master)
+    text = b"".join(chunks).decode("utf-8").replace("\r\n", "\n")
+    return re.sub(r"\x1b\[[0-9;?]*[A-Za-z]", "", text)
+
+
+@pytest.fixture(scope="module")
+def default_run() -> subprocess.CompletedProcess[str]:
+    return run("check", PLANAR, APPENDIX_A)
+
+
+@pytest.fixture(scope="module")
+def verbose_run() -> str:
+    return run("check", PLANAR, APPENDIX_A, "-v").stdout
+
+
+@pytest.fixture(scope="module")
+def every_fixture() -> str:
+    """``-v`` over every bundled scene (planar and spatial, mm and m, custom sweep planes)."""
+    return run("check", str(FIXTURES), "-v").stdout
+
+
+def test_passing_scene_is_one_line(default_run: subprocess.CompletedProcess[str]) -> None:
+    out = default_run.stdout
+    lines = out.splitlines()
+    (planar,) = [line for line in lines if "planar rectangular block" in line]
+    # verdict, name, path, the key number, the skipped check as a count
+    assert re.match(
+        r"PASS\s+planar rectangular block\s+\S+planar-block/block\.kcheck\.yaml", planar
+    )
+    # analytical-3d and hertz do not apply to a planar scene without coupling shorthands
+    assert "design margin 28.80°" in planar and "2 n/a" in planar
+    following = lines[lines.index(planar) + 1]
+    assert following.startswith("FAIL") or following == ""  # nothing more about it
+    assert "skipped" not in out and "plot written" not in out and " ms" not in out
+
+
+def test_failing_scene_says_why_and_checks_disagree(
+    default_run: subprocess.CompletedProcess[str],
+) -> None:
+    out = default_run.stdout
+    assert default_run.returncode == 1 and default_run.stderr == ""
+    block = out[out.index("FAIL   thesis appendix A block") :]
+    # The mass-free construction passes, says what it cannot see, and the failing check that
+    # sees contact loss is quoted next to it, on one whole line.
+    graphical = next(line for line in block.splitlines() if "graphical-2d" in line)
+    assert (
+        graphical.lstrip().startswith("pass")
+        and "mass-free: contact loss not checked" in graphical
+        and graphical.count("mass-free") == 1
+    )
+    but = block.splitlines()[block.splitlines().index(graphical) + 1]
+    assert re.match(r"\s+but analytical-2d: FAIL — retract x3 → y1 loses contact", but)
+
+
+def test_short_summary_and_counts(default_run: subprocess.CompletedProcess[str]) -> None:
+    lines = default_run.stdout.splitlines()
+    start = lines.index("short summary")
+    summary = lines[start + 1 : -1]
+    assert summary and all(re.match(r"(FAIL|WARN|ERROR)\s+\S+\.kcheck\.yaml", s) for s in summary)
+    assert any("analytical-2d:" in s and "retract x3 → y1 loses contact" in s for s in summary)
+    assert re.fullmatch(r"2 scenes: 1 passed, 1 failed in \d+(\.\d+)? s", lines[-1])
+
+
+def test_piped_output_never_wraps(default_run: subprocess.CompletedProcess[str]) -> None:
+    """COLUMNS=80 but not a terminal: long lines stay whole (for grep in CI logs)."""
+    out = default_run.stdout
+    assert "\x1b[" not in out  # NO_COLOR: no style at all
+    assert max(len(line) for line in out.splitlines()) > 120
+    assert not any(line.endswith(" ") for line in out.splitlines())
+
+
+def test_terminal_80_columns_never_breaks_a_number(verbose_run: str) -> None:
+    screen = run_tty("check", PLANAR, APPENDIX_A, "-v")
+    piped = verbose_run
+    assert max(len(line.rstrip()) for line in screen.splitlines()) <= 80
+    # Every number of the unwrapped report appears whole on the 80-column screen (the run
+    # time of the last line differs between the two runs).
+    piped = piped.rstrip("\n").rsplit("\n", 1)[0]
+    assert set(NUMBER.findall(piped)) <= set(NUMBER.findall(screen))
+    assert "…" not in screen  # no cell cut short
+
+
+def test_verbose_and_quiet(verbose_run: str) -> None:
+    verbose = verbose_run
+    assert "centre of mass (50.00, 30.00, 10.00) mm" in verbose  # scene units, fixed decimals
+    assert "inertia about the centre of mass (kg·mm²):" in verbose
+    assert "analytical-2d per retracted support" in verbose and "n/a   analytical-3d" in verbose
+    # No safe direction at all: say so, not a placeholder margin.
+    assert re.search(r"^FAIL\s+thesis appendix A block.*no safe force direction", verbose, re.M)
+    assert "x3         loses contact  translation along +x" in verbose
+    quiet = run("check", PLANAR, APPENDIX_A, "-q").stdout
+    assert "planar rectangular block" not in quiet and "thesis appendix A block" in quiet
+    assert quiet.splitlines()[-1].startswith("2 scenes: 1 passed, 1 failed")
+
+
+def test_one_angle_convention_everywhere(every_fixture: str) -> None:
+    """Ranges start in [0°, 360°) and say "through 0°"; the convention is stated once."""
+    out = every_fixture
+    assert out.count("counter-clockwise about the sweep plane's normal from its 0°") == 1
+    assert "339.27°–20.73° (through 0°)" in out  # three-groove; v1 wrote 339.27–380.73
+    assert "sweep plane: 0° along −z, 90° along +x, counter-clockwise about −y" in out
+    report_ranges = re.findall(r"(\d+\.\d+)°–(\d+\.\d+)°", out)
+    assert report_ranges and all(float(a) < 360 and float(b) <= 360 for a, b in report_ranges)
+
+
+def test_no_numerical_noise_in_verbose_report(every_fixture: str) -> None:
+    out = every_fixture
+    assert not re.search(r"\de[-+]\d", out.split("short summary")[0].replace("-v", ""))
+    assert "-0.000" not in out and "(-0," not in out
+    assert "pure rotation about +z" in out  # block-321: the pitch is rounding noise
+    assert "principal moments 1820.42, 1820.42, 3599.42 kg·mm²" in out  # three-groove
+
+
+def test_noise_is_zeroed_relative_to_the_largest_entry() -> None:
+    from kcheck.mass import MassProperties
+    from kcheck.report.tables import mass_view
+
+    inertia = np.array([[0.0170547, -9.14796e-18, 0], [-9.14796e-18, 0.0270953, 0], [0, 0, 0.0358]])
+    mass = MassProperties(6.885, np.array([0.1, 2.2e-18, 0.0425]), inertia, "mesh", 0.00255)
+    view = mass_view(mass, "mm")
+    assert dict(view.facts)["centre of mass"] == "(100.0, 0.0, 42.5) mm"
+    assert dict(view.facts)["volume"] == "2550000 mm³"
+    assert view.inertia is not None and view.inertia[0][1] == "0.0"
+    assert [v for k, v in view.principal if k.startswith("axis")] == [
+        "along +x",
+        "along +y",
+        "along +z",
+    ]
+
+
+def test_warning_severity_is_shown_as_a_warning(write_scene) -> None:
+    text = PLANAR_SCENE + "checks:\n  maxwell: {severity: warning, min_cos: 0.99}\n"
+    proc = run("check", str(write_scene(text)))
+    assert proc.returncode == 0  # a warning does not fail the run
+    lines = proc.stdout.splitlines()
+    assert any(line.startswith("WARN ") and "planar block" in line for line in lines)
+    assert any(re.match(r"\s+warn\s+maxwell", line) for line in lines)
+    assert not any(re.match(r"\s+fail\s", line) for line in lines)
+    assert re.search(r"^WARN\s+\S+scene\.kcheck\.yaml(:\d+)?\s+maxwell:", proc.stdout, re.M)
+    assert lines[-1].startswith("1 scene: 0 passed, 1 with warnings in")
+
+
+def test_every_input_error_shown_once(write_scene) -> None:
+    bad = write_scene(PLANAR_SCENE.replace("friction: 0.1", "friction: -1"), "bad.kcheck.yaml")
+    good = write_scene(PLANAR_SCENE, "good.kcheck.yaml")
+    proc = run("check", str(bad), str(good))
+    assert proc.returncode == 2 and proc.stderr == ""  # the text report on stdout has it
+    located = re.findall(rf"{re.escape(str(bad))}:\d+(:\d+)?: field `friction`", proc.stdout)
+    assert len(located) == 1  # in the scene's block, once
+    assert proc.stdout.count("expected 0 ≤ friction ≤ 100, got -1") == 2  # block + summary
+    assert "planar block" in proc.stdout  # the good scene is still reported
+    as_json = run("check", str(bad), str(good), "--format", "json")
+    assert as_json.stderr.count("field `friction`") == 1 and as_json.stdout.startswith("{")
+
+
+def test_several_errors_of_a_file_each_with_line_and_column() -> None:
+    from rich.console import Console
+
+    from kcheck.report.text import render_scene
+    from kcheck.result import Finding, SceneResult, Status
+
+    errors = (
+        Finding("expected a number, got 'lots'", field=("load", "magnitude"), line=14, column=14),
+        Finding("unknown key; did you mean `friction`?", field=("frcition",), line=9, column=1),
+        Finding("expected 3 numbers, got 2", field=("supports", 1, "normal"), line=7, column=40),
+    )
+    scene = SceneResult("s.kcheck.yaml", Status.ERROR, error="s.kcheck.yaml:14: ...", errors=errors)
+    console = Console(width=100_000, soft_wrap=True, no_color=True, color_system=None, record=True)
+    render_scene(console, scene)
+    out = console.export_text()
+    assert "s.kcheck.yaml:14:14: field `load.magnitude`: expected a number" in out
+    assert "s.kcheck.yaml:9:1: field `frcition`: unknown key; did you mean `friction`?" in out
+    assert "s.kcheck.yaml:7:40: field `supports[1].normal`: expected 3 numbers" in out
+    assert out.count("s.kcheck.yaml:") == 3
+
+
+ODD_NAME_SCENE = PLANAR_SCENE.replace("name: planar block (methods.md §7)", 'name: "block ±2° μ"')
+
+
+def test_ascii_terminal_and_lone_surrogates(write_scene, tmp_path: Path) -> None:
+    """An ASCII terminal gets every character it cannot show as a fallback, and a file name
+    with a byte that is not UTF-8 (decoded to a lone surrogate) never crashes a report; a
+    lone surrogate inside a scene file is an input error of that file (the loader)."""
+    odd = write_scene(ODD_NAME_SCENE, "odd.kcheck.yaml")
+    broken = write_scene(
+        PLANAR_SCENE.replace("{name: y1,", '{name: "y\\ud800",'), "broken.kcheck.yaml"
+    )
+    undecodable = tmp_path / os.fsdecode(b"bytes-\xff.kcheck.yaml")
+    undecodable.write_text(PLANAR_SCENE, encoding="utf-8")
+    assert "\udcff" in str(undecodable)
+    ascii_env = {"PYTHONIOENCODING": "ascii", "LANG": "C", "LC_ALL": "C"}
+    fast = ["--select", "maxwell"]  # no pictures: the text is what is tested
+    scenes = [APPENDIX_A, str(odd), str(broken), str(undecodable)]
+    for args in (["-v"], ["--format", "json", *fast], ["--html", str(tmp_path / "r.html"), *fast]):
+        proc = run("check", *scenes, *args, **ascii_env)
+        assert "Traceback" not in proc.stderr and proc.returncode in (1, 2), proc.stderr
+        proc.stdout.encode("ascii")  # nothing the terminal cannot show
+        if args[0] == "-v":
+            assert "block +/-2 deg mu" in proc.stdout  # ±, ° and μ spelled out
+            assert "thesis appendix A block" in proc.stdout  # the batch went on
+            assert "broken.kcheck.yaml:" in proc.stdout  # the surrogate: a located error
+            assert "\\udcff" in proc.stdout  # the file name escaped, not dropped
+    html = (tmp_path / "r.html").read_text(encoding="utf-8")
+    assert "thesis appendix A block" in html and "\\udcff" in html
+
+
+def test_progress_line_goes_to_stderr_and_disappears(write_scene) -> None:
+    proc = run("check", str(write_scene(PLANAR_SCENE)), "--progress", "always")
+    assert "[1/1]" in proc.stderr and "scene.kcheck.yaml" in proc.stderr
+    assert proc.stderr.rstrip("\n").endswith("\x1b[?25h") or "\x1b[2K" in proc.stderr
+    assert "[1/1]" not in proc.stdout
+
+
+def test_help_lists_exit_codes_and_explains_every_option() -> None:
+    proc = run("check", "--help")
+    assert proc.returncode == 0
+    text = proc.stdout
+    assert "exit codes:" in text and "  2  bad input or usage" in text
+    assert "`" not in text and "``" not in text and ":ref:" not in text
+    from kcheck.cli import _parser
+
+    sub = next(a for a in _parser()._actions if a.dest == "command")
+    check = sub.choices["check"]  # type: ignore[attr-defined]
+    for action in check._actions:
+        assert action.help, f"{action.option_strings or action.dest} has no help text"
+
+
+def test_findings_say_why_then_what_to_change() -> None:
+    """A failing check's findings, each with its line and hint, under its verdict; the same
+    reason quoted next to a passing check of the same question (text and HTML)."""
+    from rich.console import Console
+
+    from kcheck.report.html import render_page
+    from kcheck.report.text import render_scene
+    from kcheck.result import CheckResult, Finding, SceneResult, Status
+
+    finding = Finding(
+        "retract x3 → y1 loses contact (N = -0.087 N)",
+        code="loses-contact",
+        field=("supports", 0),
+        hint="move the force towards 310°, or y1 further from x3",
+        line=9,
+    )
+    failing = CheckResult(
+        "analytical-2d", Status.FAIL, "no safe force angle", safe_ranges_deg=(), findings=(finding,)
+    )
+    passing = CheckResult(
+        "graphical-2d",
+        Status.PASS,
+        "safe force angles: 292.41°–317.76°",
+        safe_ranges_deg=((292.41, 317.76),),
+        details={"limitations": ["mass-free: contact loss not checked"], "design_margin_deg": 7.6},
+    )
+    scene = SceneResult("a.kcheck.yaml", Status.FAIL, name="block", checks=(failing, passing))
+    console = Console(width=100_000, soft_wrap=True, no_color=True, color_system=None, record=True)
+    render_scene(console, scene)
+    lines = console.export_text().splitlines()
+    why = next(i for i, line in enumerate(lines) if "✗ retract x3 → y1 loses contact" in line)
+    assert lines[why].endswith("(line 9)") and lines[why - 1].lstrip().startswith("fail")
+    assert lines[why + 1].strip() == "→ move the force towards 310°, or y1 further from x3"
+    assert any(
+        line.strip() == "but analytical-2d: FAIL — retract x3 → y1 loses contact (N = -0.087 N)"
+        for line in lines
+    )
+    page = render_page([scene], 1.0, [{}])
+    assert "retract x3 → y1 loses contact" in page and "line 9" in page
+    assert '<span class="hint">move the force towards 310°' in page

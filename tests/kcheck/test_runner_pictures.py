@@ -1,0 +1,65 @@
+"""A picture never stops a batch: any exception while plotting becomes a note on that scene,
+the check's verdict stands, and the next scene is still checked and drawn. Pictures are PNG
+unless other formats are asked for."""
+
+from __future__ import annotations
+
+import importlib.metadata
+from collections.abc import Sequence
+from pathlib import Path
+
+from kcheck.plugin import Check, CheckSpec, Inputs, LoadedCheck
+from kcheck.result import CheckResult, Status
+from kcheck.runner import Settings, run_batch
+from tests.conftest import PLANAR_SCENE
+
+
+class Drawn(Check):
+    """Passes; its picture fails on scenes named "broken" as matplotlib does on an infinite
+    axis limit, and is one small figure otherwise."""
+
+    id = "drawn"
+    summary = "test check with a picture"
+    applies_to = "every scene"
+
+    def run(self, inputs: Inputs) -> CheckResult:
+        return CheckResult(self.id, Status.PASS, "fine")
+
+    def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
+        if "broken" in (inputs.scene.name or ""):
+            raise ValueError("Axis limits cannot be NaN or Inf")
+        from kcheck.plotting import figure, save
+
+        fig = figure(figsize=(2.0, 1.5))
+        fig.add_subplot().plot([0, 1], [0, 1])
+        return save(fig, directory, inputs.scene.name or "scene")
+
+
+def _loaded() -> LoadedCheck:
+    ep = importlib.metadata.EntryPoint("drawn", f"{__name__}:Drawn", "kcheck.checks")
+    return LoadedCheck(CheckSpec("tests", "1.0", ep), Drawn())
+
+
+def test_a_failing_picture_is_a_note_and_the_batch_goes_on(write_scene, tmp_path: Path) -> None:
+    broken = write_scene(
+        PLANAR_SCENE.replace("planar block (methods.md §7)", "broken"), "a.kcheck.yaml"
+    )
+    fine = write_scene(
+        PLANAR_SCENE.replace("planar block (methods.md §7)", "fine"), "b.kcheck.yaml"
+    )
+    settings = Settings(plots=tmp_path / "plots")
+    first, second = run_batch([broken, fine], [_loaded()], settings)
+    assert first.status is Status.PASS and first.plots == ()
+    assert any(
+        "pictures of drawn failed (ValueError: Axis limits cannot be NaN" in n for n in first.notes
+    )
+    assert second.status is Status.PASS
+    assert [Path(p).name for p in second.plots] == ["fine.png"]  # PNG only by default
+
+
+def test_formats_on_request(write_scene, tmp_path: Path) -> None:
+    scene = write_scene(PLANAR_SCENE.replace("planar block (methods.md §7)", "fine"))
+    settings = Settings(plots=tmp_path, plot_formats=("svg", "png"))
+    (result,) = run_batch([scene], [_loaded()], settings)
+    assert sorted(Path(p).name for p in result.plots) == ["fine.png", "fine.svg"]
+    assert (tmp_path / "fine.svg").read_text(encoding="utf-8").lstrip().startswith("<?xml")
