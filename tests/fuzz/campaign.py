@@ -51,7 +51,11 @@ EXTRA_REPORTS: tuple[dict[str, str], ...] = (
     {},
     {"r.sarif": "sarif", "r.xml": "junit"},
     {"r.md": "markdown", "r.txt": "github", "r.c": "concise"},
-    {"r.text": "text"},
+    {"r.text": "text", "r.html": "html"},
+    {},
+    {"r.sarif": "sarif"},
+    {"r.junit": "junit"},
+    {".plots": "plots", "r.html": "html"},  # pictures of whatever the batch holds
 )
 
 
@@ -93,6 +97,7 @@ def run_campaign(
     *,
     batch_size: int = 100,
     log: Callable[[str], None] = print,
+    reports: Sequence[dict[str, str]] = EXTRA_REPORTS,
 ) -> None:
     """Run every input of a plan; problems and statistics end up in ``harness``."""
     everything = cases(seed, counts)
@@ -100,7 +105,7 @@ def run_campaign(
     cli = [c for c in everything if c.argv is not None]
     started = time.monotonic()
     for n, batch in enumerate(batches(seed, scene_cases, batch_size)):
-        extra = EXTRA_REPORTS[n % len(EXTRA_REPORTS)]
+        extra = reports[n % len(reports)]
         found = harness.run_batch(batch, outputs=extra)
         log(
             f"batch {n}: {len(batch)} scenes, {len(found)} problem(s), "
@@ -155,6 +160,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--only", help="run one input again: kind-seed-index")
     parser.add_argument("--valid-batch", type=int, metavar="N", help="N valid scenes, one batch")
     parser.add_argument("--keep", type=Path, help="lay inputs out here and keep them")
+    parser.add_argument(
+        "--no-extra-reports",
+        action="store_true",
+        help="only the JSON report (for a kcheck without the newer formats)",
+    )
+    parser.add_argument(
+        "--kcheck-path",
+        type=Path,
+        help="run the kcheck found in this source tree (e.g. an older commit's `git archive`)",
+    )
     args = parser.parse_args(argv)
     seed = args.seed if args.seed is not None else int(time.time()) % 100_000
     print(f"fuzz campaign, seed {seed} (reproduce with --seed {seed})", flush=True)
@@ -162,6 +177,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     root.mkdir(parents=True, exist_ok=True)
     os.chmod(root, 0o755)
     harness = Harness(root, baseline(), keep=args.keep is not None)
+    if args.kcheck_path:
+        src = args.kcheck_path.resolve()
+        harness.pythonpath = f"{src}{os.pathsep}{src / 'plugins'}"
     started = time.monotonic()
 
     def log(text: str) -> None:
@@ -188,7 +206,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         total = sum(kinds.values())
         counts = plan(seed, args.inputs, {k: v / total for k, v in kinds.items()})
         log(f"inputs per kind: {counts}")
-        run_campaign(harness, seed, counts, batch_size=args.batch_size, log=log)
+        reports = ({},) if args.no_extra_reports else EXTRA_REPORTS
+        run_campaign(harness, seed, counts, batch_size=args.batch_size, log=log, reports=reports)
     result = summary(harness, time.monotonic() - started, seed)
     if args.report:
         args.report.write_text(json.dumps(result, indent=1, ensure_ascii=False) + "\n")

@@ -232,10 +232,17 @@ class Harness:
         self.keep = keep
         self.log = log
         self.stats = Stats()
+        self.pythonpath: str | None = None  # another kcheck source tree to run
         self.problems: list[Problem] = []
         self._batches = 0
 
     # --- scene batches --------------------------------------------------------------------
+
+    def _env(self, folder: Path, extra: dict[str, str]) -> dict[str, str]:
+        env = _kcheck_env(folder, extra)
+        if self.pythonpath:
+            env["PYTHONPATH"] = self.pythonpath
+        return env
 
     def scene_argv(self, targets: list[str], jobs: int, extra: Sequence[str]) -> list[str]:
         return [
@@ -314,7 +321,7 @@ class Harness:
         (folder / ".cache").mkdir(exist_ok=True)
         os.chmod(folder / ".cache", 0o777)
         unprivileged = any(c.unprivileged for c in cases)
-        env = _kcheck_env(folder, {k: v for c in cases for k, v in c.env.items()})
+        env = self._env(folder, {k: v for c in cases for k, v in c.env.items()})
         deadline = 60 + len(cases) * 2 * INPUT_TIME_LIMIT_S
         run = run_process(
             self.scene_argv(targets, jobs, extra),
@@ -518,7 +525,7 @@ class Harness:
             folder,
             deadline_s=60,
             unprivileged=case.unprivileged,
-            env=_kcheck_env(folder, case.env),
+            env=self._env(folder, case.env),
             stdin=case.stdin,
         )
         self.stats.processes += 1
@@ -579,7 +586,11 @@ def judge_cli(case: Case, run: Run) -> list[Problem]:
 
 
 def _output_args(outputs: dict[str, str]) -> list[str]:
-    return [a for rel, fmt in outputs.items() for a in ("--output-format", f"{fmt}:{rel}")]
+    """``--output-format FORMAT:FILE`` for each report; ``--plots DIR`` for ``plots``."""
+    args: list[str] = []
+    for rel, fmt in outputs.items():
+        args += ["--plots", rel] if fmt == "plots" else ["--output-format", f"{fmt}:{rel}"]
+    return args
 
 
 def read_back(outputs: dict[str, str], folder: Path) -> list[Problem]:
@@ -588,6 +599,8 @@ def read_back(outputs: dict[str, str], folder: Path) -> list[Problem]:
 
     out = []
     for rel, fmt in outputs.items():
+        if fmt == "plots":
+            continue
         path = folder / rel
         try:
             text = path.read_text(encoding="utf-8")

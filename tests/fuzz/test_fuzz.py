@@ -1,6 +1,7 @@
 """kcheck's promise under fuzzing (issue 13): a few hundred generated inputs of every kind in
-the normal run (a handful of kcheck processes: mixed batches of about 150 scenes each, plus
-some command lines), and with ``pytest --fuzz-long N`` a campaign of N inputs.
+the normal run (a handful of kcheck processes: mixed batches of about 100 scenes each, with
+further reports, plus some command lines), and with ``pytest --fuzz-long N`` a campaign of N
+inputs.
 
 The seed of the normal run is fixed (``--fuzz-seed`` changes it), so the suite is the same
 every time; every problem names its input (``kind-seed-index``), which
@@ -113,7 +114,7 @@ def test_fuzzed_inputs_keep_the_promise(tmp_path, seed):
     scene, no stray output, bounded time and memory."""
     harness = Harness(tmp_path, baseline())
     started = time.monotonic()
-    run_campaign(harness, seed, NORMAL, batch_size=150, log=lambda _: None)
+    run_campaign(harness, seed, NORMAL, batch_size=100, log=lambda _: None)
     numbers = summary(harness, time.monotonic() - started, seed)
     assert not harness.problems, _report(harness.problems)
     for kind, n in NORMAL.items():
