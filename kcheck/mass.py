@@ -175,9 +175,12 @@ def mesh_mass_properties(
     if merged:
         notes.append(f"{path.name}: {merged} duplicate vertices merged")
     if repair and not (mesh.is_watertight and mesh.is_winding_consistent):
-        trimesh.repair.fix_winding(mesh)
-        filled = trimesh.repair.fill_holes(mesh)
-        trimesh.repair.fix_normals(mesh, multibody=True)
+        # Orienting a flat (volume-less) mesh divides by its volume inside trimesh; the
+        # volume is checked below and refused with a message, so the division's warning is not.
+        with np.errstate(divide="ignore", invalid="ignore"):
+            trimesh.repair.fix_winding(mesh)
+            filled = trimesh.repair.fill_holes(mesh)
+            trimesh.repair.fix_normals(mesh, multibody=True)
         if mesh.is_watertight and mesh.is_winding_consistent:
             where = field if isinstance(field, tuple) else None
             warnings.append(

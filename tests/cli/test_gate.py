@@ -322,3 +322,11 @@ def test_file_size_limits_from_configuration(cli_json, write_scene, tmp_path):
     code, doc = cli_json(str(scene), "--config", str(config))
     assert code == 2 and "684 bytes, more than the limit of 104 bytes" in doc["scenes"][0]["error"]
     assert doc["scenes"][0]["errors"][0]["field"] == "body.mesh"
+
+
+@pytest.mark.parametrize("option", [["--timeout", "1e300"], ["--memory-limit", "1e30"]])
+def test_budgets_too_large_to_matter_are_no_budget(cli_json, write_scene, option):
+    # Fuzz findings (issue 13): `--timeout 1e300` overflowed select()'s time_t in the pool
+    # (a traceback), and `--memory-limit 1e30` made every worker die on setrlimit.
+    code, doc = cli_json(str(write_scene(PLANAR_SCENE)), "-j", "1", *option)
+    assert code == 0 and doc["scenes"][0]["status"] == "pass"

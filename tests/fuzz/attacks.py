@@ -248,7 +248,15 @@ def _control(fx: Fixture, rng: random.Random) -> tuple[bytes, str, Expect]:
 
 def _tabs(fx: Fixture, rng: random.Random) -> tuple[bytes, str, Expect]:
     lines = _lines(fx)
-    indented = [i for i, line in enumerate(lines) if line.startswith("  ")]
+    # Block context only: inside a flow collection ([...] or {...} over several lines) a tab
+    # is ordinary white space, and YAML allows it.
+    depth, block = 0, []
+    for i, line in enumerate(lines):
+        if depth == 0:
+            block.append(i)
+        code = line.split(" #")[0] if not line.lstrip().startswith("#") else ""
+        depth += code.count("[") + code.count("{") - code.count("]") - code.count("}")
+    indented = [i for i in block if lines[i].startswith("  ")]
     if not indented:
         return _control(fx, rng)
     i = rng.choice(indented)

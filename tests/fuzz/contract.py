@@ -103,7 +103,7 @@ def _range_verdict(x: float, low: float, high: float, open_: bool) -> str:
 
 
 def _claim(path: tuple[Any, ...], why: str) -> Expect:
-    return Expect("invalid", (Claim(fmt_path(path), why),))
+    return Expect("invalid", (Claim(fmt_path(path), why, numeric=True),))
 
 
 def judge_number_field(data: dict, path: tuple[Any, ...]) -> Expect:

@@ -77,6 +77,7 @@ class Claim:
 
     field: str | None
     why: str
+    numeric: bool = False  # from a number's range (judged afresh on the final data)
 
 
 @dataclass(frozen=True)

@@ -356,17 +356,12 @@ def _still_claimed(data: dict, watched: list[tuple[Claim, Path, Any]]) -> Expect
             now = get(data, path)
         except (KeyError, IndexError, TypeError):
             continue
-        if now is value and not _numeric(data, path):
+        if now is value and not claim.numeric:
             kept.append(claim)
     for path in _number_paths(data):
         kept.extend(judge_number_field(data, path).claims)
     unique = tuple(dict.fromkeys(kept))
     return Expect("invalid", unique) if unique else ANY
-
-
-def _numeric(data: dict, path: tuple[Any, ...]) -> bool:
-    v = get(data, path)
-    return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
 def extreme_case(seed: int, index: int) -> Case:

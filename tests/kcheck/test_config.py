@@ -176,3 +176,13 @@ def test_configuration_that_is_not_utf8(project):
     with pytest.raises(ConfigError) as info:
         load_config()
     assert "not UTF-8" in str(info.value)
+
+
+def test_kcheck_config_refuses_an_unknown_format(project, cli):
+    # Fuzz finding (issue 13): `kcheck config --format nope` showed the value and exited 0,
+    # where `kcheck check` refuses it.
+    code, _, err = cli("config", "--format", "jsn")
+    assert code == 2 and "unknown format `jsn` (did you mean `json`?)" in err
+    (project / "kcheck.toml").write_text('format = "nope"\n')
+    code, _, err = cli("config")
+    assert code == 2 and "kcheck.toml: `format`: unknown format `nope`" in err

@@ -20,6 +20,7 @@ from kcheck.errors import MeshError
 from kcheck.mass import body_mass_properties, mesh_mass_properties
 from kcheck.meshio import load_mesh
 from kcheck.scene import load_scene
+from tests.conftest import FIXTURES
 
 
 def _box(path: Path, size: float) -> Path:
@@ -115,3 +116,19 @@ def test_mass_properties_of_a_scene_respect_the_configured_limit(tmp_path):
     assert body_mass_properties(scene.body).mass == pytest.approx(7850 * 1e-6)
     with pytest.raises(MeshError):
         body_mass_properties(scene.body, max_mesh_bytes=100)
+
+
+def test_repairing_a_flat_mesh_is_refused_without_a_warning(tmp_path):
+    # Fuzz finding: `repair: true` on a mesh flattened to a plane printed trimesh's
+    # "RuntimeWarning: invalid value encountered in divide" (centre of mass over volume 0).
+    plate = trimesh.load_mesh(FIXTURES / "maxwell-three-vee" / "plate.stl", process=False)
+    vertices = plate.vertices.copy()
+    vertices[:, 0] = 0.0  # the round plate squashed flat: its outline is kept, its volume not
+    path = tmp_path / "flat.stl"
+    trimesh.Trimesh(vertices, plate.faces, process=False).export(path)
+    mesh = load_mesh(path, 1e-3, ("body", "mesh"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(MeshError) as info:
+            mesh_mass_properties(mesh, 2700.0, path, ("body", "mesh"), repair=True)
+    assert "degenerate" in info.value.message or "volume" in info.value.message
