@@ -147,8 +147,11 @@ def _read(path: Path, field: FieldPath | str, max_bytes: int | None = None) -> t
         with _captured_output() if step else contextlib.nullcontext() as said:
             # Unprocessed: trimesh's vertex merging casts coordinates times 1e8 to integers,
             # which overflows (with a RuntimeWarning) on huge or non-finite ones; they are
-            # refused first, and the mesh processed after (load_mesh).
-            mesh = trimesh.load_mesh(str(path), process=False)
+            # refused first, and the mesh processed after (load_mesh). Face normals stored
+            # in the file are cast as read; NaN ones (a damaged file) would warn, and kcheck
+            # never uses them.
+            with np.errstate(invalid="ignore", over="ignore"):
+                mesh = trimesh.load_mesh(str(path), process=False)
     except Exception as exc:  # trimesh raises many types for unreadable files
         if step:
             # OpenCASCADE writes its reason to the terminal and trimesh then fails to

@@ -21,13 +21,14 @@ import tempfile
 import time
 from collections import Counter
 from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 from tests.fuzz.attacks import yaml_case
 from tests.fuzz.baseline import baseline
 from tests.fuzz.cli_cases import cli_case
 from tests.fuzz.fs import fs_case
-from tests.fuzz.harness import Harness, Problem
+from tests.fuzz.harness import INPUT_TIME_LIMIT_S, Harness, Problem
 from tests.fuzz.meshes import mesh_case
 from tests.fuzz.model import Case
 from tests.fuzz.mutate import extreme_case, fixture_copy, mutation_case, valid_case
@@ -68,25 +69,52 @@ def cases(seed: int, counts: dict[str, int]) -> list[Case]:
     return [GENERATORS[kind](seed, i) for kind, n in counts.items() for i in range(n)]
 
 
-def batches(seed: int, scene_cases: Sequence[Case], size: int) -> Iterator[list[Case]]:
+@dataclass(frozen=True)
+class Ref:
+    """An input by its numbers, generated again when its batch runs (10,000 inputs held at
+    once would take 800 MB). Kind ``fixture``: copy number ``serial`` of fixture ``index``."""
+
+    kind: str
+    index: int
+    unprivileged: bool = False
+    serial: int = 0
+
+    def make(self, seed: int) -> Case:
+        if self.kind == "fixture":
+            return fixture_copy(fixtures()[self.index].name, self.serial, seed)
+        return GENERATORS[self.kind](seed, self.index)
+
+
+def survey(seed: int, counts: dict[str, int]) -> tuple[list[Ref], list[Ref]]:
+    """Scene inputs and command-line inputs of a plan, each generated once and dropped."""
+    scenes: list[Ref] = []
+    cli: list[Ref] = []
+    for kind, n in counts.items():
+        for i in range(n):
+            case = GENERATORS[kind](seed, i)
+            (scenes if case.argv is None else cli).append(Ref(kind, i, case.unprivileged))
+    return scenes, cli
+
+
+def batches(seed: int, scene_refs: Sequence[Ref], size: int) -> Iterator[list[Ref]]:
     """Mixed batches: inputs of every kind in a seeded order, each batch opened by a valid
     fixture (whose time absorbs start-up) and with more fixtures mixed in (whose verdicts must
     survive whatever their neighbours do); inputs needing an unprivileged run by themselves."""
     rng = random.Random(f"{seed}:batches")
-    order = list(scene_cases)
+    order = list(scene_refs)
     rng.shuffle(order)
-    names = [f.name for f in fixtures()]
+    count = len(fixtures())
     counter = 0
     for unprivileged in (False, True):
-        group = [c for c in order if c.unprivileged == unprivileged]
+        group = [r for r in order if r.unprivileged == unprivileged]
         for start in range(0, len(group), size):
             chunk = group[start : start + size]
-            batch: list[Case] = []
-            for i, case in enumerate(chunk):
+            batch: list[Ref] = []
+            for i, ref in enumerate(chunk):
                 if i % 20 == 0:
                     counter += 1
-                    batch.append(fixture_copy(names[counter % len(names)], counter, seed))
-                batch.append(case)
+                    batch.append(Ref("fixture", counter % count, serial=counter))
+                batch.append(ref)
             yield batch
 
 
@@ -100,12 +128,11 @@ def run_campaign(
     reports: Sequence[dict[str, str]] = EXTRA_REPORTS,
 ) -> None:
     """Run every input of a plan; problems and statistics end up in ``harness``."""
-    everything = cases(seed, counts)
-    scene_cases = [c for c in everything if c.argv is None]
-    cli = [c for c in everything if c.argv is not None]
+    scene_refs, cli = survey(seed, counts)
     started = time.monotonic()
-    for n, batch in enumerate(batches(seed, scene_cases, batch_size)):
+    for n, refs in enumerate(batches(seed, scene_refs, batch_size)):
         extra = reports[n % len(reports)]
+        batch = [ref.make(seed) for ref in refs]
         found = harness.run_batch(batch, outputs=extra)
         log(
             f"batch {n}: {len(batch)} scenes, {len(found)} problem(s), "
@@ -113,8 +140,8 @@ def run_campaign(
         )
         for p in found:
             log(f"  {p.klass}: {p.case}: {p.detail[:300]}")
-    for i, case in enumerate(cli):
-        for p in harness.run_cli(case):
+    for i, ref in enumerate(cli):
+        for p in harness.run_cli(ref.make(seed)):
             log(f"  {p.klass}: {p.case}: {p.detail[:300]}")
         if i % 100 == 99:
             log(f"cli: {i + 1} of {len(cli)}, {time.monotonic() - started:.0f} s")
@@ -123,7 +150,6 @@ def run_campaign(
 def summary(harness: Harness, seconds: float, seed: int) -> dict:
     """The campaign's numbers, for the report file."""
     s = harness.stats
-    own = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
     by_class = Counter(p.klass for p in harness.problems)
     return {
         "seed": seed,
@@ -137,7 +163,10 @@ def summary(harness: Harness, seconds: float, seed: int) -> dict:
         "rejections with a field": dict(s.with_field),
         "peak memory of one kcheck run, MB": round(s.peak_mb, 1),
         "peak memory run": s.peak_what,
-        "peak memory of any child, MB (RUSAGE_CHILDREN)": round(own, 1),
+        "peak memory of the fuzzer itself, MB": round(
+            resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1
+        ),
+        "time limit per input, s": harness.time_limit_s,
         "slowest input, s": round(s.slowest_s, 3),
         "slowest input": s.slowest_what,
         "problems by class": dict(by_class),
@@ -157,6 +186,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--kinds", default=",".join(SHARES), help="comma-separated kinds")
     parser.add_argument("--batch-size", type=int, default=100)
     parser.add_argument("--report", type=Path, help="write the numbers and problems as JSON")
+    parser.add_argument(
+        "--time-limit",
+        type=float,
+        default=INPUT_TIME_LIMIT_S,
+        metavar="S",
+        help=f"longest time one input may take, s (default {INPUT_TIME_LIMIT_S:g}; more on a "
+        "loaded machine)",
+    )
     parser.add_argument("--only", help="run one input again: kind-seed-index")
     parser.add_argument("--valid-batch", type=int, metavar="N", help="N valid scenes, one batch")
     parser.add_argument("--keep", type=Path, help="lay inputs out here and keep them")
@@ -176,7 +213,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     root = args.keep or Path(tempfile.mkdtemp(prefix="kcheck-fuzz-"))
     root.mkdir(parents=True, exist_ok=True)
     os.chmod(root, 0o755)
-    harness = Harness(root, baseline(), keep=args.keep is not None)
+    harness = Harness(root, baseline(), keep=args.keep is not None, time_limit_s=args.time_limit)
     if args.kcheck_path:
         src = args.kcheck_path.resolve()
         harness.pythonpath = f"{src}{os.pathsep}{src / 'plugins'}"

@@ -132,3 +132,19 @@ def test_repairing_a_flat_mesh_is_refused_without_a_warning(tmp_path):
         with pytest.raises(MeshError) as info:
             mesh_mass_properties(mesh, 2700.0, path, ("body", "mesh"), repair=True)
     assert "degenerate" in info.value.message or "volume" in info.value.message
+
+
+def test_signalling_nan_face_normals_in_a_binary_stl_are_read_without_a_warning(tmp_path):
+    # Fuzz finding (campaign seed 4242, mesh-4242-815, 134 random bytes): a binary STL whose
+    # stored face normals are signalling NaNs printed numpy's "RuntimeWarning: invalid value
+    # encountered in cast" from trimesh. kcheck never uses the stored normals.
+    raw = bytearray(_box(tmp_path / "box.stl", 10.0).read_bytes())
+    count = int.from_bytes(raw[80:84], "little")
+    for i in range(count):  # 84-byte head, then 50 bytes a facet: normal first
+        raw[84 + 50 * i : 88 + 50 * i] = (0x7FA00000).to_bytes(4, "little")  # sNaN (float32)
+    path = tmp_path / "nan-normals.stl"
+    path.write_bytes(raw)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mesh = load_mesh(path, 1e-3, ("body", "mesh"))
+    assert mesh.faces.shape == (12, 3) and np.allclose(mesh.extents, 0.01)
