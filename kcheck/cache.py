@@ -207,21 +207,26 @@ def _from_payload(payload: dict[str, Any]) -> MassProperties | None:
     )
 
 
-def body_mass_properties_cached(body: Body, scale: float, folder: Path | None) -> MassProperties:
+def body_mass_properties_cached(
+    body: Body, scale: float, folder: Path | None, max_mesh_bytes: int | None = None
+) -> MassProperties:
     """:func:`kcheck.mass.body_mass_properties`, through the cache in ``folder`` when the
     body's mass properties come from meshes (None: no cache)."""
     from kcheck.mass import body_mass_properties
+    from kcheck.meshio import check_mesh_file
 
     if folder is None or body.explicit is not None or not body.parts:
-        return body_mass_properties(body, scale)
+        return body_mass_properties(body, scale, max_mesh_bytes)
+    for part in body.parts:  # before hashing it: a file past the limit is not read at all
+        check_mesh_file(part.mesh, (*part.field, "mesh"), max_mesh_bytes)
     cache = MassCache(folder)
     try:
         key = body_key(body, scale)
     except OSError:  # the mesh cannot be read: let the computation report it
-        return body_mass_properties(body, scale)
+        return body_mass_properties(body, scale, max_mesh_bytes)
     hit = cache.get(key)
     if hit is not None:
         return hit
-    mass = body_mass_properties(body, scale)
+    mass = body_mass_properties(body, scale, max_mesh_bytes)
     cache.put(key, mass)
     return mass

@@ -140,6 +140,7 @@ KEYS: tuple[Key, ...] = (
     Key("timeout", _positive("seconds"), 120.0, "time budget of one scene, s"),
     Key("memory_limit", _positive("MiB"), 2048.0, "memory budget of one scene, MiB"),
     Key("max_file_size", _positive("MiB"), 5.0, "largest scene file read, MiB"),
+    Key("max_mesh_size", _positive("MiB"), 64.0, "largest mesh file read, MiB"),
 )
 _BY_NAME = {k.name: k for k in KEYS}
 # Keys holding paths that are relative to the configuration file's folder.
@@ -189,16 +190,29 @@ def _repo_root(start: Path) -> Path | None:
     return None
 
 
+#: Largest configuration file read (pyproject.toml files are a few kB).
+MAX_CONFIG_BYTES = 1 << 20
+
+
 def _read_toml(path: Path) -> dict[str, Any]:
     if sys.version_info >= (3, 11):
         import tomllib
     else:  # pragma: no cover - Python 3.10
         import tomli as tomllib
+    from kcheck.yamlio import open_regular
+
     try:
-        with path.open("rb") as fh:
-            return tomllib.load(fh)
+        # Not a pipe or device (which could block or never end), and bounded.
+        with open_regular(path) as fh:
+            raw = fh.read(MAX_CONFIG_BYTES + 1)
     except OSError as exc:
         raise ConfigError(f"{path}: cannot read the configuration ({exc.strerror or exc})") from exc
+    if len(raw) > MAX_CONFIG_BYTES:
+        raise ConfigError(f"{path}: larger than {MAX_CONFIG_BYTES >> 20} MiB; not a configuration")
+    try:
+        return tomllib.loads(raw.decode("utf-8"))
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"{path}: not UTF-8 text (byte {exc.start}); save it as UTF-8") from exc
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{path}: not valid TOML: {exc}") from exc
 

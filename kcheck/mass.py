@@ -22,6 +22,7 @@ from kcheck.errors import FieldPath, MeshError
 from kcheck.meshio import MERGE_RTOL, load_mesh, not_watertight, step_length_unit
 from kcheck.result import Finding
 from kcheck.scene import Body, Part
+from kcheck.scene.limits import LIMITS
 
 if TYPE_CHECKING:
     import trimesh
@@ -174,9 +175,12 @@ def mesh_mass_properties(
     if merged:
         notes.append(f"{path.name}: {merged} duplicate vertices merged")
     if repair and not (mesh.is_watertight and mesh.is_winding_consistent):
-        trimesh.repair.fix_winding(mesh)
-        filled = trimesh.repair.fill_holes(mesh)
-        trimesh.repair.fix_normals(mesh, multibody=True)
+        # Orienting a flat (volume-less) mesh divides by its volume inside trimesh; the
+        # volume is checked below and refused with a message, so the division's warning is not.
+        with np.errstate(divide="ignore", invalid="ignore"):
+            trimesh.repair.fix_winding(mesh)
+            filled = trimesh.repair.fill_holes(mesh)
+            trimesh.repair.fix_normals(mesh, multibody=True)
         if mesh.is_watertight and mesh.is_winding_consistent:
             where = field if isinstance(field, tuple) else None
             warnings.append(
@@ -223,6 +227,14 @@ def mesh_mass_properties(
     inertia = np.asarray(props.inertia, dtype=float)
     if not (np.all(np.isfinite(com)) and np.all(np.isfinite(inertia))):
         raise MeshError(path, "the mesh gives non-finite mass properties", field=field)
+    allowed = LIMITS["mass"]  # the range an explicit mass must lie in
+    if not allowed.contains(float(props.mass)):
+        raise MeshError(
+            path,
+            f"the mesh gives a mass of {float(props.mass):.3g} kg, outside {allowed.text()} "
+            f"(volume {volume:.3g} m^3, density {density:g} kg/m^3: are the units right?)",
+            field=field,
+        )
     return MassProperties(
         float(props.mass),
         com,
@@ -236,10 +248,11 @@ def mesh_mass_properties(
     )
 
 
-def part_mass_properties(part: Part) -> MassProperties:
-    """Mass properties of one part in the scene's frame (its transform applied)."""
+def part_mass_properties(part: Part, max_mesh_bytes: int | None = None) -> MassProperties:
+    """Mass properties of one part in the scene's frame (its transform applied); its mesh
+    file at most ``max_mesh_bytes`` (default :data:`kcheck.meshio.MAX_MESH_BYTES`)."""
     field = (*part.field, "mesh")
-    mesh = load_mesh(part.mesh, part.scale, field)
+    mesh = load_mesh(part.mesh, part.scale, field, max_bytes=max_mesh_bytes)
     props = mesh_mass_properties(
         mesh,
         part.density,
@@ -259,9 +272,12 @@ def part_mass_properties(part: Part) -> MassProperties:
     return transformed(props, rotation, np.asarray(part.translation, dtype=float))
 
 
-def body_mass_properties(body: Body, scale: float | None = None) -> MassProperties:
+def body_mass_properties(
+    body: Body, scale: float | None = None, max_mesh_bytes: int | None = None
+) -> MassProperties:
     """Mass properties of a scene's body: explicit values win over the mesh parts; point
-    masses are added to either. (``scale`` is not used: each part carries its own.)"""
+    masses are added to either. (``scale`` is not used: each part carries its own.) Mesh
+    files are at most ``max_mesh_bytes`` (default :data:`kcheck.meshio.MAX_MESH_BYTES`)."""
     points = [point_mass(p.mass, p.point) for p in body.point_masses]
     added = _point_masses_note(body)
     if body.explicit is not None:
@@ -276,7 +292,7 @@ def body_mass_properties(body: Body, scale: float | None = None) -> MassProperti
             return explicit
         combined = combine([explicit, *points])
         return dataclasses.replace(combined, notes=(*notes, added))
-    props = combine([*(part_mass_properties(p) for p in body.parts), *points])
+    props = combine([*(part_mass_properties(p, max_mesh_bytes) for p in body.parts), *points])
     if points:
         props = dataclasses.replace(props, notes=(*props.notes, added))
     return props

@@ -7,22 +7,44 @@ is not watertight located. trimesh is imported only inside these functions.
 
 from __future__ import annotations
 
+import contextlib
 import importlib.util
+import io
+import os
 import re
+import stat
+import sys
+import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from kcheck.errors import FieldPath, MeshError
+from kcheck.scene.limits import LIMITS
 
 if TYPE_CHECKING:
     import trimesh
 
-__all__ = ["MERGE_RTOL", "STEP_INSTALL", "load_mesh", "not_watertight", "step_length_unit"]
+__all__ = [
+    "MERGE_RTOL",
+    "MAX_MESH_BYTES",
+    "STEP_INSTALL",
+    "check_mesh_file",
+    "load_mesh",
+    "not_watertight",
+    "step_length_unit",
+]
 
 #: Vertices closer than this fraction of the mesh's largest extent are one vertex.
 MERGE_RTOL = 1e-6
+#: Largest mesh file read by default (configuration ``max_mesh_size``). Reading takes about
+#: 20 times the file's size in memory (a 16 MB binary STL peaks at 430 MB, a 64 MB one at
+#: 1.3 GB), so this keeps a mesh within the default memory budget of a scene (2 GiB).
+MAX_MESH_BYTES = 64 * 2**20
+#: Vertices farther from the origin are refused (the scene's coordinate limit, in m).
+MAX_COORDINATE_M = LIMITS["coordinate"].high
 STEP_INSTALL = "pip install 'kcheck[step]'"
 
 _STEP_UNITS = (
@@ -84,18 +106,60 @@ def _merge_close(mesh: trimesh.Trimesh, tolerance: float) -> tuple[trimesh.Trime
     return merged, n - count
 
 
-def _read(path: Path, field: FieldPath | str) -> trimesh.Trimesh:
+def check_mesh_file(path: Path, field: FieldPath | str, max_bytes: int | None = None) -> None:
+    """MeshError unless ``path`` is a regular file of at most ``max_bytes`` (default
+    :data:`MAX_MESH_BYTES`): a pipe or device could block or never end, and a mesh file's
+    size bounds the memory and time reading it takes (about 20 times its size in memory)."""
+    limit = MAX_MESH_BYTES if max_bytes is None else max_bytes
+    try:
+        info = os.stat(path)
+    except OSError as exc:
+        raise MeshError(
+            path, f"cannot read the mesh ({exc.strerror or exc})", field=field
+        ) from None
+    if not stat.S_ISREG(info.st_mode):
+        raise MeshError(path, "not a regular file (a folder, pipe, socket or device)", field=field)
+    if info.st_size > limit:
+        raise MeshError(
+            path,
+            f"the mesh file is {_size(info.st_size)}, more than the limit of {_size(limit)} "
+            "(configuration `max_mesh_size`); simplify the mesh, or raise the limit",
+            field=field,
+        )
+
+
+def _size(n: int) -> str:
+    return f"{n / 2**20:.1f} MiB" if n >= 2**20 else f"{n} bytes"
+
+
+def _read(path: Path, field: FieldPath | str, max_bytes: int | None = None) -> trimesh.Trimesh:
     import trimesh
 
+    check_mesh_file(path, field, max_bytes)
     if path.suffix.lower() in (".step", ".stp") and importlib.util.find_spec("cascadio") is None:
         raise MeshError(
             path,
             f"STEP files need the optional `step` extra (OpenCASCADE via cascadio): {STEP_INSTALL}",
             field=field,
         )
+    step = path.suffix.lower() in (".step", ".stp")
     try:
-        mesh = trimesh.load_mesh(str(path), process=True)
+        with _captured_output() if step else contextlib.nullcontext() as said:
+            # Unprocessed: trimesh's vertex merging casts coordinates times 1e8 to integers,
+            # which overflows (with a RuntimeWarning) on huge or non-finite ones; they are
+            # refused first, and the mesh processed after (load_mesh). Face normals stored
+            # in the file are cast as read; NaN ones (a damaged file) would warn, and kcheck
+            # never uses them.
+            with np.errstate(invalid="ignore", over="ignore"):
+                mesh = trimesh.load_mesh(str(path), process=False)
     except Exception as exc:  # trimesh raises many types for unreadable files
+        if step:
+            # OpenCASCADE writes its reason to the terminal and trimesh then fails to
+            # open the conversion it expected: the reason is OpenCASCADE's.
+            reason = _occ_reason(said.getvalue() if said else "") or "no solid found"
+            raise MeshError(
+                path, f"cannot read the STEP file (OpenCASCADE: {reason})", field=field
+            ) from exc
         raise MeshError(
             path, f"cannot read the mesh ({type(exc).__name__}: {exc})", field=field
         ) from exc
@@ -106,13 +170,58 @@ def _read(path: Path, field: FieldPath | str) -> trimesh.Trimesh:
     return mesh
 
 
-def load_mesh(path: Path, scale: float, field: FieldPath | str) -> trimesh.Trimesh:
+@contextlib.contextmanager
+def _captured_output() -> Iterator[io.StringIO]:
+    """Capture what native code writes to the process's standard output and error (file
+    descriptors 1 and 2) while the block runs: OpenCASCADE prints its diagnostics there,
+    which would corrupt a JSON report on stdout."""
+    said = io.StringIO()
+    sys.stdout.flush()
+    sys.stderr.flush()
+    saved = [os.dup(1), os.dup(2)]
+    with tempfile.TemporaryFile() as sink:
+        try:
+            os.dup2(sink.fileno(), 1)
+            os.dup2(sink.fileno(), 2)
+            yield said
+        finally:
+            os.dup2(saved[0], 1)
+            os.dup2(saved[1], 2)
+            for fd in saved:
+                os.close(fd)
+            sink.seek(0)
+            said.write(sink.read(1 << 16).decode("utf-8", "replace"))
+
+
+def _occ_reason(text: str) -> str:
+    """The first diagnostic line OpenCASCADE printed, without colour codes and stars."""
+    for line in re.sub(r"\x1b\[[0-9;]*m", "", text).splitlines():
+        line = line.strip(" *\t")
+        if line:
+            return line[:200]
+    return ""
+
+
+def load_mesh(
+    path: Path, scale: float, field: FieldPath | str, *, max_bytes: int | None = None
+) -> trimesh.Trimesh:
     """Load a mesh file as one Trimesh scaled to metres (``scale`` metres per file unit), with
-    vertices closer than ``MERGE_RTOL`` of its size merged; MeshError if it is unusable."""
-    mesh = _read(path, field).copy()
-    mesh.apply_scale(scale)
+    vertices closer than ``MERGE_RTOL`` of its size merged; MeshError if it is unusable or
+    larger than ``max_bytes`` (default :data:`MAX_MESH_BYTES`)."""
+    mesh = _read(path, field, max_bytes).copy()
     if not np.all(np.isfinite(mesh.vertices)):
         raise MeshError(path, "the mesh has non-finite vertex coordinates", field=field)
+    with np.errstate(over="ignore"):
+        mesh.apply_scale(scale)
+    largest = float(np.abs(mesh.vertices).max())
+    if not largest <= MAX_COORDINATE_M:
+        raise MeshError(
+            path,
+            f"the mesh reaches {largest:.3g} m from the origin, beyond {MAX_COORDINATE_M:g} m "
+            "(are the units right?)",
+            field=field,
+        )
+    mesh.process()
     extent = float(np.ptp(mesh.vertices, axis=0).max())
     if extent > 0:
         mesh, merged = _merge_close(mesh, MERGE_RTOL * extent)

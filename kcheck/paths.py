@@ -60,6 +60,7 @@ def describe_os_error(exc: OSError) -> str:
         errno.ENOSPC: "no space left on the device",
         errno.EROFS: "the file system is read-only",
         errno.ENOENT: "no such file or folder",
+        errno.ENXIO: "a pipe that nobody reads",
     }
     return reasons.get(exc.errno or 0, exc.strerror or str(exc))
 
@@ -261,7 +262,8 @@ def check_output_file(path: Path, what: str) -> None:
         if not anchor.is_dir():
             raise UsageError(f"{what} {path}: {anchor} is a file, not a folder")
         if path.exists() and not stat.S_ISREG(path.stat().st_mode):
-            fd = os.open(path, os.O_WRONLY)
+            # A device or a pipe: without blocking (a pipe nobody reads is ENXIO).
+            fd = os.open(path, os.O_WRONLY | os.O_NONBLOCK)
             try:
                 os.write(fd, b"")
             finally:

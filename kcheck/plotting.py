@@ -111,13 +111,27 @@ def save(fig: Figure, directory: Path, stem: str) -> tuple[Path, ...]:
     written = []
     for ext in _formats.get():
         path = directory / f"{stem}.{ext}"
-        if ext == "svg":
-            # Text as text (small, searchable); no date, so files do not change needlessly.
-            import matplotlib
+        with _quiet_drawing():
+            if ext == "svg":
+                # Text as text (small, searchable); no date, so files do not change needlessly.
+                import matplotlib
 
-            with matplotlib.rc_context({"svg.fonttype": "none"}):
-                fig.savefig(path, metadata={"Date": None})
-        else:
-            fig.savefig(path, dpi=PNG_DPI)
+                with matplotlib.rc_context({"svg.fonttype": "none"}):
+                    fig.savefig(path, metadata={"Date": None})
+            else:
+                fig.savefig(path, dpi=PNG_DPI)
         written.append(path)
     return tuple(written)
+
+
+@contextmanager
+def _quiet_drawing() -> Iterator[None]:
+    """Drawing without matplotlib's notes on stderr (issue 13: nothing but kcheck's own lines
+    there): a name in a script the font lacks is drawn as boxes, and a figure crowded by very
+    long names is saved without its layout; either way the picture is written."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", r"Glyph \d+ .* missing from font", UserWarning)
+        warnings.filterwarnings("ignore", "constrained_layout not applied", UserWarning)
+        yield

@@ -34,6 +34,10 @@ T = TypeVar("T")
 R = TypeVar("R")
 
 _HEADER = struct.Struct("!Q")
+#: Longest single wait for a worker, s (the loop waits again; a budget may be far longer).
+MAX_WAIT_S = 3600.0
+#: Address-space budgets from this size on set no limit (2**63 would overflow rlim_t).
+MAX_ADDRESS_SPACE = 2**62
 
 
 def available() -> bool:
@@ -121,7 +125,8 @@ def _child(tasks: int, results: int, work: Callable[[T], R], budget: Budget) -> 
             if hard == resource.RLIM_INFINITY
             else min(hard, budget.memory_bytes)
         )
-        resource.setrlimit(resource.RLIMIT_AS, (limit, hard))
+        if limit < MAX_ADDRESS_SPACE:  # a larger budget is no limit (and overflows rlim_t)
+            resource.setrlimit(resource.RLIMIT_AS, (limit, hard))
     code = 0
     try:
         while True:
@@ -273,10 +278,9 @@ def run_in_workers(
             if next_out >= len(tasks):
                 break
             busy = [w for w in pool.workers if w.index is not None]
-            wait = min(w.deadline for w in busy) - time.monotonic()
-            ready, _, _ = select.select(
-                [w.results for w in busy], [], [], None if wait == float("inf") else max(wait, 0)
-            )
+            # At most an hour at a time: a deadline of 1e300 s overflows select's time_t.
+            wait = min(min(w.deadline for w in busy) - time.monotonic(), MAX_WAIT_S)
+            ready, _, _ = select.select([w.results for w in busy], [], [], max(wait, 0))
             for worker in [w for w in busy if w.results in ready]:
                 try:
                     index, status, value = _read(worker.results)  # type: ignore[misc]

@@ -25,6 +25,7 @@ from kcheck.plugin import Inputs, LoadedCheck, Options
 from kcheck.result import CheckResult, Finding, SceneResult, Severity, Status
 from kcheck.sanity import scene_warnings
 from kcheck.scene import Scene, _describe_pydantic, load_scene
+from kcheck.yamlio import DEFAULT_LIMITS
 
 __all__ = ["Settings", "discover", "check_scene", "run_batch", "scene_status"]
 
@@ -47,8 +48,8 @@ class Settings:
     mass-property cache (None: no cache). ``jobs`` is the number of worker processes (0: run
     in this process), each scene limited to ``timeout_s`` seconds and ``memory_bytes`` of
     address space (None: no limit; limits need workers).
-    ``max_file_bytes`` is the largest scene file read (configuration ``max_file_size``);
-    it takes effect once the scene loader accepts a size limit.
+    ``max_file_bytes`` is the largest scene file read (configuration ``max_file_size``),
+    ``max_mesh_bytes`` the largest mesh file (``max_mesh_size``); None: the defaults.
     """
 
     allow_outside: bool = False
@@ -61,6 +62,7 @@ class Settings:
     timeout_s: float | None = None
     memory_bytes: int | None = None
     max_file_bytes: int | None = None
+    max_mesh_bytes: int | None = None
     plot_formats: tuple[str, ...] = ("png",)
 
 
@@ -186,7 +188,12 @@ def check_scene(
         settings = Settings(allow_outside=allow_outside, plots=plots)
     started = time.perf_counter()
     try:
-        scene = load_scene(path, allow_outside=settings.allow_outside)
+        limits = (
+            DEFAULT_LIMITS
+            if settings.max_file_bytes is None
+            else dataclasses.replace(DEFAULT_LIMITS, max_bytes=settings.max_file_bytes)
+        )
+        scene = load_scene(path, allow_outside=settings.allow_outside, limits=limits)
         known = {lc.spec.name for lc in checks}
         for check_id in scene.check_options:
             if check_id not in known:
@@ -212,7 +219,9 @@ def check_scene(
                     "give `body` with a mesh or explicit mass properties",
                 )
             try:
-                mass = body_mass_properties_cached(scene.body, scene.scale, settings.cache_dir)
+                mass = body_mass_properties_cached(
+                    scene.body, scene.scale, settings.cache_dir, settings.max_mesh_bytes
+                )
             except SceneError as exc:
                 where = exc.where or ("body",)
                 raise SceneError(

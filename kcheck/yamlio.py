@@ -15,10 +15,13 @@ booleans and null. No tag can construct an object, and no code runs.
 from __future__ import annotations
 
 import codecs
+import errno
+import os
+import stat
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal, NamedTuple
+from typing import Any, BinaryIO, Literal, NamedTuple
 
 import yaml
 
@@ -36,6 +39,8 @@ __all__ = [
     "format_path",
     "HAVE_LIBYAML",
     "dump_yaml",
+    "open_regular",
+    "NotRegularFile",
 ]
 
 LineMap = Mapping[FieldPath, int]
@@ -102,11 +107,31 @@ _BOMS = (
 )
 
 
+class NotRegularFile(OSError):
+    """A path that is a pipe, socket or device, not a file to read."""
+
+
+def open_regular(path: Path) -> BinaryIO:
+    """Open a regular file for reading in binary; NotRegularFile (an OSError) for a FIFO,
+    socket or device. Opened without blocking, so that a FIFO with no writer cannot hang
+    the caller (the flag does nothing on regular files)."""
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise NotRegularFile(
+                errno.EINVAL, "not a regular file (a pipe, socket or device)", str(path)
+            )
+        return os.fdopen(fd, "rb")
+    except BaseException:
+        os.close(fd)
+        raise
+
+
 def _read_text(path: Path, limits: YamlLimits) -> str:
     chunks: list[bytes] = []
     size = 0
     try:
-        with open(path, "rb") as handle:
+        with open_regular(path) as handle:
             # In pieces, so that neither a huge file nor an endless device is read whole.
             while size <= limits.max_bytes:
                 chunk = handle.read(min(1 << 16, limits.max_bytes + 1 - size))
@@ -122,7 +147,7 @@ def _read_text(path: Path, limits: YamlLimits) -> str:
         raise SceneError(
             path,
             f"the file is larger than {limits.max_bytes / 2**20:g} MiB; a scene file is a few "
-            "kB (the limit is configurable)",
+            "kB (the limit is configuration `max_file_size`)",
         )
     encoding = next((enc for bom, enc in _BOMS if raw.startswith(bom)), "utf-8")
     try:
@@ -195,11 +220,30 @@ def read_yaml(
             line=None if mark is None else mark.line + 1,
             column=None if mark is None else mark.column + 1,
         ) from None
+    except yaml.reader.ReaderError as exc:
+        raise _forbidden_character(path, text, exc) from None
     except yaml.YAMLError as exc:
         raise SceneError(path, f"YAML error: {exc}") from None
     if composer.root is NOTHING:
         raise SceneError(path, "the file is empty; expected a scene mapping")
     return YamlDocument(composer.root, composer.lines, composer.columns)
+
+
+def _forbidden_character(path: Path, text: str, exc: yaml.reader.ReaderError) -> SceneError:
+    """A character YAML does not allow (a control character), at its line and column.
+
+    The parsers give its position in bytes (libyaml) or characters (PyYAML); the character
+    itself is the same in both, so it is looked up in the text."""
+    char = chr(exc.character) if isinstance(exc.character, int) else str(exc.character)
+    offset = text.find(char)
+    line, column = _line_col(text, offset) if offset >= 0 else (None, None)
+    return SceneError(
+        path,
+        f"the file contains the character U+{ord(char):04X}, which YAML does not "
+        "allow (a control character); remove it",
+        line=line,
+        column=column,
+    )
 
 
 def load_yaml(

@@ -15,6 +15,25 @@ ROOT = Path(__file__).resolve().parents[1]
 FIXTURES = ROOT / "fixtures"
 
 
+def pytest_addoption(parser: pytest.Parser) -> None:
+    group = parser.getgroup("kcheck fuzz (issue 13, tests/fuzz)")
+    group.addoption(
+        "--fuzz-long",
+        type=int,
+        default=0,
+        metavar="N",
+        help="also run the long fuzz campaign with N inputs (e.g. 10000; one core, an hour)",
+    )
+    group.addoption(
+        "--fuzz-seed",
+        type=int,
+        default=None,
+        metavar="SEED",
+        help="seed of the fuzz tests (default: fixed for the normal run, the clock for the "
+        "long one); every problem names the input to regenerate it",
+    )
+
+
 @pytest.fixture(autouse=True)
 def _plain_terminal(monkeypatch: pytest.MonkeyPatch) -> None:
     """Reports in tests are plain text of a fixed width (as hatch's tests do)."""

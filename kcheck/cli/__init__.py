@@ -85,10 +85,24 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
+def escape_unprintable() -> None:
+    """Standard output and error escape what their encoding cannot carry (``\\xb1`` on an
+    ASCII terminal, a lone surrogate from a file name that is not UTF-8) instead of raising
+    in the middle of a report."""
+    for stream in (sys.stdout, sys.stderr):
+        reconfigure = getattr(stream, "reconfigure", None)
+        if reconfigure is not None:
+            try:
+                reconfigure(errors="backslashreplace")
+            except (ValueError, OSError):  # a closed or detached stream
+                pass
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code."""
     pin_blas_threads()
     skip_pydantic_plugins()
+    escape_unprintable()
     args = _parser().parse_args(argv)
     try:
         return int(args.handler(args))

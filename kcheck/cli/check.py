@@ -173,7 +173,8 @@ class _Tee:
 
 def _open(path: Path) -> TextIO:
     path.parent.mkdir(parents=True, exist_ok=True)
-    return path.open("w", encoding="utf-8")
+    # A scene's path or text may hold lone surrogates (a file name that is not UTF-8).
+    return path.open("w", encoding="utf-8", errors="backslashreplace")
 
 
 def _plot_formats(text: str) -> tuple[str, ...] | None:
@@ -224,6 +225,7 @@ def run(args: argparse.Namespace) -> int:
     if args.html is not None:
         check_output_file(args.html, "--html")
         targets.append((PAGE_FORMAT, args.html))
+    _refuse_shared_outputs([("--output", args.output)] if args.output is not None else [], targets)
     if args.plots is not None:
         check_output_dir(args.plots, "--plots")
     page = PAGE_FORMAT in {config["format"], *(name for name, _ in targets)}
@@ -274,6 +276,7 @@ def run(args: argparse.Namespace) -> int:
                 timeout_s=config["timeout"],
                 memory_bytes=int(config["memory_limit"] * 2**20),
                 max_file_bytes=int(config["max_file_size"] * 2**20),
+                max_mesh_bytes=int(config["max_mesh_size"] * 2**20),
             )
             doing = "checking" + (", plotting" if plots is not None else "")
             results, elapsed = _run(
@@ -297,6 +300,31 @@ def run(args: argparse.Namespace) -> int:
     if Status.FAIL in states or (config["fail_on"] == "warning" and Status.WARN in states):
         return ExitCode.CHECKS_FAILED
     return ExitCode.OK
+
+
+def _refuse_shared_outputs(
+    output: list[tuple[str, Path]], targets: Sequence[tuple[str, Path]]
+) -> None:
+    """UsageError if two reports would go to one file (each would overwrite the other)."""
+    import os
+    import stat
+
+    from kcheck.errors import UsageError
+
+    seen: dict[str, str] = {}
+    for label, path in [*output, *((f"--output-format {n}:", p) for n, p in targets)]:
+        label = f"{label}{path}" if label.endswith(":") else f"{label} {path}"
+        try:
+            if stat.S_ISCHR(path.stat().st_mode):
+                continue  # /dev/null, /dev/stdout: writing twice is harmless
+        except (OSError, ValueError):
+            pass
+        key = os.path.realpath(path)
+        if key in seen:
+            raise UsageError(
+                f"{label}: the same file as {seen[key]}; give each report its own file"
+            )
+        seen[key] = label
 
 
 def _cores() -> int:

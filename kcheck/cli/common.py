@@ -33,10 +33,18 @@ def fail(message: str) -> int:
     return ExitCode.USAGE_OR_INPUT
 
 
-def write_text(text: str, output: Path | None) -> None:
-    """Write a document to stdout, or to a file (its folder created)."""
+def write_text(text: str, output: Path | None, what: str = "--output") -> None:
+    """Write a document to stdout, or to a file (its folder created); a file that cannot be
+    written is a UsageError naming it (and the option ``what``)."""
+    from kcheck.errors import UsageError
+    from kcheck.paths import check_output_file, describe_os_error
+
     if output is None:
         sys.stdout.write(text)
-    else:
+        return
+    check_output_file(output, what)
+    try:
         output.parent.mkdir(parents=True, exist_ok=True)
-        output.write_text(text, encoding="utf-8")
+        output.write_text(text, encoding="utf-8", errors="backslashreplace")
+    except OSError as exc:
+        raise UsageError(f"{what} {output}: {describe_os_error(exc)}") from None

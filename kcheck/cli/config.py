@@ -315,8 +315,16 @@ def _shown(config: Config, name: str) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Print the effective configuration."""
+    """Print the effective configuration (an unknown format is an error, as for `check`)."""
+    from kcheck.report import FORMATS
+
     config = effective_config(args)
+    if config["format"] not in FORMATS:
+        where = "--format" if config.sources["format"] == "command line" else config.where("format")
+        raise UsageError(
+            f"{where}: unknown format `{config['format']}`{did_you_mean(config['format'], FORMATS)}"
+            f"; known: {', '.join(FORMATS)}"
+        )
     if args.json:
         doc = {
             "file": None if config.file is None else str(config.file),

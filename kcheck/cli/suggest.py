@@ -95,24 +95,30 @@ def add_parser(sub: Any) -> None:
 
 
 def _usage(args: argparse.Namespace) -> str | None:
+    from kcheck.scene.limits import LIMITS
+
+    top_force = LIMITS["force"].high  # as a scene's load
     if args.points < 1 or args.directions < 10 or args.top < 1 or args.jobs < 1:
         return "--points, --top and --jobs must be at least 1 and --directions at least 10"
-    if args.magnitude is not None and not args.magnitude > 0:
-        return "--magnitude must be positive (N)"
+    if args.magnitude is not None and not 0 < args.magnitude <= top_force:
+        return f"--magnitude must be positive and at most {top_force:g} (N)"
     if args.friction is not None:
         lo, hi = args.friction
-        if not 0 <= lo <= hi:
-            return "--friction needs 0 <= MIN <= MAX"
+        top_mu = LIMITS["friction"].high  # as a scene's friction
+        if not 0 <= lo <= hi <= top_mu:
+            return f"--friction needs 0 <= MIN <= MAX <= {top_mu:g}"
         if args.friction_samples < 1:
             return "--friction-samples must be at least 1"
     if args.box is not None and any(a > b for a, b in zip(args.box[:3], args.box[3:], strict=True)):
         return "--box needs XMIN <= XMAX, YMIN <= YMAX and ZMIN <= ZMAX"
     if args.plot is not None and args.plot.suffix.lower() not in (".png", ".svg"):
         return f"--plot {args.plot}: expected a .png or .svg file"
-    if args.plot is not None:
-        from kcheck.paths import check_output_file
+    from kcheck.paths import check_output_file
 
+    if args.plot is not None:
         check_output_file(args.plot, "--plot")  # before the search, not after it
+    if args.write is not None:
+        check_output_file(args.write, "--write")
     return None
 
 
@@ -458,9 +464,9 @@ def write_scene(scene: Scene, best: Candidate, magnitude: float, target: Path) -
     import os
 
     import numpy as np
-    import yaml
 
-    from kcheck.yamlio import load_yaml
+    from kcheck.cli.common import write_text
+    from kcheck.yamlio import dump_yaml, load_yaml
 
     data, _ = load_yaml(scene.path)
     load = dict(data.get("load") or {})
@@ -486,5 +492,5 @@ def write_scene(scene: Scene, best: Candidate, magnitude: float, target: Path) -
         f"# Written by kcheck suggest from {scene.path.name}: the load moved to the best "
         f"candidate (margin {np.degrees(best.margin):.2f} deg).\n"
     )
-    target.parent.mkdir(parents=True, exist_ok=True)
-    target.write_text(header + yaml.safe_dump(data, sort_keys=False), encoding="utf-8")
+    # kcheck's own writer: YAML 1.2 scalars, as the scene is read back (a name `1e3` quoted).
+    write_text(header + dump_yaml(data), target, "--write")

@@ -29,9 +29,9 @@ SCHEMA_URI = "https://json.schemastore.org/sarif-2.1.0.json"
 def artifact_uri(path: str) -> str:
     """A relative path as a relative URI reference; an absolute one as a ``file:`` URI."""
     pure = PurePath(path)
-    if pure.is_absolute():
-        return "file://" + quote(pure.as_posix())
-    return quote(pure.as_posix())
+    # A file name that is not UTF-8 reaches Python as lone surrogates: back to its bytes.
+    uri = quote(pure.as_posix(), errors="surrogateescape")
+    return "file://" + uri if pure.is_absolute() else uri
 
 
 def _rule_text(rule: str, summaries: dict[str, str]) -> str:

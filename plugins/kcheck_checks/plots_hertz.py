@@ -69,13 +69,15 @@ def _ellipse_panel(ax: Any, contacts: list[dict[str, Any]]) -> None:
     from matplotlib.patches import Ellipse
 
     sizes = np.array([c["semi_axes"] for c in contacts]) * 1e6
-    pitch = 2.6 * float(sizes.max()) if sizes.max() > 0 else 1.0
+    # No contact carries load (every ellipse a point): a panel one micrometre tall.
+    top = float(sizes.max()) if sizes.max() > 0 else 1.0
+    pitch = 2.6 * top
     for i, (c, (a, b)) in enumerate(zip(contacts, sizes, strict=True)):
         ax.add_patch(Ellipse((i * pitch, 0), 2 * a, 2 * b, color="tab:blue", alpha=0.6))
-        ax.annotate(c["support"], (i * pitch, -1.25 * sizes.max()), ha="center", fontsize=7)
+        ax.annotate(c["support"], (i * pitch, -1.25 * top), ha="center", fontsize=7)
     # a scale bar of a round length about the largest semi-axis
-    bar = 10 ** np.floor(np.log10(sizes.max())) if sizes.max() > 0 else 1.0
-    y = 1.35 * sizes.max()
+    bar = 10 ** np.floor(np.log10(top))
+    y = 1.35 * top
     ax.plot([-pitch / 2 + 0.1 * pitch, -pitch / 2 + 0.1 * pitch + bar], [y, y], color="black")
     ax.annotate(
         f"{bar:g} µm",
@@ -85,7 +87,7 @@ def _ellipse_panel(ax: Any, contacts: list[dict[str, Any]]) -> None:
         fontsize=8,
     )
     ax.set_xlim(-pitch / 2, (len(contacts) - 0.5) * pitch)
-    ax.set_ylim(-1.5 * sizes.max(), 1.6 * sizes.max())
+    ax.set_ylim(-1.5 * top, 1.6 * top)
     ax.set_aspect("equal")
     ax.set_xticks([])
     ax.set_yticks([])

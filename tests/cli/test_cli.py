@@ -175,3 +175,12 @@ def test_colour_follows_tty_no_color_and_flag(write_scene):
     assert "\x1b[" in _run(["check", path, "--color", "always"]).stdout
     assert "\x1b[" in _run(["check", path], FORCE_COLOR="1").stdout
     assert "\x1b[" not in _run(["check", path], FORCE_COLOR="1", NO_COLOR="1").stdout
+
+
+def test_an_ascii_terminal_gets_escapes_not_a_traceback():
+    # Fuzz finding (issue 13): with an ASCII stdout the text report died on the first '±'.
+    # What the terminal cannot show is escaped (the text report may choose better words).
+    kelvin = str(FIXTURES / "kelvin")
+    proc = _run(["check", kelvin], PYTHONIOENCODING="ascii")
+    assert proc.returncode == 0 and "Traceback" not in proc.stderr
+    assert "Kelvin coupling" in proc.stdout

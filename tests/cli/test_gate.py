@@ -295,3 +295,56 @@ def test_pydantic_plugins_skipped_unless_the_user_chose():
     chosen = {**env, "PYDANTIC_DISABLE_PLUGINS": "logfire"}
     proc = subprocess.run([sys.executable, "-c", probe], env=chosen, capture_output=True, text=True)
     assert proc.stderr.split()[-1] == "logfire"
+
+
+# -- fuzz findings (issue 13) --------------------------------------------------------------
+
+
+def test_two_reports_to_one_file_is_a_usage_error(cli, write_scene, tmp_path):
+    # The fuzzer found `--output a.json --output-format junit:a.json` exiting 0 with a JSON
+    # file that held JUnit XML: each report overwrote the other.
+    scene = str(write_scene(PLANAR_SCENE))
+    a = str(tmp_path / "a.json")
+    for options in (
+        ["--output", a, "--output-format", f"junit:{a}"],
+        ["--output-format", f"sarif:{a}", "--output-format", f"junit:{tmp_path}/./a.json"],
+    ):
+        code, out, err = cli("check", scene, "--format", "json", *options)
+        assert code == 2 and out == "" and "the same file as" in err
+    code, _, _ = cli("check", scene, "--output", "/dev/null", "--output-format", "sarif:/dev/null")
+    assert code == 0  # a device may take both
+
+
+def test_a_pipe_nobody_reads_as_output_is_an_error_not_a_hang(cli, write_scene, tmp_path):
+    os.mkfifo(tmp_path / "pipe")
+    code, _, err = cli("check", str(write_scene(PLANAR_SCENE)), "--output", str(tmp_path / "pipe"))
+    assert code == 2 and "a pipe that nobody reads" in err
+
+
+def test_file_size_limits_from_configuration(cli_json, write_scene, tmp_path):
+    # `max_file_size` was read from the configuration but never reached the loader.
+    import trimesh
+
+    scene = write_scene(
+        PLANAR_SCENE.replace(
+            "  mass: 1\n  center_of_mass: [50, 30, 0]\n  inertia: 0.001\n", ""
+        ).replace("body:\n", "body: {mesh: box.stl, material: aluminium}\n")
+    )
+    trimesh.creation.box(extents=(100, 60, 20)).export(tmp_path / "box.stl")
+    config = tmp_path / "k.toml"
+    config.write_text("max_file_size = 0.0001\n")  # 105 bytes
+    code, doc = cli_json(str(scene), "--config", str(config))
+    assert code == 2 and "larger than 9.91821e-05 MiB" in doc["scenes"][0]["error"]
+    assert "max_file_size" in doc["scenes"][0]["error"]
+    config.write_text("max_mesh_size = 0.0001\n")
+    code, doc = cli_json(str(scene), "--config", str(config))
+    assert code == 2 and "684 bytes, more than the limit of 104 bytes" in doc["scenes"][0]["error"]
+    assert doc["scenes"][0]["errors"][0]["field"] == "body.mesh"
+
+
+@pytest.mark.parametrize("option", [["--timeout", "1e300"], ["--memory-limit", "1e30"]])
+def test_budgets_too_large_to_matter_are_no_budget(cli_json, write_scene, option):
+    # Fuzz findings (issue 13): `--timeout 1e300` overflowed select()'s time_t in the pool
+    # (a traceback), and `--memory-limit 1e30` made every worker die on setrlimit.
+    code, doc = cli_json(str(write_scene(PLANAR_SCENE)), "-j", "1", *option)
+    assert code == 0 and doc["scenes"][0]["status"] == "pass"

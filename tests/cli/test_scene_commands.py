@@ -10,6 +10,7 @@ import trimesh
 
 from kcheck.cli.init import guess_units
 from kcheck.scene import load_scene
+from tests.conftest import FIXTURES
 
 
 def _plate(path: Path, extents=(120.0, 80.0, 15.0)) -> Path:
@@ -84,3 +85,12 @@ def test_mass_of_several_meshes_with_bounds(cli, tmp_path):
     masses = [m["mass"] for m in doc["meshes"]]
     assert masses[2] == pytest.approx(masses[0] + masses[1])
     assert cli("mass", str(a), "--material", "steel")[0] == 2  # STL needs --units
+
+
+def test_expand_to_an_unwritable_output_is_a_usage_error(cli):
+    # Fuzz finding (issue 13): `kcheck expand --output /dev/full` ended in a traceback.
+    scene = str(FIXTURES / "kelvin" / "coupling.kcheck.yaml")
+    for target in ("/dev/full", "/proc/kcheck.yaml"):
+        code, out, err = cli("expand", scene, "--output", target)
+        assert code == 2 and out == "" and err.startswith("kcheck: error:") and target in err
+        assert "Traceback" not in err

@@ -147,3 +147,31 @@ def test_suggestion_over_the_scene_friction_range(cli, fixture_copy):
         "suggest", str(scene), *FAST, "--format", "json", "--friction", "0.05", "0.15"
     )
     assert json.loads(again)["best"][0]["margin_deg"] == pytest.approx(best["margin_deg"])
+
+
+def test_write_is_checked_before_the_search_and_read_back_as_written(cli, fixture_copy):
+    # Fuzz finding (issue 13): `--write /dev/full` ended in a traceback after the search; and
+    # the scene was written by PyYAML (YAML 1.1), so a name `1e3` came back as a number.
+    folder = fixture_copy("three-groove")
+    code, out, err = cli("suggest", str(folder / "coupling.kcheck.yaml"), "--write", "/dev/full")
+    assert code == 2 and out == "" and err.startswith("kcheck: error: --write /dev/full")
+    scene = folder / "coupling.kcheck.yaml"
+    scene.write_text(scene.read_text().replace("name: three-groove", "name: '1e3' #"))
+    code, _, _ = cli("suggest", str(scene), *FAST, "--write", str(folder / "s.kcheck.yaml"))
+    assert code == 0
+    from kcheck.scene import load_scene
+
+    assert load_scene(folder / "s.kcheck.yaml").name == "1e3"
+
+
+@pytest.mark.parametrize(
+    "option",
+    [["--magnitude", "inf"], ["--magnitude", "1e300"], ["--friction", "0", "1e308"]],
+)
+def test_numbers_past_the_scene_ranges_are_usage_errors(cli, option):
+    # Fuzz finding (issue 13): `--magnitude inf` ran the search and printed numpy's
+    # RuntimeWarning; `--friction 0 1e308` blamed the coupling ("no unique motion").
+    scene = str(FIXTURES / "kelvin" / "coupling.kcheck.yaml")
+    code, out, err = cli("suggest", scene, *option)
+    assert code == 2 and out == ""
+    assert "at most 1e+07" in err or "<= MAX <= 100" in err

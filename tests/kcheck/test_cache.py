@@ -30,9 +30,9 @@ def computed(monkeypatch: pytest.MonkeyPatch) -> list[int]:
     calls: list[int] = []
     real = kcheck.mass.body_mass_properties
 
-    def counting(body, scale):
+    def counting(body, scale, max_mesh_bytes=None):
         calls.append(1)
-        return real(body, scale)
+        return real(body, scale, max_mesh_bytes)
 
     monkeypatch.setattr(kcheck.mass, "body_mass_properties", counting)
     return calls

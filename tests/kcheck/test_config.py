@@ -155,3 +155,34 @@ def test_check_tables_validated_against_installed_checks(project, cli, table, ex
     (project / "kcheck.toml").write_text(table)
     code, _, err = cli("check", ".")
     assert code == 2 and expected in err, err
+
+
+@pytest.mark.parametrize("target", ["/dev/zero", "pipe"])
+def test_a_device_or_pipe_as_configuration_is_refused_at_once(project, target):
+    # Fuzz finding (issue 13): `--config /dev/zero` read until 23 GB of memory were taken,
+    # and `--config pipe` waited forever for a writer.
+    import os
+
+    if target == "pipe":
+        os.mkfifo(project / "pipe")
+        target = str(project / "pipe")
+    with pytest.raises(ConfigError) as info:
+        load_config(Path(target))
+    assert "not a regular file" in str(info.value)
+
+
+def test_configuration_that_is_not_utf8(project):
+    (project / "kcheck.toml").write_bytes("select = ['maxwell']  # Größe\n".encode("latin-1"))
+    with pytest.raises(ConfigError) as info:
+        load_config()
+    assert "not UTF-8" in str(info.value)
+
+
+def test_kcheck_config_refuses_an_unknown_format(project, cli):
+    # Fuzz finding (issue 13): `kcheck config --format nope` showed the value and exited 0,
+    # where `kcheck check` refuses it.
+    code, _, err = cli("config", "--format", "jsn")
+    assert code == 2 and "unknown format `jsn` (did you mean `json`?)" in err
+    (project / "kcheck.toml").write_text('format = "nope"\n')
+    code, _, err = cli("config")
+    assert code == 2 and "kcheck.toml: `format`: unknown format `nope`" in err

@@ -287,3 +287,21 @@ def test_machine_formats_survive_an_ascii_stream(fmt):
     assert "\ud800" not in text
     if fmt in ("json", "sarif", "junit"):
         text.encode("ascii")
+
+
+def test_a_file_name_that_is_not_utf8_in_every_format():
+    # Fuzz finding (issue 13): a scene file named with bytes that are not UTF-8 reaches Python
+    # as lone surrogates; SARIF's artifact URI raised UnicodeEncodeError and the run died.
+    odd = SceneResult(
+        path="parts/\udcff\udcfe.kcheck.yaml",
+        status=Status.ERROR,
+        error="parts/\udcff\udcfe.kcheck.yaml:1: field `version`: required field is missing",
+        errors=(Finding("required field is missing", field=("version",), line=1),),
+    )
+    doc = json.loads(render("sarif", results=(odd,)))
+    validate_sarif(doc)
+    (result,) = doc["runs"][0]["results"]
+    uri = result["locations"][0]["physicalLocation"]["artifactLocation"]["uri"]
+    assert uri == "parts/%FF%FE.kcheck.yaml"  # the file's own bytes, percent-encoded
+    for fmt in FORMATS:
+        assert "kcheck.yaml" in render(fmt, results=(odd,))

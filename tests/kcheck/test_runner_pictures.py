@@ -63,3 +63,25 @@ def test_formats_on_request(write_scene, tmp_path: Path) -> None:
     (result,) = run_batch([scene], [_loaded()], settings)
     assert sorted(Path(p).name for p in result.plots) == ["fine.png", "fine.svg"]
     assert (tmp_path / "fine.svg").read_text(encoding="utf-8").lstrip().startswith("<?xml")
+
+
+def test_names_the_font_lacks_or_too_long_to_fit_draw_without_warnings(tmp_path: Path) -> None:
+    # Fuzz findings (campaign seed 4242: mutation-4242-891, -960): a support named in Chinese
+    # and one named with 200 characters made matplotlib print "Glyph ... missing from font"
+    # and "constrained_layout not applied" on stderr, where only kcheck's lines belong. The
+    # pictures are still written (boxes for the glyphs; no layout for the crowded one).
+    import warnings
+
+    import pytest
+
+    pytest.importorskip("matplotlib")
+    from kcheck.plotting import figure, formats, save
+
+    fig = figure(figsize=(2.0, 1.5))
+    ax = fig.add_subplot()
+    ax.bar(["支点", "x" * 200], [1.0, 2.0])
+    ax.set_title("支点 load")
+    with warnings.catch_warnings(), formats(("png", "svg")):
+        warnings.simplefilter("error")
+        files = save(fig, tmp_path, "crowded")
+    assert [f.suffix for f in files] == [".png", ".svg"] and all(f.stat().st_size for f in files)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from kcheck.errors import SceneError
-from kcheck.yamlio import load_yaml
+from kcheck.yamlio import HAVE_LIBYAML, load_yaml, read_yaml
 
 
 def test_exponent_without_dot_is_a_number(tmp_path):
@@ -55,3 +55,28 @@ def test_empty_file(tmp_path):
     path.write_text("# nothing\n")
     with pytest.raises(SceneError, match="empty"):
         load_yaml(path)
+
+
+@pytest.mark.parametrize("backend", ["c", "python"] if HAVE_LIBYAML else ["python"])
+def test_control_character_is_located(tmp_path, backend):
+    # Fuzz finding (issue 13): a control character gave "YAML error: ... position 518" with
+    # no line. Non-ASCII text before it: libyaml counts bytes, PyYAML characters.
+    path = tmp_path / "a.yaml"
+    path.write_text("name: Größe\nfriction: 0.\x011\n", encoding="utf-8")
+    with pytest.raises(SceneError) as info:
+        read_yaml(path, backend=backend)
+    err = info.value
+    assert (err.line, err.column) == (2, 13)
+    assert "U+0001" in err.message and "position" not in err.message
+
+
+def test_a_pipe_or_device_is_refused_without_blocking(tmp_path):
+    # Fuzz finding (issue 13): `kcheck expand pipe` hung opening a FIFO nobody writes to.
+    import os
+
+    pipe = tmp_path / "pipe.kcheck.yaml"
+    os.mkfifo(pipe)
+    for path in (pipe, "/dev/zero"):
+        with pytest.raises(SceneError) as info:
+            read_yaml(path)
+        assert "not a regular file" in info.value.message

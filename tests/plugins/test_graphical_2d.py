@@ -494,9 +494,9 @@ def test_centre_of_mass_comes_from_the_runner_once(monkeypatch: pytest.MonkeyPat
     calls: list[Path] = []
     original = kcheck.mass.load_mesh
 
-    def counting(path: Path, scale: float, field: object) -> object:
+    def counting(path: Path, scale: float, field: object, **kwargs: object) -> object:
         calls.append(path)
-        return original(path, scale, field)
+        return original(path, scale, field, **kwargs)
 
     monkeypatch.setattr(kcheck.mass, "load_mesh", counting)
     scene = Path(__file__).resolve().parents[2] / "fixtures" / "planar-block" / "block.kcheck.yaml"

@@ -25,7 +25,7 @@ from kcheck.mass import MassProperties
 from kcheck.plugin import Inputs, load_checks
 from kcheck.result import Status
 from kcheck.runner import check_scene
-from kcheck.scene import Preload
+from kcheck.scene import Preload, load_scene
 from tests.conftest import FIXTURES
 from tests.couplings import ball_cylinders, coupling_scene, kelvin, three_vee, with_preloads
 
@@ -305,3 +305,23 @@ def test_assumed_materials_are_named(three_vee_scene):
     assert "materials assumed: 52100 balls and 52100 seats" in assumed
     chosen = _run(three_vee_scene, ball_material="si3n4").message
     assert "materials assumed" not in chosen
+
+
+def test_picture_when_no_contact_carries_load(tmp_path):
+    # Fuzz finding (suite seed 13, extreme-13-5): the closing force of three-groove-beta-35
+    # turned to +z lifts every ball, so every contact ellipse is a point; the ellipse panel
+    # set equal y-limits and matplotlib printed a UserWarning on stderr.
+    import warnings
+
+    pytest.importorskip("matplotlib")
+    folder = tmp_path / "scene"
+    shutil.copytree(FIXTURES / "three-groove-beta-35", folder)
+    path = folder / "coupling.kcheck.yaml"
+    path.write_text(path.read_text().replace("direction: [0, 0, -1]", "direction: [0, 0, 1]"))
+    inputs = Inputs(load_scene(path), None, HertzOptions())
+    result = Hertz().run(inputs)
+    assert all(c["semi_axes"] == [0.0, 0.0] for c in result.details["contacts"])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        files = Hertz().plot(inputs, result, tmp_path / "plots")
+    assert [f.suffix for f in files] == [".png"] and files[0].stat().st_size

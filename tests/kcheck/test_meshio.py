@@ -1,0 +1,150 @@
+"""Reading mesh files: what the fuzzer of issue 13 found broken, each as a regression test.
+
+A mesh file is gated before trimesh sees it (a regular file within the size limit), its
+coordinates are checked before trimesh processes them (processing casts them to integers),
+OpenCASCADE's diagnostics never reach the terminal, and the mass a mesh gives must lie in
+the range an explicit mass must (docs/scene-format.md, "Limits").
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from kcheck.errors import MeshError
+from kcheck.mass import body_mass_properties, mesh_mass_properties
+from kcheck.meshio import load_mesh
+from kcheck.scene import load_scene
+from tests.conftest import FIXTURES
+
+
+def _box(path: Path, size: float) -> Path:
+    trimesh.creation.box(extents=(size, size, size)).export(path)
+    return path
+
+
+def test_a_mesh_past_the_size_limit_is_refused_unread(tmp_path):
+    path = _box(tmp_path / "box.stl", 10.0)
+    size = path.stat().st_size
+    with pytest.raises(MeshError) as info:
+        load_mesh(path, 1e-3, ("body", "mesh"), max_bytes=size - 1)
+    assert "more than the limit" in info.value.message and "max_mesh_size" in info.value.message
+    assert load_mesh(path, 1e-3, ("body", "mesh"), max_bytes=size).faces.shape == (12, 3)
+
+
+def test_a_sparse_file_of_gigabytes_is_refused_at_once(tmp_path):
+    # Fuzz finding: a 200 MiB STL of zero bytes took 530 MB of memory before it was refused.
+    path = tmp_path / "huge.stl"
+    with open(path, "wb") as handle:
+        handle.truncate(2 * 2**30)
+    with pytest.raises(MeshError) as info:
+        load_mesh(path, 1e-3, ("body", "mesh"))
+    assert "2048.0 MiB" in info.value.message
+
+
+def test_a_pipe_is_not_a_mesh(tmp_path):
+    pipe = tmp_path / "pipe.stl"
+    os.mkfifo(pipe)
+    with pytest.raises(MeshError) as info:
+        load_mesh(pipe, 1.0, ("body", "mesh"))
+    assert "not a regular file" in info.value.message
+
+
+@pytest.mark.parametrize("size", [1e12, 1e30])
+def test_huge_coordinates_are_refused_without_a_warning(tmp_path, size):
+    # Fuzz finding: trimesh's vertex merging cast 1e12 mm * 1e8 to int64 and printed
+    # "RuntimeWarning: invalid value encountered in cast" on stderr.
+    path = _box(tmp_path / "box.stl", size)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(MeshError) as info:
+            load_mesh(path, 1e-3, ("body", "mesh"))
+    assert "beyond 1000 m" in info.value.message and "units" in info.value.message
+
+
+def test_non_finite_vertices_are_refused_without_a_warning(tmp_path):
+    mesh = trimesh.creation.box(extents=(1, 1, 1))
+    vertices = mesh.vertices.copy()
+    vertices[3, 1] = np.nan
+    path = tmp_path / "nan.stl"
+    trimesh.Trimesh(vertices, mesh.faces, process=False).export(path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(MeshError) as info:
+            load_mesh(path, 1.0, ("body", "mesh"))
+    assert "non-finite" in info.value.message
+
+
+def test_a_mass_outside_the_documented_range_is_refused(tmp_path):
+    # A 10 um aluminium cube weighs 2.7e-12 kg: below 1e-9 kg, the least an explicit mass may
+    # be; computed from a mesh it is refused the same way (a wrong unit, most likely).
+    mesh = load_mesh(_box(tmp_path / "tiny.stl", 10.0), 1e-6, ("body", "mesh"))
+    with pytest.raises(MeshError) as info:
+        mesh_mass_properties(mesh, 2700.0, tmp_path / "tiny.stl", ("body", "mesh"))
+    assert "1e-09 ≤ mass ≤ 1e+06 kg" in info.value.message and "2.7e-12 kg" in info.value.message
+
+
+def test_broken_step_says_why_and_prints_nothing(tmp_path, capfd):
+    # Fuzz finding: OpenCASCADE printed its diagnostics straight to file descriptors 1 and 2
+    # (into a JSON report on stdout), and the error named a missing temporary file.
+    pytest.importorskip("cascadio")
+    path = tmp_path / "broken.step"
+    path.write_text("ISO-10303-21;\nHEADER;\nENDSEC;\nDATA;\n#1=GARBAGE((((;\n")
+    with pytest.raises(MeshError) as info:
+        load_mesh(path, 1.0, ("body", "mesh"))
+    out, err = capfd.readouterr()
+    assert out == "" and err == ""
+    assert "OpenCASCADE" in info.value.message and "Line 6" in info.value.message
+    assert "converted.glb" not in info.value.message
+
+
+def test_mass_properties_of_a_scene_respect_the_configured_limit(tmp_path):
+    _box(tmp_path / "box.stl", 10.0)
+    (tmp_path / "s.kcheck.yaml").write_text(
+        "version: 1\nunits: mm\nbody: {mesh: box.stl, material: steel}\n"
+        "supports:\n"
+        "  - {name: a, position: [0, 0, 0], normal: [1, 0, 0]}\n"
+        "  - {name: b, position: [0, 1, 0], normal: [1, 0, 0]}\n"
+        "  - {name: c, position: [1, 0, 0], normal: [0, 1, 0]}\n"
+    )
+    scene = load_scene(tmp_path / "s.kcheck.yaml")
+    assert body_mass_properties(scene.body).mass == pytest.approx(7850 * 1e-6)
+    with pytest.raises(MeshError):
+        body_mass_properties(scene.body, max_mesh_bytes=100)
+
+
+def test_repairing_a_flat_mesh_is_refused_without_a_warning(tmp_path):
+    # Fuzz finding: `repair: true` on a mesh flattened to a plane printed trimesh's
+    # "RuntimeWarning: invalid value encountered in divide" (centre of mass over volume 0).
+    plate = trimesh.load_mesh(FIXTURES / "maxwell-three-vee" / "plate.stl", process=False)
+    vertices = plate.vertices.copy()
+    vertices[:, 0] = 0.0  # the round plate squashed flat: its outline is kept, its volume not
+    path = tmp_path / "flat.stl"
+    trimesh.Trimesh(vertices, plate.faces, process=False).export(path)
+    mesh = load_mesh(path, 1e-3, ("body", "mesh"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(MeshError) as info:
+            mesh_mass_properties(mesh, 2700.0, path, ("body", "mesh"), repair=True)
+    assert "degenerate" in info.value.message or "volume" in info.value.message
+
+
+def test_signalling_nan_face_normals_in_a_binary_stl_are_read_without_a_warning(tmp_path):
+    # Fuzz finding (campaign seed 4242, mesh-4242-815, 134 random bytes): a binary STL whose
+    # stored face normals are signalling NaNs printed numpy's "RuntimeWarning: invalid value
+    # encountered in cast" from trimesh. kcheck never uses the stored normals.
+    raw = bytearray(_box(tmp_path / "box.stl", 10.0).read_bytes())
+    count = int.from_bytes(raw[80:84], "little")
+    for i in range(count):  # 84-byte head, then 50 bytes a facet: normal first
+        raw[84 + 50 * i : 88 + 50 * i] = (0x7FA00000).to_bytes(4, "little")  # sNaN (float32)
+    path = tmp_path / "nan-normals.stl"
+    path.write_bytes(raw)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mesh = load_mesh(path, 1e-3, ("body", "mesh"))
+    assert mesh.faces.shape == (12, 3) and np.allclose(mesh.extents, 0.01)
