@@ -370,6 +370,12 @@ def _solve_conic(
         rhs = np.append(rhs, 1.0)
         cones.append(clarabel.NonnegativeConeT(1))
         cost[-1] = 1.0
+    # A support only pushes: f_n >= 0 (the cone implies it only where mu > 0).
+    pushes = np.zeros((k, size))
+    pushes[np.arange(k), 3 * np.arange(k)] = -1.0
+    cone_rows = np.vstack([cone_rows, pushes])
+    rhs = np.append(rhs, np.zeros(k))
+    cones.append(clarabel.NonnegativeConeT(k))
     settings = clarabel.DefaultSettings()
     settings.verbose = False
     solver = clarabel.DefaultSolver(

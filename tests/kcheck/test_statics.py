@@ -201,6 +201,18 @@ def test_conic_solver_forces_balance_and_lie_in_the_cones() -> None:
     assert equilibrium_forces(statics, keep, statics.wrench(np.array([0, 0, 1.0]))) is None
 
 
+def test_frictionless_supports_only_push() -> None:
+    """With μ = 0 the friction cone is the normal ray: a support may push, never pull. A load
+    lifting the block off its z supports cannot be held (before, the conic problem let the
+    frictionless supports pull with N = -0.25, -0.25, -0.5); one pressing it down can."""
+    statics = spatial_block(0.0)
+    keep = np.arange(5)  # x1 retracted
+    assert equilibrium_forces(statics, keep, statics.wrench(np.array([0, 0, 1.0]))) is None
+    assert not holds_exactly(statics, keep, statics.wrench(np.array([0, 0, 1.0])))
+    down = equilibrium_forces(statics, np.arange(6), statics.wrench(np.array([0, 0, -1.0])))
+    assert down is not None and np.all(np.sum(down * statics.normals, axis=1) >= -1e-9)
+
+
 def test_planar_least_friction_from_candidates_equals_bisection() -> None:
     """The exact least friction (the least feasible root of the pair determinants,
     ``friction_candidates``) against the bisection it replaces, run to 1e-10: 20 random
