@@ -17,6 +17,9 @@ from kcheck_checks.jamming import Jamming, JammingOptions
 from kcheck_checks.jamming_cases import analyse_jamming, case_arcs, jam_map, jam_statics
 from scipy.optimize import linprog
 
+from kcheck.least_friction import (
+    least_friction,
+)
 from kcheck.mass import body_mass_properties
 from kcheck.plugin import Inputs
 from kcheck.scene import load_scene
@@ -25,7 +28,6 @@ from kcheck.statics import (
     equilibrium_forces,
     friction_edges,
     holds_exactly,
-    least_friction,
 )
 
 ROOT = Path(__file__).resolve().parents[1]

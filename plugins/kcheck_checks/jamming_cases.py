@@ -27,6 +27,12 @@ import numpy as np
 
 from kcheck.arcs import ArcSet, complement, intersect, positive_arc
 from kcheck.kinematics import FreeTwist, free_twist
+from kcheck.least_friction import (
+    friction_candidates,
+    least_friction,
+    least_friction_exactly,
+    rough_supports,
+)
 from kcheck.mass import MassProperties
 from kcheck.scene import Scene
 from kcheck.statics import (
@@ -37,12 +43,8 @@ from kcheck.statics import (
     closing_condition,
     equilibria,
     forward_limit,
-    friction_candidates,
     holds,
     holds_exactly,
-    least_friction,
-    least_friction_exactly,
-    rough_supports,
 )
 
 __all__ = [

@@ -15,6 +15,9 @@ from scipy.optimize import nnls
 from kcheck.arcs import TAU, contains
 from kcheck.cones import cone_facets
 from kcheck.kinematics import free_twist, wrenches
+from kcheck.least_friction import (
+    least_friction,
+)
 from kcheck.statics import (
     build_statics,
     closing_condition,
@@ -24,7 +27,6 @@ from kcheck.statics import (
     friction_edges,
     holds,
     holds_exactly,
-    least_friction,
 )
 
 MU = 0.1
@@ -222,7 +224,7 @@ def test_planar_least_friction_from_candidates_equals_bisection() -> None:
     rounding of the polynomial roots; the worst seen, 7e-9, at mu = 42) or 1e-9 absolute
     (``holds`` accepts a wrench within 1e-10 of a facet, so the bisection may stop that far
     below); the result holds, and that far below it does not (it is the least)."""
-    from kcheck.statics import friction_candidates
+    from kcheck.least_friction import friction_candidates
 
     rng = np.random.default_rng(11)
     compared = infeasible = 0
@@ -260,7 +262,7 @@ def test_spatial_least_friction_by_fractional_steps_equals_bisection() -> None:
     reference), on the spatial block: two retracted supports, 8 load directions, all
     supports rough or z2 frictionless. It is never below the reference by more than the
     solver's tolerance, and within the requested 1e-4 above it."""
-    from kcheck.statics import least_friction_exactly
+    from kcheck.least_friction import least_friction_exactly
 
     statics = spatial_block(MU)
     rng = np.random.default_rng(2)
