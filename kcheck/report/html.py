@@ -10,6 +10,7 @@ What is said comes from :mod:`kcheck.report.views`, like the text report.
 from __future__ import annotations
 
 import datetime
+import io
 import re
 from collections.abc import Sequence
 from html import escape
@@ -22,7 +23,7 @@ from kcheck.report import ReportOptions, tables, views
 from kcheck.report.safe import printable
 from kcheck.result import CheckResult, SceneResult, Status
 
-__all__ = ["HtmlReporter", "render_page"]
+__all__ = ["HtmlReporter", "render_page", "write_page"]
 
 #: Nothing may be fetched: no scripts, fonts, images or styles from anywhere.
 CSP = "default-src 'none'; style-src 'unsafe-inline'; img-src data:"
@@ -216,11 +217,32 @@ def render_page(
     scenes: Sequence[SceneResult], elapsed_s: float, pictures: Sequence[dict[str, str]]
 ) -> str:
     """The whole page; ``pictures[i]`` maps picture file names of scene ``i`` to SVG."""
+    page = io.StringIO()
+    write_page(page, scenes, elapsed_s, pictures)
+    return page.getvalue()
+
+
+def write_page(
+    stream: TextIO,
+    scenes: Sequence[SceneResult],
+    elapsed_s: float,
+    pictures: Sequence[dict[str, str]],
+) -> None:
+    """Write the page to ``stream`` a scene at a time: a page of a hundred scenes with
+    pictures is some 70 MB, and joined whole it was held four times over (issue 13)."""
     n = views.counts(scenes)
     worst = next((k for k in ("error", "fail", "warn") if n[k]), "pass")
     style = resources.files("kcheck.report").joinpath("report.css").read_text(encoding="utf-8")
     when = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
-    body = [
+    stream.write(
+        "<!DOCTYPE html>\n"
+        '<html lang="en"><head><meta charset="utf-8">'
+        f'<meta http-equiv="Content-Security-Policy" content="{CSP}">'
+        '<meta name="viewport" content="width=device-width, initial-scale=1">'
+        f"<title>kcheck report: {_e(views.run_line(scenes, elapsed_s))}</title>"
+        f"<style>{style}</style></head><body>"
+    )
+    head = [
         "<main>",
         "<h1>kcheck report</h1>",
         f'<div class="muted small">kcheck {_e(__version__)} · {_e(when)}</div>',
@@ -231,18 +253,12 @@ def render_page(
         _summary(scenes),
         _failures(scenes),
     ]
-    body += [_scene(i, s, pictures[i]) for i, s in enumerate(scenes)]
-    body.append(
+    stream.write("".join(head))
+    for i, s in enumerate(scenes):
+        stream.write(_scene(i, s, pictures[i]))
+    stream.write(
         "<footer>Written by kcheck. Lengths in each scene's units, forces in N, "
-        "accelerations in m/s², angles in degrees.</footer></main>"
-    )
-    return (
-        "<!DOCTYPE html>\n"
-        '<html lang="en"><head><meta charset="utf-8">'
-        f'<meta http-equiv="Content-Security-Policy" content="{CSP}">'
-        '<meta name="viewport" content="width=device-width, initial-scale=1">'
-        f"<title>kcheck report: {_e(views.run_line(scenes, elapsed_s))}</title>"
-        f"<style>{style}</style></head><body>{''.join(body)}</body></html>\n"
+        "accelerations in m/s², angles in degrees.</footer></main></body></html>\n"
     )
 
 
@@ -273,7 +289,7 @@ class HtmlReporter:
 
     def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
         """Write the whole page."""
-        self.stream.write(render_page(self.scenes, elapsed_s, self.pictures))
+        write_page(self.stream, self.scenes, elapsed_s, self.pictures)
 
 
 _ID = re.compile(r'\bid="([^"]+)"')

@@ -56,6 +56,10 @@ VIEWS = (
 AXIS_NAMES = "xyz"
 
 
+#: Tallest a panel of the scene views may be, as a multiple of its width.
+MAX_PANEL_RATIO = 3.0
+
+
 def plot_spatial(
     scene: Scene,
     analysis: Analysis,
@@ -314,8 +318,11 @@ def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
     cols = min(3, n)
     rows = int(np.ceil(n / cols))
     extent = d.hi - d.lo
-    plan_h = max(extent[1] / extent[0], 0.25)
-    elev_h = max(extent[2] / extent[0], 0.25)
+    # Panel heights per width, bounded: a load point 85 m above a 0.1 m block made a figure
+    # of 386 million pixels (1.7 GB and a minute to encode; issue 13's fuzzer). Past the
+    # bound the drawing keeps its true proportions and leaves the panel's width unused.
+    plan_h = min(max(extent[1] / extent[0], 0.25), MAX_PANEL_RATIO)
+    elev_h = min(max(extent[2] / extent[0], 0.25), MAX_PANEL_RATIO)
     width = 4.6
     # The drawing width of a panel (the figure's margins and gaps taken off), in inches.
     drawn = cols * width * 0.94 / (cols + 0.2 * (cols - 1))

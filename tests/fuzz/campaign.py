@@ -3,6 +3,7 @@
     python -m tests.fuzz.campaign --seed 1 --inputs 10000 --report fuzz-report.json
     python -m tests.fuzz.campaign --only mutation-1-4711 --keep /tmp/case   # one input again
     python -m tests.fuzz.campaign --seed 1 --valid-batch 1000   # 1000 valid scenes, one batch
+    python -m tests.fuzz.campaign --seed 1 --inputs 10000 --batch 15   # one batch again
 
 Every input is generated from ``(seed, kind, index)`` alone: the identifier printed with a
 problem (``kind-seed-index``) regenerates it with ``--only``. One kcheck worker (``-j 1``)
@@ -126,11 +127,15 @@ def run_campaign(
     batch_size: int = 100,
     log: Callable[[str], None] = print,
     reports: Sequence[dict[str, str]] = EXTRA_REPORTS,
+    only_batch: int | None = None,
 ) -> None:
-    """Run every input of a plan; problems and statistics end up in ``harness``."""
+    """Run every input of a plan (or only its scene batch number ``only_batch``, with the
+    reports it wrote); problems and statistics end up in ``harness``."""
     scene_refs, cli = survey(seed, counts)
     started = time.monotonic()
     for n, refs in enumerate(batches(seed, scene_refs, batch_size)):
+        if only_batch is not None and n != only_batch:
+            continue
         extra = reports[n % len(reports)]
         batch = [ref.make(seed) for ref in refs]
         found = harness.run_batch(batch, outputs=extra)
@@ -140,7 +145,7 @@ def run_campaign(
         )
         for p in found:
             log(f"  {p.klass}: {p.case}: {p.detail[:300]}")
-    for i, ref in enumerate(cli):
+    for i, ref in enumerate(cli if only_batch is None else ()):
         for p in harness.run_cli(ref.make(seed)):
             log(f"  {p.klass}: {p.case}: {p.detail[:300]}")
         if i % 100 == 99:
@@ -196,6 +201,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     parser.add_argument("--only", help="run one input again: kind-seed-index")
     parser.add_argument("--valid-batch", type=int, metavar="N", help="N valid scenes, one batch")
+    parser.add_argument(
+        "--batch", type=int, metavar="N", help="run scene batch N of the plan again (from 0)"
+    )
     parser.add_argument("--keep", type=Path, help="lay inputs out here and keep them")
     parser.add_argument(
         "--no-extra-reports",
@@ -244,7 +252,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         counts = plan(seed, args.inputs, {k: v / total for k, v in kinds.items()})
         log(f"inputs per kind: {counts}")
         reports = ({},) if args.no_extra_reports else EXTRA_REPORTS
-        run_campaign(harness, seed, counts, batch_size=args.batch_size, log=log, reports=reports)
+        run_campaign(
+            harness,
+            seed,
+            counts,
+            batch_size=args.batch_size,
+            log=log,
+            reports=reports,
+            only_batch=args.batch,
+        )
     result = summary(harness, time.monotonic() - started, seed)
     if args.report:
         args.report.write_text(json.dumps(result, indent=1, ensure_ascii=False) + "\n")

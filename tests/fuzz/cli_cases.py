@@ -285,7 +285,9 @@ def _commands(rng: random.Random) -> Made:
             (["suggest", scene, "--directions", "0"], USAGE),
             (["suggest", scene, "--friction", "1", "0"], USAGE),
             (["suggest", scene, "--friction", "nan", "nan"], USAGE),
-            (["suggest", scene, "--box", "0", "0", "0", "0", "0", "0"], USAGE),
+            # A box of one point is allowed (docs/suggest.md: XMIN <= XMAX); exit 2 only for
+            # a planar scene (campaign seed 4243 expected 2 here, wrongly).
+            (["suggest", scene, "--box", "0", "0", "0", "0", "0", "0"], EITHER),
             (["suggest", scene, "--top", "0"], USAGE),
             (["suggest", scene, "--magnitude", "inf"], USAGE),
             (["suggest", scene, "--magnitude", "-1"], USAGE),

@@ -220,6 +220,8 @@ def _unknown_check(data: dict, rng: random.Random) -> Op:
 
 def _list_edit(data: dict, rng: random.Random) -> Op:
     lists = [p for p, v in walk(data) if p and isinstance(v, list) and v]
+    if not lists:  # an earlier edit deleted or retyped every list
+        return "nothing", ANY, None
     path = rng.choice(lists)
     items = get(data, path)
     vector = len(items) == 3 and all(isinstance(x, (int, float)) for x in items)

@@ -337,3 +337,26 @@ def test_findings_say_why_then_what_to_change() -> None:
     page = render_page([scene], 1.0, [{}])
     assert "retract x3 → y1 loses contact" in page and "line 9" in page
     assert '<span class="hint">move the force towards 310°' in page
+
+
+def test_the_html_page_is_written_a_scene_at_a_time(tmp_path) -> None:
+    """Fuzz finding (campaign seed 4242, batch 15: 105 scenes with --plots and --html): the
+    page of a hundred scenes with pictures (about 70 MB) was joined whole, several copies at
+    once, and kcheck peaked past the issue's 500 MB. Written a scene at a time, the extra
+    memory is about one scene's share, whatever the number of scenes."""
+    import tracemalloc
+
+    from kcheck.report.html import write_page
+    from kcheck.result import CheckResult, SceneResult, Status
+
+    check = CheckResult("maxwell", Status.PASS, "determinate")
+    scenes = [SceneResult(f"s{i}.kcheck.yaml", Status.PASS, checks=(check,)) for i in range(40)]
+    picture = "<svg>" + "<path d='M 0 0 L 1 1'/>" * 40_000 + "</svg>"  # about 1 MB
+    pictures = [{f"s{i}-maxwell.svg": picture} for i in range(40)]  # about 40 MB in all
+    with (tmp_path / "page.html").open("w", encoding="utf-8") as stream:
+        tracemalloc.start()
+        write_page(stream, scenes, 1.0, pictures)
+        _, peak = tracemalloc.get_traced_memory()
+        tracemalloc.stop()
+    assert (tmp_path / "page.html").stat().st_size > 40 * len(picture)
+    assert peak < 8e6, f"{peak / 1e6:.0f} MB held while writing a 40 MB page"

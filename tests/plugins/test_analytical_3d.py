@@ -500,3 +500,27 @@ def test_painleve_case_in_space_agrees_with_2d(tmp_path: Path) -> None:
     assert y1.details["painleve_from_mu"] == pytest.approx(ROD_MU_STAR, rel=1e-9)
     assert result.status is Status.FAIL
     assert any(f.code == "ambiguous" and f.field == ("supports", 0) for f in result.findings)
+
+
+def test_scene_views_of_a_far_load_point_stay_a_picture(tmp_path):
+    """Fuzz finding (campaign seed 4242, mutation-4242-1517): block-321's load point moved from
+    z = 85 mm to 85 m (inside the documented 1000 m) made the scene views' figure 386 million
+    pixels tall-and-wide: 1.7 GB and a minute to encode a PNG. The panels are now at most
+    MAX_PANEL_RATIO times as tall as wide."""
+    pytest.importorskip("matplotlib")
+    from kcheck_checks.plots_3d import MAX_PANEL_RATIO, scene_views
+
+    text = (FIXTURES / "block-321" / "block.kcheck.yaml").read_text()
+    assert "point: [100, 75, 85]" in text
+    folder = tmp_path / "far"
+    folder.mkdir()
+    (folder / "block.stl").write_bytes((FIXTURES / "block-321" / "block.stl").read_bytes())
+    (folder / "block.kcheck.yaml").write_text(text.replace("[100, 75, 85]", "[100, 75, 85000]"))
+    scene = load_scene(folder / "block.kcheck.yaml")
+    check = Analytical3D()
+    result = run(check, scene)
+    analysis = analyse(scene, body_mass_properties(scene.body, scene.scale))
+    width, height = scene_views(scene, analysis, result).get_size_inches()
+    # Two rows (six supports, three a row) of a plan over an elevation, each at most
+    # MAX_PANEL_RATIO times a panel's width (about 3.8 in): under 50 in (it was ~1,700 in).
+    assert MAX_PANEL_RATIO == 3.0 and width == pytest.approx(13.8) and height < 50
