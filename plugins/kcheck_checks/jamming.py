@@ -34,6 +34,7 @@ from kcheck_checks.jamming_cases import (
     CaseArcs,
     JamAnalysis,
     JamMap,
+    NoClosingForce,
     analyse_jamming,
     case_arcs,
     closing_force_missing,
@@ -283,7 +284,10 @@ def run_jamming(inputs: Inputs) -> tuple[CheckResult, JamAnalysis | None, JamMap
     """The check's computation, shared by ``run`` and ``plot``."""
     scene, opts = inputs.scene, inputs.options
     assert isinstance(opts, JammingOptions)
-    statics, swept, design = jam_statics(scene, inputs.mass)
+    try:
+        statics, swept, design = jam_statics(scene, inputs.mass)
+    except NoClosingForce as exc:
+        return CheckResult(Jamming.id, Status.SKIPPED, str(exc)), None, None
     analysis = analyse_jamming(statics, swept, design, opts.pyramid_edges)
     result, smap = jamming_result(Jamming.id, scene, analysis, opts)
     return result, analysis, smap
@@ -319,5 +323,7 @@ class Jamming(Check):
         from kcheck_checks.plots_jamming import plot_jamming
 
         _, analysis, smap = run_jamming(inputs)
+        if analysis is None:
+            return []
         paths = plot_jamming(inputs.scene, analysis, smap, result, directory)
         return [*paths, *plot_friction(self.id, inputs, result, directory)]

@@ -96,6 +96,11 @@ def needs_body(scene: Scene) -> bool:
     return at_com or bool(np.any(_gravity(scene)))
 
 
+class NoClosingForce(Exception):
+    """The scene's closing force is zero or beyond floating point (an extreme but valid
+    scene): the check has nothing to decide."""
+
+
 def jam_statics(
     scene: Scene, mass: MassProperties | None
 ) -> tuple[Statics, Literal["load", "gravity"], np.ndarray | None]:
@@ -118,9 +123,19 @@ def jam_statics(
         force, swept = load.magnitude, "load"
         design = None if load.direction is None else load.direction[:dim]
     else:
-        assert weight is not None and com is not None
-        point, force, swept = com, float(np.linalg.norm(weight)), "gravity"
-        design = gravity[:dim] / np.linalg.norm(gravity[:dim])
+        assert mass is not None and com is not None
+        # Scaled by the largest component first: |g| of an extreme but valid gravity would
+        # underflow (or overflow) when squared.
+        big = float(np.abs(gravity[:dim]).max())
+        unit = gravity[:dim] / big
+        point, swept = com, "gravity"
+        force = float(mass.mass * big * np.linalg.norm(unit))
+        if not (0.0 < force < np.inf):
+            raise NoClosingForce(
+                f"the weight (mass × gravity = {force:g} N) is not a representable force, so "
+                "there is no closing force to hold"
+            )
+        design = unit / np.linalg.norm(unit)
     statics = build_statics(
         points=np.array([s.position for s in scene.supports]),
         normals=np.array([s.normal for s in scene.supports]),

@@ -267,3 +267,21 @@ def test_spatial_plots_are_written(tmp_path: Path) -> None:
     result = Jamming().run(inputs)
     paths = Jamming().plot(inputs, result, tmp_path)
     assert paths and all(p.stat().st_size > 10_000 for p in paths)
+
+
+def test_a_weight_below_floating_point_is_no_closing_force(cli_json, tmp_path) -> None:
+    """Fuzz finding extreme-4244-1282 (issue 13): gravity of -5e-324 m/s² per component (valid
+    input) made the weight 0 N and the check crashed ("the force scale must be positive");
+    now it is skipped with that reason and the other checks still run."""
+    import shutil
+
+    folder = tmp_path / "tool"
+    shutil.copytree(Path(__file__).resolve().parents[2] / "fixtures" / "tool-changer", folder)
+    scene = folder / "tool.kcheck.yaml"
+    text = scene.read_text(encoding="utf-8")
+    scene.write_text(text.replace("gravity: [0, 0, -9.81]", "gravity: [-5e-324, -5e-324, -5e-324]"))
+    code, doc = cli_json(str(scene))
+    checks = {c["id"]: c for c in doc["scenes"][0]["checks"]}
+    assert checks["jamming"]["status"] == "skipped"
+    assert "not a representable force" in checks["jamming"]["message"]
+    assert all(c["status"] != "error" for c in checks.values()) and code in (0, 1)
