@@ -147,9 +147,23 @@ def _ids(text: str | None) -> tuple[str, ...] | None:
     return tuple(s.strip() for s in text.split(","))
 
 
+def _known_format(config: Config) -> None:
+    """The file's `format` is checked even where the command line overrides it (a wrong
+    value in a configuration file is an error wherever it is used)."""
+    from kcheck.report import FORMATS
+
+    name = config["format"]
+    if config.file is not None and config.sources["format"] != "default" and name not in FORMATS:
+        raise UsageError(
+            f"{config.where('format')}: unknown format `{name}`{did_you_mean(name, FORMATS)}; "
+            f"known: {', '.join(FORMATS)}"
+        )
+
+
 def effective_config(args: argparse.Namespace) -> Config:
     """The configuration file's values with the command line's on top."""
     config = load_config(args.config, isolated=args.isolated)
+    _known_format(config)
     fail_on = "warning" if args.strict else args.fail_on
     cli: dict[str, Any] = {
         "select": _ids(args.select),

@@ -348,3 +348,15 @@ def test_budgets_too_large_to_matter_are_no_budget(cli_json, write_scene, option
     # (a traceback), and `--memory-limit 1e30` made every worker die on setrlimit.
     code, doc = cli_json(str(write_scene(PLANAR_SCENE)), "-j", "1", *option)
     assert code == 0 and doc["scenes"][0]["status"] == "pass"
+
+
+def test_a_wrong_format_in_the_configuration_is_an_error_even_when_overridden(
+    cli, write_scene, tmp_path
+):
+    # Fuzz finding cli-4244-365 (issue 13): `format = "nope"` in the configuration passed
+    # silently when the command line gave `--format json`.
+    scene = str(write_scene(PLANAR_SCENE))
+    config = tmp_path / "k.toml"
+    config.write_text('format = "nope"\n')
+    code, out, err = cli("check", scene, "--format", "json", "--config", str(config))
+    assert code == 2 and out == "" and "k.toml" in err and "unknown format `nope`" in err
