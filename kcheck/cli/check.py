@@ -206,15 +206,13 @@ def run(args: argparse.Namespace) -> int:
     from kcheck.cli.config import cache_folder, effective_config, output_targets, plan_checks
     from kcheck.paths import check_output_dir, check_output_file
     from kcheck.plugin import load_checks
-    from kcheck.report import FORMATS, ReportOptions, make_reporter
+    from kcheck.report import ReportOptions, make_reporter
     from kcheck.result import Status
     from kcheck.runner import Settings, discover, run_batch
 
     config = effective_config(args)
     checks = load_checks()
     plan = plan_checks(config, checks)
-    if config["format"] not in FORMATS:
-        return fail(f"unknown format `{config['format']}`; known: {', '.join(FORMATS)}")
     plot_formats = _plot_formats(args.plot_format)
     if plot_formats is None:
         return fail(f"--plot-format: expected png, svg or png,svg; got {args.plot_format!r}")

@@ -147,16 +147,16 @@ def _ids(text: str | None) -> tuple[str, ...] | None:
     return tuple(s.strip() for s in text.split(","))
 
 
-def _known_format(config: Config) -> None:
-    """The file's `format` is checked even where the command line overrides it (a wrong
-    value in a configuration file is an error wherever it is used)."""
+def _known_format(config: Config, where: str | None = None) -> None:
+    """An unknown report format is a usage error, located at the file's key or ``where``;
+    the file's value is checked even where the command line overrides it."""
     from kcheck.report import FORMATS
 
     name = config["format"]
-    if config.file is not None and config.sources["format"] != "default" and name not in FORMATS:
+    if name not in FORMATS:
         raise UsageError(
-            f"{config.where('format')}: unknown format `{name}`{did_you_mean(name, FORMATS)}; "
-            f"known: {', '.join(FORMATS)}"
+            f"{where or config.where('format')}: unknown format `{name}`"
+            f"{did_you_mean(name, FORMATS)}; known: {', '.join(FORMATS)}"
         )
 
 
@@ -181,7 +181,9 @@ def effective_config(args: argparse.Namespace) -> Config:
     paths = getattr(args, "paths", None)
     if paths:
         cli["paths"] = tuple(str(p) for p in paths)
-    return config.with_overrides(cli)
+    effective = config.with_overrides(cli)
+    _known_format(effective, "--format")
+    return effective
 
 
 @dataclass(frozen=True)
@@ -329,16 +331,9 @@ def _shown(config: Config, name: str) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Print the effective configuration (an unknown format is an error, as for `check`)."""
-    from kcheck.report import FORMATS
-
+    """Print the effective configuration (an unknown format is an error, as for `check`:
+    :func:`effective_config` refuses it)."""
     config = effective_config(args)
-    if config["format"] not in FORMATS:
-        where = "--format" if config.sources["format"] == "command line" else config.where("format")
-        raise UsageError(
-            f"{where}: unknown format `{config['format']}`{did_you_mean(config['format'], FORMATS)}"
-            f"; known: {', '.join(FORMATS)}"
-        )
     if args.json:
         doc = {
             "file": None if config.file is None else str(config.file),
