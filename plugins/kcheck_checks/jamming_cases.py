@@ -96,6 +96,12 @@ def needs_body(scene: Scene) -> bool:
     return at_com or bool(np.any(_gravity(scene)))
 
 
+def _magnitude(vector: np.ndarray) -> float:
+    """|v| in the units of v, scaled first so that squaring cannot overflow or underflow."""
+    big = float(np.abs(vector).max())
+    return big * float(np.linalg.norm(np.asarray(vector) / big)) if big > 0 else 0.0
+
+
 class NoClosingForce(Exception):
     """The scene's closing force is zero or beyond floating point (an extreme but valid
     scene): the check has nothing to decide."""
@@ -107,8 +113,9 @@ def jam_statics(
     """The scene's statics, what is swept, and the design direction (unit, dim) or None.
 
     The load is swept when it has a magnitude (its direction is the design's); otherwise the
-    weight is, and the scene's gravity is the design direction. Forces are scaled by the swept
-    force's magnitude.
+    weight is, and the scene's gravity is the design direction. Forces are scaled by the largest
+    force in the balance (swept, weight or preload), so that none overflows when a swept weight
+    is tiny beside a preload.
     """
     load, dim = scene.load, scene.dim
     gravity = _gravity(scene)
@@ -136,13 +143,14 @@ def jam_statics(
                 "there is no closing force to hold"
             )
         design = unit / np.linalg.norm(unit)
+    scale = max([force, *(_magnitude(vector) for _, vector in fixed)])
     statics = build_statics(
         points=np.array([s.position for s in scene.supports]),
         normals=np.array([s.normal for s in scene.supports]),
         friction=scene.friction_range("static")[1],
         names=tuple(s.name for s in scene.supports),
         dim=dim,
-        force=force,
+        force=scale,
         swept_point=point,
         swept_magnitude=force,
         fixed_forces=tuple(fixed),

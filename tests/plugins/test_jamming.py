@@ -285,3 +285,29 @@ def test_a_weight_below_floating_point_is_no_closing_force(cli_json, tmp_path) -
     assert checks["jamming"]["status"] == "skipped"
     assert "not a representable force" in checks["jamming"]["message"]
     assert all(c["status"] != "error" for c in checks.values()) and code in (0, 1)
+
+
+def test_a_tiny_swept_weight_beside_a_preload_is_scaled_by_the_preload(
+    cli_json, tmp_path: Path
+) -> None:
+    """Fuzz findings extreme-4244-1417/1615 (issue 13): gravity of 1e-300 m/s² swept against
+    the tool changer's 40 N magnet. Forces were scaled by the swept weight, so the magnet's
+    wrench overflowed (RuntimeWarning, then "SVD did not converge"). Scaled by the largest force
+    in the balance, the weight is negligible and the magnet alone decides: it pulls the tool
+    straight onto its seats, so every retraction moves back for every weight direction — the
+    same verdict analytical-3d reaches independently by its own acceleration test."""
+    import shutil
+    import warnings
+
+    folder = tmp_path / "tool"
+    shutil.copytree(Path(__file__).resolve().parents[2] / "fixtures" / "tool-changer", folder)
+    scene = folder / "tool.kcheck.yaml"
+    text = scene.read_text(encoding="utf-8")
+    scene.write_text(text.replace("gravity: [0, 0, -9.81]", "gravity: [0, 0, 1e-300]"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        code, doc = cli_json(str(scene))
+    checks = {c["id"]: c for c in doc["scenes"][0]["checks"]}
+    assert checks["jamming"]["status"] == "pass"
+    assert [c["outcome"] for c in checks["jamming"]["cases"]] == ["moves"] * 6
+    assert checks["analytical-3d"]["status"] == "pass" and code == 0
