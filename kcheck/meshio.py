@@ -39,9 +39,10 @@ __all__ = [
 
 #: Vertices closer than this fraction of the mesh's largest extent are one vertex.
 MERGE_RTOL = 1e-6
-#: Largest mesh file read by default (configuration ``max_mesh_size``). Reading takes about
-#: 20 times the file's size in memory (a 16 MB binary STL peaks at 430 MB, a 64 MB one at
-#: 1.3 GB), so this keeps a mesh within the default memory budget of a scene (2 GiB).
+#: Largest mesh file read by default (configuration ``max_mesh_size``). Reading and checking
+#: a binary STL takes about 12 times the file's size above the imports (a 15.6 MiB file peaks
+#: at 340 MiB, a 62.5 MiB one at 862 MiB: benchmarks/bench_mesh_memory.py), so this keeps a
+#: mesh well within the default memory budget of a scene (2 GiB).
 MAX_MESH_BYTES = 64 * 2**20
 #: Vertices farther from the origin are refused (the scene's coordinate limit, in m).
 MAX_COORDINATE_M = LIMITS["coordinate"].high
@@ -109,7 +110,7 @@ def _merge_close(mesh: trimesh.Trimesh, tolerance: float) -> tuple[trimesh.Trime
 def check_mesh_file(path: Path, field: FieldPath | str, max_bytes: int | None = None) -> None:
     """MeshError unless ``path`` is a regular file of at most ``max_bytes`` (default
     :data:`MAX_MESH_BYTES`): a pipe or device could block or never end, and a mesh file's
-    size bounds the memory and time reading it takes (about 20 times its size in memory)."""
+    size bounds the memory and time reading it takes (about 12 times its size in memory)."""
     limit = MAX_MESH_BYTES if max_bytes is None else max_bytes
     try:
         info = os.stat(path)
@@ -151,7 +152,7 @@ def _read(path: Path, field: FieldPath | str, max_bytes: int | None = None) -> t
             # in the file are cast as read; NaN ones (a damaged file) would warn, and kcheck
             # never uses them.
             with np.errstate(invalid="ignore", over="ignore"):
-                mesh = trimesh.load_mesh(str(path), process=False)
+                mesh = _single_mesh(trimesh.load_scene(str(path), process=False))
     except Exception as exc:  # trimesh raises many types for unreadable files
         if step:
             # OpenCASCADE writes its reason to the terminal and trimesh then fails to
@@ -163,11 +164,24 @@ def _read(path: Path, field: FieldPath | str, max_bytes: int | None = None) -> t
         raise MeshError(
             path, f"cannot read the mesh ({type(exc).__name__}: {exc})", field=field
         ) from exc
-    if isinstance(mesh, trimesh.Scene):
-        mesh = mesh.to_mesh()
     if not isinstance(mesh, trimesh.Trimesh) or mesh.is_empty or len(mesh.faces) == 0:
         raise MeshError(path, "the mesh is empty (no triangles)", field=field)
     return mesh
+
+
+def _single_mesh(scene: trimesh.Scene) -> trimesh.Trimesh:
+    """The scene's one mesh as it is when it is alone and not moved (an STL, OBJ, PLY file);
+    otherwise every mesh baked into one with its transform (glTF, 3MF, STEP assemblies).
+    Taking the lone mesh saves the copy baking makes: on a 16 MB STL, 75 of 140 MB."""
+    import trimesh
+
+    geometry = list(scene.geometry.values())
+    nodes = scene.graph.nodes_geometry
+    if len(geometry) == 1 and isinstance(geometry[0], trimesh.Trimesh) and len(nodes) == 1:
+        transform, _ = scene.graph[nodes[0]]
+        if np.array_equal(transform, np.eye(4)):
+            return geometry[0]
+    return scene.to_mesh()
 
 
 @contextlib.contextmanager
@@ -208,11 +222,13 @@ def load_mesh(
     """Load a mesh file as one Trimesh scaled to metres (``scale`` metres per file unit), with
     vertices closer than ``MERGE_RTOL`` of its size merged; MeshError if it is unusable or
     larger than ``max_bytes`` (default :data:`MAX_MESH_BYTES`)."""
-    mesh = _read(path, field, max_bytes).copy()
+    mesh = _read(path, field, max_bytes)
     if not np.all(np.isfinite(mesh.vertices)):
         raise MeshError(path, "the mesh has non-finite vertex coordinates", field=field)
     with np.errstate(over="ignore"):
-        mesh.apply_scale(scale)
+        # In place: apply_scale would build the scaled vertices and normals anew (+48 MB on a
+        # 16 MB STL); normals do not change under a uniform scale.
+        mesh.vertices *= scale
     largest = float(np.abs(mesh.vertices).max())
     if not largest <= MAX_COORDINATE_M:
         raise MeshError(

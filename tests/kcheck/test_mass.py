@@ -9,7 +9,7 @@ import pytest
 import trimesh
 
 from kcheck.errors import MeshError
-from kcheck.mass import MassProperties, combine, load_mesh, mesh_mass_properties
+from kcheck.mass import MassProperties, body_volumes, combine, load_mesh, mesh_mass_properties
 from kcheck.plugin import load_checks
 from kcheck.runner import check_scene
 
@@ -106,6 +106,36 @@ def test_disconnected_bodies_are_combined_and_reported(tmp_path):
     assert props.mass == pytest.approx(2 * RHO * 1e-3, rel=STL)
     assert props.center_of_mass[0] == pytest.approx(0.5, rel=STL)
     assert any("2 disconnected closed bodies" in n for n in props.notes)
+
+
+def test_a_scene_file_of_moved_parts_is_baked_with_its_transforms(tmp_path):
+    """A glTF file whose two boxes are placed by node transforms (not in their vertices) is
+    read as one mesh with the transforms applied; a lone unmoved mesh (an STL) is taken as
+    it is. Closed form: two 0.1 m cubes at x = 0 and x = 0.3, centre of mass at x = 0.15."""
+    scene = trimesh.Scene()
+    cube = trimesh.creation.box(extents=(0.1, 0.1, 0.1))
+    scene.add_geometry(cube, node_name="a")
+    scene.add_geometry(
+        cube, node_name="b", transform=trimesh.transformations.translation_matrix([0.3, 0, 0])
+    )
+    path = tmp_path / "two.glb"
+    scene.export(path)
+    props = mesh_mass_properties(load_mesh(path, 1.0, "mesh"), RHO, path, "mesh")
+    assert props.mass == pytest.approx(2 * RHO * 1e-3, rel=STL)  # float32 in the file
+    np.testing.assert_allclose(props.center_of_mass, [0.15, 0, 0], atol=1e-7)
+
+
+def test_body_volumes_match_trimesh_split(tmp_path):
+    """Per-body signed volumes from face labels equal those of the meshes ``split`` builds
+    (an independent computation in trimesh), cavity included."""
+    outer = trimesh.creation.box(extents=(0.2, 0.2, 0.2))
+    cavity = trimesh.creation.box(extents=(0.1, 0.1, 0.1))
+    cavity.invert()
+    apart = trimesh.creation.icosphere(2, radius=0.05)
+    apart.apply_translation([1, 0, 0])
+    mesh = trimesh.util.concatenate([outer, cavity, apart])
+    expected = sorted(b.volume for b in mesh.split(only_watertight=False))
+    np.testing.assert_allclose(sorted(body_volumes(mesh)), expected, rtol=1e-12)
 
 
 def test_hollow_body_keeps_its_cavity(tmp_path):
