@@ -73,7 +73,11 @@ class Report:
     def _where(self) -> str:
         a = self.args
         if a.box is not None:
-            return f"{len(self.found.points)} points in the box"
+            import numpy as np
+
+            # Distinct points: a box of one point (all lo == hi) is searched at that point only.
+            n = len(np.unique(self.found.points, axis=0))
+            return f"{n} point{'s' if n != 1 else ''} in the box"
         return f"{len(self.found.points)} points on the body's surface (seed {a.seed})"
 
     def candidate_json(self, c: Candidate) -> dict[str, Any]:

@@ -175,3 +175,17 @@ def test_numbers_past_the_scene_ranges_are_usage_errors(cli, option):
     code, out, err = cli("suggest", scene, *option)
     assert code == 2 and out == ""
     assert "at most 1e+07" in err or "<= MAX <= 100" in err
+
+
+def test_a_box_of_one_point_is_reported_as_one_point(cli):
+    """`--box 0 0 0 0 0 0` is allowed (XMIN <= XMAX) and searches a single point: the report
+    says "1 point in the box", not the number of (repeated) samples."""
+    code, stdout, _ = cli(
+        "suggest",
+        str(FIXTURES / "three-groove" / "coupling.kcheck.yaml"),
+        *FAST,
+        "--box",
+        *("0",) * 6,
+    )
+    assert code in (0, 1)
+    assert "1 point in the box" in stdout and "points in the box" not in stdout
