@@ -22,8 +22,8 @@ import trimesh
 
 from kcheck.analysis import analyse
 from kcheck.arcs import boundary_angles, intersect
-from kcheck.dynamics import outcome
 from kcheck.mass import body_mass_properties, load_mesh, mesh_mass_properties
+from kcheck.outcomes import outcome
 from kcheck.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]

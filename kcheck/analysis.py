@@ -9,18 +9,12 @@ from typing import Any
 import numpy as np
 
 from kcheck.arcs import FULL, ArcSet, contains, intersect, margin, to_degrees
-from kcheck.dynamics import (
-    Case,
-    Problem,
-    analyse_cases,
-    build_problem,
-    outcome,
-    safe_arcs,
-)
+from kcheck.dynamics import Case, Problem, analyse_cases, build_problem
 from kcheck.fmt import clean, format_ranges
 from kcheck.friction import FrictionIntervals, friction_intervals_many
 from kcheck.kinematics import Frame, row_norms, unit_rows
 from kcheck.mass import MassProperties
+from kcheck.outcomes import outcome, safe_arcs
 from kcheck.result import CaseResult
 from kcheck.scene import Scene
 

@@ -22,14 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kcheck.dynamics import (
-    ILL_CONDITIONED,
-    Case,
-    Problem,
-    _equilibrate,
-    outcome,
-)
+from kcheck.dynamics import ILL_CONDITIONED, Case, Problem, _equilibrate
 from kcheck.fmt import format_number
+from kcheck.outcomes import outcome
 
 __all__ = [
     "FrictionIntervals",
@@ -261,7 +256,7 @@ def friction_intervals(
     fixed wrench alone, ``direction`` None), exact to the roots' rounding.
 
     The scene's ``mu`` is placed by the case's own outcome, so ``closes`` agrees with
-    :func:`kcheck.dynamics.outcome` there.
+    :func:`kcheck.outcomes.outcome` there.
     """
     return friction_intervals_many(problem, [case], direction)[0]
 

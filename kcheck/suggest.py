@@ -176,7 +176,7 @@ def limiting_friction_at(
     scene: Scene, mass: MassProperties, point: np.ndarray, direction: np.ndarray
 ) -> float | None:
     """Smallest, over the retracted cases, of the limiting friction with the load at ``point``
-    pointing along ``direction`` (:func:`kcheck.dynamics.limiting_friction`)."""
+    pointing along ``direction`` (:func:`kcheck.outcomes.limiting_friction`)."""
     analysis = analyse(with_load(scene, point, direction), mass)
     values = [r.limiting_friction for r in analysis.results]
     if any(v is None for v in values):

@@ -18,8 +18,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from kcheck.analysis import Analysis, analyse
-from kcheck.dynamics import Case, outcomes
+from kcheck.dynamics import Case
 from kcheck.fmt import format_angle, format_number, format_point, format_ranges
+from kcheck.outcomes import outcomes
 from kcheck.plotting import VERDICT_COLOURS, outcome_colour, sweep_note
 from kcheck.plugin import Inputs
 from kcheck.report.views import verdict

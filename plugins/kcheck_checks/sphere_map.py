@@ -12,9 +12,10 @@ import numpy as np
 
 from kcheck.analysis import Analysis
 from kcheck.caps import FOUR_PI, Region, deepest_point, region, signed_distance
-from kcheck.dynamics import EPS, Problem, closing_conditions, with_load
+from kcheck.dynamics import EPS, Problem, with_load
 from kcheck.friction_range import range_caps
 from kcheck.kinematics import unit_rows
+from kcheck.outcomes import closing_conditions
 from kcheck.scene import Scene
 from kcheck.sphere import SafeFraction, safe_fraction
 

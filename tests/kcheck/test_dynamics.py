@@ -25,15 +25,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from kcheck.dynamics import (
-    analyse_case,
-    build_problem,
-    closing_conditions,
-    outcome,
-    outcomes,
-    safe_arcs,
-)
+from kcheck.dynamics import analyse_case, build_problem
 from kcheck.friction import friction_intervals
+from kcheck.outcomes import closing_conditions, outcome, outcomes, safe_arcs
 
 A, B, H, K2 = 0.2, 1.0, 0.1, 0.01
 MU_FORWARD = (-H + np.sqrt(H**2 + 4 * (B - K2 / A) * (A + K2 / A))) / (2 * (B - K2 / A))

@@ -16,9 +16,10 @@ import pytest
 
 from kcheck.arcs import TAU
 from kcheck.caps import region
-from kcheck.dynamics import Problem, analyse_cases, build_problem, friction_matrices, safe_arcs
+from kcheck.dynamics import Problem, analyse_cases, build_problem, friction_matrices
 from kcheck.friction import friction_intervals
 from kcheck.friction_range import FrictionPath, range_arcs, range_caps, range_cases
+from kcheck.outcomes import safe_arcs
 from kcheck.range_analysis import design_margins, failing_intervals, worst_parameter
 from kcheck.sphere import fibonacci_sphere
 

@@ -19,17 +19,10 @@ from kcheck_checks.analytical_2d import Analytical2D, AnalyticalOptions
 
 from kcheck.arcs import TAU, contains
 from kcheck.cli import main
-from kcheck.dynamics import (
-    analyse_case,
-    build_problem,
-    limiting_friction,
-    outcome,
-    safe_arcs,
-    solve_affine,
-    system_matrix,
-)
+from kcheck.dynamics import analyse_case, build_problem, solve_affine, system_matrix
 from kcheck.friction import friction_intervals
 from kcheck.mass import body_mass_properties
+from kcheck.outcomes import limiting_friction, outcome, safe_arcs
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult, Status
 from kcheck.scene import load_scene

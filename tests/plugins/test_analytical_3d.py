@@ -36,8 +36,8 @@ from kcheck_checks.maxwell import Maxwell, MaxwellOptions
 
 from kcheck.analysis import analyse
 from kcheck.cli.expand import expanded_text
-from kcheck.dynamics import outcome
 from kcheck.mass import body_mass_properties
+from kcheck.outcomes import outcome
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult, Status
 from kcheck.scene import Scene, load_scene

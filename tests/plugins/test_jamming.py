@@ -19,9 +19,10 @@ from kcheck_checks.jamming import Jamming, JammingOptions
 from kcheck_checks.jamming_cases import analyse_jamming, case_arcs, tidy
 
 from kcheck.arcs import TAU, ArcSet, complement, intersect, union
-from kcheck.dynamics import analyse_case, build_problem, outcomes
+from kcheck.dynamics import analyse_case, build_problem
 from kcheck.kinematics import wrenches
 from kcheck.mass import body_mass_properties
+from kcheck.outcomes import outcomes
 from kcheck.plugin import Inputs
 from kcheck.scene import load_scene
 from kcheck.sphere import fibonacci_sphere
