@@ -20,7 +20,8 @@ import numpy as np
 from kcheck_checks.analytical_3d import Analytical3D, Analytical3DOptions, direction_caps
 
 from kcheck.analysis import analyse
-from kcheck.caps import deepest_point, region, signed_distance
+from kcheck.caps import region, signed_distance
+from kcheck.deepest import deepest_point
 from kcheck.mass import body_mass_properties
 from kcheck.plugin import Inputs
 from kcheck.scene import load_scene

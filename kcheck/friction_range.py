@@ -355,7 +355,8 @@ def range_caps(rc: RangeCase) -> tuple[np.ndarray, np.ndarray, float]:
     is its rate across the boundary) — the returned error. A Painlevé-type case gets one cap
     that holds nowhere.
     """
-    from kcheck.caps import deepest_point, region
+    from kcheck.caps import region
+    from kcheck.deepest import deepest_point
 
     if not rc.trusted or not rc.painleve_free:
         return np.array([-1.0]), np.zeros((1, 3)), 0.0

@@ -16,7 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from kcheck.arcs import cap_margins
-from kcheck.caps import deepest_point, region
+from kcheck.caps import region
+from kcheck.deepest import deepest_point
 
 __all__ = [
     "GOLDEN_ANGLE",
@@ -109,7 +110,7 @@ def cap_fraction(a: float, c: np.ndarray) -> float:
 
 def most_robust_direction(a: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, float]:
     """Direction deepest inside every cap and its margin (rad), exactly
-    (:func:`kcheck.caps.deepest_point`); without any bounding cap, ``+z`` and ``pi``."""
+    (:func:`kcheck.deepest.deepest_point`); without any bounding cap, ``+z`` and ``pi``."""
     direction, margin = deepest_point(region(a, c))
     if direction is None or margin is None:
         return np.array([0.0, 0.0, 1.0]), float(np.pi)

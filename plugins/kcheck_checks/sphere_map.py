@@ -11,7 +11,8 @@ from typing import Literal
 import numpy as np
 
 from kcheck.analysis import Analysis
-from kcheck.caps import FOUR_PI, Region, deepest_point, region, signed_distance
+from kcheck.caps import FOUR_PI, Region, region, signed_distance
+from kcheck.deepest import deepest_point
 from kcheck.dynamics import EPS, Problem, with_load
 from kcheck.friction_range import range_caps
 from kcheck.kinematics import unit_rows

@@ -23,7 +23,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from kcheck.arcs import cap_margins
-from kcheck.caps import FOUR_PI, angle_between, deepest_point, region, signed_distance
+from kcheck.caps import FOUR_PI, angle_between, region, signed_distance
+from kcheck.deepest import deepest_point
 from kcheck.sphere import fibonacci_sphere, grid_spacing, safe_fraction
 
 LATTICE = 200_000
@@ -197,7 +198,7 @@ def test_deepest_point_of_many_caps_by_active_set(seed: int) -> None:
     """Sixty caps (more than the active set starts with): the active set's answer equals the
     full enumeration of every single, pair and triple of caps (independent: no subset), for
     regions empty and not, and no lattice direction is deeper."""
-    from kcheck.caps import _deepest_among
+    from kcheck.deepest import _deepest_among
 
     rng = np.random.default_rng(100 + seed)
     a, c = random_caps(rng, 60)

@@ -351,7 +351,8 @@ def test_gravity_map_with_a_preload_against_case_by_case_outcomes() -> None:
     swept, a, c, _, _ = direction_caps(analysis.problem, analysis)
     assert swept == "gravity"
     g = float(np.linalg.norm(scene.gravity))
-    from kcheck.caps import deepest_point, region
+    from kcheck.caps import region
+    from kcheck.deepest import deepest_point
 
     robust, _ = deepest_point(region(a, c))
     assert robust is not None
