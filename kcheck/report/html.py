@@ -12,7 +12,9 @@ from __future__ import annotations
 import datetime
 import io
 import re
-from collections.abc import Sequence
+import shutil
+import tempfile
+from collections.abc import Callable, Sequence
 from html import escape
 from importlib import resources
 from pathlib import Path
@@ -230,6 +232,21 @@ def write_page(
 ) -> None:
     """Write the page to ``stream`` a scene at a time: a page of a hundred scenes with
     pictures is some 70 MB, and joined whole it was held four times over (issue 13)."""
+
+    def sections(out: TextIO) -> None:
+        for i, s in enumerate(scenes):
+            out.write(_scene(i, s, pictures[i]))
+
+    _write_page(stream, scenes, elapsed_s, sections)
+
+
+def _write_page(
+    stream: TextIO,
+    scenes: Sequence[SceneResult],
+    elapsed_s: float,
+    sections: Callable[[TextIO], None],
+) -> None:
+    """Head, summary, the scenes' sections (written by ``sections``), footer."""
     n = views.counts(scenes)
     worst = next((k for k in ("error", "fail", "warn") if n[k]), "pass")
     style = resources.files("kcheck.report").joinpath("report.css").read_text(encoding="utf-8")
@@ -254,8 +271,7 @@ def write_page(
         _failures(scenes),
     ]
     stream.write("".join(head))
-    for i, s in enumerate(scenes):
-        stream.write(_scene(i, s, pictures[i]))
+    sections(stream)
     stream.write(
         "<footer>Written by kcheck. Lengths in each scene's units, forces in N, "
         "accelerations in m/s², angles in degrees.</footer></main></body></html>\n"
@@ -263,20 +279,37 @@ def write_page(
 
 
 class HtmlReporter:
-    """Collects every scene and its SVG pictures; writes the page when the run is done."""
+    """Writes each scene's section, its SVG pictures inlined, to a temporary file as the scene
+    arrives, and the page when the run is done: the summary comes first, and the pictures of
+    a batch (about 0.7 MB a scene) are never all in memory at once."""
 
     def __init__(self, stream: TextIO, options: ReportOptions) -> None:
         self.stream = stream
         self.options = options
-        self.pictures: list[dict[str, str]] = []
         # Whole results: the ones Reporter.finish gets are slimmed (no cases, no tables).
         self.scenes: list[SceneResult] = []
+        self._spool: TextIO | None = None
 
     def start(self, total: int) -> None:
         """Nothing to write before the end (the summary comes first)."""
 
+    def _sections(self) -> TextIO:
+        if self._spool is None:
+            # Beside the report when it is a file (its disk has room for the page), else in
+            # the temporary folder.
+            name = getattr(self.stream, "name", None)
+            folder = Path(name).parent if isinstance(name, str) else None
+            self._spool = tempfile.TemporaryFile(  # noqa: SIM115 (closed in finish)
+                "w+",
+                encoding="utf-8",
+                errors="backslashreplace",
+                dir=folder if folder is not None and folder.is_dir() else None,
+            )
+        return self._spool
+
     def scene(self, result: SceneResult) -> None:
-        """Keep the scene; read its SVG pictures now, while their folder exists."""
+        """Write the scene's section now, its SVG pictures read while their folder exists."""
+        index = len(self.scenes)
         self.scenes.append(result)
         found: dict[str, str] = {}
         for plot in result.plots:
@@ -284,12 +317,24 @@ class HtmlReporter:
             if path.suffix == ".svg":
                 svg = _svg(path)
                 if svg is not None:
-                    found[path.name] = _unique_ids(svg, f"k{len(self.pictures)}x{len(found)}")
-        self.pictures.append(found)
+                    found[path.name] = _unique_ids(svg, f"k{index}x{len(found)}")
+        self._sections().write(_scene(index, result, found))
 
     def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
-        """Write the whole page."""
-        write_page(self.stream, self.scenes, elapsed_s, self.pictures)
+        """Write the whole page: head and summary, then the sections as written."""
+        spool = self._spool
+        try:
+
+            def sections(out: TextIO) -> None:
+                if spool is not None:
+                    spool.seek(0)
+                    shutil.copyfileobj(spool, out, 1 << 20)
+
+            _write_page(self.stream, self.scenes, elapsed_s, sections)
+        finally:
+            if spool is not None:
+                spool.close()
+                self._spool = None
 
 
 _ID = re.compile(r'\bid="([^"]+)"')
