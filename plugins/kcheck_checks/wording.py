@@ -145,6 +145,13 @@ def case_findings(scene: Scene, analysis: Analysis) -> list[Finding]:
         hint = None
         if result.safe_ranges_deg:
             hint = f"this retraction closes for force angles {ranges_text(result.safe_ranges_deg)}"
+        elif result.outcome in ("loses_contact", "opens_loses_contact"):
+            # Only the direction is swept: what is left to change is where the force acts
+            # and where the supports are.
+            hint = (
+                "move the load point (or the centre of mass), or the supports: turning the "
+                "force alone cannot close it"
+            )
         text = f"retract {result.retracted} → {sentence}"
         out.append(
             Finding(text, code=code, field=support_field(scene, result.retracted), hint=hint)

@@ -164,6 +164,17 @@ def test_angles_in_messages_follow_the_convention(tmp_path: Path) -> None:
     assert ranges_text(y1) == f"{start:.2f}°–{end:.2f}° (through 0°)"
 
 
+def test_contact_loss_at_every_angle_hints_at_the_load_point() -> None:
+    """Thesis Appendix A: retracting x3 lifts y1 off for every force angle (thesis: contact
+    is lost). The finding's hint names what is left to change, since only the direction was
+    swept."""
+    scene = load_scene(FIXTURES / "thesis-appendix-a" / "block.kcheck.yaml")
+    result = run(Analytical2D(), scene, AnalyticalOptions())
+    (x3,) = [f for f in result.findings if f.message.startswith("retract x3")]
+    assert "loses contact" in x3.message
+    assert x3.hint is not None and "move the load point" in x3.hint
+
+
 def test_maxwell_is_a_warning() -> None:
     """Maxwell's rule of thumb never fails a run on its own (issue 9 #10)."""
     assert Maxwell.severity == "warning"
