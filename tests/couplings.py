@@ -142,3 +142,24 @@ def with_preloads(scene: Scene, preloads) -> Scene:
 def supports_of(scene: Scene) -> tuple[Support, ...]:
     """The scene's supports (for readability in tests)."""
     return scene.supports
+
+
+def tilted_kelvin(folder: Path, friction: float, sweep: dict | None = None) -> Path:
+    """fixtures/kelvin (real mesh) with gravity as the only swept force: its `load:` and
+    `sweep:` dropped, a 20 N spring pressing the plate down, ``friction`` and, if given, a
+    ``sweep`` of its own. Returns the scene file (written next to a copy of the mesh)."""
+    import shutil
+
+    source = Path(__file__).resolve().parents[1] / "fixtures" / "kelvin"
+    shutil.copy(source / "top-plate.stl", folder / "top-plate.stl")
+    lines = (source / "coupling.kcheck.yaml").read_text(encoding="utf-8").splitlines()
+    kept = [ln for ln in lines if not ln.startswith(("load:", "sweep:", "friction:"))]
+    kept += [
+        f"friction: {friction}",
+        "preloads: [{name: spring, point: [0, 0, 20], force: [0, 0, -20]}]",
+    ]
+    if sweep is not None:
+        kept.append(f"sweep: {yaml.safe_dump(sweep, default_flow_style=True).strip()}")
+    path = folder / "tilted.kcheck.yaml"
+    path.write_text("\n".join(kept) + "\n", encoding="utf-8")
+    return path
