@@ -20,7 +20,7 @@ import numpy as np
 from pydantic import Field
 
 from kcheck.analysis import Analysis, analyse, closing_force_reason, describe_ranges, sweep_ranges
-from kcheck.fmt import clean, format_angle, format_vector
+from kcheck.fmt import clean, format_angle, format_share, format_vector
 from kcheck.plugin import Check, Inputs
 from kcheck.range_analysis import range_details
 from kcheck.result import CheckResult, Finding, Status
@@ -93,8 +93,8 @@ def _sphere_findings(
             return [
                 Finding(
                     f"the {what} directions that close {names[i]} "
-                    f"({100 * smap.case_fractions[i]:.2f}% of the sphere) and those that "
-                    f"close {names[j]} ({100 * smap.case_fractions[j]:.2f}%) do not overlap",
+                    f"({format_share(smap.case_fractions[i])} of the sphere) and those that "
+                    f"close {names[j]} ({format_share(smap.case_fractions[j])}) do not overlap",
                     code="ranges-disjoint",
                     field=support_field(scene, names[i]),
                 )
@@ -258,7 +258,7 @@ def spatial_result(
     elif full:
         parts = [f"every {what} direction closes every retraction"]
     else:
-        parts = [f"safe {what} directions: {100 * smap.fraction.fraction:.2f}% of the sphere"]
+        parts = [f"safe {what} directions: {format_share(smap.fraction.fraction)} of the sphere"]
         if smap.design_margin is not None and smap.design_margin >= 0 and not findings:
             parts.append(
                 f"design direction {format_angle(smap.design_margin * deg)} from the nearest "
