@@ -208,13 +208,18 @@ def angle_text(value: float) -> str:
 
 
 def merge_findings(first: Sequence[Finding], more: Sequence[Finding]) -> list[Finding]:
-    """``first`` then ``more``; a finding of ``more`` about a support that ``first`` already
-    has a finding for is added to that one's message (one finding per support)."""
+    """``first`` then ``more``; a finding of ``more`` about a retracted support that ``first``
+    already has a finding for ("retract A.1 → ...", same field) is added to that one's message
+    (one finding per support; the contacts of one coupling share a field, not a finding)."""
     out = list(first)
     for extra in more:
+        subject, tail = extra.message.partition(" → ")[0], extra.message.split(" → ", 1)[-1]
         for i, found in enumerate(out):
-            if found.field == extra.field and extra.field not in (None, ("supports",)):
-                tail = extra.message.split(" → ", 1)[-1]
+            if (
+                found.field == extra.field
+                and extra.field not in (None, ("supports",))
+                and found.message.partition(" → ")[0] == subject
+            ):
                 out[i] = dataclasses.replace(found, message=f"{found.message}; {tail}")
                 break
         else:
