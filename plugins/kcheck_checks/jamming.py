@@ -250,7 +250,7 @@ def _sweep_plane(
     if smap.freest_pyramids == "inscribed":
         why += ", inscribed pyramids: none is jam-free for certain"
     elif smap.freest is None:
-        why += ": no direction is jam-free"
+        why += ": every direction is jam-free" if smap.jam_free >= 1 else ": none is jam-free"
     return e1, e2, why
 
 
