@@ -398,3 +398,19 @@ def test_the_html_reporter_does_not_hold_a_batch_of_pictures(tmp_path) -> None:
     positions = [text.index(f"picture {i}<") for i in range(40)]
     assert positions == sorted(positions) and text.index("<h2>Scenes</h2>") < positions[0]
     assert text.rstrip().endswith("</html>")
+
+
+def test_mass_with_point_masses_says_so() -> None:
+    """A new user read "mass 0.28233 kg (mesh)" for a plate mesh plus three ball point masses
+    (0.27 + 3 × 0.00411 kg): the label now says what the number is made of."""
+    from kcheck.mass import body_mass_properties
+    from kcheck.report.tables import mass_lines
+    from kcheck.scene import load_scene
+
+    scene = load_scene(FIXTURES / "tool-changer" / "tool.kcheck.yaml")  # a 12 g magnet added
+    assert scene.body is not None
+    lines = mass_lines(body_mass_properties(scene.body), "mm")
+    assert lines[0].startswith("mass 0.105285 kg (mesh + point masses)")
+    explicit = load_scene(FIXTURES / "thesis-block-4-2" / "block.kcheck.yaml")
+    assert explicit.body is not None
+    assert "(explicit)" in mass_lines(body_mass_properties(explicit.body), "mm")[0]
