@@ -261,13 +261,23 @@ def friction_intervals(
     return friction_intervals_many(problem, [case], direction)[0]
 
 
-def _mu(value: float) -> str:
-    return format_number(value, 3)
+def _distinct(value: float, scene_mu: float) -> str:
+    """``value`` to 3 significant digits, more (up to 6) while it would read as the scene's
+    coefficient: "jams at μ = 0.15; it closes for μ ≤ 0.1498", not "μ ≤ 0.15"."""
+    for digits in range(3, 7):
+        text = format_number(value, digits)
+        if value == scene_mu or text != format_number(scene_mu, digits):
+            return text
+    return text
 
 
 def describe_friction(intervals: FrictionIntervals) -> str:
     """Where the case closes, in a designer's words: "closes for μ ≤ 0.122", "needs μ ≥ 0.08",
     "closes for 0.05 ≤ μ ≤ 0.3 or μ ≥ 0.9", "closes for every μ", "closes for no μ"."""
+
+    def _mu(value: float) -> str:
+        return _distinct(value, intervals.mu)
+
     if intervals.closes and intervals.containing is not None:
         lo, hi = intervals.containing
         if lo > 0 and np.isfinite(hi):

@@ -316,4 +316,8 @@ def _point_masses_note(body: Body) -> str:
     if not body.point_masses:
         return ""
     named = ", ".join(f"{p.name} ({p.mass:.4g} kg)" for p in body.point_masses)
-    return f"point mass{'es' if len(body.point_masses) > 1 else ''} added: {named}"
+    return f"{POINT_MASS_NOTE}{'es' if len(body.point_masses) > 1 else ''} added: {named}"
+
+
+#: How the note of added point masses starts (a report says "mesh + point masses").
+POINT_MASS_NOTE = "point mass"

@@ -11,6 +11,9 @@ public results, never at a check's internals.
 * ``supports-tiny``: every support within a hundredth of the body's size (the opposite slip).
 * ``point-far-from-body``: the centre of mass, the load point or a preload point that far.
 * ``body-size``: a body smaller than 0.1 mm or larger than 20 m across.
+* ``supports-vs-inertia``: a planar scene with a lone I_zz (no box to compare with) whose
+  supports span more than ``GYRATION_RATIO`` times its radius of gyration ``sqrt(I_zz / m)``,
+  or less than its inverse.
 * ``part-size-outlier``: a mesh part whose size is out of line with the others (a part in cm
   in a mm assembly).
 * ``normals-reversed``: every case opens, with every normal reversed every case closes, and
@@ -34,7 +37,7 @@ from kcheck.scene import Scene
 if TYPE_CHECKING:
     from kcheck.mass import MassProperties
 
-__all__ = ["Box", "body_box", "scene_warnings", "BODY_SIZE_M", "PART_RATIO"]
+__all__ = ["Box", "body_box", "scene_warnings", "BODY_SIZE_M", "PART_RATIO", "GYRATION_RATIO"]
 
 #: Plausible body sizes (box diagonal, m).
 BODY_SIZE_M = (1e-4, 20.0)
@@ -43,6 +46,10 @@ BODY_SIZE_M = (1e-4, 20.0)
 PART_RATIO = (5.0, 20.0)
 #: Supports spanning less than this fraction of the body's size are suspiciously small.
 TINY_LAYOUT = 1e-2
+#: With I_zz alone the body's size is unknown, but a body reaches at least its radius of
+#: gyration from its centre of mass, and a support layout this many times larger (or smaller)
+#: than it means a body nearly all of whose mass sits in a tiny core: a units slip is likelier.
+GYRATION_RATIO = 100.0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -156,6 +163,30 @@ def _body_size(scene: Scene, box: Box) -> list[Finding]:
             code="body-size",
             field=("body",),
             hint=f"is the mesh's unit right? The scene says {scene.units}",
+        )
+    ]
+
+
+def _supports_vs_inertia(scene: Scene, mass: MassProperties) -> list[Finding]:
+    izz = float(mass.inertia[2, 2])
+    if not (izz > 0 and np.isfinite(izz)):
+        return []
+    gyration = float(np.sqrt(izz / mass.mass))
+    positions = np.array([s.position for s in scene.supports])
+    span = float(np.linalg.norm(np.ptp(positions, axis=0)))
+    if GYRATION_RATIO * gyration >= span >= gyration / GYRATION_RATIO:
+        return []
+    field: FieldPath = ("supports",) if scene.supports[0].geometry is None else ("couplings",)
+    return [
+        Finding(
+            f"the supports span {_length(scene, span)}, but the body's radius of gyration "
+            f"sqrt(I_zz / m) is only {_length(scene, gyration)}"
+            if span > gyration
+            else f"the supports span only {_length(scene, span)}, but the body's radius of "
+            f"gyration sqrt(I_zz / m) is {_length(scene, gyration)}",
+            code="supports-vs-inertia",
+            field=field,
+            hint=f"are the coordinates in the scene's units ({scene.units}) and I_zz in kg·m²?",
         )
     ]
 
@@ -279,6 +310,8 @@ def scene_warnings(
         ]
     if mass is not None:
         rules.append(lambda: _normals_reversed(scene, mass, checks))
+    if box is None and mass is not None and mass.bounds is None:
+        rules.append(lambda: _supports_vs_inertia(scene, mass))
     for rule in rules:
         try:
             out += rule()

@@ -180,7 +180,11 @@ def mass_view(mass: Any, units: str | None) -> MassView:
     """Mass properties in the scene's units, noise cleaned, fixed decimals per block."""
     units = units or "m"
     scale = _scale(units)
-    facts = [("mass", f"{format_number(mass.mass, 6)} kg ({mass.source})")]
+    from kcheck.mass import POINT_MASS_NOTE
+
+    added = any(str(n).startswith(POINT_MASS_NOTE) for n in mass.notes)
+    source = f"{mass.source} + point masses" if added else mass.source
+    facts = [("mass", f"{format_number(mass.mass, 6)} kg ({source})")]
     if mass.volume is not None:
         volume = mass.volume / scale**3
         text = f"{volume:.0f}" if 1e5 <= volume < 1e15 else format_number(volume, 6)

@@ -193,6 +193,9 @@ def render_scene(console: Console, scene: SceneResult, verbosity: int = 0) -> bo
     sweep = views.sweep_text(scene)
     if sweep and (verbose or not views.default_sweep(scene)):
         _hanging(console, 2, Text(), Text(sweep, style="dim"))
+    friction = views.friction_text(scene) if verbose else None
+    if friction:
+        _hanging(console, 2, Text(), Text(friction, style="dim"))
     if verbose and scene.mass_properties is not None:
         render_mass(console, scene.mass_properties, units=scene.units, notes=False)
     for note in scene.notes:

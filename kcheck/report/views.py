@@ -16,12 +16,14 @@ import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from kcheck.fmt import (
     describe_sweep,
     format_angle,
+    format_number,
     format_ranges,
     format_share_bounds,
 )
@@ -291,6 +293,47 @@ def plain_error(message: str, path: str) -> str:
             rest = rest[1:].lstrip("0123456789")
         return rest.removeprefix(":").strip()
     return message
+
+
+def friction_text(scene: SceneResult) -> str | None:
+    """The supports' friction as the checks used it: "friction: μ = 0.15 at every support",
+    "friction: μ 0.1–0.2 at every support (a range: ...)", static and kinetic apart, or per
+    support when they differ; None without supports."""
+
+    def coefficient(record: Mapping[str, Any]) -> str:
+        static, kinetic = record.get("friction_static"), record.get("friction_kinetic")
+        if not static or not kinetic:
+            return f"μ = {format_number(float(record.get('friction', 0.0)), 3)}"
+
+        def span(pair: Sequence[float]) -> str:
+            lo, hi = (format_number(float(v), 3) for v in pair)
+            return lo if lo == hi else f"{lo}–{hi}"
+
+        if list(static) == list(kinetic):
+            return f"μ = {span(static)}" if static[0] == static[1] else f"μ {span(static)}"
+        return f"static μ {span(static)}, kinetic μ {span(kinetic)}"
+
+    supports = getattr(scene, "supports", ()) or ()
+    if not supports:
+        return None
+    said = [coefficient(s) for s in supports]
+    ranged = any(
+        (s.get("friction_static") or (0, 0))[0] != (s.get("friction_static") or (0, 0))[1]
+        or (s.get("friction_kinetic") or (0, 0))[0] != (s.get("friction_kinetic") or (0, 0))[1]
+        for s in supports
+    )
+    if len(set(said)) == 1:
+        text = f"friction: {said[0]} at every support"
+    else:
+        text = "friction: " + ", ".join(
+            f"{s['name']} {c}" for s, c in zip(supports, said, strict=True)
+        )
+    if ranged:
+        text += (
+            " (a range: a check passes only if it passes for every μ in it; its tables show"
+            " each case at the μ worst for it)"
+        )
+    return text
 
 
 def sweep_text(scene: SceneResult) -> str | None:

@@ -29,6 +29,7 @@ class Range:
     unit: str
     what: str
     open: bool = False
+    hint: str = ""  # said after a value out of range
 
     def contains(self, value: float) -> bool:
         """Whether a value lies in the range (NaN never does)."""
@@ -51,7 +52,9 @@ LIMITS: dict[str, Range] = {
     "inertia": Range(1e-18, 1e9, "kg m^2", "principal moment"),
     "force": Range(0.0, 1e7, "N", "force"),
     "torque": Range(0.0, 1e7, "N m", "torque"),
-    "gravity": Range(0.0, 1e3, "m/s^2", "|g|"),
+    "gravity": Range(
+        0.0, 1e3, "m/s^2", "|g|", hint="gravity is in m/s² whatever `units` says (Earth: 9.81)"
+    ),
     "friction": Range(0.0, 100.0, "", "μ"),
     "angle": Range(-360.0, 360.0, "deg", "angle"),
     "half_angle": Range(0.0, 90.0, "deg", "half angle", open=True),

@@ -114,12 +114,13 @@ class Problems:
         """A vector whose length lies within ``LIMITS[key]`` (force, torque, gravity)."""
         v = np.asarray(vector, dtype=float)
         r = LIMITS[key]
+        hint = f"; {r.hint}" if r.hint else ""
         if not np.all(np.abs(v) <= r.high):
-            self.add(where, f"expected {r.text()} (its length), got {vector}")
+            self.add(where, f"expected {r.text()} (its length), got {vector}{hint}")
             return None
         norm = float(np.linalg.norm(v))
         if not r.contains(norm):
-            self.add(where, f"expected {r.text()} (its length), got {norm:.6g}")
+            self.add(where, f"expected {r.text()} (its length), got {norm:.6g}{hint}")
             return None
         return v
 
@@ -310,7 +311,30 @@ def describe_pydantic(err: Mapping[str, Any], root: type[BaseModel] | None = Non
     if kind == "value_error":
         return str(err["msg"]).removeprefix("Value error, ")
     msg = str(err["msg"]).replace("Input should be", "expected")
+    if name in ("units", "report_units") and isinstance(got, str):
+        unit = _UNIT_WORDS.get(got.strip().lower().rstrip("s").replace("-", ""))
+        if unit is not None:
+            return f"{msg}, got {shown}; did you mean `{unit}`?"
     return f"{msg}, got {shown}"
+
+
+# Unit names as people write them (singular, lower case, no hyphen) → kcheck's symbol.
+_UNIT_WORDS = {
+    "metre": "m",
+    "meter": "m",
+    "centimetre": "cm",
+    "centimeter": "cm",
+    "millimetre": "mm",
+    "millimeter": "mm",
+    "micrometre": "um",
+    "micrometer": "um",
+    "micron": "um",
+    "µm": "um",
+    "μm": "um",
+    "inche": "in",
+    "inch": "in",
+    '"': "in",
+}
 
 
 def pydantic_problems(exc: ValidationError, root: type[BaseModel], problems: Problems) -> None:
@@ -323,7 +347,19 @@ def pydantic_problems(exc: ValidationError, root: type[BaseModel], problems: Pro
         key: Any = i if union_at is None else ("union", path[:union_at])
         if key not in chosen or len(loc) > chosen[key][0]:
             chosen[key] = (len(loc), path, err)
+    # A misspelt required key is said once, as the unknown key with its "did you mean", not
+    # also as the required key missing.
+    meant = set()
     for _, path, err in chosen.values():
+        if err["type"] == "extra_forbidden" and path:
+            _, (_, parents), _ = _resolve(tuple(err["loc"][:-1]), root)
+            allowed = sorted({n for m in parents for n in m.model_fields})
+            close = difflib.get_close_matches(str(path[-1]), allowed, n=1, cutoff=0.6)
+            if close:
+                meant.add((*path[:-1], close[0]))
+    for _, path, err in chosen.values():
+        if err["type"] == "missing" and path in meant:
+            continue
         if err["type"] in ("union_tag_invalid", "union_tag_not_found"):
             path = (*path, "type")
         problems.add(path, describe_pydantic(err, root))

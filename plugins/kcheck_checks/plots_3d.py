@@ -36,6 +36,8 @@ MAX_TRIANGLES = 6000
 SUPPORT = "#1f77b4"
 RETRACTED = "#d62728"
 LOAD = "#ff7f0e"
+# Characters of a 9.5 pt panel title that fit a panel 3.8 inches wide.
+TITLE_CHARACTERS = 58
 GRAVITY = "#6b4226"
 MOTION = "#7b2cbf"
 
@@ -148,6 +150,12 @@ def _drawing(scene: Scene, analysis: Analysis) -> Drawing:
         com = (frame.origin + frame.length * problem.com) / s
         g = np.asarray(scene.gravity, float)
         forces.append((com, g / np.linalg.norm(g), "gravity", GRAVITY))
+    for p in scene.preloads:
+        f = np.asarray(p.force, float)
+        if np.any(f):
+            big = float(np.abs(f).max())
+            unit = (f / big) / np.linalg.norm(f / big)
+            forces.append((np.asarray(p.point, float) / s, unit, p.name, LOAD))
     ends = [points - 1.3 * arrow * normals, points]
     ends += [np.array([q - 1.5 * arrow * d, q]) for q, d, _, _ in forces]
     every = np.vstack([cloud, *ends])
@@ -286,6 +294,7 @@ def _view(
         *np.array([tails[retracted], d.points[retracted]])[:, k].T, ":", color=RETRACTED, lw=1.5
     )
     _labels(ax, d, view, keep, size, nudge=view.name == "plan")
+    placed: list[np.ndarray] = []  # out-of-plane labels so far: a second one at a point goes below
     for q, direction, label, colour in d.forces:
         tail = q - 1.5 * d.arrow * direction
         if np.linalg.norm(direction[k]) > 1e-6:
@@ -296,9 +305,11 @@ def _view(
             ax.text(*tail[k], f" {label}", color=colour, fontsize=8, va="center", zorder=6)
         else:
             towards = float(direction @ view.towards_viewer) > 0
-            ax.text(
-                *q[k], ("⊙ " if towards else "⊗ ") + label, color=colour, fontsize=9, zorder=6,
-                va="bottom" if label == "load" else "top",
+            near = sum(np.linalg.norm(p - q[k]) < 0.05 * size for p in placed)
+            placed.append(q[k])
+            ax.annotate(
+                ("⊙ " if towards else "⊗ ") + label, xy=tuple(q[k]), xytext=(0, -11 * near),
+                textcoords="offset points", color=colour, fontsize=9, zorder=6, va="top",
             )  # fmt: skip
     if case is not None:
         _motion(ax, d, view, case, retracted, s)
@@ -309,6 +320,15 @@ def _view(
     ax.tick_params(labelsize=7)
     ax.set_ylabel(f"{AXIS_NAMES[k[1]]}", fontsize=8, rotation=0, labelpad=6)
     ax.grid(True, lw=0.3, alpha=0.5)
+
+
+def _panel_title(name: str, case: CaseResult | None, units: str) -> tuple[str, str]:
+    """ "B.1 retracted: closes — pure rotation about (...)" and its colour."""
+    if case is None:
+        return f"{name} retracted", "black"
+    motion = motion_text(case.details, units)
+    outcome = case.outcome.replace("_", " ")
+    return f"{name} retracted: {outcome} — {motion}", outcome_colour(case.outcome)
 
 
 def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
@@ -327,13 +347,18 @@ def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
     # The drawing width of a panel (the figure's margins and gaps taken off), in inches.
     drawn = cols * width * 0.94 / (cols + 0.2 * (cols - 1))
     pair = drawn * (plan_h + elev_h) + 0.35  # one plan over its elevation, inches
-    height = rows * (pair + 0.45) + 0.95
+    cases = {c.retracted: c for c in result.cases}
+    titles = [_panel_title(name, cases.get(name), scene.units) for name in d.names]
+    # A title too long for its panel (a rotation axis with three components) goes on two
+    # lines, and every row gets the room for them.
+    long = any(len(t) > TITLE_CHARACTERS * drawn / 3.8 for t, _ in titles)
+    extra = 0.17 if long else 0.0
+    height = rows * (pair + 0.45 + extra) + 0.95 + extra
     fig = figure(figsize=(cols * width, height), layout=None)
     outer = fig.add_gridspec(
-        rows, cols, left=0.05, right=0.99, bottom=0.35 / height, top=1 - 0.95 / height,
-        hspace=0.4 / pair, wspace=0.2,
+        rows, cols, left=0.05, right=0.99, bottom=0.35 / height,
+        top=1 - (0.95 + extra) / height, hspace=(0.4 + extra) / pair, wspace=0.2,
     )  # fmt: skip
-    cases = {c.retracted: c for c in result.cases}
     for i, name in enumerate(d.names):
         inner = outer[divmod(i, cols)].subgridspec(
             2, 1, height_ratios=[plan_h, elev_h], hspace=0.35 / pair
@@ -356,13 +381,9 @@ def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
             elev.tick_params(labelbottom=False)
         else:
             elev.set_xlabel(f"x ({scene.units})", fontsize=8)
-        title = f"{name} retracted"
-        colour = "black"
-        if case is not None:
-            title += (
-                f": {case.outcome.replace('_', ' ')} — {motion_text(case.details, scene.units)}"
-            )
-            colour = outcome_colour(case.outcome)
+        title, colour = titles[i]
+        if long:
+            title = title.replace(" — ", "\n", 1)
         plan.set_title(title, fontsize=9.5, color=colour, loc="left")
     word = verdict(result)
     fig.suptitle(
@@ -372,9 +393,9 @@ def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
     )  # fmt: skip
     fig.text(
         0.5, 1 - 0.62 / height,
-        "each: plan (x–y, seen from +z) over elevation (x–z, seen from −y); blue: supports "
-        "pushing along their normals; red ×: the retracted one; purple: screw axis and "
-        "rotation sense (⊙ towards you, ⊗ away); orange: load; brown: gravity",
+        "each: plan (x–y, from +z) over elevation (x–z, from −y); blue: supports pushing "
+        "along their normals; red ×: the retracted one; purple: screw axis and rotation sense "
+        "(⊙ towards you, ⊗ away); orange: load, preloads; brown: gravity",
         ha="center", fontsize=8.5, color="0.25",
     )  # fmt: skip
     return fig

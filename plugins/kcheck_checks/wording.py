@@ -145,18 +145,36 @@ def case_findings(scene: Scene, analysis: Analysis) -> list[Finding]:
         hint = None
         if result.safe_ranges_deg:
             hint = f"this retraction closes for force angles {ranges_text(result.safe_ranges_deg)}"
-        elif result.outcome in ("loses_contact", "opens_loses_contact"):
-            # Only the direction is swept: what is left to change is where the force acts
-            # and where the supports are.
+        elif (
+            scene.dim == 2
+            and result.outcome in ("loses_contact", "opens_loses_contact")
+            and not _friction_tail(intervals)
+        ):
+            # Every direction in the plane was tried and no friction closes it: what is left
+            # to change is where the force acts and where the supports are. (A spatial sweep
+            # plane is not every direction; the sphere map says that.)
             hint = (
-                "move the load point (or the centre of mass), or the supports: turning the "
-                "force alone cannot close it"
+                f"move {_acting_point(scene)}, or the supports: turning the {_swept(scene)} "
+                "alone cannot close it"
             )
         text = f"retract {result.retracted} → {sentence}"
         out.append(
             Finding(text, code=code, field=support_field(scene, result.retracted), hint=hint)
         )
     return out
+
+
+def _swept(scene: Scene) -> str:
+    """What the checks turn: the load, or gravity when the scene has no load magnitude."""
+    return "force" if scene.load is not None and scene.load.magnitude > 0 else "gravity"
+
+
+def _acting_point(scene: Scene) -> str:
+    """Where the swept force acts, as a designer would move it."""
+    load = scene.load
+    if load is not None and load.magnitude > 0 and load.point is not None:
+        return "the load point"
+    return "the centre of mass (where the force acts)"
 
 
 def _rad(ranges: Sequence[Sequence[float]]) -> ArcSet:
@@ -207,20 +225,29 @@ def angle_text(value: float) -> str:
     return format_angle(value % 360.0)
 
 
+def _subject(finding: Finding) -> str | None:
+    """The retracted support a finding is about ("retract A.1 → ..."), or None."""
+    head, arrow, _ = finding.message.partition(" → ")
+    return head if arrow else None
+
+
 def merge_findings(first: Sequence[Finding], more: Sequence[Finding]) -> list[Finding]:
     """``first`` then ``more``; a finding of ``more`` about a retracted support that ``first``
-    already has a finding for ("retract A.1 → ...", same field) is added to that one's message
-    (one finding per support; the contacts of one coupling share a field, not a finding)."""
+    already has a finding for is added to that one's message, once (one finding per support).
+    The supports of one coupling share a field, so the support is matched by name."""
     out = list(first)
     for extra in more:
-        subject, tail = extra.message.partition(" → ")[0], extra.message.split(" → ", 1)[-1]
+        subject = _subject(extra)
         for i, found in enumerate(out):
             if (
                 found.field == extra.field
                 and extra.field not in (None, ("supports",))
-                and found.message.partition(" → ")[0] == subject
+                and subject is not None
+                and _subject(found) == subject
             ):
-                out[i] = dataclasses.replace(found, message=f"{found.message}; {tail}")
+                tail = extra.message.split(" → ", 1)[-1]
+                if tail not in found.message:
+                    out[i] = dataclasses.replace(found, message=f"{found.message}; {tail}")
                 break
         else:
             out.append(extra)
@@ -229,9 +256,9 @@ def merge_findings(first: Sequence[Finding], more: Sequence[Finding]) -> list[Fi
 
 def verdict(parts: Sequence[str], findings: Sequence[Finding]) -> str:
     """The one-line message: the summary, the first reason, and how many more the findings
-    hold ("...; retract y1 → jams at μ = 0.6 (+2 more)")."""
+    hold ("...; retract y1 → jams at μ = 0.6 (and 2 more)", as the short summary says)."""
     line = [*parts]
     if findings:
-        more = f" (+{len(findings) - 1} more)" if len(findings) > 1 else ""
+        more = f" (and {len(findings) - 1} more)" if len(findings) > 1 else ""
         line.append(findings[0].message + more)
     return "; ".join(line)

@@ -163,3 +163,15 @@ def test_no_scipy_in_the_per_scene_path(write_scene) -> None:
         )
         assert proc.returncode == 0, proc.stderr
         assert json.loads(proc.stderr.strip().splitlines()[-1]) == []
+
+
+def test_a_limit_next_to_the_scene_coefficient_is_not_rounded_onto_it() -> None:
+    """A new user read "jams at μ = 0.15; it closes for μ ≤ 0.15" (the limit was 0.14977):
+    a limit that would read as the scene's coefficient gets the digits that tell them apart;
+    others keep 3 significant digits."""
+    near = FrictionIntervals(((0.0, 0.14977),), mu=0.15, closes=False)
+    assert describe_friction(near) == "closes for μ ≤ 0.1498"
+    far = FrictionIntervals(((0.0, 0.12219),), mu=0.15, closes=False)
+    assert describe_friction(far) == "closes for μ ≤ 0.122"
+    at = FrictionIntervals(((0.0, 0.15),), mu=0.15, closes=True)
+    assert describe_friction(at) == "closes for μ ≤ 0.15"

@@ -400,6 +400,43 @@ def test_the_html_reporter_does_not_hold_a_batch_of_pictures(tmp_path) -> None:
     assert text.rstrip().endswith("</html>")
 
 
+def test_mass_with_point_masses_says_so() -> None:
+    """A new user read "mass 0.28233 kg (mesh)" for a plate mesh plus three ball point masses
+    (0.27 + 3 × 0.00411 kg): the label now says what the number is made of."""
+    from kcheck.mass import body_mass_properties
+    from kcheck.report.tables import mass_lines
+    from kcheck.scene import load_scene
+
+    scene = load_scene(FIXTURES / "tool-changer" / "tool.kcheck.yaml")  # a 12 g magnet added
+    assert scene.body is not None
+    lines = mass_lines(body_mass_properties(scene.body), "mm")
+    assert lines[0].startswith("mass 0.105285 kg (mesh + point masses)")
+    explicit = load_scene(FIXTURES / "thesis-block-4-2" / "block.kcheck.yaml")
+    assert explicit.body is not None
+    assert "(explicit)" in mass_lines(body_mass_properties(explicit.body), "mm")[0]
+
+
+def test_the_verbose_report_says_which_friction_was_used() -> None:
+    """A new user with `friction: {min: 0.1, max: 0.2}` could not tell from the text which μ
+    the tables were at. The scene block now states the supports' friction as checked."""
+    from kcheck.report.views import friction_text
+    from kcheck.result import SceneResult, Status
+
+    def scene(*records: dict) -> SceneResult:
+        return SceneResult("s.kcheck.yaml", Status.PASS, supports=records)
+
+    one = {"name": "y1", "friction": 0.15, "friction_static": [0.15, 0.15]}
+    one["friction_kinetic"] = [0.15, 0.15]
+    assert friction_text(scene(one, {**one, "name": "y2"})) == "friction: μ = 0.15 at every support"
+    ranged = {**one, "friction_static": [0.1, 0.2], "friction_kinetic": [0.1, 0.2]}
+    text = friction_text(scene(ranged))
+    assert text is not None and text.startswith("friction: μ 0.1–0.2 at every support (a range")
+    two = {**one, "friction_static": [0.2, 0.2], "friction_kinetic": [0.1, 0.1]}
+    dry = {**one, "name": "y2", "friction": 0.0, "friction_static": [0, 0]}
+    dry["friction_kinetic"] = [0, 0]
+    assert friction_text(scene(two, dry)) == ("friction: y1 static μ 0.2, kinetic μ 0.1, y2 μ = 0")
+
+
 def test_headline_of_a_tiny_safe_share_is_not_no_safe_direction(
     cli, cli_json, tmp_path: Path
 ) -> None:

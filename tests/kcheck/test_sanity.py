@@ -155,3 +155,19 @@ def test_equivalent_box_of_explicit_inertia():
     inertia = m / 12 * np.diag([b * b + c * c, a * a + c * c, a * a + b * b])
     box = body_box(MassProperties(m, np.zeros(3), inertia, "explicit"))
     np.testing.assert_allclose(sorted(2 * box.half), sorted([a, b, c]), rtol=1e-12)
+
+
+def test_a_planar_scene_with_i_zz_alone_is_checked_against_its_radius_of_gyration(
+    write_scene, checks
+):
+    """A new user's planar scene typed in mm but declared `units: m` passed silently: with a
+    lone I_zz there is no body box to compare the supports with. The radius of gyration is a
+    size the body must reach: methods.md §7's block (1 kg, I_zz = 0.001 kg·m²) has
+    sqrt(I_zz / m) = 31.62 mm; its supports span sqrt(80² + 30²) = 85.44 mm (ratio 2.7, no
+    warning) — or 85.44 m when the same numbers are read in metres (ratio 2,700: warning)."""
+    fine = check_scene(write_scene(PLANAR_SCENE), checks)
+    assert "supports-vs-inertia" not in {w.code for w in fine.warnings}
+    slip = check_scene(write_scene(PLANAR_SCENE.replace("units: mm", "units: m")), checks)
+    (warning,) = [w for w in slip.warnings if w.code == "supports-vs-inertia"]
+    assert "span 85.44 m" in warning.message and "is only 0.03162 m" in warning.message
+    assert warning.field == ("supports",) and warning.line is not None

@@ -167,6 +167,22 @@ def test_every_error_of_a_file_in_line_order(write_scene):
     assert [e.field for e in _errors(write_scene(fixed))] == ["supports[2].normal"]
 
 
+def test_slips_a_new_user_made_are_said_once_with_the_fix(write_scene):
+    """From a new user's first scene: a misspelt required key (`normals:`) was reported twice
+    (the key unknown, and `normal` missing); a unit written out (`millimetres`) and gravity
+    in mm/s² got no hint of the fix."""
+    text = _edit("normal: [1, 0, 0]", "normals: [1, 0, 0]")
+    text = _edit("units: mm", "units: millimetres", text)
+    errors = _errors(write_scene(text))
+    by_field = {e.field: e.message for e in errors}
+    assert set(by_field) == {"units", "supports[2].normals"}
+    assert by_field["supports[2].normals"].endswith("did you mean `normal`?")
+    assert by_field["units"].endswith("did you mean `mm`?")
+    gravity = _edit("units: mm", "units: mm\ngravity: [0, -9810, 0]")
+    (error,) = _errors(write_scene(gravity))
+    assert error.field == "gravity" and "m/s² whatever `units` says" in error.message
+
+
 def test_semantic_errors_are_all_reported(write_scene):
     text = _edit("normal: [1, 0, 0]", "normal: [0, 0, 0]")
     text = _edit("name: y2", "name: y1", text)

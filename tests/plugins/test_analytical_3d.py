@@ -526,6 +526,42 @@ def test_scene_views_of_a_far_load_point_stay_a_picture(tmp_path):
     assert MAX_PANEL_RATIO == 3.0 and width == pytest.approx(13.8) and height < 50
 
 
+@pytest.mark.parametrize("fixture", ["tool-changer/tool", "kelvin/coupling"])
+def test_scene_views_draw_preloads_and_fit_long_titles(fixture):
+    """A new user's picture left out the scene's preload, and a rotation axis's three
+    components ran a panel title into the next one. The tool changer's magnet is drawn
+    (labelled by its name), and the Kelvin coupling's long titles ("socket.3 retracted:
+    closes — pure rotation about (-0.632, 0.000, -0.775)") stay inside their panels."""
+    pytest.importorskip("matplotlib")
+    from kcheck_checks.plots_3d import scene_views
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    scene = load_scene(FIXTURES / f"{fixture}.kcheck.yaml")
+    assert scene.body is not None
+    result = run(Analytical3D(), scene)
+    analysis = analyse(scene, body_mass_properties(scene.body, scene.scale))
+    fig = scene_views(scene, analysis, result)
+    texts = [t.get_text() for ax in fig.axes for t in ax.texts]
+    for preload in scene.preloads:
+        assert any(preload.name in t for t in texts)
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    from matplotlib.text import Text
+
+    titles = [
+        (t, ax)
+        for ax in fig.axes
+        if ax.get_title(loc="left")
+        for t in ax.get_children()
+        if isinstance(t, Text) and t.get_text() == ax.get_title(loc="left")
+    ]
+    assert len(titles) == len(scene.supports)
+    for title, ax in titles:
+        box = title.get_window_extent(renderer)
+        panel = ax.get_window_extent(renderer)
+        # No wider than its own panel plus the gap to the next (wspace 0.2 of a panel).
+        assert box.width <= 1.2 * panel.width, title.get_text()
+
+
 @pytest.mark.parametrize("sweep", [None, {"normal": [0, -1, 0], "zero": [0, 0, -1]}])
 def test_gravity_swept_ranges_agree_with_the_dynamics_at_each_tilt(
     sweep: dict | None, tmp_path: Path

@@ -172,7 +172,11 @@ def test_contact_loss_at_every_angle_hints_at_the_load_point() -> None:
     result = run(Analytical2D(), scene, AnalyticalOptions())
     (x3,) = [f for f in result.findings if f.message.startswith("retract x3")]
     assert "loses contact" in x3.message
-    assert x3.hint is not None and "move the load point" in x3.hint
+    # The scene's load has no point: it acts at the centre of mass.
+    assert x3.hint == (
+        "move the centre of mass (where the force acts), or the supports: turning the force "
+        "alone cannot close it"
+    )
 
 
 def test_maxwell_is_a_warning() -> None:
@@ -403,6 +407,29 @@ def test_findings_on_shorthand_supports_point_at_their_coupling_entry():
         coupling = finding.message.split()[1].split(".")[0]  # "retracting g2.1 frees ..."
         assert finding.field == ("couplings", int(coupling[1]) - 1)
         assert finding.line == entry[coupling]
+
+
+def test_findings_of_one_coupling_merge_per_support_once() -> None:
+    """A new user's Kelvin clamp (ball-cone A modelled as A.1–A.3, one field `couplings[0]`)
+    read "retract A.1 → jams …; no gravity direction closes it" three times over: the
+    findings of A.2 and A.3 were merged into A.1's because they share the field. Each support
+    keeps its own finding, and a reason already said is not repeated."""
+    from kcheck_checks.wording import merge_findings
+
+    from kcheck.result import Finding
+
+    field = ("couplings", 0)
+    jams = [Finding(f"retract A.{k} → jams at μ = 0.8", code="jams", field=field) for k in (1, 2)]
+    nowhere = [
+        Finding(f"retract A.{k} → no gravity direction closes it", field=field)
+        for k in (1, 1, 2, 3)
+    ]
+    merged = merge_findings(jams, nowhere)
+    assert [f.message for f in merged] == [
+        "retract A.1 → jams at μ = 0.8; no gravity direction closes it",
+        "retract A.2 → jams at μ = 0.8; no gravity direction closes it",
+        "retract A.3 → no gravity direction closes it",
+    ]
 
 
 def test_a_coupling_s_contacts_keep_their_own_findings(tmp_path: Path) -> None:
