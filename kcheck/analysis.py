@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from kcheck.arcs import FULL, ArcSet, contains, intersect, margin, to_degrees
-from kcheck.dynamics import Case, Problem, analyse_cases, build_problem
+from kcheck.dynamics import Case, Problem, analyse_cases, build_problem, with_load
 from kcheck.fmt import clean, format_ranges
 from kcheck.friction import FrictionIntervals, friction_intervals_many
 from kcheck.kinematics import Frame, row_norms, unit_rows
@@ -25,6 +25,7 @@ __all__ = [
     "motion_details",
     "Analysis",
     "analyse",
+    "swept_design",
     "sweep_ranges",
     "nearest_end",
     "describe_ranges",
@@ -309,11 +310,31 @@ def nearest_end(arcs: ArcSet, angle: float) -> float:
     return float(ends[int(np.argmin(gap))] % (2 * np.pi))
 
 
+def swept_design(analysis: Analysis) -> np.ndarray | None:
+    """The design direction of what is swept (unit, dim): the load's direction, or without a
+    load the scene's gravity (:attr:`kcheck.problem.Problem.swept`); None when it has none."""
+    problem = analysis.problem
+    if problem.swept == "load":
+        return analysis.design
+    return unit_rows(problem.gravity) if np.any(problem.gravity) else None
+
+
 def sweep_ranges(analysis: Analysis, e1: np.ndarray, e2: np.ndarray) -> Analysis:
     """The analysis with exact safe ranges in the plane ``(e1, e2)`` (dim-vectors): per case,
-    combined, the design margin and the nearest safe angle."""
+    combined, the design margin and the nearest safe angle.
+
+    Without a load the angles are gravity's direction, its magnitude kept
+    (:meth:`kcheck.problem.Problem.gravity_basis`), as on the sphere map."""
     from dataclasses import replace
 
+    from kcheck.friction_range import range_arcs
+
+    problem = analysis.problem
+    gravity = problem.swept == "gravity"
+    b0, big_b = problem.gravity_basis()
+    forms = None
+    if gravity and analysis.friction_range is not None:
+        forms = analysis.friction_range.for_wrench(b0, big_b)
     arcs: list[ArcSet] = []
     error: float | None = None
     results = []
@@ -322,16 +343,18 @@ def sweep_ranges(analysis: Analysis, e1: np.ndarray, e2: np.ndarray) -> Analysis
             arcs.append(())
             results.append(result)
             continue
-        case_arcs, arc_error = safe_arcs(case, e1, e2)
+        case_arcs, arc_error = safe_arcs(with_load(case, b0, big_b) if gravity else case, e1, e2)
         if arc_error is not None:
             error = max(error or 0.0, float(np.degrees(arc_error)))
-        if analysis.friction_range is not None:
+        if forms is not None:
+            case_arcs = () if forms[r] is None else range_arcs(forms[r], e1, e2)[0]
+        elif analysis.friction_range is not None:
             case_arcs = analysis.friction_range.arcs(r, e1, e2)
         arcs.append(case_arcs)
         results.append(replace(result, safe_ranges_deg=ranges_deg(case_arcs)))
     combined = intersect(*arcs)
     design_margin = nearest = None
-    design = analysis.design
+    design = swept_design(analysis)
     in_plane = (
         design is not None and abs(float(np.linalg.norm([design @ e1, design @ e2])) - 1) < 1e-9
     )

@@ -24,6 +24,8 @@ __all__ = [
     "format_ranges",
     "clean",
     "format_number",
+    "format_share",
+    "format_share_bounds",
     "format_length",
     "format_vector",
     "format_direction",
@@ -108,6 +110,29 @@ def format_number(value: float | None, digits: int = 4) -> str:
     if value == 0:
         return "0"
     return f"{value:.{digits}g}"
+
+
+def format_share(fraction: float, decimals: int = 2) -> str:
+    """A share (0..1) as a percentage with ``decimals`` decimals, e.g. ``6.20%``. A share
+    strictly between 0 and 1 is never written ``0.00%`` or ``100.00%``: near either end it
+    gets two significant digits of itself (``0.0056%``) or of what it lacks to the whole
+    (``99.9990%``); below 1e-10 % it is written ``1.0e-18%``."""
+    percent = 100.0 * fraction
+    if not math.isfinite(percent):
+        return "–"
+    if percent <= 0 or percent >= 100:
+        return f"{max(min(percent, 100.0), 0.0):g}%"
+    gap = float(f"{min(percent, 100.0 - percent):.6g}")  # 100 - 99.999: 0.001, not 0.00099…
+    if gap < 1e-10:
+        return f"{percent:.1e}%" if percent < 50 else f"{100 - 1e-10:.10f}%"
+    places = max(decimals, 1 - math.floor(math.log10(gap)))
+    return f"{percent:.{places}f}%"
+
+
+def format_share_bounds(low: float, high: float, decimals: int = 2) -> str:
+    """A share known between bounds: ``0%–0.090%``, or one share when both write the same."""
+    low_text, high_text = format_share(low, decimals), format_share(high, decimals)
+    return low_text if low_text == high_text else f"{low_text}–{high_text}"
 
 
 def format_length(value_m: float, scale: float, units: str, decimals: int | None = None) -> str:

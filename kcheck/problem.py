@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 
@@ -54,6 +55,26 @@ class Problem:
         eye = np.eye(self.dim)
         lever = wrenches(np.broadcast_to(r, (self.dim, self.dim)), eye).T  # (n, dim)
         return self.fixed_wrench(), self.load_scale * lever
+
+    @property
+    def swept(self) -> Literal["load", "gravity"]:
+        """What a direction sweeps: the load's when it has a magnitude, else gravity's."""
+        return "load" if self.load_scale > 0 else "gravity"
+
+    def gravity_basis(self) -> tuple[np.ndarray, np.ndarray]:
+        """External wrench about the centre of mass as ``b0 + B d`` for gravity's direction
+        ``d`` swept with its magnitude kept (the tilt of the body): returns ``(b0, B)``; the
+        torque and the preloads stay fixed to the body."""
+        nw = len(self.torque)
+        weight = float(row_norms(self.gravity))
+        b0 = np.concatenate([self.torque, np.zeros(self.dim)])
+        if self.preload is not None:
+            b0 = b0 + self.preload
+        return b0, np.vstack([np.zeros((nw, self.dim)), weight * np.eye(self.dim)])
+
+    def swept_basis(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(b0, B)`` of the swept direction (:attr:`swept`): the load's or gravity's."""
+        return self.load_basis() if self.swept == "load" else self.gravity_basis()
 
     def wrench(self, direction: np.ndarray | None) -> np.ndarray:
         """External wrench for a unit force direction (dim,), or the fixed wrench alone."""

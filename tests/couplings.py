@@ -142,3 +142,63 @@ def with_preloads(scene: Scene, preloads) -> Scene:
 def supports_of(scene: Scene) -> tuple[Support, ...]:
     """The scene's supports (for readability in tests)."""
     return scene.supports
+
+
+def tilted_kelvin(folder: Path, friction: float, sweep: dict | None = None) -> Path:
+    """fixtures/kelvin (real mesh) with gravity as the only swept force: its `load:` and
+    `sweep:` dropped, a 20 N spring pressing the plate down, ``friction`` and, if given, a
+    ``sweep`` of its own. Returns the scene file (written next to a copy of the mesh)."""
+    import shutil
+
+    source = Path(__file__).resolve().parents[1] / "fixtures" / "kelvin"
+    shutil.copy(source / "top-plate.stl", folder / "top-plate.stl")
+    lines = (source / "coupling.kcheck.yaml").read_text(encoding="utf-8").splitlines()
+    kept = [ln for ln in lines if not ln.startswith(("load:", "sweep:", "friction:"))]
+    kept += [
+        f"friction: {friction}",
+        "preloads: [{name: spring, point: [0, 0, 20], force: [0, 0, -20]}]",
+    ]
+    if sweep is not None:
+        kept.append(f"sweep: {yaml.safe_dump(sweep, default_flow_style=True).strip()}")
+    path = folder / "tilted.kcheck.yaml"
+    path.write_text("\n".join(kept) + "\n", encoding="utf-8")
+    return path
+
+
+USER_KELVIN = """\
+version: 1
+name: kelvin clamp plate (cone, vee, flat)
+units: mm
+body:
+  mesh: plate.stl                  # 100 x 100 x 10 mm, z 0..10
+  material: aluminium
+  point_masses:                    # three 10 mm steel balls glued under the plate
+    - {{name: ball-A, mass: 0.00411, point: [0, 35, -5]}}
+    - {{name: ball-B, mass: 0.00411, point: [-30.311, -17.5, -5]}}
+    - {{name: ball-C, mass: 0.00411, point: [30.311, -17.5, -5]}}
+couplings:
+  - {{name: A, type: ball-cone, ball: {{center: [0, 35, -5], radius: 5}},
+     up: [0, 0, 1], half_angle: 45}}
+  - {{name: B, type: ball-vee, ball: {{center: [-30.311, -17.5, -5], radius: 5}},
+     groove: {{axis: [-0.5, -0.866, 0], up: [0, 0, 1], half_angle: 45}}}}
+  - {{name: C, type: ball-flat, ball: {{center: [30.311, -17.5, -5], radius: 5}},
+     normal: [0, 0, 1]}}
+friction: {friction}
+gravity: [0, 0, -9.81]
+preloads:
+  - {{name: spring, point: [0, 0, 10], force: [0, 0, -20]}}
+"""
+
+
+def user_kelvin(folder: Path, friction: float = 0.15) -> Path:
+    """A new user's Kelvin clamp, as reported: a 100 x 100 x 10 mm aluminium plate (a real
+    STL written by trimesh) on a cone, a vee and a flat, gravity and a 20 N spring the only
+    closing forces (no `load:`, no `sweep:`). Returns the scene file."""
+    import trimesh
+
+    plate = trimesh.creation.box(extents=(100.0, 100.0, 10.0))
+    plate.apply_translation((0.0, 0.0, 5.0))
+    plate.export(folder / "plate.stl")
+    path = folder / "kelvin.kcheck.yaml"
+    path.write_text(USER_KELVIN.format(friction=friction), encoding="utf-8")
+    return path

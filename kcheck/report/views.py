@@ -25,6 +25,7 @@ from kcheck.fmt import (
     format_angle,
     format_number,
     format_ranges,
+    format_share_bounds,
 )
 from kcheck.result import CheckResult, Finding, SceneResult, Status
 
@@ -117,22 +118,42 @@ def _range_width(ranges: Sequence[Sequence[float]]) -> float:
     return sum((e - s) % 360.0 if e - s < 360.0 else 360.0 for s, e in ranges)
 
 
+def _share(check: CheckResult) -> tuple[float, float] | None:
+    """The safe share of the sphere a check reports, as ``(low, high)``: equal when exact,
+    else its lower and upper bound (``safe_solid_angle_fraction_upper``); None without one."""
+    low = check.details.get("safe_solid_angle_fraction")
+    if not isinstance(low, (int, float)):
+        return None
+    high = check.details.get("safe_solid_angle_fraction_upper", low)
+    return float(low), float(high) if isinstance(high, (int, float)) else float(low)
+
+
+def _swept(check: CheckResult) -> str:
+    """What the check's directions are: ``gravity`` when it sweeps gravity, else ``force``."""
+    return "gravity" if check.details.get("swept_direction") == "gravity" else "force"
+
+
 def _nothing_safe(check: CheckResult) -> bool:
-    """Whether a check found no safe direction at all (its margin then means nothing)."""
-    fraction = check.details.get("safe_solid_angle_fraction")
-    if isinstance(fraction, (int, float)):
-        return fraction <= 0
+    """Whether a check found no safe direction at all (its margin then means nothing): an
+    exact share of 0, an upper bound of 0, or no safe range."""
+    share = _share(check)
+    if share is not None:
+        return share[1] <= 0
     return check.safe_ranges_deg is not None and len(check.safe_ranges_deg) == 0
 
 
 def headline(scene: SceneResult) -> str:
     """The scene's key numbers on one line: the smallest design margin over the checks that
-    report one, the safe share of the sphere, or the narrowest safe range; n/a checks."""
+    report one, the safe share of the sphere, or the narrowest safe range; n/a checks. Each
+    safe share and "no safe direction" names the check that says so and what it sweeps (force
+    or gravity directions)."""
     parts: list[str] = []
     checks = _checks(scene)
-    nothing = any(_nothing_safe(c) for c in checks)
+    nothing = [c for c in checks if _nothing_safe(c)]
     if nothing:
-        parts.append("no safe force direction")
+        what = {_swept(c) for c in nothing}
+        word = what.pop() if len(what) == 1 else "force or gravity"
+        parts.append(f"no safe {word} direction ({', '.join(c.id for c in nothing)})")
     margins = [
         c.details["design_margin_deg"]
         for c in checks
@@ -142,14 +163,12 @@ def headline(scene: SceneResult) -> str:
     ]
     if margins and not nothing:
         parts.append(f"design margin {format_angle(min(margins))}")
-    fractions = [
-        (c.details["safe_solid_angle_fraction"], c.id)
-        for c in checks
-        if isinstance(c.details.get("safe_solid_angle_fraction"), (int, float))
-    ]
-    if fractions and not nothing:
-        share, source = min(fractions)  # the smallest, and which check says so
-        parts.append(f"{100 * share:.2f}% of directions safe ({source})")
+    shares = [(share[1], share[0], c) for c in checks if (share := _share(c)) is not None]
+    if shares and not nothing:
+        high, low, source = min(shares, key=lambda x: x[:2])  # the smallest, and who says so
+        parts.append(
+            f"{format_share_bounds(low, high)} of {_swept(source)} directions safe ({source.id})"
+        )
     if not parts:
         ranged = [c for c in checks if c.safe_ranges_deg is not None]
         if ranged:

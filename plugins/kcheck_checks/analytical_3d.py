@@ -20,7 +20,7 @@ import numpy as np
 from pydantic import Field
 
 from kcheck.analysis import Analysis, analyse, closing_force_reason, describe_ranges, sweep_ranges
-from kcheck.fmt import clean, format_angle, format_vector
+from kcheck.fmt import clean, format_angle, format_share, format_vector
 from kcheck.plugin import Check, Inputs
 from kcheck.range_analysis import range_details
 from kcheck.result import CheckResult, Finding, Status
@@ -93,8 +93,8 @@ def _sphere_findings(
             return [
                 Finding(
                     f"the {what} directions that close {names[i]} "
-                    f"({100 * smap.case_fractions[i]:.2f}% of the sphere) and those that "
-                    f"close {names[j]} ({100 * smap.case_fractions[j]:.2f}%) do not overlap",
+                    f"({format_share(smap.case_fractions[i])} of the sphere) and those that "
+                    f"close {names[j]} ({format_share(smap.case_fractions[j])}) do not overlap",
                     code="ranges-disjoint",
                     field=support_field(scene, names[i]),
                 )
@@ -151,13 +151,13 @@ def _sphere_findings(
     return []
 
 
-def _plane_text(analysis: Analysis, chosen: bool) -> str:
-    """The sweep-plane part of the message."""
-    where = (
-        "in the plane through the design and most robust directions"
-        if chosen
-        else ("in the sweep plane")
-    )
+def _plane_text(analysis: Analysis, chosen: str | None) -> str:
+    """The sweep-plane part of the message; ``chosen``: why the check chose the plane (None:
+    the scene's)."""
+    if chosen is None:
+        where = "in the sweep plane"
+    else:
+        where = f"in {chosen}" if chosen.startswith("the ") else f"in the plane {chosen}"
     if analysis.combined is None:
         return ""
     if not analysis.combined:
@@ -171,7 +171,7 @@ def spatial_result(
     """Verdict of the spatial check: the sphere map decides, a sweep plane is reported.
 
     Returns the result, the map and the analysis (with the sweep plane actually used)."""
-    from kcheck_checks.sphere_map import default_plane, sphere_map, sweep_given
+    from kcheck_checks.sphere_map import chosen_plane, sphere_map, sweep_given
 
     deg = float(np.degrees(1.0))
     details: dict[str, object] = {"max_condition": analysis.max_condition}
@@ -180,20 +180,24 @@ def spatial_result(
         details["friction_range"] = span
     findings = case_findings(scene, analysis)
     smap = None if not analysis.trustworthy else sphere_map(scene, analysis, options.sphere_points)
-    chosen = False
-    if analysis.combined is not None and smap is not None and not sweep_given(scene):
-        design3 = None if analysis.design is None else analysis.design
-        e1, e2 = default_plane(design3, smap.robust)
-        analysis = sweep_ranges(analysis, e1, e2)
-        chosen = True
+    chosen = None
+    if smap is not None and not sweep_given(scene):
+        # The most robust direction only where it means one: not on an empty or full map.
+        meaningful = not smap.empty and not (smap.region is not None and smap.region.full)
+        chosen = chosen_plane(smap.design, smap.robust if meaningful else None)
+    if chosen is not None:
+        analysis = sweep_ranges(analysis, chosen[0], chosen[1])
+    elif smap is not None and analysis.plane is None:
+        # Gravity swept (no load): `analyse` sweeps only a load; the scene's plane here.
+        analysis = sweep_ranges(analysis, scene.sweep.e1, scene.sweep.e2)
     if analysis.plane is not None:
         e1, e2 = analysis.plane
         details["sweep_plane"] = {
             "normal": np.cross(e1, e2).tolist(),
-            "zero": list(e1),
-            "chosen": "through the design and most robust directions"
-            if chosen and analysis.design is not None
-            else ("through the most robust direction" if chosen else "the scene's sweep"),
+            "zero": np.asarray(e1).tolist(),
+            "chosen": chosen[2]
+            if chosen is not None
+            else ("the scene's sweep" if sweep_given(scene) else "the xy-plane: no sweep given"),
         }
         if analysis.design_margin_deg is not None:
             details["sweep_design_margin_deg"] = analysis.design_margin_deg
@@ -221,6 +225,8 @@ def spatial_result(
             "safe_solid_angle_fraction_error": smap.fraction.error,
         }
     )
+    if smap.swept == "gravity" and analysis.plane is not None:
+        details["case_ranges_label"] = "safe gravity angles"  # the cases' safe_ranges_deg
     if smap.lattice is not None:
         details["sphere_points"] = smap.lattice.points
         details["lattice_fraction"] = smap.lattice.fraction
@@ -252,7 +258,7 @@ def spatial_result(
     elif full:
         parts = [f"every {what} direction closes every retraction"]
     else:
-        parts = [f"safe {what} directions: {100 * smap.fraction.fraction:.2f}% of the sphere"]
+        parts = [f"safe {what} directions: {format_share(smap.fraction.fraction)} of the sphere"]
         if smap.design_margin is not None and smap.design_margin >= 0 and not findings:
             parts.append(
                 f"design direction {format_angle(smap.design_margin * deg)} from the nearest "
@@ -263,7 +269,7 @@ def spatial_result(
                 f"most robust {format_vector(smap.robust, 3)}, "
                 f"{format_angle(smap.robust_margin * deg)} from every boundary"
             )
-        plane = _plane_text(analysis, chosen)
+        plane = _plane_text(analysis, None if chosen is None else chosen[2])
         if plane:
             parts.append(plane)
     result = CheckResult(

@@ -24,7 +24,7 @@ from pydantic import Field
 
 from kcheck.analysis import ranges_deg
 from kcheck.arcs import FULL, TAU, ArcSet, complement, intersect, margin
-from kcheck.fmt import format_angle, format_number, format_ranges
+from kcheck.fmt import format_angle, format_number, format_ranges, format_share_bounds
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.range_analysis import coefficients_used
 from kcheck.result import CaseResult, CheckResult, Finding, Status
@@ -121,10 +121,11 @@ def jamming_result(
     """Verdict: fail when friction can hold the body at the design direction in some case,
     or, without one, when no swept direction closes every case free of jamming."""
     dim = analysis.statics.dim
-    e1, e2 = scene.sweep.e1[:dim], scene.sweep.e2[:dim]
+    smap = jam_map(analysis, options.sphere_points) if dim == 3 else None
+    e1, e2, chosen = _sweep_plane(scene, analysis, smap)
     design = analysis.design
     angle = None
-    if design is not None and (dim == 2 or abs(float(design @ scene.sweep.normal)) < 1e-9):
+    if design is not None and (dim == 2 or abs(float(design @ np.cross(e1, e2))) < 1e-9):
         angle = float(np.arctan2(design @ e2, design @ e1) % TAU)
     all_arcs = [case_arcs(c, e1, e2) if c.determined else None for c in analysis.cases]
     results, least = [], []
@@ -137,10 +138,11 @@ def jamming_result(
     jam_free = tidy(intersect(*(complement(a.held) for a in determined)))
     safe = tidy(intersect(*(intersect(a.closing, complement(a.held)) for a in determined)))
     error_deg = float(np.degrees(max((a.error for a in determined), default=0.0)))
+    what = "force" if analysis.swept == "load" else "gravity"
     details: dict[str, Any] = {
         "swept_direction": analysis.swept,
         # A case's `safe_ranges_deg` here are the angles friction cannot hold it at.
-        "case_ranges_label": "jam-free force angles",
+        "case_ranges_label": f"jam-free {what} angles",
         "jam_free_deg": _ranges(jam_free),
         "pyramid_edges": analysis.edges if dim == 3 else None,
     }
@@ -150,7 +152,6 @@ def jamming_result(
     if used is not None:
         # The held set only grows with friction: the top of a static range is its worst.
         details["friction_range"] = {**used, "worst_mu": used["max"]}
-    smap = jam_map(analysis, options.sphere_points) if dim == 3 else None
     findings: list[Finding] = []
     undetermined = [r for r in results if r.outcome == "undetermined"]
     for r, res in enumerate(results):
@@ -169,7 +170,9 @@ def jamming_result(
             )
         else:
             parts.append("friction cannot hold the body at the design direction in any case")
-        if angle is not None:
+        if angle is not None and not jam_free:
+            ok = False  # every angle of the plane can be held: no margin to speak of
+        elif angle is not None and jam_free != FULL:
             design_margin = float(np.degrees(margin(jam_free, angle)))
             details["design_margin_deg"] = design_margin
             if design_margin < 0:
@@ -191,9 +194,9 @@ def jamming_result(
     parts.append(f"jam-free in the sweep plane: {_text(jam_free)}")
     if dim == 3:
         details["sweep_plane"] = {
-            "normal": scene.sweep.normal.tolist(),
-            "zero": scene.sweep.e1.tolist(),
-            "chosen": "the scene's sweep" if scene.sweep.given else "the xy-plane: no sweep given",
+            "normal": np.cross(e1, e2).tolist(),
+            "zero": e1.tolist(),
+            "chosen": chosen,
         }
     if smap is not None:
         details.update(
@@ -202,12 +205,11 @@ def jamming_result(
                 "jam_free_solid_angle_fraction": smap.jam_free,
                 "jam_free_solid_angle_fraction_upper": smap.jam_free_upper,
                 "safe_solid_angle_fraction": smap.safe,
+                "safe_solid_angle_fraction_upper": smap.safe_upper,
                 "polyhedral_error_deg": smap.error_deg,
             }
         )
-        what = "force" if analysis.swept == "load" else "gravity"
-        low, high = f"{100 * smap.jam_free:.1f}%", f"{100 * smap.jam_free_upper:.1f}%"
-        share = low if low == high else f"{low}–{high}"
+        share = format_share_bounds(smap.jam_free, smap.jam_free_upper, 1)
         parts.append(f"{what} directions free of jamming: {share} of the sphere")
         results = [_with_map_share(res, smap, i, analysis) for i, res in enumerate(results)]
     return (
@@ -223,6 +225,33 @@ def jamming_result(
         ),
         smap,
     )
+
+
+def _sweep_plane(
+    scene: Scene, analysis: JamAnalysis, smap: JamMap | None
+) -> tuple[np.ndarray, np.ndarray, str]:
+    """The plane of the ranges ``(e1, e2, why)``: the scene's; for a spatial scene without
+    ``sweep:`` and with a design direction, the plane through it (angle 0) and the lattice
+    direction farthest from every held region (as analytical-3d's plane goes through its most
+    robust direction; :func:`kcheck_checks.sphere_map.chosen_plane`)."""
+    dim = analysis.statics.dim
+    plane = scene.sweep.e1[:dim], scene.sweep.e2[:dim]
+    if dim == 2:
+        return *plane, "the scene's sweep"
+    from kcheck_checks.sphere_map import chosen_plane, sweep_given
+
+    if sweep_given(scene):
+        return *plane, "the scene's sweep"
+    if smap is None or analysis.design is None:
+        return *plane, "the xy-plane: no sweep given"
+    chosen = chosen_plane(analysis.design, smap.freest, "most jam-free")
+    assert chosen is not None  # a design direction was given
+    e1, e2, why = chosen
+    if smap.freest_pyramids == "inscribed":
+        why += ", inscribed pyramids: none is jam-free for certain"
+    elif smap.freest is None:
+        why += ": every direction is jam-free" if smap.jam_free >= 1 else ": none is jam-free"
+    return e1, e2, why
 
 
 def _with_map_share(res: CaseResult, smap: JamMap, i: int, analysis: JamAnalysis) -> CaseResult:
@@ -254,7 +283,9 @@ def _finding(
     others = ", ".join(names[j] for j in analysis.cases[r].keep)
     what = "load" if analysis.swept == "load" else "gravity"
     where = ""
-    if arcs is not None and arcs.held:
+    if arcs is not None and arcs.held == FULL:
+        where = f" for every {what} angle in the sweep plane"
+    elif arcs is not None and arcs.held:
         where = f" for {what} angles {_text(arcs.held)}"
     if analysis.design is None:
         if arcs is None or not arcs.jamming:

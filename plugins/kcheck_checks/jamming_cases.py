@@ -328,6 +328,12 @@ class JamMap:
     jam_free_upper: float
     safe: float
     error_deg: float
+    safe_upper: float = 0.0  # as ``safe``, with the inscribed pyramids: an upper bound
+    # The lattice direction farthest from every case's held region (circumscribed: jam-free
+    # for certain; else inscribed: where jamming may be absent), and which; None when none is
+    # jam-free even with the inscribed pyramids, or nothing is held anywhere.
+    freest: np.ndarray | None = None
+    freest_pyramids: Literal["circumscribed", "inscribed"] | None = None
 
 
 def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
@@ -358,6 +364,16 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
         inner_any |= inner_in
         held.append(np.count_nonzero(outer_in) / points)
         inner.append(np.count_nonzero(inner_in) / points)
+    freest, pyramids = None, None
+    for kind, sets in (
+        ("circumscribed", [c.held for c in analysis.cases if c.determined]),
+        ("inscribed", [c.held_inner for c in analysis.cases if c.determined]),
+    ):
+        depth = _free_depth(sets, dirs)  # type: ignore[arg-type]
+        best = int(np.argmax(depth))
+        if depth[best] > 0 and np.isfinite(depth[best]):
+            freest, pyramids = dirs[best], kind
+            break
     return JamMap(
         points=points,
         held=np.array(held),
@@ -366,4 +382,23 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
         jam_free_upper=np.count_nonzero(~inner_any) / points,
         safe=np.count_nonzero(closing_all & ~held_any) / points,
         error_deg=float(np.degrees(band_width + grid_spacing(points))),
+        safe_upper=np.count_nonzero(closing_all & ~inner_any) / points,
+        freest=freest,
+        freest_pyramids=pyramids,  # type: ignore[arg-type]
     )
+
+
+def _free_depth(sets: list[Equilibria], dirs: np.ndarray) -> np.ndarray:
+    """Per direction (m, 3), the least angular distance (rad) to a held region over the
+    cases, each measured to the facet's circle the direction lies farthest outside (a lower
+    bound of the distance); negative where some case holds it, inf where none holds
+    anything."""
+    from kcheck.arcs import cap_margin_matrix
+
+    depth = np.full(len(dirs), np.inf)
+    for held in sets:
+        if held.kind == "everywhere":
+            return np.full(len(dirs), -np.pi)
+        if held.kind == "cone" and len(held.a):
+            depth = np.minimum(depth, -cap_margin_matrix(held.a, held.c, dirs).min(axis=1))
+    return depth

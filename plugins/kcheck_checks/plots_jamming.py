@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from kcheck.arcs import ArcSet
-from kcheck.fmt import format_angle, format_number
+from kcheck.fmt import format_angle, format_number, format_share_bounds
 from kcheck.plotting import figure, save, slug
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
@@ -138,6 +138,28 @@ def _patch(colour: str, label: str, hatch: str | None = None, edge: str = "black
     return Patch(facecolor=colour, edgecolor=edge, hatch=hatch, label=label)
 
 
+def _sweep_circle(ax: Any, plane: Any, c0: np.ndarray, first: bool) -> None:
+    """The sweep plane's great circle on a Lambert map about ``c0``, dashed, with its angles
+    every 45° (those the check's ranges are measured in)."""
+    if not isinstance(plane, dict) or "normal" not in plane or "zero" not in plane:
+        return
+    e1 = np.asarray(plane["zero"], float)
+    e2 = np.cross(np.asarray(plane["normal"], float), e1)
+    t = np.radians(np.arange(0.0, 360.5, 0.5))
+    dirs = np.cos(t)[:, None] * e1 + np.sin(t)[:, None] * e2
+    front = dirs @ c0 >= -1e-9
+    xy = np.array([lambert_forward(d, c0) for d in dirs])
+    xy[~front] = np.nan
+    ax.plot(xy[:, 0], xy[:, 1], "--", color="0.15", lw=1.0,
+            label="sweep plane (angles of the ranges)" if first else None)  # fmt: skip
+    for angle in range(0, 360, 45):
+        i = 2 * angle
+        if front[i]:
+            ax.plot(*xy[i], "o", color="0.15", ms=3)
+            ax.annotate(format_angle(angle, 0), xy[i], xytext=(3, -9), textcoords="offset points",
+                        fontsize=7, color="0.15")  # fmt: skip
+
+
 def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckResult) -> None:
     """Equal-area map of where friction can hold the body: the hemisphere about the design
     direction and the opposite one, coloured by how many cases can be held there."""
@@ -178,6 +200,7 @@ def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
                 px, py = lambert_forward(v, c0)
                 ax.plot(px, py, "+", color="0.25", ms=8)
                 ax.text(px, py, f" {label}", fontsize=9, color="0.25", va="bottom")
+        _sweep_circle(ax, result.details.get("sweep_plane"), c0, first=k == 0)
         if analysis.design is not None and sign > 0:
             ax.plot(0, 0, "*", mfc="tab:orange", mec="black", ms=16,
                     label="design direction" if k == 0 else None)  # fmt: skip
@@ -198,7 +221,10 @@ def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
     details = result.details
     low = details.get("jam_free_solid_angle_fraction")
     high = details.get("jam_free_solid_angle_fraction_upper")
-    share = "" if low is None else f": {100 * low:.1f}%–{100 * high:.1f}% of the sphere is jam-free"
+    share = ""
+    if low is not None:
+        # As the check's message writes it.
+        share = f": {format_share_bounds(low, high, 1)} of the sphere is jam-free"
     fig.suptitle(
         f"{scene.name}: {what} directions where friction can hold the body{share}\n"
         "equal-area (Lambert azimuthal) views; white: no retracted case can be held",

@@ -16,7 +16,7 @@ import numpy as np
 
 from kcheck.analysis import Analysis
 from kcheck.arcs import cap_margin_matrix
-from kcheck.fmt import format_direction
+from kcheck.fmt import format_direction, format_share
 from kcheck.plotting import VERDICT_COLOURS, figure
 from kcheck.report.views import verdict
 from kcheck.result import CheckResult
@@ -98,6 +98,14 @@ def _margins(smap: SphereMap, dirs: np.ndarray, cases: np.ndarray) -> np.ndarray
 
 def _grid(lo: np.ndarray, hi: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     return np.meshgrid(np.linspace(lo[0], hi[0], n), np.linspace(lo[1], hi[1], n))
+
+
+def _beyond(smap: SphereMap, centre: np.ndarray) -> float:
+    """The exact share of the sphere that is safe and more than 90° from ``centre`` (the
+    hemisphere the map does not draw): the safe region cut by one more cap."""
+    from kcheck.caps import region
+
+    return region(np.append(smap.a, 0.0), np.vstack([smap.c, -centre])).fraction
 
 
 def _centre(smap: SphereMap) -> tuple[np.ndarray, str]:
@@ -289,15 +297,14 @@ def sphere_figure(scene: Scene, analysis: Analysis, smap: SphereMap, result: Che
     over.set_ylim(-EDGE * 1.08, EDGE * 1.08)
     over.set_aspect("equal")
     over.axis("off")
-    front = 0.5 * float(np.count_nonzero(safe)) / max(int(np.count_nonzero(inside)), 1)
-    back = smap.fraction.fraction - front
+    back = _beyond(smap, centre)
     over.set_title(
         f"the hemisphere about the {about} direction\n(dashed: the zoomed map)", fontsize=9
     )
     note = (
         "opposite hemisphere: no safe direction"
-        if back < max(smap.fraction.error, 0.001)
-        else f"opposite hemisphere: about {100 * back:.1f}% of the sphere also safe (not drawn)"
+        if back <= smap.fraction.error
+        else f"opposite hemisphere (not drawn):\n{format_share(back)} of the sphere also safe"
     )
     legend = fig.add_subplot(grid[1, 1])
     legend.axis("off")
@@ -308,9 +315,9 @@ def sphere_figure(scene: Scene, analysis: Analysis, smap: SphereMap, result: Che
     frac = smap.fraction
     share = "none"
     if frac.fraction > 0:
-        share = f"{100 * frac.fraction:.1f}%"
-        if frac.error >= 5e-4:  # shown only where it shows at one decimal (exact: rounding)
-            share += f" ± {100 * frac.error:.1f}%"
+        share = format_share(frac.fraction)  # as the check's message writes it
+        if frac.error >= 5e-5:  # shown only where it shows at two decimals (exact: rounding)
+            share += f" ± {100 * frac.error:.2f}%"
     fig.suptitle(
         f"{scene.name} — analytical-3d {word.upper()}\n{what} directions safe for every "
         f"retracted support: {share} of the sphere",

@@ -26,6 +26,7 @@ __all__ = [
     "sphere_map",
     "sweep_given",
     "default_plane",
+    "chosen_plane",
     "disjoint_cases",
 ]
 
@@ -74,13 +75,9 @@ def direction_caps(
     :func:`kcheck.friction_range.range_caps` (closing for every coefficient), and their error
     includes how far a sampled envelope may lie from the true boundary.
     """
-    swept: Literal["load", "gravity"] = "load" if problem.load_scale > 0 else "gravity"
+    swept = problem.swept
     a_all, c_all, owner, err_all, extra = [], [], [], [], []
-    weight = float(np.linalg.norm(problem.gravity))
-    b0 = np.concatenate([problem.torque, np.zeros(3)])
-    if problem.preload is not None:
-        b0 = b0 + problem.preload
-    big_b = np.vstack([np.zeros((3, 3)), weight * np.eye(3)])
+    b0, big_b = problem.gravity_basis()
     ranged = analysis.friction_range
     forms = None
     if ranged is not None:
@@ -193,6 +190,24 @@ def default_plane(design: np.ndarray | None, robust: np.ndarray) -> tuple[np.nda
         if np.linalg.norm(e2) > 1e-6:
             return zero, e2 / np.linalg.norm(e2)
     return zero, np.array([0.0, 1.0, 0.0])  # unreachable: x and z cannot both be parallel
+
+
+def chosen_plane(
+    design: np.ndarray | None, towards: np.ndarray | None, what: str = "most robust"
+) -> tuple[np.ndarray, np.ndarray, str] | None:
+    """The sweep plane ``(e1, e2)`` of a spatial scene without ``sweep:``, and why (the
+    ``sweep_plane.chosen`` text): through the design direction (angle 0) and ``towards`` (the
+    map's ``what`` direction, e.g. its most robust one) (:func:`default_plane`); without a
+    ``towards``, the vertical plane through the design direction; None without either."""
+    if towards is not None:
+        e1, e2 = default_plane(design, towards)
+        if design is None:
+            return e1, e2, f"through the {what} direction"
+        return e1, e2, f"through the design and {what} directions"
+    if design is not None:
+        e1, e2 = default_plane(design, design)
+        return e1, e2, "the vertical plane through the design direction"
+    return None
 
 
 def disjoint_cases(smap: SphereMap, analysis: Analysis) -> tuple[int, int] | None:

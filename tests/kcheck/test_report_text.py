@@ -435,3 +435,64 @@ def test_the_verbose_report_says_which_friction_was_used() -> None:
     dry = {**one, "name": "y2", "friction": 0.0, "friction_static": [0, 0]}
     dry["friction_kinetic"] = [0, 0]
     assert friction_text(scene(two, dry)) == ("friction: y1 static μ 0.2, kinetic μ 0.1, y2 μ = 0")
+
+
+def test_headline_of_a_tiny_safe_share_is_not_no_safe_direction(
+    cli, cli_json, tmp_path: Path
+) -> None:
+    """A user's Kelvin clamp (gravity and a spring the only closing forces): the headline
+    said "no safe force direction" (from jamming's lattice lower bound, 0 of 20 000 points)
+    while analytical-3d said "safe gravity directions: 0.01%" — and the sphere picture
+    "0.0%". Reference for the share being positive, an independent computation: analytical-3d's
+    own lattice cross-check (200 000 directions counted one by one) finds safe directions too.
+    The headline now quotes the smallest share with its source, in gravity directions, with
+    digits enough to be non-zero; the check and its picture write the same number."""
+    import yaml
+
+    from tests.couplings import user_kelvin
+
+    path = user_kelvin(tmp_path)
+    code, out, _ = cli("check", "-j", "1", "-v", str(path))
+    head = next(line for line in out.splitlines() if line.startswith("FAIL "))
+    assert "no safe" not in head
+    assert "0.0056% of gravity directions safe (analytical-3d)" in head
+    assert "safe gravity directions: 0.0056% of the sphere" in out
+    assert "gravity directions free of jamming: 0%–0.090% of the sphere" in out
+
+    doc = yaml.safe_load(path.read_text(encoding="utf-8"))
+    doc["checks"] = {"analytical-3d": {"sphere_points": 200_000}}
+    path.write_text(yaml.safe_dump(doc), encoding="utf-8")
+    _, doc = cli_json("-j", "1", "--select", "analytical-3d", str(path))
+    check = doc["scenes"][0]["checks"][0]
+    exact, counted = check["safe_solid_angle_fraction"], check["lattice_fraction"]
+    assert counted > 0 and exact == pytest.approx(counted, rel=0.5)  # 11 of 200 000 counted
+
+
+def test_the_sphere_picture_writes_the_share_as_the_check_does(tmp_path: Path) -> None:
+    """The analytical-3d sphere picture's title carries the check's share as its message
+    writes it (the user saw "0.0%" above a text saying "0.01%")."""
+    pytest.importorskip("matplotlib")
+    from kcheck_checks.analytical_3d import Analytical3D, Analytical3DOptions, spatial_result
+    from kcheck_checks.plots_sphere import sphere_figure
+
+    from kcheck.analysis import analyse
+    from kcheck.mass import body_mass_properties
+    from kcheck.scene import load_scene
+    from tests.couplings import user_kelvin
+
+    scene = load_scene(user_kelvin(tmp_path))
+    assert scene.body is not None
+    mass = body_mass_properties(scene.body, scene.scale)
+    result, smap, analysis = spatial_result(
+        Analytical3D.id, scene, analyse(scene, mass), Analytical3DOptions()
+    )
+    assert smap is not None
+    fig = sphere_figure(scene, analysis, smap, result)
+    title = fig._suptitle.get_text()
+    assert "0.0056% of the sphere" in title and "0.0056% of the sphere" in result.message
+    # The hemisphere the map leaves out holds safe directions too (the range at ~155° in the
+    # sweep plane): its note gives that share instead of "no safe direction".
+    notes = [
+        t.get_text() for ax in fig.axes if ax.get_legend() for t in [ax.get_legend().get_title()]
+    ]
+    assert any("of the sphere also safe" in n for n in notes)

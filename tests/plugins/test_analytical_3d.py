@@ -560,3 +560,52 @@ def test_scene_views_draw_preloads_and_fit_long_titles(fixture):
         panel = ax.get_window_extent(renderer)
         # No wider than its own panel plus the gap to the next (wspace 0.2 of a panel).
         assert box.width <= 1.2 * panel.width, title.get_text()
+
+
+@pytest.mark.parametrize("sweep", [None, {"normal": [0, -1, 0], "zero": [0, 0, -1]}])
+def test_gravity_swept_ranges_agree_with_the_dynamics_at_each_tilt(
+    sweep: dict | None, tmp_path: Path
+) -> None:
+    """Gravity the only swept force (fixtures/kelvin without its load, a spring preload): the
+    check reports `sweep_plane`, `safe_ranges_deg` and `sweep_design_margin_deg` (before, none
+    of them: the sweep was of a load that is not there). Reference, an independent computation:
+    the dynamics evaluated directly with the scene's gravity turned to each angle (the
+    fixed-wrench path of `analyse`, no swept form): every case closes just inside each range
+    end and some case fails just outside it."""
+    from kcheck.fmt import normalise_range
+    from tests.couplings import tilted_kelvin
+
+    scene = load_scene(tilted_kelvin(tmp_path, 0.1, sweep))
+    assert scene.load is None
+    mass = body_mass_properties(scene.body, scene.scale)
+    result = run(Analytical3D(), scene)
+    plane = result.details["sweep_plane"]
+    e1, normal = np.array(plane["zero"]), np.array(plane["normal"])
+    e2 = np.cross(normal, e1)
+    np.testing.assert_allclose(e1, [0, 0, -1], atol=1e-12)  # the design gravity direction at 0°
+    if sweep is None:
+        assert plane["chosen"] == "through the design and most robust directions"
+        assert abs(normal @ result.details["most_robust_direction"]) < 1e-12
+    else:
+        assert plane["chosen"] == "the scene's sweep"
+        np.testing.assert_allclose(normal, [0, -1, 0])
+    ranges = [normalise_range(s, e) for s, e in result.safe_ranges_deg or ()]
+    assert ranges and all(0 < (e - s) % 360 < 360 for s, e in ranges)  # bounded ranges
+    assert result.details["case_ranges_label"] == "safe gravity angles"
+    g = float(np.linalg.norm(scene.gravity))
+
+    def closes(angle_deg: float) -> bool:
+        t = np.radians(angle_deg)
+        tilted = dataclasses.replace(scene, gravity=g * (np.cos(t) * e1 + np.sin(t) * e2))
+        return analyse(tilted, mass).every_case_closes
+
+    step = 0.01  # deg; the range ends are exact to rounding (error_estimate)
+    assert result.error_estimate is not None and result.error_estimate < 1e-6
+    for start, end in ranges:
+        assert closes(start + step) and not closes(start - step)
+        assert closes(end - step) and not closes(end + step)
+    # The design gravity direction (0°) inside a range, its margin the distance to the ends.
+    inside = [(s, e) for s, e in ranges if s > e or s == 0]
+    assert len(inside) == 1 and closes(0.0)
+    s, e = inside[0]
+    assert result.details["sweep_design_margin_deg"] == pytest.approx(min(360 - s, e), abs=1e-9)

@@ -430,3 +430,25 @@ def test_findings_of_one_coupling_merge_per_support_once() -> None:
         "retract A.2 → jams at μ = 0.8; no gravity direction closes it",
         "retract A.3 → no gravity direction closes it",
     ]
+
+
+def test_a_coupling_s_contacts_keep_their_own_findings(tmp_path: Path) -> None:
+    """The user's Kelvin clamp at μ 0.8: A.1, A.2, A.3 are the cone's three contacts and
+    share one field (`couplings[0]`). The map's "no gravity direction closes it" for A.2 and
+    A.3 was appended to A.1's finding (three times over); each now goes to its own support's
+    finding — exactly those whose own closing share of the sphere is 0."""
+    from tests.couplings import user_kelvin
+
+    scene = load_scene(user_kelvin(tmp_path, friction=0.8))
+    result = run(Analytical3D(), scene, Analytical3DOptions())
+    nowhere = {
+        c.retracted for c in result.cases if c.details.get("closing_solid_angle_fraction") == 0
+    }
+    assert {"A.1", "A.2", "A.3"} <= nowhere
+    said = set()
+    for finding in result.findings:
+        subject = finding.message.partition(" → ")[0].removeprefix("retract ")
+        assert finding.message.count("no gravity direction closes it") <= 1
+        if "no gravity direction closes it" in finding.message:
+            said.add(subject)
+    assert said == nowhere

@@ -312,3 +312,86 @@ def test_a_tiny_swept_weight_beside_a_preload_is_scaled_by_the_preload(
     assert checks["jamming"]["status"] == "pass"
     assert [c["outcome"] for c in checks["jamming"]["cases"]] == ["moves"] * 6
     assert checks["analytical-3d"]["status"] == "pass" and code == 0
+
+
+def test_spatial_scene_without_sweep_gets_a_plane_through_the_design_gravity(
+    tmp_path: Path,
+) -> None:
+    """A user's report: a spatial scene with no `sweep:` had its jamming ranges in the
+    xy-plane, perpendicular to the design gravity (0, 0, -1), so they spoke of horizontal
+    gravity only. Now the plane goes through the design direction (angle 0, hand geometry:
+    `zero` is (0, 0, -1), the normal is perpendicular to it) and the most jam-free direction.
+    Reference for the ranges, an independent computation: the exact circular friction cones
+    (clarabel's second-order-cone feasibility, not the pyramids the ranges come from) hold no
+    case inside the reported jam-free ranges, including at the design angle 0°."""
+    from kcheck_checks.jamming_cases import held_at, jam_statics
+
+    from kcheck.fmt import normalise_range
+    from tests.couplings import tilted_kelvin
+
+    scene = load_scene(tilted_kelvin(tmp_path, 0.1))
+    assert scene.body is not None and not scene.sweep.given
+    mass = body_mass_properties(scene.body, scene.scale)
+    result = Jamming().run(Inputs(scene, mass, JammingOptions()))
+    plane = result.details["sweep_plane"]
+    assert plane["chosen"] == "through the design and most jam-free directions"
+    e1, normal = np.array(plane["zero"]), np.array(plane["normal"])
+    np.testing.assert_allclose(e1, [0, 0, -1], atol=1e-12)
+    assert abs(normal @ e1) < 1e-12 and abs(np.linalg.norm(normal) - 1) < 1e-12
+    e2 = np.cross(normal, e1)
+    assert result.details["case_ranges_label"] == "jam-free gravity angles"
+    free = [normalise_range(s, e) for s, e in result.details["jam_free_deg"]]
+    assert free and result.status.value == "pass"
+    statics, swept, design = jam_statics(scene, mass)
+    assert swept == "gravity"
+    analysis = analyse_jamming(statics, swept, design)
+    angles = [0.0] + [(s + ((e - s) % 360) * f) % 360 for s, e in free for f in (0.1, 0.5, 0.9)]
+    for angle in angles:
+        t = np.radians(angle)
+        d = np.cos(t) * e1 + np.sin(t) * e2
+        assert not any(held_at(analysis, c, d, statics.friction) for c in analysis.cases)
+    # The design angle's margin is its distance to the nearest end of the jam-free ranges.
+    ends = np.array([x for r in free for x in r])
+    nearest = float(np.min(np.abs((ends + 180.0) % 360.0 - 180.0)))
+    assert result.details["design_margin_deg"] == pytest.approx(nearest, abs=1e-9)
+    assert f"margin {nearest:.2f}° to a held direction" in result.message
+
+
+def test_spatial_scene_without_a_design_direction_keeps_the_xy_plane(tmp_path: Path) -> None:
+    """Without a design direction (a load with no `direction`) there is nothing to aim the
+    plane through: the ranges stay in the xy-plane, as the result says."""
+    from tests.couplings import tilted_kelvin
+
+    path = tilted_kelvin(tmp_path, 0.1)
+    path.write_text(
+        path.read_text(encoding="utf-8") + "load: {point: [0, 0, 18.5], magnitude: 100}\n",
+        encoding="utf-8",
+    )
+    scene = load_scene(path)
+    assert scene.body is not None
+    inputs = Inputs(scene, body_mass_properties(scene.body, scene.scale), JammingOptions())
+    plane = Jamming().run(inputs).details["sweep_plane"]
+    assert plane == {
+        "normal": [0, 0, 1],
+        "zero": [1, 0, 0],
+        "chosen": "the xy-plane: no sweep given",
+    }
+
+
+def test_a_plane_with_nothing_jam_free_gives_no_margin(tmp_path: Path) -> None:
+    """The user's Kelvin clamp (μ 0.15): every direction of the chosen plane can be held in
+    some case. The design direction then has no distance to a jam-free one: no
+    `design_margin_deg` (as documented: absent when nothing is safe), never "180.00° inside",
+    and the plane's reason says no direction is jam-free for certain."""
+    from tests.couplings import user_kelvin
+
+    scene = load_scene(user_kelvin(tmp_path))
+    assert scene.body is not None
+    inputs = Inputs(scene, body_mass_properties(scene.body, scene.scale), JammingOptions())
+    result = Jamming().run(inputs)
+    assert result.status.value == "fail" and result.details["jam_free_deg"] == []
+    assert "design_margin_deg" not in result.details and "180.00°" not in result.message
+    assert "jam-free in the sweep plane: none" in result.message
+    plane = result.details["sweep_plane"]
+    assert plane["zero"] == pytest.approx([0, 0, -1], abs=1e-12)
+    assert plane["chosen"].endswith("inscribed pyramids: none is jam-free for certain")
