@@ -156,7 +156,15 @@ def jamming_result(
     undetermined = [r for r in results if r.outcome == "undetermined"]
     for r, res in enumerate(results):
         if res.outcome in ("jams", "holds") or (design is None and all_arcs[r] is not None):
-            finding = _finding(scene, analysis, r, all_arcs[r], least[r], res.outcome)
+            finding = _finding(
+                scene,
+                analysis,
+                r,
+                all_arcs[r],
+                least[r],
+                res.outcome,
+                _held_everywhere(smap, analysis, r),
+            )
             if finding is not None:
                 findings.append(finding)
     held_at_design = [r for r in results if r.outcome in ("jams", "holds")]
@@ -269,6 +277,15 @@ def _with_map_share(res: CaseResult, smap: JamMap, i: int, analysis: JamAnalysis
     return dataclasses.replace(res, details=details)
 
 
+def _held_everywhere(smap: JamMap | None, analysis: JamAnalysis, r: int) -> bool:
+    """Whether case ``r`` can be held for every swept direction on the sphere (the inscribed
+    pyramids, a lower bound of the held share, hold it at every lattice direction)."""
+    determined = [k for k, c in enumerate(analysis.cases) if c.determined]
+    if smap is None or r not in determined:
+        return False
+    return bool(smap.held_inner[determined.index(r)] >= 1.0)
+
+
 def _finding(
     scene: Scene,
     analysis: JamAnalysis,
@@ -276,8 +293,10 @@ def _finding(
     arcs: CaseArcs | None,
     least: float | None,
     outcome: str,
+    everywhere: bool = False,
 ) -> Finding | None:
-    """Why case ``r`` fails: friction can hold the body (at the design, or somewhere)."""
+    """Why case ``r`` fails: friction can hold the body (at the design, or somewhere);
+    ``everywhere``: for every swept direction on the sphere, so turning it cannot help."""
     statics = analysis.statics
     names = statics.names
     others = ", ".join(names[j] for j in analysis.cases[r].keep)
@@ -294,7 +313,8 @@ def _finding(
         hint = f"keep the {what} direction out of {_text(arcs.held)}"
         return Finding(message, code="jams", field=scene.support_field(r), hint=hint)
     mu = float(statics.friction[analysis.cases[r].keep].max())
-    held = "against a closing load" if outcome == "jams" else "although the load opens it"
+    force = "load" if analysis.swept == "load" else "weight"
+    held = f"although the {force} would {'close' if outcome == 'jams' else 'open'} it"
     # Holding is the start of motion: the static coefficient (the top of its range: the held
     # set only grows with friction).
     which = "μ" if all(s.coefficients.plain for s in scene.supports) else "static μ"
@@ -306,7 +326,7 @@ def _finding(
     hint = f"lower the friction at {others} below {format_number(least, 3)}"
     if arcs is not None and arcs.held != FULL:
         hint += f", or turn the {what} out of {_text(arcs.held)}"
-    elif statics.dim == 3:
+    elif statics.dim == 3 and not everywhere:
         hint += f", or turn the {what} away from the held directions (see the sphere map)"
     return Finding(message, code=outcome, field=scene.support_field(r), hint=hint)
 

@@ -395,3 +395,20 @@ def test_a_plane_with_nothing_jam_free_gives_no_margin(tmp_path: Path) -> None:
     plane = result.details["sweep_plane"]
     assert plane["zero"] == pytest.approx([0, 0, -1], abs=1e-12)
     assert plane["chosen"].endswith("inscribed pyramids: none is jam-free for certain")
+
+
+def test_a_case_held_for_every_weight_direction_is_not_told_to_turn_it(cli_json, tmp_path):
+    """The new user's Kelvin clamp at μ = 0.8: friction holds retraction A.1 for every
+    direction of the weight on the sphere (the inscribed pyramids, a lower bound, hold it at
+    every lattice direction), so the hint names only the friction, and the message says the
+    weight (not "a closing load") would close it."""
+    from tests.couplings import user_kelvin
+
+    code, doc = cli_json(str(user_kelvin(tmp_path, friction=0.8)), "--select", "jamming")
+    (check,) = doc["scenes"][0]["checks"]
+    a1 = next(c for c in check["cases"] if c["retracted"] == "A.1")
+    assert a1["held_solid_angle_fraction_lower"] == 1.0
+    finding = next(f for f in check["findings"] if f["message"].startswith("retract A.1"))
+    assert "although the weight would close it" in finding["message"]
+    assert finding["hint"].startswith("lower the friction") and "turn" not in finding["hint"]
+    assert code == 1
