@@ -19,7 +19,13 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 
 from kcheck.errors import FieldPath, MeshError
-from kcheck.meshio import MERGE_RTOL, load_mesh, not_watertight, step_length_unit
+from kcheck.meshio import (
+    MERGE_RTOL,
+    load_mesh,
+    not_watertight,
+    release_memory,
+    step_length_unit,
+)
 from kcheck.result import Finding
 from kcheck.scene import Body, Part
 from kcheck.scene.limits import LIMITS
@@ -306,6 +312,7 @@ def body_mass_properties(
         combined = combine([explicit, *points])
         return dataclasses.replace(combined, notes=(*notes, added))
     props = combine([*(part_mass_properties(p, max_mesh_bytes) for p in body.parts), *points])
+    release_memory()
     if points:
         props = dataclasses.replace(props, notes=(*props.notes, added))
     return props

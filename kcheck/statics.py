@@ -58,6 +58,8 @@ __all__ = [
 #: `pyramid_edges`; the error it makes in degrees is measured and reported).
 PYRAMID_EDGES = 8
 EPS = float(np.finfo(float).eps)
+# Directions times facets evaluated at once by Equilibria.contains (16 MB of float64).
+CONTAINS_CHUNK = 2_000_000
 Pyramid = Literal["inscribed", "circumscribed"]
 
 
@@ -192,7 +194,16 @@ class Equilibria:
         """Whether each unit direction (m, dim) is held (boundary included within ``tol``)."""
         if self.kind != "cone":
             return np.full(len(directions), self.kind == "everywhere")
-        return np.all(self.a + directions @ self.c.T >= -tol, axis=1)
+        # In chunks: a spatial cone has hundreds of facets, and a picture's 58,000 directions
+        # against all of them at once took 180 MB.
+        step = max(1, CONTAINS_CHUNK // max(1, len(self.a)))
+        return np.concatenate(
+            [
+                np.all(self.a + directions[i : i + step] @ self.c.T >= -tol, axis=1)
+                for i in range(0, len(directions), step)
+            ]
+            or [np.zeros(0, bool)]
+        )
 
     def arcs(self, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, float]:
         """Held directions in the sweep plane (rad from ``e1`` towards ``e2``) and the error

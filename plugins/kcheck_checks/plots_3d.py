@@ -86,16 +86,27 @@ def plot_spatial(
 
 
 def _mesh_triangles(scene: Scene) -> np.ndarray | None:
-    """Triangles (t, 3, 3) of the body's meshes in scene units, thinned to MAX_TRIANGLES."""
-    from kcheck.mass import load_mesh
+    """About MAX_TRIANGLES triangles (t, 3, 3) of the body's meshes in scene units, each part
+    placed by its units and transform; None without a mesh (or one that cannot be read)."""
+    from kcheck.errors import KcheckError
+    from kcheck.meshio import load_triangles
 
     if scene.body is None or not scene.body.parts:
         return None
-    tris = [load_mesh(p.mesh, scene.scale, (*p.field, "mesh")).triangles for p in scene.body.parts]
+    parts = scene.body.parts
+    tris = []
+    for p in parts:
+        try:
+            t = load_triangles(p.mesh, p.scale, (*p.field, "mesh"), MAX_TRIANGLES // len(parts))
+        except KcheckError:
+            continue
+        if p.rotation is not None:
+            t = t @ np.asarray(p.rotation, float).T
+        tris.append(t + np.asarray(p.translation, float))
+    if not tris:
+        return None
     triangles = np.concatenate(tris) / scene.scale
-    if len(triangles) > MAX_TRIANGLES:
-        triangles = triangles[:: int(np.ceil(len(triangles) / MAX_TRIANGLES))]
-    return triangles
+    return triangles if np.all(np.isfinite(triangles)) else None
 
 
 def clip_segment(

@@ -284,3 +284,29 @@ def test_spatial_least_friction_by_fractional_steps_equals_bisection() -> None:
             assert reference * (1 - 1e-7) <= found <= reference * (1 + 1e-4)
             compared += 1
     assert compared >= 6
+
+
+def test_containment_of_many_directions_is_chunked_and_exact() -> None:
+    """Fuzz finding mesh-4245-508 (issue 13, run E): jamming's sphere picture tested 58,081
+    directions against a spatial cone's facets all at once, 180 MB on top of a 16 MB mesh,
+    and kcheck passed 500 MB. In chunks the answer is the same (the direct product is the
+    reference) and the extra memory is a few chunks."""
+    import tracemalloc
+
+    from kcheck.statics import Equilibria
+
+    rng = np.random.default_rng(5)
+    facets = rng.normal(size=(400, 3))
+    # Each facet excludes a cap of about 3.6° around -c: together about a third of the sphere.
+    offsets = 0.998 * np.linalg.norm(facets, axis=1)
+    cone = Equilibria("cone", offsets, facets)
+    dirs = rng.normal(size=(58_081, 3))
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    direct = np.all(offsets + dirs @ facets.T >= 0, axis=1)
+    tracemalloc.start()
+    held = cone.contains(dirs)
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    assert np.array_equal(held, direct) and 0 < held.sum() < len(dirs)
+    assert peak < 50e6, f"{peak / 1e6:.0f} MB"
+    assert cone.contains(dirs[:0]).shape == (0,)

@@ -609,3 +609,19 @@ def test_gravity_swept_ranges_agree_with_the_dynamics_at_each_tilt(
     assert len(inside) == 1 and closes(0.0)
     s, e = inside[0]
     assert result.details["sweep_design_margin_deg"] == pytest.approx(min(360 - s, e), abs=1e-9)
+
+
+def test_the_drawn_mesh_is_placed_like_the_mass_properties():
+    """The scene views drew each part's raw file coordinates: the tool changer's plate is
+    turned 180° about x by its `transform`, and was drawn unturned. The drawn triangles now
+    lie in the body's bounds as the mass properties compute them (transforms applied)."""
+    from kcheck_checks.plots_3d import _mesh_triangles
+
+    scene = load_scene(FIXTURES / "tool-changer" / "tool.kcheck.yaml")
+    assert scene.body is not None and scene.body.parts[0].rotation is not None
+    bounds = body_mass_properties(scene.body).bounds / scene.scale
+    triangles = _mesh_triangles(scene)
+    assert triangles is not None and 0 < len(triangles) <= 6000
+    points = triangles.reshape(-1, 3)
+    assert np.all(points >= bounds[0] - 1e-6) and np.all(points <= bounds[1] + 1e-6)
+    assert np.allclose(points.min(axis=0), bounds[0], atol=0.5)  # reaches the box's corners
