@@ -305,7 +305,8 @@ def _view(
         *np.array([tails[retracted], d.points[retracted]])[:, k].T, ":", color=RETRACTED, lw=1.5
     )
     _labels(ax, d, view, keep, size, nudge=view.name == "plan")
-    placed: list[np.ndarray] = []  # out-of-plane labels so far: a second one at a point goes below
+    # Labels placed so far: a second one at the same place goes a line below.
+    placed: list[np.ndarray] = []
     for q, direction, label, colour in d.forces:
         tail = q - 1.5 * d.arrow * direction
         if np.linalg.norm(direction[k]) > 1e-6:
@@ -313,7 +314,12 @@ def _view(
                 "", xy=tuple(q[k]), xytext=tuple(tail[k]),
                 arrowprops={"arrowstyle": "-|>", "color": colour, "lw": 2.2}, zorder=6,
             )  # fmt: skip
-            ax.text(*tail[k], f" {label}", color=colour, fontsize=8, va="center", zorder=6)
+            near = sum(np.linalg.norm(p - tail[k]) < 0.05 * size for p in placed)
+            placed.append(tail[k])
+            ax.annotate(
+                f" {label}", xy=tuple(tail[k]), xytext=(0, -10 * near),
+                textcoords="offset points", color=colour, fontsize=8, va="center", zorder=6,
+            )  # fmt: skip
         else:
             towards = float(direction @ view.towards_viewer) > 0
             near = sum(np.linalg.norm(p - q[k]) < 0.05 * size for p in placed)
