@@ -101,6 +101,22 @@ def _positive(unit: str) -> Callable[[Any], float]:
     return parse
 
 
+#: The smallest memory budget of a scene (MiB): a worker's address space is about 300 MiB
+#: (Python, numpy, trimesh, scipy) before it reads a scene, so a smaller budget fails every
+#: scene, or stalls it until its time budget (200 MiB did), instead of bounding it.
+MIN_MEMORY_MIB = 512.0
+
+
+def _memory_budget(value: Any) -> float:
+    budget = _positive("MiB")(value)
+    if budget < MIN_MEMORY_MIB:
+        raise ValueError(
+            f"at least {MIN_MEMORY_MIB:g} MiB (kcheck's worker takes about 300 MiB of address "
+            "space before it reads a scene)"
+        )
+    return budget
+
+
 def _output_formats(value: Any) -> tuple[str, ...]:
     items = _str_list(value)
     for item in items:
@@ -138,7 +154,7 @@ KEYS: tuple[Key, ...] = (
     Key("cache_dir", _path, None, "cache folder (default: .kcheck_cache beside the config)"),
     Key("allow_outside_paths", _bool, False, "let scenes use meshes outside their folder"),
     Key("timeout", _positive("seconds"), 120.0, "time budget of one scene, s"),
-    Key("memory_limit", _positive("MiB"), 2048.0, "memory budget of one scene, MiB"),
+    Key("memory_limit", _memory_budget, 2048.0, "memory budget of one scene, MiB (≥ 512)"),
     Key("max_file_size", _positive("MiB"), 5.0, "largest scene file read, MiB"),
     Key("max_mesh_size", _positive("MiB"), 64.0, "largest mesh file read, MiB"),
 )

@@ -48,6 +48,18 @@ def _positive_float(text: str) -> float:
     return value
 
 
+def _memory_budget(text: str) -> float:
+    from kcheck.config import MIN_MEMORY_MIB
+
+    value = _positive_float(text)
+    if value < MIN_MEMORY_MIB:
+        raise argparse.ArgumentTypeError(
+            f"expected at least {MIN_MEMORY_MIB:g} MiB (kcheck's worker takes about 300 MiB "
+            f"before it reads a scene), got {text!r}"
+        )
+    return value
+
+
 def _jobs(text: str) -> int:
     if text == "auto":
         return 0
@@ -114,9 +126,10 @@ def add_gate_options(parser: argparse.ArgumentParser) -> None:
     )
     gate.add_argument(
         "--memory-limit",
-        type=_positive_float,
+        type=_memory_budget,
         metavar="MIB",
-        help="memory (address space) budget of one scene's worker, MiB (default: 2048)",
+        help="memory (address space) budget of one scene's worker, MiB, at least 512 "
+        "(default: 2048)",
     )
     gate.add_argument(
         "--no-cache", action="store_true", help="compute mass properties without the cache"

@@ -360,3 +360,12 @@ def test_a_wrong_format_in_the_configuration_is_an_error_even_when_overridden(
     config.write_text('format = "nope"\n')
     code, out, err = cli("check", scene, "--format", "json", "--config", str(config))
     assert code == 2 and out == "" and "k.toml" in err and "unknown format `nope`" in err
+
+
+@pytest.mark.parametrize("budget", ["1", "200", "511"])
+def test_a_memory_budget_below_the_worker_itself_is_a_usage_error(cli, write_scene, budget):
+    # Fuzz finding cli-4245-465 (issue 13): `--memory-limit 1` passed a scene with explicit
+    # mass properties (it allocated nothing new in its worker) and failed others; 200 MiB
+    # stalled the tool changer until its 120 s time budget. Below 512 MiB it is refused.
+    code, _, err = cli("check", str(write_scene(PLANAR_SCENE)), "--memory-limit", budget)
+    assert code == 2 and "expected at least 512 MiB" in err

@@ -61,6 +61,9 @@ def test_relative_paths_are_relative_to_the_file(project):
         ('select = "maxwell"', None),  # one id as a string is fine
         ("timeout = 0", "`timeout`: expected a positive number (seconds)"),
         ("timeout = inf", "`timeout`: expected a finite positive number"),
+        # Fuzz finding cli-4245-465: a budget below the worker's own size (1 MiB) let light
+        # scenes pass and stalled others until their time budget (200 MiB did).
+        ("memory_limit = 200", "`memory_limit`: expected at least 512 MiB"),
         ('output_format = ["sarif"]', '`output_format`: expected a list of "FORMAT:FILE"'),
         ("cache = 1", "`cache`: expected true or false"),
         ("checks = 3", "`checks`: expected a table per check id"),
