@@ -36,6 +36,8 @@ __all__ = [
 
 #: Most Dinkelbach-type steps of :func:`least_friction_exactly` (it needs 3 to 8).
 STEPS = 30
+#: Friction coefficients below this are zero to every purpose: bisection stops there.
+MU_FLOOR = 1e-12
 
 
 def _largest_ratio(local: np.ndarray, scale: np.ndarray) -> float:
@@ -228,7 +230,11 @@ def least_friction(
             return None
         hi = min(2.0 * hi, largest)
     lo = 0.0
-    while hi - lo > rtol * hi:
+    # The absolute floor ends a bisection towards an infimum of 0 that 0 itself does not
+    # attain (a degenerate balance): relative steps alone would halve into denormals and
+    # then loop forever at 5e-324 (fuzz finding extreme-4245-885: a jamming check ran past
+    # its 120 s budget).
+    while hi - lo > max(rtol * hi, MU_FLOOR):
         mid = 0.5 * (lo + hi)
         lo, hi = (lo, mid) if feasible(mid) else (mid, hi)
     return hi

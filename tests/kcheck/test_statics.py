@@ -310,3 +310,19 @@ def test_containment_of_many_directions_is_chunked_and_exact() -> None:
     assert np.array_equal(held, direct) and 0 < held.sum() < len(dirs)
     assert peak < 50e6, f"{peak / 1e6:.0f} MB"
     assert cone.contains(dirs[:0]).shape == (0,)
+
+
+def test_least_friction_ends_at_an_infimum_zero_does_not_attain() -> None:
+    """Fuzz finding extreme-4245-885 (issue 13, run E): a degenerate balance feasible for
+    every μ > 0 but not at 0 made the bisection halve into denormals and then loop forever
+    at 5e-324 (a jamming check past its 120 s budget). It ends at the absolute floor."""
+    from kcheck.least_friction import MU_FLOOR, least_friction
+
+    calls = []
+
+    def feasible(mu: float) -> bool:
+        calls.append(mu)
+        return mu > 0
+
+    found = least_friction(feasible, 0.5, rtol=1e-4)
+    assert found is not None and 0 < found <= 2 * MU_FLOOR and len(calls) < 100
