@@ -107,7 +107,8 @@ def _positive(unit: str) -> Callable[[Any], float]:
 MIN_MEMORY_MIB = 512.0
 
 
-def _memory_budget(value: Any) -> float:
+def memory_budget(value: Any) -> float:
+    """A memory budget in MiB: positive, finite and at least :data:`MIN_MEMORY_MIB`."""
     budget = _positive("MiB")(value)
     if budget < MIN_MEMORY_MIB:
         raise ValueError(
@@ -154,7 +155,7 @@ KEYS: tuple[Key, ...] = (
     Key("cache_dir", _path, None, "cache folder (default: .kcheck_cache beside the config)"),
     Key("allow_outside_paths", _bool, False, "let scenes use meshes outside their folder"),
     Key("timeout", _positive("seconds"), 120.0, "time budget of one scene, s"),
-    Key("memory_limit", _memory_budget, 2048.0, "memory budget of one scene, MiB (≥ 512)"),
+    Key("memory_limit", memory_budget, 2048.0, "memory budget of one scene, MiB (≥ 512)"),
     Key("max_file_size", _positive("MiB"), 5.0, "largest scene file read, MiB"),
     Key("max_mesh_size", _positive("MiB"), 64.0, "largest mesh file read, MiB"),
 )

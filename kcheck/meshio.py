@@ -261,16 +261,19 @@ def load_triangles(
         return np.asarray(mesh.vertices)[np.asarray(mesh.faces)[::step]] * scale
 
 
-def release_memory() -> None:
-    """Give the memory freed after reading a mesh back to the system (glibc's ``malloc_trim``).
+def release_memory(collect: bool = False) -> None:
+    """Give the memory freed after reading a mesh back to the system (glibc's ``malloc_trim``,
+    5 µs); with ``collect``, cyclic garbage first (``gc.collect``, tens of ms: for large
+    meshes only).
 
     glibc raises its mmap threshold after the first large arrays are freed, so a mesh's later
     arrays come from the heap and stay in the process when freed: after a 16 MB STL, 160 MB
     more than before reading it, which the checks' pictures then add to. A no-op where the C
     library has no ``malloc_trim``."""
-    import gc
+    if collect:
+        import gc
 
-    gc.collect()
+        gc.collect()
     trim = _malloc_trim()
     if trim is not None:
         trim(0)

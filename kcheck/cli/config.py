@@ -49,15 +49,12 @@ def _positive_float(text: str) -> float:
 
 
 def _memory_budget(text: str) -> float:
-    from kcheck.config import MIN_MEMORY_MIB
+    from kcheck.config import memory_budget
 
-    value = _positive_float(text)
-    if value < MIN_MEMORY_MIB:
-        raise argparse.ArgumentTypeError(
-            f"expected at least {MIN_MEMORY_MIB:g} MiB (kcheck's worker takes about 300 MiB "
-            f"before it reads a scene), got {text!r}"
-        )
-    return value
+    try:
+        return memory_budget(_positive_float(text))
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"expected {exc}, got {text!r}") from None
 
 
 def _jobs(text: str) -> int:
