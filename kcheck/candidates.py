@@ -66,11 +66,11 @@ class SurfaceSampler:
     def __init__(self, scene: Scene, seed: int) -> None:
         import trimesh
 
-        from kcheck.mass import load_mesh
+        from kcheck.mass import placed_mesh
 
         if scene.body is None or not scene.body.parts:
             raise SuggestError("the scene's body has no mesh to sample: give --box")
-        meshes = [load_mesh(p.mesh, scene.scale, (*p.field, "mesh")) for p in scene.body.parts]
+        meshes = [placed_mesh(p) for p in scene.body.parts]
         self.mesh = trimesh.util.concatenate(meshes) if len(meshes) > 1 else meshes[0]
         self.rng = np.random.default_rng(seed)
         self.spacing = 0.0

@@ -291,6 +291,22 @@ def part_mass_properties(part: Part, max_mesh_bytes: int | None = None) -> MassP
     return transformed(props, rotation, np.asarray(part.translation, dtype=float))
 
 
+def place(points: np.ndarray, part: Part) -> np.ndarray:
+    """Points (..., 3) in the part file's frame, in metres, placed in the scene: ``R x + t``
+    (the part's ``transform``)."""
+    if part.rotation is not None:
+        points = points @ np.asarray(part.rotation, dtype=float).T
+    return points + np.asarray(part.translation, dtype=float)
+
+
+def placed_mesh(part: Part, max_mesh_bytes: int | None = None) -> trimesh.Trimesh:
+    """The part's mesh in the scene's frame, in metres: its units and transform applied."""
+    mesh = load_mesh(part.mesh, part.scale, (*part.field, "mesh"), max_bytes=max_mesh_bytes)
+    if part.rotation is not None or any(part.translation):
+        mesh.vertices = place(np.asarray(mesh.vertices), part)
+    return mesh
+
+
 def body_mass_properties(
     body: Body, scale: float | None = None, max_mesh_bytes: int | None = None
 ) -> MassProperties:

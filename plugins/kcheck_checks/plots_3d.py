@@ -89,6 +89,7 @@ def _mesh_triangles(scene: Scene) -> np.ndarray | None:
     """About MAX_TRIANGLES triangles (t, 3, 3) of the body's meshes in scene units, each part
     placed by its units and transform; None without a mesh (or one that cannot be read)."""
     from kcheck.errors import KcheckError
+    from kcheck.mass import place
     from kcheck.meshio import load_triangles
 
     if scene.body is None or not scene.body.parts:
@@ -100,9 +101,7 @@ def _mesh_triangles(scene: Scene) -> np.ndarray | None:
             t = load_triangles(p.mesh, p.scale, (*p.field, "mesh"), MAX_TRIANGLES // len(parts))
         except KcheckError:
             continue
-        if p.rotation is not None:
-            t = t @ np.asarray(p.rotation, float).T
-        tris.append(t + np.asarray(p.translation, float))
+        tris.append(place(t, p))
     if not tris:
         return None
     triangles = np.concatenate(tris) / scene.scale

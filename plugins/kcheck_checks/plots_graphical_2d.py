@@ -64,12 +64,12 @@ def _body_outline(scene: Scene, z: float) -> list[np.ndarray]:
     """Polylines (m, (n, 2)) of the body's mesh cut at height ``z``; [] without a mesh."""
     if scene.body is None or not scene.body.parts:
         return []
-    from kcheck.mass import load_mesh
+    from kcheck.mass import placed_mesh
 
     lines: list[np.ndarray] = []
     for part in scene.body.parts:
         try:
-            mesh = load_mesh(part.mesh, scene.scale, part.field)
+            mesh = placed_mesh(part)
         except KcheckError:
             continue
         section = mesh.section(plane_origin=[0.0, 0.0, z], plane_normal=[0.0, 0.0, 1.0])

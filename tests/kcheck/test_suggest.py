@@ -175,3 +175,16 @@ def test_no_force_of_10_newtons_closes_the_block_anywhere():
     assert _closes_anywhere(scene, mass, 10.0, radius) < 0
     assert _closes_anywhere(scene, mass, 15.0, radius) < 0
     assert _closes_anywhere(scene, mass, 20.0, radius) > 0  # the relaxation is not vacuous
+
+
+def test_surface_samples_lie_on_the_placed_body():
+    """Review of issue 13's picture fix: `kcheck suggest` sampled each part's raw file
+    coordinates, in the scene's units, like the scene views did. The tool changer's plate is
+    turned 180° about x by its `transform`; the samples now lie in the body's bounds as the
+    mass properties compute them (transforms applied), and reach its top face."""
+    scene = load_scene(FIXTURES / "tool-changer" / "tool.kcheck.yaml")
+    assert scene.body is not None and scene.body.parts[0].rotation is not None
+    lo, hi = body_mass_properties(scene.body).bounds
+    points, _ = SurfaceSampler(scene, seed=1).initial(2000)
+    assert np.all(points >= lo - 1e-9) and np.all(points <= hi + 1e-9)
+    assert points[:, 2].max() == pytest.approx(hi[2], abs=1e-6)
