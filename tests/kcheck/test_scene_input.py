@@ -246,6 +246,39 @@ def test_yaml_attacks_are_bounded(tmp_path, name, backend):
     assert elapsed < limit_s and peak < 20e6
 
 
+@pytest.mark.skipif(not HAVE_LIBYAML, reason="PyYAML built without libyaml")
+@pytest.mark.parametrize(
+    "text",
+    [
+        "a: " + "[" * 2_000 + "]" * 2_000 + "\n",  # past libyaml's own depth limit (1000)
+        "a: " + "{b: " * 1_500 + "1" + "}" * 1_500 + "\n",
+        "a: [1, 2\nb: 3\n",
+        "a: 'unterminated\n",
+        "a: 1\n b: 2\n",
+        "- 1\na: 2\n",
+    ],
+    ids=["lists past libyaml's limit", "mappings past it", "flow", "quote", "indent", "mixed"],
+)
+def test_both_parsers_give_kcheck_s_error_at_the_same_place(tmp_path, text):
+    # Whatever limit or error libyaml trips first, the user reads the same located message
+    # from either parser: the pure-Python one (with kcheck's composer) is the reference.
+    path = tmp_path / "bad.kcheck.yaml"
+    path.write_text(text)
+    errors = []
+    for backend in ("c", "python"):
+        with pytest.raises(SceneError) as info:
+            read_yaml(path, backend=backend)
+        errors.append(info.value)
+    c, py = errors
+    assert (c.message, c.line, c.column) == (py.message, py.line, py.column)
+    assert c.line is not None and str(path) in str(c)
+    if "[" * 100 in text or "{b: " * 100 in text:
+        assert c.message == "mappings and lists nest deeper than 64 levels"
+        # The root mapping is level 1: the 64th opening bracket after `a: ` is refused.
+        width = 1 if text.startswith("a: [") else len("{b: ")
+        assert (c.line, c.column) == (1, len("a: ") + 63 * width + 1)
+
+
 def test_keys_are_reported_at_their_own_line(tmp_path):
     path = tmp_path / "a.yaml"
     path.write_text("version: 1\nload:\n  magnitude: 1\n  null: 3\n")
