@@ -22,7 +22,7 @@ from bench_analytical_3d import median_time  # noqa: E402 (the benchmarks' one t
 from kcheck_checks.hertz import Hertz  # noqa: E402
 from kcheck_checks.hertz_materials import HertzOptions  # noqa: E402
 
-from kcheck.hertz import contact_modulus, hertz  # noqa: E402
+from kcheck.mechanics.hertz import contact_modulus, hertz  # noqa: E402
 from kcheck.plugin import Inputs  # noqa: E402
 from kcheck.scene import Preload  # noqa: E402
 from tests.couplings import coupling_scene, kelvin, three_vee, with_preloads  # noqa: E402

@@ -14,16 +14,16 @@ from pathlib import Path
 
 import numpy as np
 from kcheck_checks.jamming import Jamming, JammingOptions
-from kcheck_checks.jamming_cases import analyse_jamming, case_arcs, jam_map, jam_statics
+from kcheck.analysis.jamming_cases import analyse_jamming, case_arcs, jam_map, jam_statics
 from scipy.optimize import linprog
 
-from kcheck.least_friction import (
+from kcheck.mechanics.least_friction import (
     least_friction,
 )
-from kcheck.mass import body_mass_properties
+from kcheck.body.mass import body_mass_properties
 from kcheck.plugin import Inputs
 from kcheck.scene import load_scene
-from kcheck.statics import (
+from kcheck.mechanics.statics import (
     edge_wrenches,
     equilibrium_forces,
     friction_edges,

@@ -41,7 +41,7 @@ def calls(fn) -> tuple[int, int]:
 
 def check_table() -> None:
     """Per scene and check: median time, calls, numpy calls."""
-    from kcheck.mass import body_mass_properties
+    from kcheck.body.mass import body_mass_properties
     from kcheck.plugin import Inputs, load_checks
     from kcheck.scene import load_scene
 
@@ -70,7 +70,7 @@ def check_table() -> None:
 MEMORY_CHILD = """
 import resource, sys
 import numpy as np
-from kcheck.sphere import safe_fraction
+from kcheck.mechanics.sphere import safe_fraction
 c = np.random.default_rng(1).normal(size=(36, 3))
 a = 0.3 * np.linalg.norm(c, axis=1)
 n = int(sys.argv[1])

@@ -5,7 +5,7 @@ Closed STL spheres (icospheres of 5 to 8 subdivisions, 0.5 to 62.5 MiB, the last
 the default ``max_mesh_size`` of 64 MiB) are written to a temporary folder, and
 ``kcheck mass`` reads each in a fresh process (no mass-property cache: ``kcheck mass``
 never uses it). The peak resident memory is ``ru_maxrss`` of that process from ``os.wait4``;
-``python -c "import kcheck.mass, trimesh, scipy.spatial"`` is the floor it starts from.
+``python -c "import kcheck.body.mass, trimesh, scipy.spatial"`` is the floor it starts from.
 ``--source DIR`` runs the kcheck of another source tree (``git archive`` of an older commit)
 for a before/after table.
 """
@@ -48,7 +48,7 @@ def main() -> None:
     if args.source is not None:
         env["PYTHONPATH"] = f"{args.source.resolve()}:{args.source.resolve() / 'plugins'}"
     kcheck = [sys.executable, "-c", "from kcheck.cli import main; main()"]
-    floor = [sys.executable, "-c", "import kcheck.mass, trimesh, scipy.spatial"]
+    floor = [sys.executable, "-c", "import kcheck.body.mass, trimesh, scipy.spatial"]
     print(f"load average {os.getloadavg()[0]:.2f}; trimesh {trimesh.__version__}")
     print("| STL file | faces | peak memory | above the floor | ratio to file | time |")
     print("| --- | --- | --- | --- | --- | --- |")

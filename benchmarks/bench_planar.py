@@ -20,10 +20,10 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
-from kcheck.analysis import analyse
-from kcheck.arcs import boundary_angles, intersect
-from kcheck.mass import body_mass_properties, load_mesh, mesh_mass_properties
-from kcheck.outcomes import outcome
+from kcheck.analysis.cases import analyse
+from kcheck.mechanics.arcs import boundary_angles, intersect
+from kcheck.body.mass import body_mass_properties, load_mesh, mesh_mass_properties
+from kcheck.mechanics.outcomes import outcome
 from kcheck.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]

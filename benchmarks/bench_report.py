@@ -19,7 +19,7 @@ from pathlib import Path
 
 from kcheck.plugin import load_checks
 from kcheck.report import ReportOptions, make_reporter
-from kcheck.runner import Settings, check_scene
+from kcheck.gate.runner import Settings, check_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -13,7 +13,7 @@ from pathlib import Path
 from bench_analytical_3d import median_time
 
 from kcheck.scene import load_scene
-from kcheck.yamlio import HAVE_LIBYAML, read_yaml
+from kcheck.scene.yamlio import HAVE_LIBYAML, read_yaml
 
 FIXTURES = Path(__file__).resolve().parents[1] / "fixtures"
 SCENES = [

@@ -17,12 +17,12 @@ from pathlib import Path
 import numpy as np
 from bench_analytical_3d import median_time  # the benchmarks' one timer
 
-from kcheck.analysis import problem_for
-from kcheck.candidates import SurfaceSampler
-from kcheck.mass import body_mass_properties
+from kcheck.analysis.cases import problem_for
+from kcheck.analysis.candidates import SurfaceSampler
+from kcheck.body.mass import body_mass_properties
 from kcheck.scene import load_scene
-from kcheck.sphere import most_robust_direction
-from kcheck.suggest import (
+from kcheck.mechanics.sphere import most_robust_direction
+from kcheck.analysis.suggest import (
     caps_at,
     least_force,
     point_caps,

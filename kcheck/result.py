@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any, Literal
 from kcheck.errors import FieldPath, format_path
 
 if TYPE_CHECKING:
-    from kcheck.mass import MassProperties
+    from kcheck.body.mass import MassProperties
 
 __all__ = [
     "JSON_FORMAT_VERSION",

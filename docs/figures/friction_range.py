@@ -2,7 +2,7 @@
 
 ``python docs/figures/friction_range.py`` (needs the `plot` extra). The planar block fixture
 with its friction made a range, ``friction: {min: 0.05, max: 0.3}``, drawn by the same code as
-``kcheck check --plots`` (:mod:`kcheck_checks.plots_friction`).
+``kcheck check --plots`` (:mod:`kcheck_checks.pictures.friction`).
 """
 
 from __future__ import annotations
@@ -12,9 +12,9 @@ import tempfile
 from pathlib import Path
 
 from kcheck_checks.analytical_2d import Analytical2D
-from kcheck_checks.plots_friction import plot_friction
+from kcheck_checks.pictures.friction import plot_friction
 
-from kcheck.mass import body_mass_properties
+from kcheck.body.mass import body_mass_properties
 from kcheck.plugin import Inputs
 from kcheck.scene import load_scene
 

@@ -16,7 +16,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.patches import Circle, Rectangle
 
-from kcheck.mass import body_mass_properties
+from kcheck.body.mass import body_mass_properties
 from kcheck.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[2]

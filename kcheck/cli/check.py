@@ -144,7 +144,7 @@ class _Tee:
         self.failures: list[str] = []
 
     def _each(self, method: str, *args: Any) -> None:
-        from kcheck.paths import describe_os_error
+        from kcheck.gate.paths import describe_os_error
 
         for entry in list(self.reporters):
             label, reporter, stream = entry
@@ -178,7 +178,7 @@ def _open(path: Path) -> TextIO:
 
 
 def _plot_formats(text: str) -> tuple[str, ...] | None:
-    from kcheck.plotting import PLOT_FORMATS
+    from kcheck.pictures.plotting import PLOT_FORMATS
 
     names = tuple(dict.fromkeys(n.strip().lower() for n in text.split(",") if n.strip()))
     return names if names and all(n in PLOT_FORMATS for n in names) else None
@@ -204,11 +204,11 @@ def _pictures(
 def run(args: argparse.Namespace) -> int:
     """Check every scene, stream the reports, choose the exit code."""
     from kcheck.cli.config import cache_folder, effective_config, output_targets, plan_checks
-    from kcheck.paths import check_output_dir, check_output_file
+    from kcheck.gate.paths import check_output_dir, check_output_file
     from kcheck.plugin import load_checks
     from kcheck.report import ReportOptions, make_reporter
     from kcheck.result import Status
-    from kcheck.runner import Settings, discover, run_batch
+    from kcheck.gate.runner import Settings, discover, run_batch
 
     config = effective_config(args)
     checks = load_checks()
@@ -231,7 +231,7 @@ def run(args: argparse.Namespace) -> int:
     paths = [Path(p) for p in config["paths"]] or [Path(".")]
     files, missing = discover(paths)
     if args.changed_only or args.since:
-        from kcheck.vcs import changed_scenes
+        from kcheck.gate.vcs import changed_scenes
 
         files = changed_scenes(files, args.since or "HEAD")
     options = ReportOptions(
@@ -253,7 +253,7 @@ def run(args: argparse.Namespace) -> int:
                 (f"the {name} report {path}", make_reporter(name, stream, file_options), stream)
             )
     except OSError as exc:
-        from kcheck.paths import describe_os_error
+        from kcheck.gate.paths import describe_os_error
 
         for _, _, stream in streams:
             if stream is not sys.stdout:
@@ -326,7 +326,7 @@ def _refuse_shared_outputs(
 
 
 def _cores() -> int:
-    from kcheck.config import cpu_count
+    from kcheck.gate.config import cpu_count
 
     return cpu_count()
 

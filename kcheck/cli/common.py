@@ -37,7 +37,7 @@ def write_text(text: str, output: Path | None, what: str = "--output") -> None:
     """Write a document to stdout, or to a file (its folder created); a file that cannot be
     written is a UsageError naming it (and the option ``what``)."""
     from kcheck.errors import UsageError
-    from kcheck.paths import check_output_file, describe_os_error
+    from kcheck.gate.paths import check_output_file, describe_os_error
 
     if output is None:
         sys.stdout.write(text)

@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from kcheck.cli.common import ExitCode
-from kcheck.config import (
+from kcheck.gate.config import (
     KEYS,
     Config,
     ConfigError,
@@ -49,7 +49,7 @@ def _positive_float(text: str) -> float:
 
 
 def _memory_budget(text: str) -> float:
-    from kcheck.config import memory_budget
+    from kcheck.gate.config import memory_budget
 
     try:
         return memory_budget(_positive_float(text))
@@ -229,7 +229,7 @@ def plan_checks(config: Config, checks: Sequence[LoadedCheck]) -> CheckPlan:
     """Validate ``select``/``ignore`` and the per-check tables against the installed checks."""
     from pydantic import ValidationError
 
-    from kcheck.scene import _describe_pydantic
+    from kcheck.scene import describe_pydantic
 
     by_id = {lc.spec.name: lc for lc in checks}
     known = set(by_id)
@@ -265,7 +265,7 @@ def plan_checks(config: Config, checks: Sequence[LoadedCheck]) -> CheckPlan:
             err = exc.errors(include_url=False)[0]
             key = ".".join(str(p) for p in (check_id, *err["loc"]))
             raise ConfigError(
-                f"{config.where(f'checks.{key}')}: {_describe_pydantic(err)}"
+                f"{config.where(f'checks.{key}')}: {describe_pydantic(err)}"
             ) from None
         options[check_id] = table
     return CheckPlan(selected, severities, options)
@@ -278,7 +278,7 @@ def cache_folder(config: Config) -> Path | None:
     if config["cache_dir"] is not None:
         return Path(config["cache_dir"])
     if config.file is not None:
-        from kcheck.cache import CACHE_FOLDER
+        from kcheck.gate.cache import CACHE_FOLDER
 
         return config.root / CACHE_FOLDER
     return user_cache_dir()
@@ -286,7 +286,7 @@ def cache_folder(config: Config) -> Path | None:
 
 def output_targets(config: Config) -> list[tuple[str, Path]]:
     """The ``FORMAT:FILE`` reports, validated: known formats, writable files."""
-    from kcheck.paths import check_output_file
+    from kcheck.gate.paths import check_output_file
     from kcheck.report import FORMATS
 
     targets = []

@@ -49,7 +49,7 @@ def _in_units(value_si: float, scale: float) -> float:
 def expanded_text(path: Path, *, allow_outside: bool = False) -> str:
     """The scene file's text with its couplings expanded (validated first)."""
     from kcheck.scene import load_scene
-    from kcheck.yamlio import dump_yaml, read_yaml
+    from kcheck.scene.yamlio import dump_yaml, read_yaml
 
     scene = load_scene(path, allow_outside=allow_outside)
     data = read_yaml(path).data

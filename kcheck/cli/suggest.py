@@ -17,7 +17,7 @@ if TYPE_CHECKING:
     import numpy as np
 
     from kcheck.scene import Scene
-    from kcheck.suggest import Search
+    from kcheck.analysis.suggest import Search
 
 __all__ = ["add_parser", "run"]
 
@@ -111,7 +111,7 @@ def _usage(args: argparse.Namespace) -> str | None:
         return "--box needs XMIN <= XMAX, YMIN <= YMAX and ZMIN <= ZMAX"
     if args.plot is not None and args.plot.suffix.lower() not in (".png", ".svg"):
         return f"--plot {args.plot}: expected a .png or .svg file"
-    from kcheck.paths import check_output_file
+    from kcheck.gate.paths import check_output_file
 
     if args.plot is not None:
         check_output_file(args.plot, "--plot")  # before the search, not after it
@@ -150,8 +150,8 @@ def _frictions(scene: Scene, args: argparse.Namespace) -> list[np.ndarray] | Non
     checks take a range); None for one coefficient per support."""
     import numpy as np
 
-    from kcheck.chebyshev import lobatto
-    from kcheck.friction_range import FrictionPath
+    from kcheck.numerics.chebyshev import lobatto
+    from kcheck.mechanics.friction_range import FrictionPath
 
     low, high = scene.friction_range("kinetic")
     if np.array_equal(low, high):
@@ -177,9 +177,9 @@ def _exact_over_range(found: Search, scene: Scene, mass: Any) -> Search:
 def _range_margin(scene: Scene, mass: Any, point: np.ndarray, direction: np.ndarray) -> float:
     """The exact margin (rad) of a load at ``point`` along ``direction`` over the scene's
     kinetic friction range: the least, over the cases, of the design margin over the range
-    (:mod:`kcheck.range_analysis`)."""
-    from kcheck.analysis import analyse
-    from kcheck.suggest import with_load
+    (:mod:`kcheck.analysis.friction_ranges`)."""
+    from kcheck.analysis.cases import analyse
+    from kcheck.analysis.suggest import with_load
 
     analysis = analyse(with_load(scene, point, direction), mass)
     info = analysis.friction_range
@@ -214,11 +214,11 @@ def run(args: argparse.Namespace) -> int:
     """Load the scene, search, print the candidates; write the picture and scene if asked."""
     import numpy as np
 
-    from kcheck.candidates import BoxSampler, SuggestError, SurfaceSampler
+    from kcheck.analysis.candidates import BoxSampler, SuggestError, SurfaceSampler
     from kcheck.errors import KcheckError
-    from kcheck.mass import body_mass_properties
+    from kcheck.body.mass import body_mass_properties
     from kcheck.scene import load_scene
-    from kcheck.suggest import search, with_load
+    from kcheck.analysis.suggest import search, with_load
 
     problem = _usage(args)
     if problem:
@@ -284,7 +284,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         report.print_text()
     if args.plot is not None:
-        from kcheck.plots_suggest import plot_suggestion
+        from kcheck.pictures.suggest import plot_suggestion
 
         for path in plot_suggestion(scene, found, design, args.plot):
             print(f"wrote {path}", file=sys.stderr)
@@ -302,9 +302,9 @@ def _design_margin(
     design: tuple[np.ndarray, np.ndarray] | None,
 ) -> float | None:
     """The scene's own design's margin (rad): exact over its friction range when it has one."""
-    from kcheck.analysis import problem_for
-    from kcheck.arcs import cap_margins
-    from kcheck.suggest import caps_at, point_caps
+    from kcheck.analysis.cases import problem_for
+    from kcheck.mechanics.arcs import cap_margins
+    from kcheck.analysis.suggest import caps_at, point_caps
 
     if design is None:
         return None

@@ -10,7 +10,7 @@ if TYPE_CHECKING:
     import numpy as np
 
     from kcheck.scene import Scene
-    from kcheck.suggest import Candidate, Search
+    from kcheck.analysis.suggest import Candidate, Search
 
 __all__ = ["Report", "margin_text", "write_scene"]
 
@@ -57,7 +57,7 @@ class Report:
         """When no candidate is safe: the least force at which one is (None otherwise)."""
         import numpy as np
 
-        from kcheck.suggest import least_force
+        from kcheck.analysis.suggest import least_force
 
         if self.found.best and self.found.best[0].margin > 0:
             return None
@@ -188,7 +188,7 @@ def write_scene(scene: Scene, best: Candidate, magnitude: float, target: Path) -
     import numpy as np
 
     from kcheck.cli.common import write_text
-    from kcheck.yamlio import dump_yaml, load_yaml
+    from kcheck.scene.yamlio import dump_yaml, load_yaml
 
     data, _ = load_yaml(scene.path)
     load = dict(data.get("load") or {})

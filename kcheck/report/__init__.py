@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Protocol, TextIO
 if TYPE_CHECKING:
     from rich.console import Console
 
-    from kcheck.mass import MassProperties
+    from kcheck.body.mass import MassProperties
     from kcheck.result import SceneResult
 
 __all__ = [

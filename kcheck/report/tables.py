@@ -23,7 +23,7 @@ from kcheck.fmt import (
     format_ranges,
 )
 from kcheck.result import CheckResult
-from kcheck.units import LENGTH_TO_M
+from kcheck.scene.units import LENGTH_TO_M
 
 __all__ = [
     "Table",
@@ -180,7 +180,7 @@ def mass_view(mass: Any, units: str | None) -> MassView:
     """Mass properties in the scene's units, noise cleaned, fixed decimals per block."""
     units = units or "m"
     scale = _scale(units)
-    from kcheck.mass import POINT_MASS_NOTE
+    from kcheck.body.mass import POINT_MASS_NOTE
 
     added = any(str(n).startswith(POINT_MASS_NOTE) for n in mass.notes)
     source = f"{mass.source} + point masses" if added else mass.source

@@ -8,7 +8,7 @@ from kcheck.fmt import format_number
 from kcheck.scene.models import FrictionPairModel, FrictionRangeModel
 from kcheck.scene.types import Friction
 from kcheck.scene.validate import Problems
-from kcheck.yamlio import FieldPath
+from kcheck.scene.yamlio import FieldPath
 
 __all__ = ["resolve_friction"]
 

@@ -3,7 +3,7 @@
 Every error of a file is collected and raised together (:class:`~kcheck.errors.SceneErrors`),
 each naming the file, the field, its line (and column) and what was expected. Loading never
 touches a mesh beyond checking that its path is a readable file (mass properties are
-:mod:`kcheck.mass`'s, computed only when a check needs them).
+:mod:`kcheck.body.mass`'s, computed only when a check needs them).
 """
 
 from __future__ import annotations
@@ -32,8 +32,8 @@ from kcheck.scene.types import (
     Tolerances,
 )
 from kcheck.scene.validate import Problems, plain_value_problems, pydantic_problems
-from kcheck.units import LENGTH_TO_M
-from kcheck.yamlio import DEFAULT_LIMITS, FieldPath, YamlLimits, format_path, read_yaml
+from kcheck.scene.units import LENGTH_TO_M
+from kcheck.scene.yamlio import DEFAULT_LIMITS, FieldPath, YamlLimits, format_path, read_yaml
 
 __all__ = ["SCENE_GLOB", "load_scene", "rotation_matrix"]
 

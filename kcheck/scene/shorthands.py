@@ -1,5 +1,5 @@
 """Coupling shorthands of a scene file: each `couplings:` entry checked and expanded through
-:mod:`kcheck.couplings` (in the scene's units, then scaled to SI)."""
+:mod:`kcheck.scene.couplings` (in the scene's units, then scaled to SI)."""
 
 from __future__ import annotations
 
@@ -7,10 +7,10 @@ from typing import Any
 
 import numpy as np
 
-from kcheck import couplings
+from kcheck.scene import couplings
 from kcheck.scene.types import Support
 from kcheck.scene.validate import Problems
-from kcheck.yamlio import FieldPath
+from kcheck.scene.yamlio import FieldPath
 
 __all__ = ["expand_coupling", "contact_count"]
 

@@ -11,7 +11,7 @@ from typing import Any, Literal
 import numpy as np
 
 from kcheck.errors import FieldPath, SceneError
-from kcheck.yamlio import LineMap
+from kcheck.scene.yamlio import LineMap
 
 __all__ = [
     "PLANAR_TOL",

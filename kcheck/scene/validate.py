@@ -93,7 +93,7 @@ class Problems:
 
     def direction(self, where: FieldPath, vector: list[float], what: str) -> np.ndarray | None:
         """A unit vector from any non-zero vector whose components are of sane size."""
-        from kcheck.couplings import unit
+        from kcheck.scene.couplings import unit
 
         v = np.asarray(vector, dtype=float)
         largest = float(np.abs(v).max())

@@ -9,12 +9,12 @@ from pathlib import Path
 import numpy as np
 from pydantic import Field
 
-from kcheck.analysis import Analysis, analyse, closing_force_reason, describe_ranges, ranges_deg
-from kcheck.arcs import ArcSet, affine_arcs
-from kcheck.dynamics import Affine
+from kcheck.analysis.cases import Analysis, analyse, closing_force_reason, describe_ranges, ranges_deg
+from kcheck.mechanics.arcs import ArcSet, affine_arcs
+from kcheck.mechanics.dynamics import Affine
 from kcheck.fmt import format_angle
 from kcheck.plugin import Check, Inputs, Options
-from kcheck.range_analysis import range_details
+from kcheck.analysis.friction_ranges import range_details
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.wording import (
@@ -181,8 +181,8 @@ class Analytical2D(Check):
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
         """Normal forces and acceleration against force angle, one panel per retracted support
         (thesis Figures 2.17-2.20), from the exact affine forms (needs the `plot` extra)."""
-        from kcheck_checks.plots_analytical_2d import plot_analytical_2d
-        from kcheck_checks.plots_friction import plot_friction
+        from kcheck_checks.pictures.analytical_2d import plot_analytical_2d
+        from kcheck_checks.pictures.friction import plot_friction
 
         paths = plot_analytical_2d(inputs, result, directory)
         return [*paths, *plot_friction(self.id, inputs, result, directory)]

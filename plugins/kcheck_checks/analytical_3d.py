@@ -3,7 +3,7 @@
 Besides the planar-style report (outcome, forces, friction intervals, exact ranges in a sweep
 plane), the spatial check maps the safe force directions on the whole sphere: per retracted
 case every unknown is affine in the unit force direction, so each condition is a spherical cap
-and the safe region is their intersection, computed exactly (:mod:`kcheck.caps`): its area, the
+and the safe region is their intersection, computed exactly (:mod:`kcheck.mechanics.caps`): its area, the
 design direction's signed distance to it, the nearest safe direction and the most robust one.
 Without a load, gravity is the closing force and the map is over gravity directions relative to
 the body (its tilt).
@@ -19,10 +19,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from pydantic import Field
 
-from kcheck.analysis import Analysis, analyse, closing_force_reason, describe_ranges, sweep_ranges
+from kcheck.analysis.cases import Analysis, analyse, closing_force_reason, describe_ranges, sweep_ranges
 from kcheck.fmt import clean, format_angle, format_share, format_vector
 from kcheck.plugin import Check, Inputs
-from kcheck.range_analysis import range_details
+from kcheck.analysis.friction_ranges import range_details
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.analytical_2d import AnalyticalOptions
@@ -40,16 +40,16 @@ __all__ = [
 ]
 
 if TYPE_CHECKING:
-    from kcheck_checks.sphere_map import SphereMap
+    from kcheck.analysis.sphere_map import SphereMap
 
-#: Re-exported from :mod:`kcheck_checks.sphere_map`, imported on first use: discovering the
+#: Re-exported from :mod:`kcheck.analysis.sphere_map`, imported on first use: discovering the
 #: checks (every run) does not load the sphere map's modules.
 _SPHERE_MAP_NAMES = ("SphereMap", "direction_caps", "sphere_map", "default_plane")
 
 
 def __getattr__(name: str) -> Any:
     if name in _SPHERE_MAP_NAMES:
-        from kcheck_checks import sphere_map as module
+        from kcheck.analysis import sphere_map as module
 
         return getattr(module, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
@@ -72,7 +72,7 @@ def _sphere_findings(
 ) -> list[Finding]:
     """Why the map fails: nothing safe (and why), the design direction outside (how far, the
     nearest safe direction) or too close to a boundary."""
-    from kcheck_checks.sphere_map import disjoint_cases
+    from kcheck.analysis.sphere_map import disjoint_cases
 
     deg = float(np.degrees(1.0))
     names = analysis.problem.names
@@ -171,7 +171,7 @@ def spatial_result(
     """Verdict of the spatial check: the sphere map decides, a sweep plane is reported.
 
     Returns the result, the map and the analysis (with the sweep plane actually used)."""
-    from kcheck_checks.sphere_map import chosen_plane, sphere_map, sweep_given
+    from kcheck.analysis.sphere_map import chosen_plane, sphere_map, sweep_given
 
     deg = float(np.degrees(1.0))
     details: dict[str, object] = {"max_condition": analysis.max_condition}
@@ -296,7 +296,7 @@ def _error_deg(analysis: Analysis, smap: SphereMap) -> float | None:
 
 
 def _ranges(analysis: Analysis) -> tuple[tuple[float, float], ...]:
-    from kcheck.analysis import ranges_deg
+    from kcheck.analysis.cases import ranges_deg
 
     assert analysis.combined is not None
     return ranges_deg(analysis.combined)
@@ -329,8 +329,8 @@ class Analytical3D(Check):
 
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
         """Scene with screw axes, safe-direction map, normal forces per case (PNG and SVG)."""
-        from kcheck_checks.plots_3d import plot_spatial
-        from kcheck_checks.plots_friction import plot_friction
+        from kcheck_checks.pictures.spatial import plot_spatial
+        from kcheck_checks.pictures.friction import plot_friction
 
         assert inputs.mass is not None and isinstance(inputs.options, Analytical3DOptions)
         analysis = analyse(inputs.scene, inputs.mass)

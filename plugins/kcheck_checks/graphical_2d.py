@@ -1,7 +1,7 @@
 """Graphical 2D: Koster's construction (methods.md §5) in twist form, mass-free.
 
 For every retracted support ``r`` the free twist ``xi_r`` of the two remaining supports (from
-:func:`kcheck.kinematics.free_twist`, oriented to close the gap) is a rotation about the pole
+:func:`kcheck.mechanics.kinematics.free_twist`, oriented to close the gap) is a rotation about the pole
 ``(-v_y, v_x) / w`` (homogeneous ``(-v_y, v_x, w)``; ``w = 0`` is the pole at infinity, a
 translation). No line intersections are computed, so parallel and nearly parallel normals need
 no special case.
@@ -23,7 +23,7 @@ power along a twist is ``a + c . d`` with ``c = u(q)`` and
   balance the resultant.
 
 Safe per case = funnel ∩ friction; the check's safe set is the intersection over cases, exact
-in closed form (:mod:`kcheck.arcs`). The construction cannot see contact loss (methods.md
+in closed form (:mod:`kcheck.mechanics.arcs`). The construction cannot see contact loss (methods.md
 §3, requirement 3), so its ranges contain those of ``analytical-2d``; where ``analytical-2d``'s
 forward ``lambda`` changes sign is exactly a friction boundary here (inertia plays no part at
 ``lambda = 0``).
@@ -49,8 +49,8 @@ from typing import Any
 import numpy as np
 from pydantic import Field
 
-from kcheck.analysis import describe_ranges, nearest_end, ranges_deg, support_layout
-from kcheck.arcs import (
+from kcheck.analysis.cases import describe_ranges, nearest_end, ranges_deg, support_layout
+from kcheck.mechanics.arcs import (
     ArcSet,
     complement,
     contains,
@@ -59,13 +59,13 @@ from kcheck.arcs import (
     union,
 )
 from kcheck.fmt import format_angle
-from kcheck.kinematics import (
+from kcheck.mechanics.kinematics import (
     RANK_RTOL,
     Frame,
     layout_singular_values,
 )
 from kcheck.plugin import Check, Inputs, Options
-from kcheck.range_analysis import coefficients_used
+from kcheck.analysis.friction_ranges import coefficients_used
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.analytical_2d import design_findings
@@ -76,7 +76,7 @@ from kcheck_checks.graphical_attachment import (
     missing_force,
     needs_centre_of_mass,
 )
-from kcheck_checks.koster import (
+from kcheck.mechanics.koster import (
     GraphicalCase,
     condition_arc,
     construct_case,
@@ -108,7 +108,7 @@ __all__ = [
 # Said with every verdict: the construction has no inertia.
 MASS_FREE = "mass-free: contact loss not checked"
 # A rotation whose pole lies beyond 1e12 layout sizes is reported as a translation
-# (the same threshold as kcheck.analysis.motion_details).
+# (the same threshold as kcheck.analysis.cases.motion_details).
 INFINITE_POLE = 1e-12
 
 
@@ -295,8 +295,8 @@ class Graphical2D(Check):
 
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
         """The construction like the thesis's Figure 2.8 (needs the `plot` extra)."""
-        from kcheck_checks.plots_friction import plot_friction
-        from kcheck_checks.plots_graphical_2d import plot_graphical
+        from kcheck_checks.pictures.friction import plot_friction
+        from kcheck_checks.pictures.graphical_2d import plot_graphical
 
         paths = plot_graphical(inputs, result, directory)
         return [*paths, *plot_friction(self.id, inputs, result, directory)]

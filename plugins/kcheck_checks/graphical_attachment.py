@@ -9,8 +9,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kcheck.dynamics import log_size, relative
-from kcheck.kinematics import unit_rows
+from kcheck.mechanics.dynamics import log_size, relative
+from kcheck.mechanics.kinematics import unit_rows
 from kcheck.plugin import Inputs
 from kcheck.scene import Scene
 

@@ -23,8 +23,8 @@ from kcheck.scene import Preload, Scene, Support
 from kcheck_checks.hertz_materials import Contacts, HertzOptions, contacts_of
 
 if TYPE_CHECKING:  # the computation is imported when the check runs, not when it is found
-    from kcheck.hertz import HertzContact
-    from kcheck.seat import Seat
+    from kcheck.mechanics.hertz import HertzContact
+    from kcheck.mechanics.seat import Seat
 
 __all__ = ["Hertz", "hertz_result"]
 
@@ -102,7 +102,7 @@ class Hertz(Check):
 
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
         """Peak pressure per contact against its allowable, and the stiffness at the point."""
-        from kcheck_checks.plots_hertz import plot_hertz
+        from kcheck_checks.pictures.hertz import plot_hertz
 
         return plot_hertz(inputs.scene, result, directory)
 
@@ -169,7 +169,7 @@ def _forces(
     scene: Scene, seat: Seat, loads: Sequence[Preload], torque: np.ndarray, options: HertzOptions
 ) -> tuple[_Forces | None, float, dict[str, Any]]:
     """Seated and disturbed contact forces, or None on a singular layout; the condition."""
-    from kcheck.seat import contact_forces, external_wrench
+    from kcheck.mechanics.seat import contact_forces, external_wrench
 
     seated = contact_forces(seat, external_wrench(seat, loads, torque))
     if seated.value is None or seated.error is None:
@@ -252,8 +252,8 @@ def _stress_findings(
 
 def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) -> CheckResult:
     """The hertz check's result for a scene whose supports all carry contact geometry."""
-    from kcheck.hertz import hertz
-    from kcheck.seat import (
+    from kcheck.mechanics.hertz import hertz
+    from kcheck.mechanics.seat import (
         point_compliance,
         point_translation,
         seat_layout,

@@ -2,7 +2,7 @@
 
 Every ball and every seat (groove flank, flat, pin, ...) gets a material: the defaults
 ``ball_material`` and ``seat_material``, overridden per coupling name, from the built-in table
-(:mod:`kcheck.elastic`) or from materials defined in the options themselves.
+(:mod:`kcheck.body.elastic`) or from materials defined in the options themselves.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 from pydantic import Field, model_validator
 
-from kcheck.elastic import MATERIALS, Material, material
+from kcheck.body.elastic import MATERIALS, Material, material
 from kcheck.plugin import Options
 from kcheck.scene import Scene
 
@@ -124,7 +124,7 @@ class Contacts:
 
 def contacts_of(scene: Scene, options: HertzOptions) -> Contacts:
     """Curvature sums, major axes and materials of every contact (supports with geometry)."""
-    from kcheck.hertz import contact_modulus, curvature_sums, curvature_tensor
+    from kcheck.mechanics.hertz import contact_modulus, curvature_sums, curvature_tensor
 
     normals = np.array([s.normal for s in scene.supports])
     tensors = np.zeros((len(normals), 3, 3))

@@ -2,7 +2,7 @@
 
 For every retracted support the check asks whether a static equilibrium exists in which the
 external wrench (load, weight, preloads, torque) is balanced by the remaining supports with
-every contact force inside its friction cone (:mod:`kcheck.statics`). If so, the body may stay
+every contact force inside its friction cone (:mod:`kcheck.mechanics.statics`). If so, the body may stay
 put whatever the forward dynamics say. Outcomes per case at the design direction:
 
 * ``jams``: an equilibrium exists and, without friction, the body would close the gap;
@@ -22,15 +22,15 @@ from typing import Any
 import numpy as np
 from pydantic import Field
 
-from kcheck.analysis import ranges_deg
-from kcheck.arcs import FULL, TAU, ArcSet, complement, intersect, margin
+from kcheck.analysis.cases import ranges_deg
+from kcheck.mechanics.arcs import FULL, TAU, ArcSet, complement, intersect, margin
 from kcheck.fmt import format_angle, format_number, format_ranges, format_share_bounds
 from kcheck.plugin import Check, Inputs, Options
-from kcheck.range_analysis import coefficients_used
+from kcheck.analysis.friction_ranges import coefficients_used
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
-from kcheck.statics import PYRAMID_EDGES
-from kcheck_checks.jamming_cases import (
+from kcheck.mechanics.statics import PYRAMID_EDGES
+from kcheck.analysis.jamming_cases import (
     CaseArcs,
     JamAnalysis,
     JamMap,
@@ -241,12 +241,12 @@ def _sweep_plane(
     """The plane of the ranges ``(e1, e2, why)``: the scene's; for a spatial scene without
     ``sweep:`` and with a design direction, the plane through it (angle 0) and the lattice
     direction farthest from every held region (as analytical-3d's plane goes through its most
-    robust direction; :func:`kcheck_checks.sphere_map.chosen_plane`)."""
+    robust direction; :func:`kcheck.analysis.sphere_map.chosen_plane`)."""
     dim = analysis.statics.dim
     plane = scene.sweep.e1[:dim], scene.sweep.e2[:dim]
     if dim == 2:
         return *plane, "the scene's sweep"
-    from kcheck_checks.sphere_map import chosen_plane, sweep_given
+    from kcheck.analysis.sphere_map import chosen_plane, sweep_given
 
     if sweep_given(scene):
         return *plane, "the scene's sweep"
@@ -370,8 +370,8 @@ class Jamming(Check):
 
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
         """Sweep circle per case (planar) or sphere map (spatial); needs the `plot` extra."""
-        from kcheck_checks.plots_friction import plot_friction
-        from kcheck_checks.plots_jamming import plot_jamming
+        from kcheck_checks.pictures.friction import plot_friction
+        from kcheck_checks.pictures.jamming import plot_jamming
 
         _, analysis, smap = run_jamming(inputs)
         if analysis is None:

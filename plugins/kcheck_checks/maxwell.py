@@ -10,9 +10,9 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
-from kcheck.analysis import support_layout
+from kcheck.analysis.cases import support_layout
 from kcheck.fmt import format_angle
-from kcheck.kinematics import (
+from kcheck.mechanics.kinematics import (
     RANK_RTOL,
     free_twist,
     layout_singular_values,

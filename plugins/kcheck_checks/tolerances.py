@@ -2,12 +2,12 @@
 
 The scene's ``tolerances:`` give a box of made couplings — support positions, support normals,
 the load direction — and its ``friction`` ranges the coefficients. This check samples the box
-(seeded Monte Carlo, :mod:`kcheck.tolerance`: positions, normals and the kinetic coefficients
+(seeded Monte Carlo, :mod:`kcheck.mechanics.tolerance`: positions, normals and the kinetic coefficients
 drawn uniformly — the coefficients along their ranges together, as the analytical checks take
 them, unless ``independent_friction``) and treats the load direction exactly (a sample
 passes for every load direction within ``±δ`` iff its design margin is at least ``δ``). It
 reports the worst design margin over the box — the worst sample, and the nominal coupling over
-its friction range exactly (:mod:`kcheck.range_analysis`) — and the probability that the
+its friction range exactly (:mod:`kcheck.analysis.friction_ranges`) — and the probability that the
 coupling passes, with Clopper–Pearson bounds.
 
 A separate check (not part of the analytical ones) because it answers another question — how
@@ -22,16 +22,16 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from pydantic import Field
 
-from kcheck.analysis import analyse, closing_force_reason, problem_for
+from kcheck.analysis.cases import analyse, closing_force_reason, problem_for
 from kcheck.fmt import format_angle, format_length, format_number
 from kcheck.plugin import Check, Inputs, Options
-from kcheck.range_analysis import RangeInfo
+from kcheck.analysis.friction_ranges import RangeInfo
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.wording import verdict
 
 if TYPE_CHECKING:  # the sampling is imported when the check runs, not when it is found
-    from kcheck.tolerance import Perturbed
+    from kcheck.mechanics.tolerance import Perturbed
 
 __all__ = ["Tolerances", "TolerancesOptions"]
 
@@ -64,7 +64,7 @@ class TolerancesOptions(Options):
 def _nominal_worst(scene: Scene, inputs: Inputs, design: np.ndarray | None) -> float:
     """The nominal coupling's least design margin (rad) over its kinetic friction range,
     exactly (one coefficient: its design margin)."""
-    from kcheck.tolerance import Perturbed, sample_margins
+    from kcheck.mechanics.tolerance import Perturbed, sample_margins
 
     assert inputs.mass is not None
     analysis = analyse(scene, inputs.mass)
@@ -105,8 +105,8 @@ class Tolerances(Check):
 
     def run(self, inputs: Inputs) -> CheckResult:
         """Sample the box, count the passes, find the worst."""
-        from kcheck.stats import clopper_pearson
-        from kcheck.tolerance import perturb, sample_margins
+        from kcheck.numerics.stats import clopper_pearson
+        from kcheck.mechanics.tolerance import perturb, sample_margins
 
         scene, opts = inputs.scene, inputs.options
         assert inputs.mass is not None and isinstance(opts, TolerancesOptions)

@@ -12,11 +12,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from kcheck.analysis import Analysis
-from kcheck.arcs import ArcSet, intersect
+from kcheck.analysis.cases import Analysis
+from kcheck.mechanics.arcs import ArcSet, intersect
 from kcheck.errors import FieldPath
 from kcheck.fmt import format_angle, format_number, format_ranges
-from kcheck.friction import FrictionIntervals, describe_friction
+from kcheck.mechanics.friction import FrictionIntervals, describe_friction
 from kcheck.result import CaseResult, Finding
 from kcheck.scene import Scene
 

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-import kcheck.pool
+import kcheck.gate.pool
 from tests.conftest import FIXTURES, PLANAR_SCENE
 from tests.kcheck.test_report_formats import validate_sarif
 
@@ -176,7 +176,7 @@ def test_configuration_honoured_and_overridden(repo, cli):
     assert re.search(r"^fail_on\s+\"warning\"\s+.*pyproject.toml$", out, re.M)
 
 
-@pytest.mark.skipif(not kcheck.pool.available(), reason="worker processes need fork")
+@pytest.mark.skipif(not kcheck.gate.pool.available(), reason="worker processes need fork")
 def test_jobs_2_equals_jobs_1(repo, cli):
     outputs = []
     for jobs in ("1", "2"):

@@ -10,10 +10,10 @@ from pathlib import Path
 
 import pytest
 
-import kcheck.pool
+import kcheck.gate.pool
 from tests.conftest import FIXTURES, PLANAR_SCENE
 
-pytestmark = pytest.mark.skipif(not kcheck.pool.available(), reason="worker processes need fork")
+pytestmark = pytest.mark.skipif(not kcheck.gate.pool.available(), reason="worker processes need fork")
 
 
 # -- --select ------------------------------------------------------------------------------

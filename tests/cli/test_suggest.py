@@ -12,7 +12,7 @@ import shutil
 import pytest
 
 from kcheck.plugin import load_checks
-from kcheck.runner import check_scene
+from kcheck.gate.runner import check_scene
 from tests.conftest import FIXTURES, PLANAR_SCENE
 
 FAST = ("--points", "200", "--directions", "150")

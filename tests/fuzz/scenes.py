@@ -14,8 +14,8 @@ from typing import Any
 
 import yaml
 
-from kcheck.yamlcompose import plain_scalar
-from kcheck.yamlio import load_yaml
+from kcheck.scene.yamlcompose import plain_scalar
+from kcheck.scene.yamlio import load_yaml
 from tests.fuzz.contract import COORDINATE_FIELDS, DIRECTION_FIELDS, RADIUS_FIELDS, UNIT_SCALE
 
 __all__ = [

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from kcheck.arcs import FULL, TAU, cap_margins, contains, intersect, margin, positive_arc
+from kcheck.mechanics.arcs import FULL, TAU, cap_margins, contains, intersect, margin, positive_arc
 
 ANGLES = np.linspace(0, TAU, 200_001)
 

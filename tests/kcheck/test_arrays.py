@@ -1,11 +1,11 @@
-"""kcheck.arrays against numpy's own ``np.unique`` (the reference), on random arrays with
+"""kcheck.numerics.arrays against numpy's own ``np.unique`` (the reference), on random arrays with
 repeated rows, zeros of both signs and empty inputs."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from kcheck.arrays import unique, unique_rows
+from kcheck.numerics.arrays import unique, unique_rows
 
 
 def test_unique_and_unique_rows_equal_numpy() -> None:

@@ -12,9 +12,9 @@ import pytest
 import trimesh
 
 from kcheck.errors import MeshError, SceneError
-from kcheck.mass import body_mass_properties, load_mesh, mesh_mass_properties, step_length_unit
+from kcheck.body.mass import body_mass_properties, load_mesh, mesh_mass_properties, step_length_unit
 from kcheck.plugin import load_checks
-from kcheck.runner import check_scene
+from kcheck.gate.runner import check_scene
 from kcheck.scene import load_scene
 from tests.conftest import FIXTURES
 
@@ -210,12 +210,12 @@ def test_step_units_field_is_refused(write_scene, tmp_path):
 
 
 def test_missing_step_extra_names_the_install_command(tmp_path, monkeypatch):
-    import kcheck.meshio
+    import kcheck.body.meshio
 
     (tmp_path / "box.step").write_text(_generator().step_box((4.0, 2.0, 1.0), "mm"))
     real = importlib.util.find_spec
     monkeypatch.setattr(
-        kcheck.meshio.importlib.util,
+        kcheck.body.meshio.importlib.util,
         "find_spec",
         lambda name: None if name == "cascadio" else real(name),
     )

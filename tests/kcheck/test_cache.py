@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import kcheck.mass
-from kcheck.cache import MassCache, body_key, body_mass_properties_cached
+import kcheck.body.mass
+from kcheck.gate.cache import MassCache, body_key, body_mass_properties_cached
 from kcheck.scene import load_scene
 from tests.conftest import FIXTURES
 
@@ -28,13 +28,13 @@ def scene(tmp_path: Path):
 def computed(monkeypatch: pytest.MonkeyPatch) -> list[int]:
     """Counts the real computations (cache misses)."""
     calls: list[int] = []
-    real = kcheck.mass.body_mass_properties
+    real = kcheck.body.mass.body_mass_properties
 
     def counting(body, scale, max_mesh_bytes=None):
         calls.append(1)
         return real(body, scale, max_mesh_bytes)
 
-    monkeypatch.setattr(kcheck.mass, "body_mass_properties", counting)
+    monkeypatch.setattr(kcheck.body.mass, "body_mass_properties", counting)
     return calls
 
 
@@ -78,7 +78,7 @@ def _tamper(path: Path, change) -> None:
             p,
             lambda e: (
                 e["payload"].update(mass=-1.0),
-                e.update(checksum=__import__("kcheck.cache").cache._checksum(e["payload"])),
+                e.update(checksum=__import__("kcheck.gate.cache").cache._checksum(e["payload"])),
             ),
         ),
         # another entry's content filed under this key

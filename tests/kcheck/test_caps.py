@@ -1,4 +1,4 @@
-"""Exact geometry of intersections of spherical caps (kcheck.caps) against closed forms,
+"""Exact geometry of intersections of spherical caps (kcheck.mechanics.caps) against closed forms,
 identities and brute force.
 
 References:
@@ -10,7 +10,7 @@ References:
   corner's exterior angle ``beta`` from the spherical law of cosines in the triangle of the
   two axes and a corner — corner angles, which kcheck's Stokes form never computes;
 * the 2^k cells cut by k circles tile the sphere: their areas add up to 4 pi;
-* brute force: a Fibonacci lattice (kcheck.sphere) for areas, distances and the deepest point.
+* brute force: a Fibonacci lattice (kcheck.mechanics.sphere) for areas, distances and the deepest point.
 """
 
 from __future__ import annotations
@@ -22,10 +22,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from kcheck.arcs import cap_margins
-from kcheck.caps import FOUR_PI, angle_between, region, signed_distance
-from kcheck.deepest import deepest_point
-from kcheck.sphere import fibonacci_sphere, grid_spacing, safe_fraction
+from kcheck.mechanics.arcs import cap_margins
+from kcheck.mechanics.caps import FOUR_PI, angle_between, region, signed_distance
+from kcheck.mechanics.deepest import deepest_point
+from kcheck.mechanics.sphere import fibonacci_sphere, grid_spacing, safe_fraction
 
 LATTICE = 200_000
 
@@ -198,7 +198,7 @@ def test_deepest_point_of_many_caps_by_active_set(seed: int) -> None:
     """Sixty caps (more than the active set starts with): the active set's answer equals the
     full enumeration of every single, pair and triple of caps (independent: no subset), for
     regions empty and not, and no lattice direction is deeper."""
-    from kcheck.deepest import _deepest_among
+    from kcheck.mechanics.deepest import _deepest_among
 
     rng = np.random.default_rng(100 + seed)
     a, c = random_caps(rng, 60)

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from kcheck.config import ConfigError, find_config, load_config
+from kcheck.gate.config import ConfigError, find_config, load_config
 from tests.conftest import PLANAR_SCENE
 
 

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from kcheck import couplings
+from kcheck.scene import couplings
 from kcheck.errors import SceneError
 from kcheck.scene import load_scene
 from tests.conftest import FIXTURES
@@ -225,7 +225,7 @@ def _generator() -> Any:
 def _limiting_friction(path: Path) -> np.ndarray:
     from kcheck_checks.analytical_3d import Analytical3D
 
-    from kcheck.mass import body_mass_properties
+    from kcheck.body.mass import body_mass_properties
     from kcheck.plugin import Inputs
 
     scene = load_scene(path)

@@ -1,4 +1,4 @@
-"""Dynamics of a retracted case (kcheck.dynamics): Painlevé-type cases, the outcome rule, and
+"""Dynamics of a retracted case (kcheck.mechanics.dynamics): Painlevé-type cases, the outcome rule, and
 preloads, against closed forms derived by hand in the docstrings.
 
 The Painlevé case is a long, light body sliding on two rough supports: y1 (-a, 0) and
@@ -25,9 +25,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from kcheck.dynamics import analyse_case, build_problem
-from kcheck.friction import friction_intervals
-from kcheck.outcomes import closing_conditions, outcome, outcomes, safe_arcs
+from kcheck.mechanics.dynamics import analyse_case, build_problem
+from kcheck.mechanics.friction import friction_intervals
+from kcheck.mechanics.outcomes import closing_conditions, outcome, outcomes, safe_arcs
 
 A, B, H, K2 = 0.2, 1.0, 0.1, 0.01
 MU_FORWARD = (-H + np.sqrt(H**2 + 4 * (B - K2 / A) * (A + K2 / A))) / (2 * (B - K2 / A))

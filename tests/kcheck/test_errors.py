@@ -27,7 +27,7 @@ from kcheck_checks.graphical_2d import Graphical2D, GraphicalOptions
 from kcheck_checks.maxwell import Maxwell, MaxwellOptions
 from mpmath import mp, mpf
 
-from kcheck.mass import body_mass_properties
+from kcheck.body.mass import body_mass_properties
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult
 from kcheck.scene import Scene, load_scene
@@ -382,8 +382,8 @@ def test_safe_share_error_estimate_is_honest(tmp_path: Path) -> None:
     double only at the end): the error the caps' coefficients carry into the area."""
     from kcheck_checks.analytical_3d import sphere_map
 
-    from kcheck.analysis import analyse
-    from kcheck.caps import region
+    from kcheck.analysis.cases import analyse
+    from kcheck.mechanics.caps import region
 
     rng = np.random.default_rng(1)
     pairs = []

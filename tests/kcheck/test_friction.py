@@ -1,4 +1,4 @@
-"""Friction intervals (kcheck.friction) against 50-digit polynomial roots and closed forms.
+"""Friction intervals (kcheck.mechanics.friction) against 50-digit polynomial roots and closed forms.
 
 The reference: ``det(A0 + mu A1)`` as a polynomial, interpolated from mpmath determinants at
 n + 1 points (50 digits), and its roots from ``mpmath.polyroots`` — no eigenvalues, no numpy.
@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 from mpmath import mp, mpf
 
-from kcheck.dynamics import analyse_cases, build_problem
-from kcheck.friction import (
+from kcheck.mechanics.dynamics import analyse_cases, build_problem
+from kcheck.mechanics.friction import (
     FrictionIntervals,
     _pencils,
     describe_friction,

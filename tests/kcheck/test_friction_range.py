@@ -1,9 +1,9 @@
-"""Friction ranges (kcheck.friction_range, kcheck.range_analysis) against dense brute force.
+"""Friction ranges (kcheck.mechanics.friction_range, kcheck.analysis.friction_ranges) against dense brute force.
 
 The brute force solves the equations of motion directly at many coefficients of the range —
 one LU solve per coefficient (``K(t) x = b0 + B d``), the outcome rule on the solution, the
 effective masses from determinants — and intersects over them. It shares with the code under
-test only the system matrices of :mod:`kcheck.dynamics`; the code under test never solves at a
+test only the system matrices of :mod:`kcheck.mechanics.dynamics`; the code under test never solves at a
 sampled coefficient (Cramer polynomials, real roots, envelopes).
 """
 
@@ -14,14 +14,14 @@ import dataclasses
 import numpy as np
 import pytest
 
-from kcheck.arcs import TAU
-from kcheck.caps import region
-from kcheck.dynamics import Problem, analyse_cases, build_problem, friction_matrices
-from kcheck.friction import friction_intervals
-from kcheck.friction_range import FrictionPath, range_arcs, range_caps, range_cases
-from kcheck.outcomes import safe_arcs
-from kcheck.range_analysis import design_margins, failing_intervals, worst_parameter
-from kcheck.sphere import fibonacci_sphere
+from kcheck.mechanics.arcs import TAU
+from kcheck.mechanics.caps import region
+from kcheck.mechanics.dynamics import Problem, analyse_cases, build_problem, friction_matrices
+from kcheck.mechanics.friction import friction_intervals
+from kcheck.mechanics.friction_range import FrictionPath, range_arcs, range_caps, range_cases
+from kcheck.mechanics.outcomes import safe_arcs
+from kcheck.analysis.friction_ranges import design_margins, failing_intervals, worst_parameter
+from kcheck.mechanics.sphere import fibonacci_sphere
 
 
 def random_problem(rng: np.random.Generator, dim: int, far_load: bool = False) -> Problem:
@@ -182,7 +182,7 @@ def test_envelope_ends_inside_the_range():
 
 def test_uniform_range_verdict_is_the_friction_intervals():
     """With one common coefficient the range closes throughout exactly when it lies inside one
-    of the case's friction intervals (kcheck.friction, an independent exact computation), and
+    of the case's friction intervals (kcheck.mechanics.friction, an independent exact computation), and
     it fails exactly on the rest of the range. The design direction is one that closes at the
     middle of the range, so both verdicts occur."""
     rng = np.random.default_rng(11)

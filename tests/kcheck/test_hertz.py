@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 from scipy.special import ellipe, ellipk
 
-from kcheck.hertz import (
+from kcheck.mechanics.hertz import (
     contact_modulus,
     curvature_sums,
     curvature_sums_crossed,

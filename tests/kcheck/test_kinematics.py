@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from kcheck.kinematics import (
+from kcheck.mechanics.kinematics import (
     free_twist,
     layout_singular_values,
     maxwell_cos,

@@ -13,8 +13,8 @@ HEAVY = ("trimesh", "scipy", "matplotlib", "clarabel")
 # Scenes run in this process (no worker), so the modules they import are seen here.
 PROBE = """
 import json, sys
-import kcheck.pool
-kcheck.pool.available = lambda: False
+import kcheck.gate.pool
+kcheck.gate.pool.available = lambda: False
 from kcheck.cli import main
 code = main(sys.argv[1:])
 heavy = sorted(m for m in HEAVY if m in sys.modules)
@@ -72,8 +72,8 @@ def test_conic_solver_only_for_spatial_jamming():
 
 MODULES_PROBE = """
 import json, sys
-import kcheck.pool
-kcheck.pool.available = lambda: False
+import kcheck.gate.pool
+kcheck.gate.pool.available = lambda: False
 from kcheck.cli import main
 code = main(sys.argv[1:])
 print(json.dumps({"code": code, "modules": sorted(sys.modules)}), file=sys.stderr)
@@ -107,23 +107,23 @@ def test_json_run_on_a_planar_scene_imports_only_what_it_needs(write_scene):
         "kcheck.report.junit",
         "kcheck.report.sarif",
         "kcheck.report.markdown",
-        "kcheck.vcs",
+        "kcheck.gate.vcs",
         "kcheck.report.github",
-        "numpy.ma",  # np.unique imports it; kcheck.arrays does without
+        "numpy.ma",  # np.unique imports it; kcheck.numerics.arrays does without
         "numpy.polynomial",  # friction ranges only
-        # entry points and versions are read without importlib.metadata (kcheck.distributions;
+        # entry points and versions are read without importlib.metadata (kcheck.plugin.dist_info;
         # pydantic's plugin loader is skipped while its plugins are disabled)
         "importlib.metadata",
         "email",
         "zipfile",
         # spatial and Hertz computations: their checks do not apply to a planar scene
-        "kcheck.sphere",
-        "kcheck.caps",
-        "kcheck_checks.sphere_map",
-        "kcheck.tolerance",
-        "kcheck.stats",
-        "kcheck.hertz",
-        "kcheck.seat",
+        "kcheck.mechanics.sphere",
+        "kcheck.mechanics.caps",
+        "kcheck.analysis.sphere_map",
+        "kcheck.mechanics.tolerance",
+        "kcheck.numerics.stats",
+        "kcheck.mechanics.hertz",
+        "kcheck.mechanics.seat",
     }
     assert modules & unwanted == set()
-    assert {"kcheck.report.json", "kcheck.runner", "kcheck.cache"} <= modules
+    assert {"kcheck.report.json", "kcheck.gate.runner", "kcheck.gate.cache"} <= modules

@@ -9,9 +9,9 @@ import pytest
 import trimesh
 
 from kcheck.errors import MeshError
-from kcheck.mass import MassProperties, body_volumes, combine, load_mesh, mesh_mass_properties
+from kcheck.body.mass import MassProperties, body_volumes, combine, load_mesh, mesh_mass_properties
 from kcheck.plugin import load_checks
-from kcheck.runner import check_scene
+from kcheck.gate.runner import check_scene
 
 RHO = 2700.0
 # Binary STL stores coordinates as float32: a relative precision of about 1e-7 per coordinate,

@@ -17,8 +17,8 @@ import pytest
 import trimesh
 
 from kcheck.errors import MeshError
-from kcheck.mass import body_mass_properties, mesh_mass_properties
-from kcheck.meshio import load_mesh
+from kcheck.body.mass import body_mass_properties, mesh_mass_properties
+from kcheck.body.meshio import load_mesh
 from kcheck.scene import load_scene
 from tests.conftest import FIXTURES
 

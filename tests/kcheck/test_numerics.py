@@ -19,7 +19,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from kcheck.mass import body_mass_properties
+from kcheck.body.mass import body_mass_properties
 from kcheck.plugin import Inputs, load_checks
 from kcheck.result import CheckResult, Status
 from kcheck.scene import Body, ExplicitMass, Preload, Scene, load_scene

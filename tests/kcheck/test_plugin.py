@@ -127,10 +127,10 @@ def test_third_party_check_is_listed_and_run(installed_example, write_scene):
 
 
 def test_entry_points_read_from_folders_equal_importlib_metadata(monkeypatch):
-    """kcheck.distributions reads the metadata folders itself (sparing the start-up the import
+    """kcheck.plugin.dist_info reads the metadata folders itself (sparing the start-up the import
     of importlib.metadata); the reference is importlib.metadata's own answer, taken by
     forcing the fallback: the same checks, packages, versions and targets."""
-    import kcheck.distributions as dists
+    import kcheck.plugin.dist_info as dists
 
     direct = [(s.name, s.package, s.version, s.entry_point.value) for s in find_checks()]
     assert dists.distributions() is not None  # this environment: the direct reading
@@ -145,7 +145,7 @@ def test_entry_points_read_from_folders_equal_importlib_metadata(monkeypatch):
 
 
 def test_entry_point_loads_like_importlib_metadata():
-    from kcheck.distributions import EntryPoint
+    from kcheck.plugin.dist_info import EntryPoint
 
     ep = EntryPoint("maxwell", "kcheck_checks.maxwell:Maxwell", "kcheck.checks")
     reference = importlib.metadata.EntryPoint("maxwell", ep.value, "kcheck.checks")

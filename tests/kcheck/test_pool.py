@@ -8,7 +8,7 @@ import time
 
 import pytest
 
-from kcheck.pool import Budget, BudgetExceeded, available, run_in_workers
+from kcheck.gate.pool import Budget, BudgetExceeded, available, run_in_workers
 
 pytestmark = pytest.mark.skipif(not available(), reason="worker processes need fork")
 

@@ -184,7 +184,7 @@ def test_no_numerical_noise_in_verbose_report(every_fixture: str) -> None:
 
 
 def test_noise_is_zeroed_relative_to_the_largest_entry() -> None:
-    from kcheck.mass import MassProperties
+    from kcheck.body.mass import MassProperties
     from kcheck.report.tables import mass_view
 
     inertia = np.array([[0.0170547, -9.14796e-18, 0], [-9.14796e-18, 0.0270953, 0], [0, 0, 0.0358]])
@@ -403,7 +403,7 @@ def test_the_html_reporter_does_not_hold_a_batch_of_pictures(tmp_path) -> None:
 def test_mass_with_point_masses_says_so() -> None:
     """A new user read "mass 0.28233 kg (mesh)" for a plate mesh plus three ball point masses
     (0.27 + 3 × 0.00411 kg): the label now says what the number is made of."""
-    from kcheck.mass import body_mass_properties
+    from kcheck.body.mass import body_mass_properties
     from kcheck.report.tables import mass_lines
     from kcheck.scene import load_scene
 
@@ -473,10 +473,10 @@ def test_the_sphere_picture_writes_the_share_as_the_check_does(tmp_path: Path) -
     writes it (the user saw "0.0%" above a text saying "0.01%")."""
     pytest.importorskip("matplotlib")
     from kcheck_checks.analytical_3d import Analytical3D, Analytical3DOptions, spatial_result
-    from kcheck_checks.plots_sphere import sphere_figure
+    from kcheck_checks.pictures.sphere import sphere_figure
 
-    from kcheck.analysis import analyse
-    from kcheck.mass import body_mass_properties
+    from kcheck.analysis.cases import analyse
+    from kcheck.body.mass import body_mass_properties
     from kcheck.scene import load_scene
     from tests.couplings import user_kelvin
 

@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 from kcheck.plugin import load_checks
 from kcheck.result import Status
-from kcheck.runner import check_scene
+from kcheck.gate.runner import check_scene
 from tests.conftest import PLANAR_SCENE
 
 COUPLED_SCENE = """

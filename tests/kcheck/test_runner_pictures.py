@@ -10,7 +10,7 @@ from pathlib import Path
 
 from kcheck.plugin import Check, CheckSpec, Inputs, LoadedCheck
 from kcheck.result import CheckResult, Status
-from kcheck.runner import Settings, run_batch
+from kcheck.gate.runner import Settings, run_batch
 from tests.conftest import PLANAR_SCENE
 
 
@@ -28,7 +28,7 @@ class Drawn(Check):
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
         if "broken" in (inputs.scene.name or ""):
             raise ValueError("Axis limits cannot be NaN or Inf")
-        from kcheck.plotting import figure, save
+        from kcheck.pictures.plotting import figure, save
 
         fig = figure(figsize=(2.0, 1.5))
         fig.add_subplot().plot([0, 1], [0, 1])
@@ -75,7 +75,7 @@ def test_names_the_font_lacks_or_too_long_to_fit_draw_without_warnings(tmp_path:
     import pytest
 
     pytest.importorskip("matplotlib")
-    from kcheck.plotting import figure, formats, save
+    from kcheck.pictures.plotting import figure, formats, save
 
     fig = figure(figsize=(2.0, 1.5))
     ax = fig.add_subplot()

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 import trimesh
 
-from kcheck.mass import MassProperties
+from kcheck.body.mass import MassProperties
 from kcheck.plugin import load_checks
 from kcheck.result import Status
-from kcheck.runner import check_scene
-from kcheck.sanity import body_box
+from kcheck.gate.runner import check_scene
+from kcheck.analysis.sanity import body_box
 from tests.conftest import FIXTURES, PLANAR_SCENE
 
 # The verdict each fixture is meant to have (some thesis fixtures fail on purpose: see their

@@ -15,9 +15,9 @@ import pytest
 from kcheck.errors import SceneError
 from kcheck.plugin import load_checks
 from kcheck.result import Status
-from kcheck.runner import check_scene
+from kcheck.gate.runner import check_scene
 from kcheck.scene import load_scene
-from kcheck.yamlio import HAVE_LIBYAML, YamlLimits, read_yaml
+from kcheck.scene.yamlio import HAVE_LIBYAML, YamlLimits, read_yaml
 from tests.conftest import FIXTURES, PLANAR_SCENE
 
 
@@ -404,7 +404,7 @@ DOC_ROWS = {
 
 def test_limits_table_matches_the_code():
     from kcheck.scene.limits import LIMITS
-    from kcheck.yamlio import DEFAULT_LIMITS
+    from kcheck.scene.yamlio import DEFAULT_LIMITS
     from tests.conftest import ROOT
 
     doc = (ROOT / "docs" / "scene-format.md").read_text()

@@ -12,9 +12,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from kcheck.hertz import contact_modulus, hertz
+from kcheck.mechanics.hertz import contact_modulus, hertz
 from kcheck.scene import Preload
-from kcheck.seat import (
+from kcheck.mechanics.seat import (
     contact_forces,
     external_wrench,
     point_translation,

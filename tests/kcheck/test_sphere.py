@@ -1,4 +1,4 @@
-"""The lattice count of safe directions (kcheck.sphere), the oracle of kcheck.caps, against
+"""The lattice count of safe directions (kcheck.mechanics.sphere), the oracle of kcheck.mechanics.caps, against
 closed forms.
 
 References: the area of a spherical cap of angular radius r is 2 pi (1 - cos r), a fraction
@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from kcheck.arcs import cap_margin_matrix, cap_margins
-from kcheck.sphere import (
+from kcheck.mechanics.arcs import cap_margin_matrix, cap_margins
+from kcheck.mechanics.sphere import (
     cap_fraction,
     fibonacci_chunks,
     fibonacci_sphere,

@@ -1,4 +1,4 @@
-"""kcheck.statics against closed forms and brute force.
+"""kcheck.mechanics.statics against closed forms and brute force.
 
 References: the block of methods.md §7 (a block on a plane holds iff ``tan(theta) <= mu``,
 §1.1), non-negative least squares (scipy ``nnls``: is ``-W`` a non-negative combination of
@@ -12,13 +12,13 @@ import numpy as np
 import pytest
 from scipy.optimize import nnls
 
-from kcheck.arcs import TAU, contains
-from kcheck.cones import cone_facets
-from kcheck.kinematics import free_twist, wrenches
-from kcheck.least_friction import (
+from kcheck.mechanics.arcs import TAU, contains
+from kcheck.mechanics.cones import cone_facets
+from kcheck.mechanics.kinematics import free_twist, wrenches
+from kcheck.mechanics.least_friction import (
     least_friction,
 )
-from kcheck.statics import (
+from kcheck.mechanics.statics import (
     build_statics,
     closing_condition,
     edge_wrenches,
@@ -224,7 +224,7 @@ def test_planar_least_friction_from_candidates_equals_bisection() -> None:
     rounding of the polynomial roots; the worst seen, 7e-9, at mu = 42) or 1e-9 absolute
     (``holds`` accepts a wrench within 1e-10 of a facet, so the bisection may stop that far
     below); the result holds, and that far below it does not (it is the least)."""
-    from kcheck.least_friction import friction_candidates
+    from kcheck.mechanics.least_friction import friction_candidates
 
     rng = np.random.default_rng(11)
     compared = infeasible = 0
@@ -262,7 +262,7 @@ def test_spatial_least_friction_by_fractional_steps_equals_bisection() -> None:
     reference), on the spatial block: two retracted supports, 8 load directions, all
     supports rough or z2 frictionless. It is never below the reference by more than the
     solver's tolerance, and within the requested 1e-4 above it."""
-    from kcheck.least_friction import least_friction_exactly
+    from kcheck.mechanics.least_friction import least_friction_exactly
 
     statics = spatial_block(MU)
     rng = np.random.default_rng(2)
@@ -293,7 +293,7 @@ def test_containment_of_many_directions_is_chunked_and_exact() -> None:
     reference) and the extra memory is a few chunks."""
     import tracemalloc
 
-    from kcheck.statics import Equilibria
+    from kcheck.mechanics.statics import Equilibria
 
     rng = np.random.default_rng(5)
     facets = rng.normal(size=(400, 3))
@@ -316,7 +316,7 @@ def test_least_friction_ends_at_an_infimum_zero_does_not_attain() -> None:
     """Fuzz finding extreme-4245-885 (issue 13, run E): a degenerate balance feasible for
     every μ > 0 but not at 0 made the bisection halve into denormals and then loop forever
     at 5e-324 (a jamming check past its 120 s budget). It ends at the absolute floor."""
-    from kcheck.least_friction import MU_FLOOR, least_friction
+    from kcheck.mechanics.least_friction import MU_FLOOR, least_friction
 
     calls = []
 

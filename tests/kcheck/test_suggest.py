@@ -14,14 +14,14 @@ import dataclasses
 import numpy as np
 import pytest
 
-from kcheck.analysis import problem_for
-from kcheck.arcs import cap_margins
-from kcheck.candidates import BoxSampler, SuggestError, SurfaceSampler
-from kcheck.dynamics import analyse_case
-from kcheck.mass import body_mass_properties
+from kcheck.analysis.cases import problem_for
+from kcheck.mechanics.arcs import cap_margins
+from kcheck.analysis.candidates import BoxSampler, SuggestError, SurfaceSampler
+from kcheck.mechanics.dynamics import analyse_case
+from kcheck.body.mass import body_mass_properties
 from kcheck.scene import load_scene
-from kcheck.sphere import fibonacci_sphere, most_robust_direction
-from kcheck.suggest import (
+from kcheck.mechanics.sphere import fibonacci_sphere, most_robust_direction
+from kcheck.analysis.suggest import (
     caps_at,
     point_caps,
     point_margins,

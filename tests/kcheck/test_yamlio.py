@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from kcheck.errors import SceneError
-from kcheck.yamlio import HAVE_LIBYAML, load_yaml, read_yaml
+from kcheck.scene.yamlio import HAVE_LIBYAML, load_yaml, read_yaml
 
 
 def test_exponent_without_dot_is_a_number(tmp_path):

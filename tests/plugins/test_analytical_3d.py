@@ -34,10 +34,10 @@ from kcheck_checks.analytical_2d import Analytical2D, AnalyticalOptions
 from kcheck_checks.analytical_3d import Analytical3D, Analytical3DOptions, sphere_map
 from kcheck_checks.maxwell import Maxwell, MaxwellOptions
 
-from kcheck.analysis import analyse
+from kcheck.analysis.cases import analyse
 from kcheck.cli.expand import expanded_text
-from kcheck.mass import body_mass_properties
-from kcheck.outcomes import outcome
+from kcheck.body.mass import body_mass_properties
+from kcheck.mechanics.outcomes import outcome
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult, Status
 from kcheck.scene import Scene, load_scene
@@ -66,7 +66,7 @@ def write_scene(directory: Path, data: dict[str, Any], name: str = "scene") -> P
 
 
 def run(check: Any, scene: Scene, options: Any = None) -> CheckResult:
-    """Run a check the way the runner does (mass properties through kcheck.mass)."""
+    """Run a check the way the runner does (mass properties through kcheck.body.mass)."""
     mass = body_mass_properties(scene.body, scene.scale) if check.needs_mass else None
     opts = options if options is not None else check.options()
     return check.run(Inputs(scene, mass, opts))
@@ -366,7 +366,7 @@ def test_sphere_map_against_case_by_case_outcomes() -> None:
     rng = np.random.default_rng(5)
     directions = rng.normal(size=(400, 3))
     directions /= np.linalg.norm(directions, axis=1, keepdims=True)
-    from kcheck.arcs import cap_margins
+    from kcheck.mechanics.arcs import cap_margins
 
     margins = cap_margins(smap.a, smap.c, directions)
     for d, m in zip(directions, margins, strict=True):
@@ -433,7 +433,7 @@ def test_gravity_map_of_the_thesis_block(tmp_path: Path) -> None:
 
 def test_plots_are_written(tmp_path: Path) -> None:
     pytest.importorskip("matplotlib")
-    from kcheck.plotting import formats
+    from kcheck.pictures.plotting import formats
 
     check = Analytical3D()
     for scene_path in (FIXTURES / "three-groove" / "coupling.kcheck.yaml",):
@@ -508,7 +508,7 @@ def test_scene_views_of_a_far_load_point_stay_a_picture(tmp_path):
     pixels tall-and-wide: 1.7 GB and a minute to encode a PNG. The panels are now at most
     MAX_PANEL_RATIO times as tall as wide."""
     pytest.importorskip("matplotlib")
-    from kcheck_checks.plots_3d import MAX_PANEL_RATIO, scene_views
+    from kcheck_checks.pictures.spatial import MAX_PANEL_RATIO, scene_views
 
     text = (FIXTURES / "block-321" / "block.kcheck.yaml").read_text()
     assert "point: [100, 75, 85]" in text
@@ -533,7 +533,7 @@ def test_scene_views_draw_preloads_and_fit_long_titles(fixture):
     (labelled by its name), and the Kelvin coupling's long titles ("socket.3 retracted:
     closes — pure rotation about (-0.632, 0.000, -0.775)") stay inside their panels."""
     pytest.importorskip("matplotlib")
-    from kcheck_checks.plots_3d import scene_views
+    from kcheck_checks.pictures.spatial import scene_views
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     scene = load_scene(FIXTURES / f"{fixture}.kcheck.yaml")
@@ -615,7 +615,7 @@ def test_the_drawn_mesh_is_placed_like_the_mass_properties():
     """The scene views drew each part's raw file coordinates: the tool changer's plate is
     turned 180° about x by its `transform`, and was drawn unturned. The drawn triangles now
     lie in the body's bounds as the mass properties compute them (transforms applied)."""
-    from kcheck_checks.plots_3d import _mesh_triangles
+    from kcheck_checks.pictures.spatial import _mesh_triangles
 
     scene = load_scene(FIXTURES / "tool-changer" / "tool.kcheck.yaml")
     assert scene.body is not None and scene.body.parts[0].rotation is not None

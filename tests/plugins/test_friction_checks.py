@@ -21,12 +21,12 @@ from kcheck_checks.analytical_2d import Analytical2D
 from kcheck_checks.analytical_3d import Analytical3D
 from kcheck_checks.graphical_2d import Graphical2D
 from kcheck_checks.jamming import Jamming
-from kcheck_checks.koster import construct_case, friction_over_range
+from kcheck.mechanics.koster import construct_case, friction_over_range
 
-from kcheck.arcs import TAU
-from kcheck.dynamics import friction_directions
-from kcheck.kinematics import cross3, point_velocity, wrenches
-from kcheck.mass import body_mass_properties
+from kcheck.mechanics.arcs import TAU
+from kcheck.mechanics.dynamics import friction_directions
+from kcheck.mechanics.kinematics import cross3, point_velocity, wrenches
+from kcheck.body.mass import body_mass_properties
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult
 from kcheck.scene import Scene, load_scene
@@ -188,7 +188,7 @@ def test_pictures_against_friction(write_scene, tmp_path):
     """One picture against μ per check (a real PNG; analytical-2d's through its `plot`, as
     `--plots` calls it), and the bands are the check's own ranges at each coefficient."""
     pytest.importorskip("matplotlib")
-    from kcheck_checks.plots_friction import friction_axis, plot_friction, scene_at
+    from kcheck_checks.pictures.friction import friction_axis, plot_friction, scene_at
 
     scene = with_friction(write_scene, "planar-block", "{min: 0.05, max: 0.3}")
     mass = body_mass_properties(scene.body, scene.scale)

@@ -1,6 +1,6 @@
 """graphical-2d: Koster's construction against independent references.
 
-References used below: the analytical-2d engine (:mod:`kcheck.analysis`, Newton–Euler with
+References used below: the analytical-2d engine (:mod:`kcheck.analysis.cases`, Newton–Euler with
 mass), line intersections computed here by hand (poles), and closed forms (methods.md §1.1,
 §2.1.2, §5, §7). Every scene is a real YAML file loaded through :func:`kcheck.scene.load_scene`
 or run through the CLI.
@@ -21,9 +21,9 @@ from kcheck_checks.graphical_2d import (
     attachment,
 )
 
-from kcheck.analysis import analyse
-from kcheck.arcs import TAU, ArcSet
-from kcheck.mass import body_mass_properties
+from kcheck.analysis.cases import analyse
+from kcheck.mechanics.arcs import TAU, ArcSet
+from kcheck.body.mass import body_mass_properties
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult, Status
 from kcheck.scene import Preload, Scene, load_scene
@@ -487,18 +487,18 @@ def test_weight_as_the_closing_force(write_scene: Callable[..., Path]) -> None:
 
 def test_centre_of_mass_comes_from_the_runner_once(monkeypatch: pytest.MonkeyPatch) -> None:
     """The force acts at the centre of mass: the runner reads the mesh once for every check."""
-    import kcheck.mass
+    import kcheck.body.mass
     from kcheck.plugin import load_checks
-    from kcheck.runner import check_scene
+    from kcheck.gate.runner import check_scene
 
     calls: list[Path] = []
-    original = kcheck.mass.load_mesh
+    original = kcheck.body.mass.load_mesh
 
     def counting(path: Path, scale: float, field: object, **kwargs: object) -> object:
         calls.append(path)
         return original(path, scale, field, **kwargs)
 
-    monkeypatch.setattr(kcheck.mass, "load_mesh", counting)
+    monkeypatch.setattr(kcheck.body.mass, "load_mesh", counting)
     scene = Path(__file__).resolve().parents[2] / "fixtures" / "planar-block" / "block.kcheck.yaml"
     result = check_scene(scene, load_checks())
     statuses = {c.id: c.status for c in result.checks}
@@ -514,7 +514,7 @@ def test_bad_mesh_is_an_input_error_for_graphical_alone(
     import trimesh
 
     from kcheck.plugin import load_checks
-    from kcheck.runner import check_scene
+    from kcheck.gate.runner import check_scene
 
     mesh = trimesh.creation.box(extents=(100.0, 60.0, 20.0))
     mesh.invert()

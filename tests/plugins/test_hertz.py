@@ -20,11 +20,11 @@ import pytest
 from kcheck_checks.hertz import Hertz
 from kcheck_checks.hertz_materials import HertzOptions
 
-from kcheck.hertz import contact_modulus, hertz
-from kcheck.mass import MassProperties
+from kcheck.mechanics.hertz import contact_modulus, hertz
+from kcheck.body.mass import MassProperties
 from kcheck.plugin import Inputs, load_checks
 from kcheck.result import Status
-from kcheck.runner import check_scene
+from kcheck.gate.runner import check_scene
 from kcheck.scene import Preload, load_scene
 from tests.conftest import FIXTURES
 from tests.couplings import ball_cylinders, coupling_scene, kelvin, three_vee, with_preloads
@@ -263,7 +263,7 @@ def test_picture(three_vee_scene, tmp_path):
     options = HertzOptions(disturbing_force=[5.0, 0, 0], error_point=[0, 0, 30.0])
     inputs = Inputs(three_vee_scene, None, options)
     result = Hertz().run(inputs)
-    from kcheck.plotting import formats
+    from kcheck.pictures.plotting import formats
 
     files = Hertz().plot(inputs, result, tmp_path / "plots")  # PNG by default
     assert [f.suffix for f in files] == [".png"] and files[0].stat().st_size

@@ -2,7 +2,7 @@
 
 References: graphical-2d's construction (Koster's friction poles: an SVD null vector of the
 tilted reaction rows, an independent computation of the same boundary as the statics' facet
-of the contact-wrench cone), analytical-3d's forward dynamics (kcheck.dynamics), the conic
+of the contact-wrench cone), analytical-3d's forward dynamics (kcheck.mechanics.dynamics), the conic
 solver's equilibria checked force by force, and the block of methods.md §7.
 """
 
@@ -16,17 +16,17 @@ import numpy as np
 import pytest
 from kcheck_checks.graphical_2d import construct_case
 from kcheck_checks.jamming import Jamming, JammingOptions
-from kcheck_checks.jamming_cases import analyse_jamming, case_arcs, tidy
+from kcheck.analysis.jamming_cases import analyse_jamming, case_arcs, tidy
 
-from kcheck.arcs import TAU, ArcSet, complement, intersect, union
-from kcheck.dynamics import analyse_case, build_problem
-from kcheck.kinematics import wrenches
-from kcheck.mass import body_mass_properties
-from kcheck.outcomes import outcomes
+from kcheck.mechanics.arcs import TAU, ArcSet, complement, intersect, union
+from kcheck.mechanics.dynamics import analyse_case, build_problem
+from kcheck.mechanics.kinematics import wrenches
+from kcheck.body.mass import body_mass_properties
+from kcheck.mechanics.outcomes import outcomes
 from kcheck.plugin import Inputs
 from kcheck.scene import load_scene
-from kcheck.sphere import fibonacci_sphere
-from kcheck.statics import build_statics, equilibrium_forces
+from kcheck.mechanics.sphere import fibonacci_sphere
+from kcheck.mechanics.statics import build_statics, equilibrium_forces
 from tests.kcheck.test_statics import random_planar
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -111,8 +111,8 @@ def test_planar_jamming_reproduces_graphical_on_random_scenes() -> None:
 def double_solution(statics, retracted: int, reference) -> bool:
     """Whether friction at the friction pole's closing side does positive work: there the
     construction's closing side is also the side where the friction cones hold the load."""
-    from kcheck.dynamics import friction_directions
-    from kcheck.kinematics import free_twist, point_velocity
+    from kcheck.mechanics.dynamics import friction_directions
+    from kcheck.mechanics.kinematics import free_twist, point_velocity
 
     free = free_twist(statics.points, statics.normals, retracted)
     keep = np.flatnonzero(np.arange(len(statics.points)) != retracted)
@@ -324,7 +324,7 @@ def test_spatial_scene_without_sweep_gets_a_plane_through_the_design_gravity(
     Reference for the ranges, an independent computation: the exact circular friction cones
     (clarabel's second-order-cone feasibility, not the pyramids the ranges come from) hold no
     case inside the reported jam-free ranges, including at the design angle 0°."""
-    from kcheck_checks.jamming_cases import held_at, jam_statics
+    from kcheck.analysis.jamming_cases import held_at, jam_statics
 
     from kcheck.fmt import normalise_range
     from tests.couplings import tilted_kelvin

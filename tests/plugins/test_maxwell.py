@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from kcheck.plugin import load_checks
-from kcheck.runner import check_scene
+from kcheck.gate.runner import check_scene
 from tests.conftest import PLANAR_SCENE
 
 

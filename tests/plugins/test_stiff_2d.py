@@ -21,7 +21,7 @@ import yaml
 from kcheck_checks.analytical_2d import Analytical2D, AnalyticalOptions
 from mpmath import mp, mpf
 
-from kcheck.mass import body_mass_properties
+from kcheck.body.mass import body_mass_properties
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult
 from kcheck.scene import Scene, load_scene
@@ -205,7 +205,7 @@ def reference(scene: Scene, mass: Any, retracted: int, sense: int = 1) -> Refere
 def painleve(scene: Scene, mass: Any, retracted: int) -> bool:
     """Whether friction makes the effective mass along the free twist non-positive:
     ``det K / det K(mu = 0)`` <= 0 under forward or backward friction (methods of
-    kcheck.dynamics, recomputed here from the determinants)."""
+    kcheck.mechanics.dynamics, recomputed here from the determinants)."""
     base = mp.det(_system(scene, mass, retracted, 1, friction=False)[0])
     return any(mp.det(_system(scene, mass, retracted, s)[0]) / base <= 0 for s in (1, -1))
 

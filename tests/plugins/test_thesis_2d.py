@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from kcheck.arcs import intersect
+from kcheck.mechanics.arcs import intersect
 from kcheck.cli import main
 
 FIXTURES = Path(__file__).resolve().parents[2] / "fixtures"

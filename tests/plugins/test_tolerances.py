@@ -1,8 +1,8 @@
 """The `tolerances` check: Monte Carlo over the made coupling, the load direction exact.
 
-References: the full analysis of each perturbed scene (kcheck.analysis + the exact sphere map,
+References: the full analysis of each perturbed scene (kcheck.analysis.cases + the exact sphere map,
 an independent route through the code: SVD free twists, per-scene solves); the exact friction
-intervals of kcheck.range_analysis for friction-only tolerances; scipy's beta quantiles for the
+intervals of kcheck.analysis.friction_ranges for friction-only tolerances; scipy's beta quantiles for the
 Clopper–Pearson bounds.
 """
 
@@ -13,15 +13,15 @@ import dataclasses
 import numpy as np
 import pytest
 from kcheck_checks.analytical_2d import Analytical2D
-from kcheck_checks.sphere_map import sphere_map
+from kcheck.analysis.sphere_map import sphere_map
 from kcheck_checks.tolerances import Tolerances, TolerancesOptions
 
-from kcheck.analysis import analyse, problem_for
-from kcheck.mass import body_mass_properties
+from kcheck.analysis.cases import analyse, problem_for
+from kcheck.body.mass import body_mass_properties
 from kcheck.plugin import Inputs
 from kcheck.scene import Scene, load_scene
-from kcheck.stats import clopper_pearson
-from kcheck.tolerance import perturb, sample_margins
+from kcheck.numerics.stats import clopper_pearson
+from kcheck.mechanics.tolerance import perturb, sample_margins
 from tests.conftest import FIXTURES, PLANAR_SCENE
 
 THREE_GROOVE = FIXTURES / "three-groove" / "coupling.kcheck.yaml"

@@ -1,0 +1,2 @@
+"""From a scene to its analysed retraction cases, and what is built on them (sanity
+warnings, kcheck suggest)."""

@@ -1,0 +1,387 @@
+"""From a scene to the dynamics of every retracted case: the shared engine of the analytical
+checks (planar and spatial use the same code, only ``dim`` differs)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from kcheck.mechanics.arcs import FULL, ArcSet, contains, intersect, margin, to_degrees
+from kcheck.mechanics.dynamics import Case, Problem, analyse_cases, build_problem, with_load
+from kcheck.fmt import clean, format_ranges
+from kcheck.mechanics.friction import FrictionIntervals, friction_intervals_many
+from kcheck.mechanics.kinematics import Frame, row_norms, unit_rows
+from kcheck.body.mass import MassProperties
+from kcheck.mechanics.outcomes import outcome, safe_arcs
+from kcheck.result import CaseResult
+from kcheck.scene import Scene
+
+__all__ = [
+    "support_layout",
+    "closing_force_reason",
+    "problem_for",
+    "motion_details",
+    "Analysis",
+    "analyse",
+    "swept_design",
+    "sweep_ranges",
+    "nearest_end",
+    "describe_ranges",
+    "ranges_deg",
+    "intervals_json",
+]
+
+# A rotation whose pole lies beyond 1e12 layout sizes is reported as a translation, a screw
+# whose pitch is below 1e-9 layout sizes per radian as a pure rotation.
+INFINITE_POLE = 1e-12
+NO_PITCH = 1e-9
+
+
+def support_layout(scene: Scene) -> tuple[Frame, np.ndarray, np.ndarray]:
+    """Nondimensional frame, support points (k, dim) and unit normals (k, dim) of a scene."""
+    positions = np.array([s.position for s in scene.supports])
+    frame = Frame.for_points(positions, scene.dim, 1.0)
+    normals = np.array([s.normal for s in scene.supports])[:, : scene.dim]
+    return frame, frame.point(positions), unit_rows(normals)
+
+
+def has_preloads(scene: Scene) -> bool:
+    """Whether the scene's preloads push with any force in the plane of motion."""
+    return any(np.any(p.force[: scene.dim] != 0) for p in scene.preloads)
+
+
+def closing_force_reason(scene: Scene) -> str | None:
+    """Why the scene has nothing to analyse dynamically, or None."""
+    if scene.body is None:
+        return "needs the body's mass properties; the scene has no `body`"
+    has_load = scene.load is not None and scene.load.magnitude > 0
+    if not has_load and not np.any(scene.gravity[: scene.dim]) and not has_preloads(scene):
+        return (
+            "the scene has no closing force (no load magnitude, no gravity and no preload in "
+            "the plane)"
+            if scene.dim == 2
+            else "the scene has no closing force (no load magnitude, no gravity, no preload)"
+        )
+    return None
+
+
+def problem_for(scene: Scene, mass: MassProperties, friction: np.ndarray | None = None) -> Problem:
+    """The nondimensional dynamics of a scene, with the supports' kinetic coefficients (the
+    upper ends of their ranges) or ``friction`` (k,) instead."""
+    load = scene.load
+    return build_problem(
+        points=np.array([s.position for s in scene.supports]),
+        normals=np.array([s.normal for s in scene.supports]),
+        friction=scene.friction_range("kinetic")[1] if friction is None else friction,
+        names=tuple(s.name for s in scene.supports),
+        dim=scene.dim,
+        mass=mass.mass,
+        com=mass.center_of_mass,
+        inertia=mass.inertia,
+        gravity=scene.gravity,
+        load_magnitude=0.0 if load is None else load.magnitude,
+        load_point=None if load is None else load.point,
+        torque=np.zeros(3) if load is None else load.torque,
+        preloads=tuple((p.point, p.force) for p in scene.preloads),
+    )
+
+
+def motion_details(problem: Problem, case: Case) -> dict[str, object]:
+    """The free motion in physical terms: the pole (2D), the screw axis and pitch, or the pure
+    rotation axis (3D), or the translation direction; rounding noise cleaned away."""
+    frame, twist = problem.frame, case.free.twist
+    nw = 1 if problem.dim == 2 else 3
+    w, v = twist[:nw], twist[nw:]
+    wn = float(np.linalg.norm(w))
+    if wn <= INFINITE_POLE * float(np.linalg.norm(v)):
+        direction = unit_rows(clean(v))
+        return {"motion": "translation", "direction": _pad(direction, problem.dim).tolist()}
+    if problem.dim == 2:
+        pole = np.array([-v[1], v[0]]) / w[0]
+        return {
+            "motion": "rotation",
+            "pole": clean(frame.origin[:2] + frame.length * clean(pole, 1.0 + row_norms(pole))),
+            "sense": "ccw" if w[0] > 0 else "cw",
+        }
+    axis = unit_rows(clean(w / wn))
+    pitch = float(w @ v) / wn**2
+    foot = clean(np.cross(w, v) / wn**2, 1.0 + float(row_norms(np.cross(w, v))) / wn**2)
+    point = frame.origin + frame.length * foot
+    if abs(pitch) <= NO_PITCH:
+        return {"motion": "rotation", "axis": axis.tolist(), "axis_point": point.tolist()}
+    return {
+        "motion": "screw",
+        "axis": axis.tolist(),
+        "axis_point": point.tolist(),
+        "pitch_m": pitch * frame.length,
+    }
+
+
+def _pad(vector: np.ndarray, dim: int) -> np.ndarray:
+    return vector if dim == 3 else np.append(vector, 0.0)
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """Everything the analytical checks report, before a verdict.
+
+    ``arcs`` (per case) and ``combined`` are the exact safe ranges in the sweep plane ``plane``
+    (``(e1, e2)``, nondimensional components); None without a load to sweep. ``design_margin_deg``
+    is the design direction's signed distance to the combined ranges (negative outside: the
+    distance to the nearest safe angle, ``nearest_safe_deg``); None when nothing is safe.
+    ``friction`` holds each evaluated case's friction intervals. ``friction_range``: when the
+    kinetic coefficients are ranges, what holds over them (:mod:`kcheck.analysis.friction_ranges`); the
+    arcs are then those that close for every coefficient of the range.
+    """
+
+    problem: Problem
+    cases: tuple[Case, ...]
+    results: tuple[CaseResult, ...]
+    arcs: tuple[ArcSet, ...] | None  # per case, None without a load to sweep
+    combined: ArcSet | None
+    design: np.ndarray | None  # unit direction (dim,) or None
+    design_margin_deg: float | None
+    error_deg: float | None
+    max_condition: float
+    plane: tuple[np.ndarray, np.ndarray] | None = None
+    nearest_safe_deg: float | None = None
+    friction: tuple[FrictionIntervals | None, ...] = ()
+    friction_range: Any = None  # kcheck.analysis.friction_ranges.RangeInfo
+
+    @property
+    def every_case_closes(self) -> bool:
+        """Whether every case closes at the design direction (or under the fixed wrench)."""
+        return all(r.outcome == "closes" for r in self.results)
+
+    @property
+    def trustworthy(self) -> bool:
+        """Whether every case has a determined, well-conditioned answer."""
+        return all(r.outcome not in ("undetermined", "ill_conditioned") for r in self.results)
+
+
+def intervals_json(intervals: tuple[tuple[float, float], ...]) -> list[list[float | None]]:
+    """Friction intervals as JSON lists ``[lo, hi]``, ``hi`` None when unbounded."""
+    return [[lo, hi if np.isfinite(hi) else None] for lo, hi in intervals]
+
+
+def _case_details(problem: Problem, case: Case) -> dict[str, object]:
+    """Determinacy, motion, conditioning and diagnostics of one case."""
+    names = problem.names
+    details: dict[str, object] = {"determinacy": case.free.determinacy}
+    if not case.determined:
+        details["diagnostic"] = (
+            "the free motion is not unique (the remaining normals are degenerate)"
+            if case.free.determinacy <= 1e-10
+            else "the layout is singular (e.g. normals through one point): the motion "
+            "freed by removing this support does not move it towards the support"
+        )
+        return details
+    details.update(motion_details(problem, case))
+    assert case.forward is not None and case.backward is not None
+    condition = max(case.forward.condition, case.backward.condition)
+    details["condition"] = condition
+    stuck = [names[j] for j, s in zip(case.keep, case.sliding, strict=True) if not s]
+    if stuck:
+        details["friction_undetermined"] = stuck
+        details["diagnostic"] = (
+            f"contact(s) {', '.join(stuck)} do not slide (the pole is on them): friction "
+            "direction undetermined, taken as zero"
+        )
+    if not case.well_conditioned:
+        details["diagnostic"] = (
+            f"equations of motion nearly singular (condition {condition:.1e}); no numbers reported"
+        )
+    elif case.effective_mass is not None and case.painleve:
+        details["effective_mass"] = list(case.effective_mass)
+    return details
+
+
+def _evaluated(
+    problem: Problem,
+    case: Case,
+    direction: np.ndarray | None,
+    intervals: FrictionIntervals,
+    details: dict[str, object],
+) -> tuple[str, dict[str, float] | None, float | None]:
+    """Outcome, normal forces (N) and acceleration (m/s^2) at a direction (or under the fixed
+    wrench alone); adds the friction details."""
+    names = problem.names
+    verdict, x = outcome(case, direction)
+    forces = accel = None
+    if x is not None:
+        # Forces beyond the largest float (a mass of 1e308 kg) become inf: JSON null.
+        newtons = problem.newtons(x[1:])
+        forces = {names[j]: float(newtons[i]) for i, j in enumerate(case.keep)}
+        with np.errstate(over="ignore"):
+            accel = float(x[0] * problem.acceleration_scale() * case.free.closing)
+    details["friction_intervals"] = intervals_json(intervals.intervals)
+    if not intervals.uniform:
+        details["friction_scaled"] = True
+    start = intervals.painleve_from
+    if verdict == "ambiguous" and start is not None:
+        details["painleve_from_mu"] = start
+    return verdict, forces, accel
+
+
+def analyse(
+    scene: Scene,
+    mass: MassProperties,
+    plane: tuple[np.ndarray, np.ndarray] | None = None,
+    friction: np.ndarray | None = None,
+) -> Analysis:
+    """Free motion, outcome, forces, friction intervals and exact safe arcs for every case.
+
+    ``plane`` (``e1, e2``, 3-vectors) overrides the scene's sweep plane for the ranges. The
+    supports' kinetic coefficients are used; when they are ranges, every case must close for
+    every coefficient in them (:func:`kcheck.analysis.friction_ranges.analyse_range`). ``friction`` (k,)
+    fixes the coefficients instead.
+    """
+    if friction is None:
+        low, high = scene.friction_range("kinetic")
+        if not np.array_equal(low, high):
+            from kcheck.analysis.friction_ranges import analyse_range
+
+            return analyse_range(scene, mass, low, high, plane)
+    problem = problem_for(scene, mass, friction)
+    load = scene.load
+    sweeping = load is not None and load.magnitude > 0
+    design = None
+    if sweeping and load is not None and load.direction is not None:
+        design = load.direction[: problem.dim]
+    evaluate = design is not None or not sweeping
+    cases = analyse_cases(problem)
+    good = [c.determined and c.well_conditioned for c in cases]
+    friction: list[FrictionIntervals | None] = [None] * len(cases)
+    if evaluate:
+        chosen = [c for c, g in zip(cases, good, strict=True) if g]
+        found = iter(friction_intervals_many(problem, chosen, design))
+        friction = [next(found) if g else None for g in good]
+    results = []
+    max_condition = 0.0
+    names = problem.names
+    for r, case in enumerate(cases):
+        details = _case_details(problem, case)
+        if not case.determined:
+            results.append(CaseResult(names[r], "undetermined", details=details))
+            continue
+        max_condition = max(max_condition, float(details["condition"]))  # type: ignore[arg-type]
+        if not case.well_conditioned:
+            results.append(CaseResult(names[r], "ill_conditioned", details=details))
+            continue
+        verdict, forces, accel, intervals = "swept", None, None, friction[r]
+        if intervals is not None:
+            verdict, forces, accel = _evaluated(problem, case, design, intervals, details)
+        results.append(
+            CaseResult(
+                names[r],
+                verdict,
+                normal_forces=forces,
+                acceleration=accel,
+                limiting_friction=None if intervals is None else intervals.limiting,
+                details=details,
+            )
+        )
+    analysis = Analysis(
+        problem=problem,
+        cases=tuple(cases),
+        results=tuple(results),
+        arcs=None,
+        combined=None,
+        design=design,
+        design_margin_deg=None,
+        error_deg=None,
+        max_condition=max_condition,
+        friction=tuple(friction),
+    )
+    if not sweeping:
+        return analysis
+    e1, e2 = (scene.sweep.e1, scene.sweep.e2) if plane is None else plane
+    return sweep_ranges(analysis, np.asarray(e1)[: problem.dim], np.asarray(e2)[: problem.dim])
+
+
+def nearest_end(arcs: ArcSet, angle: float) -> float:
+    """The angle (rad, in [0, 2 pi)) of the arc set nearest to ``angle`` (itself if inside)."""
+    if contains(arcs, angle) or arcs == FULL:
+        return angle % (2 * np.pi)
+    ends = np.array([x for arc in arcs for x in arc])
+    gap = np.abs((angle - ends + np.pi) % (2 * np.pi) - np.pi)
+    return float(ends[int(np.argmin(gap))] % (2 * np.pi))
+
+
+def swept_design(analysis: Analysis) -> np.ndarray | None:
+    """The design direction of what is swept (unit, dim): the load's direction, or without a
+    load the scene's gravity (:attr:`kcheck.mechanics.problem.Problem.swept`); None when it has none."""
+    problem = analysis.problem
+    if problem.swept == "load":
+        return analysis.design
+    return unit_rows(problem.gravity) if np.any(problem.gravity) else None
+
+
+def sweep_ranges(analysis: Analysis, e1: np.ndarray, e2: np.ndarray) -> Analysis:
+    """The analysis with exact safe ranges in the plane ``(e1, e2)`` (dim-vectors): per case,
+    combined, the design margin and the nearest safe angle.
+
+    Without a load the angles are gravity's direction, its magnitude kept
+    (:meth:`kcheck.mechanics.problem.Problem.gravity_basis`), as on the sphere map."""
+    from dataclasses import replace
+
+    from kcheck.mechanics.friction_range import range_arcs
+
+    problem = analysis.problem
+    gravity = problem.swept == "gravity"
+    b0, big_b = problem.gravity_basis()
+    forms = None
+    if gravity and analysis.friction_range is not None:
+        forms = analysis.friction_range.for_wrench(b0, big_b)
+    arcs: list[ArcSet] = []
+    error: float | None = None
+    results = []
+    for r, (case, result) in enumerate(zip(analysis.cases, analysis.results, strict=True)):
+        if not case.determined or not case.well_conditioned:
+            arcs.append(())
+            results.append(result)
+            continue
+        case_arcs, arc_error = safe_arcs(with_load(case, b0, big_b) if gravity else case, e1, e2)
+        if arc_error is not None:
+            error = max(error or 0.0, float(np.degrees(arc_error)))
+        if forms is not None:
+            case_arcs = () if forms[r] is None else range_arcs(forms[r], e1, e2)[0]
+        elif analysis.friction_range is not None:
+            case_arcs = analysis.friction_range.arcs(r, e1, e2)
+        arcs.append(case_arcs)
+        results.append(replace(result, safe_ranges_deg=ranges_deg(case_arcs)))
+    combined = intersect(*arcs)
+    design_margin = nearest = None
+    design = swept_design(analysis)
+    in_plane = (
+        design is not None and abs(float(np.linalg.norm([design @ e1, design @ e2])) - 1) < 1e-9
+    )
+    if combined and design is not None and in_plane:
+        angle = float(np.arctan2(design @ e2, design @ e1))
+        design_margin = float(np.degrees(margin(combined, angle)))
+        nearest = float(np.degrees(nearest_end(combined, angle)))
+    return replace(
+        analysis,
+        results=tuple(results),
+        arcs=tuple(arcs),
+        combined=combined,
+        design_margin_deg=design_margin,
+        nearest_safe_deg=nearest,
+        error_deg=error if analysis.trustworthy else None,
+        plane=(e1, e2),
+    )
+
+
+def ranges_deg(arcs: ArcSet) -> tuple[tuple[float, float], ...]:
+    """Arc set in degrees as a tuple of ``(start, end)``."""
+    return tuple((s, e) for s, e in to_degrees(arcs))
+
+
+def describe_ranges(arcs: ArcSet) -> str:
+    """Human text for an arc set, in the one angle convention (:func:`kcheck.fmt.format_ranges`):
+    ``292.41°–5.05° (through 0°)``, ``every direction``, ``no direction``."""
+    if not arcs:
+        return "no direction"
+    return format_ranges(ranges_deg(arcs))

@@ -1,0 +1,404 @@
+"""The statics of every retracted case of a scene, for the ``jamming`` check.
+
+For every retracted support ``r`` the check asks whether a static equilibrium exists in which
+the external wrench (the load, the weight, preloads, a torque) is balanced by the remaining
+supports with every contact force inside its friction cone (:mod:`kcheck.mechanics.statics`). If so,
+the body may stay put whatever the forward dynamics say. Per case and direction ``d`` of the
+swept force:
+
+* ``jams``: an equilibrium exists and, without friction, the body would close the gap
+  (``xi_r . W(d) > 0``, graphical-2d's funnel): friction holds a load that should close it;
+* ``holds``: an equilibrium exists but, without friction, the load would not close the gap
+  (it would open it): friction keeps the body in place against it;
+* ``moves``: no equilibrium: friction cannot hold the body.
+
+Planar scenes are exact (two rays per friction cone). Spatial scenes bound the circular cones
+between inscribed and circumscribed pyramids for maps and ranges (the held region reported is
+the circumscribed one: it contains every direction where jamming is possible), and decide the
+design direction exactly with a conic solver.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+from kcheck.mechanics.arcs import ArcSet, complement, intersect, positive_arc
+from kcheck.mechanics.kinematics import FreeTwist, free_twist
+from kcheck.mechanics.least_friction import (
+    friction_candidates,
+    least_friction,
+    least_friction_exactly,
+    rough_supports,
+)
+from kcheck.body.mass import MassProperties
+from kcheck.scene import Scene
+from kcheck.mechanics.statics import (
+    PYRAMID_EDGES,
+    Equilibria,
+    Statics,
+    build_statics,
+    closing_condition,
+    equilibria,
+    forward_limit,
+    holds,
+    holds_exactly,
+)
+
+__all__ = [
+    "JamCase",
+    "JamAnalysis",
+    "closing_force_missing",
+    "jam_statics",
+    "analyse_jamming",
+    "case_arcs",
+    "tidy",
+    "CaseArcs",
+    "least_holding_friction",
+    "held_at",
+    "needs_body",
+    "JamMap",
+    "jam_map",
+]
+
+# Free-motion determinacy below which the retracted case has no unique free motion.
+UNDETERMINED = 1e-10
+Outcome = Literal["jams", "holds", "moves", "swept", "undetermined"]
+
+
+# --- from a scene to its statics ------------------------------------------------------------
+
+
+def _gravity(scene: Scene) -> np.ndarray:
+    return np.append(scene.gravity[: scene.dim], np.zeros(3 - scene.dim))
+
+
+def closing_force_missing(scene: Scene) -> str | None:
+    """Why a scene gives the check nothing to hold, or None (no mesh read)."""
+    load = scene.load
+    has_load = load is not None and load.magnitude > 0
+    weight = bool(np.any(_gravity(scene)))
+    if not has_load and not weight:
+        return "needs a closing force: a load with a magnitude, or gravity"
+    at_com = not has_load or (load is not None and load.point is None)
+    if (weight or at_com) and scene.body is None:
+        what = "the weight" if weight else "the load at the centre of mass"
+        return f"{what} needs the body's mass properties; the scene has no `body`"
+    return None
+
+
+def needs_body(scene: Scene) -> bool:
+    """Whether the weight or the centre of mass enters the balance."""
+    load = scene.load
+    at_com = load is None or load.magnitude <= 0 or load.point is None
+    return at_com or bool(np.any(_gravity(scene)))
+
+
+def _magnitude(vector: np.ndarray) -> float:
+    """|v| in the units of v, scaled first so that squaring cannot overflow or underflow."""
+    big = float(np.abs(vector).max())
+    return big * float(np.linalg.norm(np.asarray(vector) / big)) if big > 0 else 0.0
+
+
+class NoClosingForce(Exception):
+    """The scene's closing force is zero or beyond floating point (an extreme but valid
+    scene): the check has nothing to decide."""
+
+
+def jam_statics(
+    scene: Scene, mass: MassProperties | None
+) -> tuple[Statics, Literal["load", "gravity"], np.ndarray | None]:
+    """The scene's statics, what is swept, and the design direction (unit, dim) or None.
+
+    The load is swept when it has a magnitude (its direction is the design's); otherwise the
+    weight is, and the scene's gravity is the design direction. Forces are scaled by the largest
+    force in the balance (swept, weight or preload), so that none overflows when a swept weight
+    is tiny beside a preload.
+    """
+    load, dim = scene.load, scene.dim
+    gravity = _gravity(scene)
+    com = None if mass is None else mass.center_of_mass
+    weight = None if mass is None else mass.mass * gravity
+    fixed = [(p.point, p.force) for p in scene.preloads]
+    torque = None if load is None else load.torque
+    if load is not None and load.magnitude > 0:
+        point = load.point if load.point is not None else com
+        if weight is not None and np.any(weight):
+            fixed.append((com, weight))
+        force, swept = load.magnitude, "load"
+        design = None if load.direction is None else load.direction[:dim]
+    else:
+        assert mass is not None and com is not None
+        # Scaled by the largest component first: |g| of an extreme but valid gravity would
+        # underflow (or overflow) when squared.
+        big = float(np.abs(gravity[:dim]).max())
+        unit = gravity[:dim] / big
+        point, swept = com, "gravity"
+        force = float(mass.mass * big * np.linalg.norm(unit))
+        if not (0.0 < force < np.inf):
+            raise NoClosingForce(
+                f"the weight (mass × gravity = {force:g} N) is not a representable force, so "
+                "there is no closing force to hold"
+            )
+        design = unit / np.linalg.norm(unit)
+    scale = max([force, *(_magnitude(vector) for _, vector in fixed)])
+    statics = build_statics(
+        points=np.array([s.position for s in scene.supports]),
+        normals=np.array([s.normal for s in scene.supports]),
+        friction=scene.friction_range("static")[1],
+        names=tuple(s.name for s in scene.supports),
+        dim=dim,
+        force=scale,
+        swept_point=point,
+        swept_magnitude=force,
+        fixed_forces=tuple(fixed),
+        torque=torque,
+    )
+    return statics, swept, design  # type: ignore[return-value]
+
+
+# --- per case -------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class JamCase:
+    """One retracted support: free motion, frictionless closing condition, held directions.
+
+    ``held`` is exact (planar) or from the circumscribed pyramids (spatial, contains the true
+    set); ``held_inner`` from the inscribed ones (spatial, inside the true set). ``limit`` is
+    Koster's friction-pole condition (planar, when it is a facet of the cone;
+    :func:`kcheck.mechanics.statics.forward_limit`).
+    """
+
+    retracted: int
+    keep: np.ndarray
+    free: FreeTwist
+    closing: tuple[float, np.ndarray]
+    held: Equilibria
+    held_inner: Equilibria | None
+    limit: tuple[float, np.ndarray] | None
+
+    @property
+    def determined(self) -> bool:
+        """Whether removing the support frees exactly one motion that closes its gap."""
+        return self.free.determinacy > UNDETERMINED and self.free.closing > UNDETERMINED
+
+
+@dataclass(frozen=True)
+class JamAnalysis:
+    """Every case of a scene, with what is swept and the design direction."""
+
+    statics: Statics
+    cases: tuple[JamCase, ...]
+    swept: Literal["load", "gravity"]
+    design: np.ndarray | None
+    edges: int
+
+
+def analyse_jamming(
+    statics: Statics,
+    swept: Literal["load", "gravity"],
+    design: np.ndarray | None,
+    edges: int = PYRAMID_EDGES,
+) -> JamAnalysis:
+    """Held directions of every retracted case."""
+    cases = []
+    spatial = statics.dim == 3
+    for r in range(len(statics.names)):
+        keep = np.flatnonzero(np.arange(len(statics.names)) != r)
+        free = free_twist(statics.points, statics.normals, r)
+        cases.append(
+            JamCase(
+                retracted=r,
+                keep=keep,
+                free=free,
+                closing=closing_condition(statics, free.twist),
+                held=equilibria(statics, keep, edges=edges, pyramid="circumscribed"),
+                held_inner=equilibria(statics, keep, edges=edges, pyramid="inscribed")
+                if spatial
+                else None,
+                limit=None if spatial else forward_limit(statics, keep, free.twist),
+            )
+        )
+    return JamAnalysis(statics, tuple(cases), swept, design, edges)
+
+
+@dataclass(frozen=True)
+class CaseArcs:
+    """A case's sets of swept angles in the sweep plane (rad)."""
+
+    held: ArcSet
+    closing: ArcSet
+    jamming: ArcSet  # held and closing
+    holding_open: ArcSet  # held, not closing
+    lifts_off: ArcSet | None  # planar: Koster's jamming area where no equilibrium exists
+    error: float  # rad: rounding (planar) or the inscribed/circumscribed band (spatial)
+
+
+# Arcs shorter than this (rad) are rounding slivers between sets that share an end; gaps
+# shorter than it are joins (the same end computed through a different wrap of 2 pi).
+SLIVER = 1e-12
+
+
+def tidy(arcs: ArcSet, tol: float = SLIVER) -> ArcSet:
+    """An arc set with slivers dropped and near-touching arcs joined (both below ``tol``)."""
+    kept = [(s, e) for s, e in arcs if e - s > tol]
+    if not kept:
+        return ()
+    gaps = complement(tuple(kept))
+    return complement(tuple((s, e) for s, e in gaps if e - s > tol))
+
+
+def _condition_arcs(condition: tuple[float, np.ndarray], e1: np.ndarray, e2: np.ndarray) -> ArcSet:
+    a, c = condition
+    return positive_arc(a, float(c @ e1), float(c @ e2))
+
+
+def case_arcs(case: JamCase, e1: np.ndarray, e2: np.ndarray) -> CaseArcs:
+    """Held, closing, jamming and holding-open angles of one case in the sweep plane."""
+    held, error = case.held.arcs(e1, e2)
+    closing = _condition_arcs(case.closing, e1, e2)
+    lifts = None
+    if case.limit is not None:
+        lifts = tidy(intersect(closing, _condition_arcs(case.limit, e1, e2), complement(held)))
+    if case.held_inner is not None:
+        inner, _ = case.held_inner.arcs(e1, e2)
+        band = intersect(held, complement(inner))
+        error = max([error] + [e - s for s, e in band])
+    return CaseArcs(
+        held=held,
+        closing=closing,
+        jamming=tidy(intersect(held, closing)),
+        holding_open=tidy(intersect(held, complement(closing))),
+        lifts_off=lifts,
+        error=error,
+    )
+
+
+def held_at(analysis: JamAnalysis, case: JamCase, design: np.ndarray, mu: np.ndarray) -> bool:
+    """Exact decision at the design direction (clarabel for spatial cones)."""
+    wrench = analysis.statics.wrench(design)
+    if analysis.statics.dim == 2:
+        return holds(analysis.statics, case.keep, wrench, mu)
+    return holds_exactly(analysis.statics, case.keep, wrench, mu)
+
+
+def least_holding_friction(
+    analysis: JamAnalysis, case: JamCase, design: np.ndarray
+) -> float | None:
+    """Smallest common friction coefficient (on the scene's rough supports) for which an
+    equilibrium exists at the design direction; None if none up to 100 does."""
+    statics = analysis.statics
+    rough = rough_supports(statics.friction).astype(float)
+    start = max(float(statics.friction.max()), 0.05)
+    # Planar: exact, among the coefficients where the cone's boundary can pass the wrench.
+    # Spatial: within 1e-4 (relative); messages show three significant digits.
+    wrench = statics.wrench(design)
+    if statics.dim == 3:
+        return least_friction_exactly(statics, case.keep, wrench, rough, start, rtol=1e-4)
+    candidates = friction_candidates(statics, case.keep, wrench, rough)
+    return least_friction(
+        lambda mu: held_at(analysis, case, design, mu * rough),
+        start,
+        rtol=1e-4,
+        candidates=candidates,
+    )
+
+
+# --- the sphere of directions (spatial) -----------------------------------------------------
+
+
+@dataclass(frozen=True)
+class JamMap:
+    """Shares of the sphere of swept directions, from a Fibonacci lattice.
+
+    Per case: where friction can hold the body, with the circumscribed pyramids (``held``,
+    an upper bound) and the inscribed ones (``held_inner``, a lower bound). ``jam_free`` is
+    the share where no case can be held (circumscribed: a lower bound); ``safe`` where every
+    case would close without friction and none can be held. ``error_deg`` bounds how far the
+    reported (circumscribed) boundary may lie from the true one.
+    """
+
+    points: int
+    held: np.ndarray
+    held_inner: np.ndarray
+    jam_free: float
+    jam_free_upper: float
+    safe: float
+    error_deg: float
+    safe_upper: float = 0.0  # as ``safe``, with the inscribed pyramids: an upper bound
+    # The lattice direction farthest from every case's held region (circumscribed: jam-free
+    # for certain; else inscribed: where jamming may be absent), and which; None when none is
+    # jam-free even with the inscribed pyramids, or nothing is held anywhere.
+    freest: np.ndarray | None = None
+    freest_pyramids: Literal["circumscribed", "inscribed"] | None = None
+
+
+def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
+    """Classify ``points`` Fibonacci directions per case: one matrix product per cone."""
+    from kcheck.mechanics.arcs import cap_margins
+    from kcheck.mechanics.sphere import fibonacci_sphere, grid_spacing
+
+    dirs = fibonacci_sphere(points)
+    held_any = np.zeros(points, bool)
+    inner_any = np.zeros(points, bool)
+    closing_all = np.ones(points, bool)
+    held, inner = [], []
+    band_width = 0.0
+    for case in analysis.cases:
+        if not case.determined:
+            continue
+        assert case.held_inner is not None
+        outer_in = case.held.contains(dirs)
+        inner_in = case.held_inner.contains(dirs)
+        band = outer_in & ~inner_in
+        if np.any(band) and case.held.kind == "cone":
+            band_width = max(
+                band_width, float(cap_margins(case.held.a, case.held.c, dirs[band]).max())
+            )
+        a, c = case.closing
+        closing_all &= a + dirs @ c > 0
+        held_any |= outer_in
+        inner_any |= inner_in
+        held.append(np.count_nonzero(outer_in) / points)
+        inner.append(np.count_nonzero(inner_in) / points)
+    freest, pyramids = None, None
+    for kind, sets in (
+        ("circumscribed", [c.held for c in analysis.cases if c.determined]),
+        ("inscribed", [c.held_inner for c in analysis.cases if c.determined]),
+    ):
+        depth = _free_depth(sets, dirs)  # type: ignore[arg-type]
+        best = int(np.argmax(depth))
+        if depth[best] > 0 and np.isfinite(depth[best]):
+            freest, pyramids = dirs[best], kind
+            break
+    return JamMap(
+        points=points,
+        held=np.array(held),
+        held_inner=np.array(inner),
+        jam_free=np.count_nonzero(~held_any) / points,
+        jam_free_upper=np.count_nonzero(~inner_any) / points,
+        safe=np.count_nonzero(closing_all & ~held_any) / points,
+        error_deg=float(np.degrees(band_width + grid_spacing(points))),
+        safe_upper=np.count_nonzero(closing_all & ~inner_any) / points,
+        freest=freest,
+        freest_pyramids=pyramids,  # type: ignore[arg-type]
+    )
+
+
+def _free_depth(sets: list[Equilibria], dirs: np.ndarray) -> np.ndarray:
+    """Per direction (m, 3), the least angular distance (rad) to a held region over the
+    cases, each measured to the facet's circle the direction lies farthest outside (a lower
+    bound of the distance); negative where some case holds it, inf where none holds
+    anything."""
+    from kcheck.mechanics.arcs import cap_margin_matrix
+
+    depth = np.full(len(dirs), np.inf)
+    for held in sets:
+        if held.kind == "everywhere":
+            return np.full(len(dirs), -np.pi)
+        if held.kind == "cone" and len(held.a):
+            depth = np.minimum(depth, -cap_margin_matrix(held.a, held.c, dirs).min(axis=1))
+    return depth

@@ -1,0 +1,334 @@
+"""Where to put the closing force: search attachment points and force directions for the
+largest angular margin over every retracted support (``kcheck suggest``, docs/suggest.md).
+
+For one friction assumption the system matrix of a retracted case does not depend on where the
+load acts or where it points (:mod:`kcheck.mechanics.dynamics`); the right-hand side is
+``b0 + s [(q - c) x d; d]`` for a unit direction ``d`` at the point ``q``. So every unknown is
+
+    x_k(q, d) = a_k + C_k(q) . d,    C_k(q) = g_k x (q - c) + h_k
+
+with ``a = M^-1 b0`` and ``[g_k, h_k]`` the rows of ``s M^-1``, all fixed per case: each
+candidate point's caps on the sphere of directions follow in closed form, for all points at
+once. The margin of a point is the largest, over directions, of the smallest angular distance
+to a cap boundary (:func:`kcheck.mechanics.arcs.cap_margin_matrix`, the quantity `analytical-3d`
+reports as the design margin); the best points are refined with
+:func:`kcheck.mechanics.sphere.most_robust_direction`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from kcheck.analysis.cases import analyse, problem_for
+from kcheck.mechanics.arcs import cap_margin_matrix
+from kcheck.analysis.candidates import Sampler, SuggestError
+from kcheck.mechanics.dynamics import Problem, analyse_case, solve_affine
+from kcheck.scene import Load, Scene
+from kcheck.mechanics.sphere import fibonacci_sphere, most_robust_direction
+
+if TYPE_CHECKING:
+    from kcheck.body.mass import MassProperties
+
+__all__ = [
+    "Caps",
+    "Candidate",
+    "Search",
+    "point_caps",
+    "caps_at",
+    "point_margins",
+    "search",
+    "limiting_friction_at",
+    "with_load",
+    "best_margin",
+    "least_force",
+]
+
+# Entries of the (directions x points x caps) margin block evaluated at once (~32 MB).
+BLOCK = 4_000_000
+
+
+@dataclass(frozen=True)
+class Caps:
+    """Every case's unknowns as ``a + (g x r + h) . d`` with ``r = q~ - c~`` (nondimensional).
+
+    ``a`` (k,), ``g`` and ``h`` (k, 3); ``owner`` (k,) the retracted support of each cap and
+    ``friction`` (k,) the (largest) friction coefficient of the set it was built for.
+    """
+
+    problem: Problem
+    a: np.ndarray
+    g: np.ndarray
+    h: np.ndarray
+    owner: np.ndarray
+    friction: np.ndarray
+
+
+def point_caps(problem: Problem, frictions: Sequence[np.ndarray] | None = None) -> Caps:
+    """Caps of every case, for each set of friction coefficients (k,) given (default the
+    scene's); with several sets, the caps of all of them: a point must be safe for each."""
+    if problem.dim != 3:
+        raise SuggestError("kcheck suggest searches spatial (6-support) scenes")
+    if not problem.load_scale > 0:
+        raise SuggestError("the scene has no closing load to place (give `load` or --magnitude)")
+    a_all, g_all, h_all, owner, mu = [], [], [], [], []
+    b0, _ = problem.load_basis()
+    unit = problem.load_scale * np.eye(6)
+    for mu_set in [problem.friction] if frictions is None else frictions:
+        scaled = dataclasses.replace(problem, friction=np.asarray(mu_set, float))
+        for r in range(len(problem.names)):
+            case = analyse_case(scaled, r)
+            if case.forward is None or not case.well_conditioned:
+                raise SuggestError(
+                    f"retracting {problem.names[r]} leaves no unique motion or nearly singular "
+                    "equations: no closing force can be placed (see the maxwell check)"
+                )
+            solved = solve_affine(case.forward.matrix, b0, unit)
+            a_all.append(solved.a)
+            g_all.append(solved.c[:, :3])
+            h_all.append(solved.c[:, 3:])
+            owner.append(np.full(len(solved.a), r))
+            mu.append(np.full(len(solved.a), float(np.max(mu_set))))
+    return Caps(
+        problem,
+        np.concatenate(a_all),
+        np.vstack(g_all),
+        np.vstack(h_all),
+        np.concatenate(owner),
+        np.concatenate(mu),
+    )
+
+
+def caps_at(caps: Caps, points: np.ndarray) -> np.ndarray:
+    """Direction coefficients ``C`` (m, k, 3) of every cap at points (m, 3) in metres."""
+    r = caps.problem.frame.point(np.asarray(points, float)) - caps.problem.com
+    return np.cross(caps.g[None, :, :], r[:, None, :]) + caps.h[None, :, :]
+
+
+def point_margins(
+    caps: Caps, points: np.ndarray, directions: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Best grid margin (rad) and the index of its direction, for each point (m, 3) in m.
+
+    Evaluates the exact cap margins of ``directions`` (n, 3) at every point, in blocks.
+    """
+    points = np.asarray(points, float)
+    k, n = len(caps.a), len(directions)
+    chunk = max(1, BLOCK // max(1, n * k))
+    best = np.empty(len(points))
+    index = np.empty(len(points), dtype=int)
+    for start in range(0, len(points), chunk):
+        c = caps_at(caps, points[start : start + chunk])
+        m = len(c)
+        a = np.broadcast_to(caps.a, (m, k)).reshape(-1)
+        block = cap_margin_matrix(a, c.reshape(-1, 3), directions).reshape(n, m, k).min(axis=2)
+        index[start : start + m] = np.argmax(block, axis=0)
+        best[start : start + m] = block[index[start : start + m], np.arange(m)]
+    return best, index
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """A suggested attachment point (m) and unit force direction, its margin (rad) over every
+    retracted case, the limiting friction there, and the surface's outward normal."""
+
+    point: np.ndarray
+    direction: np.ndarray
+    margin: float
+    limiting_friction: float | None
+    normal: np.ndarray | None = None
+
+    @property
+    def pushes(self) -> bool | None:
+        """Whether the force pushes into the surface (None off the surface)."""
+        return None if self.normal is None else bool(self.direction @ self.normal < 0)
+
+
+@dataclass(frozen=True)
+class Search:
+    """Every candidate point (m, 3) with its best grid margin (rad) and direction, the
+    refined best candidates (best first), the grid spacing (rad) and the friction values
+    searched over (the largest coefficient of each set)."""
+
+    points: np.ndarray
+    margins: np.ndarray
+    directions: np.ndarray
+    best: tuple[Candidate, ...]
+    spacing: float
+    frictions: tuple[float, ...]
+
+
+def _margins_job(args: tuple[Caps, np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    return point_margins(*args)
+
+
+def _chunks(points: np.ndarray, size: int) -> Iterator[np.ndarray]:
+    for start in range(0, len(points), size):
+        yield points[start : start + size]
+
+
+def limiting_friction_at(
+    scene: Scene, mass: MassProperties, point: np.ndarray, direction: np.ndarray
+) -> float | None:
+    """Smallest, over the retracted cases, of the limiting friction with the load at ``point``
+    pointing along ``direction`` (:func:`kcheck.mechanics.outcomes.limiting_friction`)."""
+    analysis = analyse(with_load(scene, point, direction), mass)
+    values = [r.limiting_friction for r in analysis.results]
+    if any(v is None for v in values):
+        return None
+    return float(min(v for v in values if v is not None))
+
+
+def with_load(
+    scene: Scene, point: np.ndarray, direction: np.ndarray, magnitude: float | None = None
+) -> Scene:
+    """The scene with its closing load moved to ``point`` (m) along ``direction``."""
+    old = scene.load
+    torque = np.zeros(3) if old is None else old.torque
+    size = magnitude if magnitude is not None else (0.0 if old is None else old.magnitude)
+    unit = np.asarray(direction, float) / np.linalg.norm(direction)
+    return dataclasses.replace(scene, load=Load(size, np.asarray(point, float), unit, torque))
+
+
+def _grid_margins(
+    caps: Caps,
+    points: np.ndarray,
+    grid: np.ndarray,
+    jobs: int,
+    progress: Callable[[int], None] | None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`point_margins` in chunks, over ``jobs`` processes, reporting progress."""
+    size = max(16, min(512, len(points) // max(1, 4 * jobs) or 16))
+    margins, index = np.empty(len(points)), np.empty(len(points), dtype=int)
+    pieces = [(caps, chunk, grid) for chunk in _chunks(points, size)]
+    done = 0
+    if jobs > 1 and len(pieces) > 1:
+        with ProcessPoolExecutor(max_workers=jobs) as pool:
+            results = list(pool.map(_margins_job, pieces))
+    else:
+        results = map(_margins_job, pieces)
+    for (_, chunk, _), (m, i) in zip(pieces, results, strict=True):
+        margins[done : done + len(chunk)], index[done : done + len(chunk)] = m, i
+        done += len(chunk)
+        if progress is not None:
+            progress(done)
+    return margins, index
+
+
+def _distinct(points: np.ndarray, order: np.ndarray, count: int, gap: float) -> list[int]:
+    """The first ``count`` indices of ``order`` whose points lie ``gap`` (m) or more apart."""
+    kept: list[int] = []
+    for j in order:
+        if all(np.linalg.norm(points[j] - points[k]) >= gap for k in kept):
+            kept.append(int(j))
+            if len(kept) == count:
+                break
+    return kept
+
+
+def search(
+    scene: Scene,
+    mass: MassProperties,
+    sampler: Sampler,
+    count: int,
+    *,
+    directions: int = 500,
+    keep: int = 5,
+    refine: int = 40,
+    rounds: int = 4,
+    frictions: Sequence[np.ndarray] | None = None,
+    jobs: int = 1,
+    progress: Callable[[int], None] | None = None,
+) -> Search:
+    """Search ``count`` candidate points from ``sampler`` for the ``keep`` best candidates.
+
+    Every point gets its best margin over ``directions`` Fibonacci directions; then ``rounds``
+    times, points are added near the best five within a radius halving from twice the
+    sampler's spacing; finally the ``refine`` best points get their direction refined
+    (:func:`kcheck.mechanics.sphere.most_robust_direction`, exact margins) and the best ``keep`` the
+    limiting friction. ``jobs`` processes share the first pass; ``progress`` is called with the
+    number of points done.
+    """
+    problem = problem_for(scene, mass)
+    caps = point_caps(problem, frictions)
+    grid = fibonacci_sphere(directions)
+    points, normals = sampler.initial(count)
+    margins, index = _grid_margins(caps, points, grid, jobs, progress)
+    radius = 2.0 * sampler.spacing
+    for _ in range(rounds):
+        centres = points[np.argsort(-margins)[:5]]
+        new, new_normals = sampler.near(centres, radius, max(20, count // 50))
+        if len(new):
+            m, i = point_margins(caps, new, grid)
+            points, margins = np.vstack([points, new]), np.concatenate([margins, m])
+            index = np.concatenate([index, i])
+            if normals is not None and new_normals is not None:
+                normals = np.vstack([normals, new_normals])
+        radius *= 0.5
+    # refine the best points (the same point found twice counts once)
+    span = float(np.ptp(points, axis=0).max()) or 1.0
+    order = _distinct(points, np.argsort(-margins), max(keep, refine), 1e-9 * span)
+    refined = []
+    for j in order:
+        c = caps_at(caps, points[j : j + 1])[0]
+        direction, margin = most_robust_direction(caps.a, c)
+        refined.append((margin, j, direction))
+    refined.sort(key=lambda t: -t[0])
+    chosen = set(_distinct(points, np.array([j for _, j, _ in refined]), keep, sampler.spacing))
+    best = []
+    for margin, j, direction in [r for r in refined if r[1] in chosen]:
+        friction = limiting_friction_at(scene, mass, points[j], direction) if margin > 0 else None
+        normal = None if normals is None else normals[j]
+        best.append(Candidate(points[j], direction, margin, friction, normal))
+    return Search(
+        points,
+        margins,
+        grid[index],
+        tuple(best),
+        float(np.sqrt(4 * np.pi / directions)),
+        tuple(float(f) for f in np.unique(caps.friction)),
+    )
+
+
+def best_margin(
+    scene: Scene, mass: MassProperties, points: np.ndarray, magnitude: float, directions: int
+) -> float:
+    """The best grid margin (rad) over candidate points with the load at ``magnitude`` (N)."""
+    loaded = with_load(scene, points[0], np.array([0.0, 0.0, 1.0]), magnitude)
+    caps = point_caps(problem_for(loaded, mass))
+    margins, _ = point_margins(caps, points, fibonacci_sphere(directions))
+    return float(margins.max())
+
+
+def least_force(
+    scene: Scene,
+    mass: MassProperties,
+    points: np.ndarray,
+    *,
+    start: float,
+    directions: int = 500,
+    rtol: float = 0.01,
+    limit: float = 1000.0,
+) -> float | None:
+    """The least load magnitude (N) at which some candidate point has a safe direction.
+
+    Doubles from ``start`` (where none is safe) until one is, up to ``limit`` times ``start``,
+    then bisects to ``rtol``; None when even the limit is not enough.
+    """
+    low, high = start, start
+    while best_margin(scene, mass, points, high, directions) <= 0:
+        low, high = high, 2.0 * high
+        if high > limit * start:
+            return None
+    while high - low > rtol * high:
+        mid = 0.5 * (low + high)
+        if best_margin(scene, mass, points, mid, directions) > 0:
+            high = mid
+        else:
+            low = mid
+    return high

@@ -1,0 +1,1 @@
+"""The body: reading meshes, mass properties, elastic materials."""

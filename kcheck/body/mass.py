@@ -1,0 +1,356 @@
+"""Mass properties of the body from its mesh(es), in SI units, gated for meaningful input.
+
+trimesh is imported here and in :mod:`kcheck.body.meshio` (which reads the files) only, and only
+when a check needs mass properties. Meshes are scaled explicitly from the scene's (or the
+part's) ``units`` (never guessed from file names), the density is always set (trimesh
+defaults to 1), and a mesh that cannot have a meaningful centre of mass (open, inconsistent
+winding, inverted, empty, zero volume) is an error, not a number. Parts are placed by their
+transforms and point masses added by the parallel-axis theorem.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Literal
+
+import numpy as np
+
+from kcheck.errors import FieldPath, MeshError
+from kcheck.body.meshio import (
+    MERGE_RTOL,
+    load_mesh,
+    not_watertight,
+    release_memory,
+    step_length_unit,
+)
+from kcheck.result import Finding
+from kcheck.scene import Body, Part
+from kcheck.scene.limits import LIMITS
+
+if TYPE_CHECKING:
+    import trimesh
+
+__all__ = [
+    "MERGE_RTOL",
+    "MassProperties",
+    "body_mass_properties",
+    "combine",
+    "load_mesh",
+    "mesh_mass_properties",
+    "part_mass_properties",
+    "point_mass",
+    "principal_axes",
+    "step_length_unit",
+    "transformed",
+]
+
+
+@dataclass(frozen=True)
+class MassProperties:
+    """Mass (kg), centre of mass (m), inertia tensor about the centre of mass (kg m^2).
+
+    ``bounds`` (m, rows min and max) is the axis-aligned box of the meshes in the scene's
+    frame, when mass properties come from meshes, and ``part_bounds`` the box of each mesh
+    part in order; ``warnings`` are findings for the scene's warnings (a repaired mesh).
+    """
+
+    mass: float
+    center_of_mass: np.ndarray
+    inertia: np.ndarray
+    source: Literal["mesh", "explicit"]
+    volume: float | None = None
+    notes: tuple[str, ...] = ()
+    bounds: np.ndarray | None = None
+    warnings: tuple[Finding, ...] = ()
+    part_bounds: tuple[np.ndarray, ...] = ()
+
+    def to_json(self) -> dict[str, object]:
+        """The documented JSON form (SI units)."""
+        out: dict[str, object] = {
+            "mass": self.mass,
+            "center_of_mass": self.center_of_mass.tolist(),
+            "inertia": np.where(np.isfinite(self.inertia), self.inertia, None).tolist(),
+            "source": self.source,
+        }
+        if self.volume is not None:
+            out["volume"] = self.volume
+        if self.notes:
+            out["notes"] = list(self.notes)
+        return out
+
+
+def principal_axes(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Principal moments (ascending, kg m^2) and axes (columns) of an inertia tensor."""
+    moments, axes = np.linalg.eigh(inertia)
+    return moments, axes
+
+
+def point_mass(mass: float, point: np.ndarray) -> MassProperties:
+    """A point mass (kg at m): no inertia about itself, no volume."""
+    return MassProperties(float(mass), np.asarray(point, dtype=float), np.zeros((3, 3)), "mesh")
+
+
+def combine(parts: Sequence[MassProperties]) -> MassProperties:
+    """Combine bodies rigidly joined: masses add, inertias move by the parallel-axis theorem.
+
+    The volume is the sum of the known volumes (point masses have none); the bounds are the
+    union of the known bounds.
+    """
+    mass = sum(p.mass for p in parts)
+    com = sum(p.mass * p.center_of_mass for p in parts) / mass
+    inertia = np.zeros((3, 3))
+    for p in parts:
+        r = p.center_of_mass - com
+        inertia += p.inertia + p.mass * (np.dot(r, r) * np.eye(3) - np.outer(r, r))
+    volumes = [p.volume for p in parts if p.volume is not None]
+    boxes = [p.bounds for p in parts if p.bounds is not None]
+    bounds = None
+    if boxes:
+        bounds = np.array([np.min([b[0] for b in boxes], axis=0), np.max([b[1] for b in boxes], 0)])
+    return MassProperties(
+        float(mass),
+        com,
+        inertia,
+        parts[0].source,
+        float(sum(volumes)) if volumes else None,
+        tuple(n for p in parts for n in p.notes),
+        bounds,
+        tuple(w for p in parts for w in p.warnings),
+        tuple(b for p in parts for b in p.part_bounds),
+    )
+
+
+def transformed(
+    props: MassProperties, rotation: np.ndarray, translation: np.ndarray
+) -> MassProperties:
+    """Mass properties of a body moved by ``x -> R x + t`` (inertia ``R I Rᵀ``)."""
+    com = rotation @ props.center_of_mass + translation
+    inertia = rotation @ props.inertia @ rotation.T
+    bounds = None
+    if props.bounds is not None:
+        corners = np.array(
+            [
+                [props.bounds[i, 0], props.bounds[j, 1], props.bounds[k, 2]]
+                for i in (0, 1)
+                for j in (0, 1)
+                for k in (0, 1)
+            ]
+        )
+        moved = corners @ rotation.T + translation
+        bounds = np.array([moved.min(axis=0), moved.max(axis=0)])
+    return dataclasses.replace(
+        props,
+        center_of_mass=com,
+        inertia=inertia,
+        bounds=bounds,
+        part_bounds=() if bounds is None else (bounds,),
+    )
+
+
+def body_volumes(mesh: trimesh.Trimesh) -> np.ndarray:
+    """Signed volume (m³) of each edge-connected body of a closed mesh, from the divergence
+    theorem per face; without building a mesh per body as ``mesh.split`` does."""
+    import trimesh
+
+    labels = trimesh.graph.connected_component_labels(
+        mesh.face_adjacency, node_count=len(mesh.faces)
+    )
+    triangles = mesh.triangles
+    per_face = np.einsum("ij,ij->i", triangles[:, 0], np.cross(triangles[:, 1], triangles[:, 2]))
+    return np.bincount(labels, weights=per_face) / 6.0
+
+
+def mesh_mass_properties(
+    mesh: trimesh.Trimesh,
+    density: float,
+    path: Path,
+    field: FieldPath | str,
+    *,
+    repair: bool = False,
+    scale: float = 1.0,
+    units: str = "m",
+) -> MassProperties:
+    """Mass properties (SI) of a closed mesh already in metres, after gating it.
+
+    With ``repair``, an open or inconsistently wound mesh is re-wound and its small holes are
+    filled; if that closes it, the result carries a warning. ``scale`` and ``units`` (metres
+    per file unit, its name) only word the messages in the file's units.
+    """
+    import trimesh
+
+    extent = float(np.ptp(mesh.vertices, axis=0).max())
+    areas = mesh.area_faces
+    degenerate = int(np.count_nonzero(areas <= (1e-12 * extent) ** 2))
+    if extent == 0 or degenerate == len(areas):
+        raise MeshError(
+            path, "the mesh is degenerate (zero extent or zero-area faces only)", field=field
+        )
+    notes: list[str] = []
+    warnings: list[Finding] = []
+    merged = int(mesh.metadata.get("kcheck_merged", 0))
+    if merged:
+        notes.append(f"{path.name}: {merged} duplicate vertices merged")
+    if repair and not (mesh.is_watertight and mesh.is_winding_consistent):
+        # Orienting a flat (volume-less) mesh divides by its volume inside trimesh; the
+        # volume is checked below and refused with a message, so the division's warning is not.
+        with np.errstate(divide="ignore", invalid="ignore"):
+            trimesh.repair.fix_winding(mesh)
+            filled = trimesh.repair.fill_holes(mesh)
+            trimesh.repair.fix_normals(mesh, multibody=True)
+        if mesh.is_watertight and mesh.is_winding_consistent:
+            where = field if isinstance(field, tuple) else None
+            warnings.append(
+                Finding(
+                    f"mesh {path.name} was repaired (winding fixed"
+                    f"{', holes filled' if filled else ''}) because `repair: true`; its mass "
+                    "properties are those of the repaired mesh",
+                    code="mesh-repaired",
+                    field=where,
+                )
+            )
+    if not mesh.is_watertight:
+        raise not_watertight(mesh, path, field, scale, units)
+    if not mesh.is_winding_consistent:
+        raise MeshError(
+            path,
+            "the mesh's face winding is inconsistent (set `repair: true` to re-wind it)",
+            field=field,
+        )
+    with np.errstate(all="ignore"):  # trimesh divides by the volume before we can check it
+        volume = float(mesh.volume)
+    if not np.isfinite(volume) or abs(volume) <= (1e-9 * extent) ** 3:
+        raise MeshError(
+            path, f"the mesh encloses (almost) no volume: {volume:.3e} m^3", field=field
+        )
+    if volume < 0:
+        raise MeshError(
+            path,
+            f"the mesh is inverted (negative volume {volume:.6g} m^3: faces wound inwards)",
+            field=field,
+        )
+    if degenerate:
+        notes.append(f"{path.name}: {degenerate} zero-area face(s) ignored")
+    volumes = body_volumes(mesh)
+    if len(volumes) > 1:
+        inverted = int(np.count_nonzero(volumes < 0))
+        text = f"{path.name}: {len(volumes)} disconnected closed bodies combined"
+        if inverted:
+            text += f" ({inverted} wound inwards, counted as cavities)"
+        notes.append(text)
+    mesh.density = density
+    props = mesh.mass_properties
+    com = np.asarray(props.center_mass, dtype=float)
+    inertia = np.asarray(props.inertia, dtype=float)
+    if not (np.all(np.isfinite(com)) and np.all(np.isfinite(inertia))):
+        raise MeshError(path, "the mesh gives non-finite mass properties", field=field)
+    allowed = LIMITS["mass"]  # the range an explicit mass must lie in
+    if not allowed.contains(float(props.mass)):
+        raise MeshError(
+            path,
+            f"the mesh gives a mass of {float(props.mass):.3g} kg, outside {allowed.text()} "
+            f"(volume {volume:.3g} m^3, density {density:g} kg/m^3: are the units right?)",
+            field=field,
+        )
+    return MassProperties(
+        float(props.mass),
+        com,
+        inertia,
+        "mesh",
+        volume,
+        tuple(notes),
+        np.asarray(mesh.bounds, dtype=float),
+        tuple(warnings),
+        (np.asarray(mesh.bounds, dtype=float),),
+    )
+
+
+def part_mass_properties(part: Part, max_mesh_bytes: int | None = None) -> MassProperties:
+    """Mass properties of one part in the scene's frame (its transform applied); its mesh
+    file at most ``max_mesh_bytes`` (default :data:`kcheck.body.meshio.MAX_MESH_BYTES`)."""
+    field = (*part.field, "mesh")
+    mesh = load_mesh(part.mesh, part.scale, field, max_bytes=max_mesh_bytes)
+    props = mesh_mass_properties(
+        mesh,
+        part.density,
+        part.mesh,
+        field,
+        repair=part.repair,
+        scale=part.scale,
+        units=part.units,
+    )
+    if part.is_step:
+        declared = step_length_unit(part.mesh)
+        note = f"{part.mesh.name}: STEP, declared unit {declared or 'unknown'}, read in metres"
+        props = dataclasses.replace(props, notes=(*props.notes, note))
+    if part.rotation is None and part.translation == (0.0, 0.0, 0.0):
+        return props
+    rotation = np.eye(3) if part.rotation is None else np.asarray(part.rotation, dtype=float)
+    return transformed(props, rotation, np.asarray(part.translation, dtype=float))
+
+
+def place(points: np.ndarray, part: Part) -> np.ndarray:
+    """Points (..., 3) in the part file's frame, in metres, placed in the scene: ``R x + t``
+    (the part's ``transform``)."""
+    if part.rotation is not None:
+        points = points @ np.asarray(part.rotation, dtype=float).T
+    return points + np.asarray(part.translation, dtype=float)
+
+
+def placed_mesh(part: Part, max_mesh_bytes: int | None = None) -> trimesh.Trimesh:
+    """The part's mesh in the scene's frame, in metres: its units and transform applied."""
+    mesh = load_mesh(part.mesh, part.scale, (*part.field, "mesh"), max_bytes=max_mesh_bytes)
+    if part.rotation is not None or any(part.translation):
+        mesh.vertices = place(np.asarray(mesh.vertices), part)
+    return mesh
+
+
+def body_mass_properties(
+    body: Body, scale: float | None = None, max_mesh_bytes: int | None = None
+) -> MassProperties:
+    """Mass properties of a scene's body: explicit values win over the mesh parts; point
+    masses are added to either. (``scale`` is not used: each part carries its own.) Mesh
+    files are at most ``max_mesh_bytes`` (default :data:`kcheck.body.meshio.MAX_MESH_BYTES`)."""
+    points = [point_mass(p.mass, p.point) for p in body.point_masses]
+    added = _point_masses_note(body)
+    if body.explicit is not None:
+        e = body.explicit
+        notes = (
+            ("explicit mass properties from the scene file win over the mesh",)
+            if body.parts
+            else ()
+        )
+        explicit = MassProperties(e.mass, e.center_of_mass, e.inertia, "explicit", None, notes)
+        if not points:
+            return explicit
+        combined = combine([explicit, *points])
+        return dataclasses.replace(combined, notes=(*notes, added))
+    props = combine([*(part_mass_properties(p, max_mesh_bytes) for p in body.parts), *points])
+    release_memory(collect=sum(_file_size(p.mesh) for p in body.parts) >= COLLECT_BYTES)
+    if points:
+        props = dataclasses.replace(props, notes=(*props.notes, added))
+    return props
+
+
+def _point_masses_note(body: Body) -> str:
+    """ "point mass added: magnet (0.012 kg)" — what was added to the meshes, by name."""
+    if not body.point_masses:
+        return ""
+    named = ", ".join(f"{p.name} ({p.mass:.4g} kg)" for p in body.point_masses)
+    return f"{POINT_MASS_NOTE}{'es' if len(body.point_masses) > 1 else ''} added: {named}"
+
+
+#: How the note of added point masses starts (a report says "mesh + point masses").
+POINT_MASS_NOTE = "point mass"
+#: Mesh files this large in all (bytes) are worth a garbage collection after reading
+#: (about 60 MB of cycles after a 16 MB STL; the collection costs tens of ms a scene).
+COLLECT_BYTES = 4 * 2**20
+
+
+def _file_size(path: Path) -> int:
+    try:
+        return path.stat().st_size
+    except OSError:
+        return 0

@@ -1,0 +1,1 @@
+"""Running checks over a repository: discovery, configuration, workers, cache, git."""

@@ -1,0 +1,297 @@
+"""Where scenes come from and where reports go: discovery, meshes to scenes, output checks.
+
+Every operating-system error (a path too long, no permission, a symlink loop or dangling
+link, a folder where a file was expected, ``/proc``, a full disk) becomes a located message:
+an input error for a scene path (the batch goes on), a usage error for an output path
+(raised before the run starts). Nothing is dropped silently.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import stat
+from collections.abc import Iterable, Iterator
+from pathlib import Path
+
+from kcheck.errors import UsageError
+
+__all__ = [
+    "MESH_SUFFIXES",
+    "SCENE_SUFFIX",
+    "SKIPPED_FOLDERS",
+    "DiscoveryError",
+    "describe_os_error",
+    "walk_scenes",
+    "discover_paths",
+    "scenes_using",
+    "search_root",
+    "check_output_file",
+    "check_output_dir",
+]
+
+SCENE_SUFFIX = ".kcheck.yaml"
+#: Mesh file types a scene may name (what trimesh reads, STEP through cascadio); a changed
+#: mesh re-checks the scenes that use it.
+MESH_SUFFIXES = frozenset(
+    (".stl", ".obj", ".ply", ".off", ".glb", ".gltf", ".3mf", ".dae", ".step", ".stp")
+)
+
+
+class DiscoveryError(Exception):
+    """A scene path that cannot be used, with the reason (not raised to the user: the
+    runner turns it into the path's error result)."""
+
+    def __init__(self, path: Path, message: str) -> None:
+        self.path = path
+        self.message = message
+        super().__init__(f"{path}: {message}")
+
+
+def describe_os_error(exc: OSError) -> str:
+    """A short reason for an OS error, without the repeated file name."""
+    reasons = {
+        errno.ENAMETOOLONG: "the path is too long for the operating system",
+        errno.ELOOP: "too many levels of symbolic links (a symlink loop)",
+        errno.EACCES: "permission denied",
+        errno.EPERM: "operation not permitted",
+        errno.ENOTDIR: "a part of the path is a file, not a folder",
+        errno.EISDIR: "it is a folder, not a file",
+        errno.ENOSPC: "no space left on the device",
+        errno.EROFS: "the file system is read-only",
+        errno.ENOENT: "no such file or folder",
+        errno.ENXIO: "a pipe that nobody reads",
+    }
+    return reasons.get(exc.errno or 0, exc.strerror or str(exc))
+
+
+def _missing(path: Path) -> str:
+    """Why a path that ``stat`` cannot find is missing: a dangling link, or nothing there."""
+    try:
+        target = os.readlink(path)
+    except OSError:
+        return "no such file or folder"
+    return f"a symbolic link to `{target}`, which does not exist"
+
+
+def _stat(path: Path) -> os.stat_result:
+    try:
+        return path.stat()
+    except FileNotFoundError:
+        raise DiscoveryError(path, _missing(path)) from None
+    except (OSError, ValueError) as exc:  # ValueError: a NUL byte in the path
+        reason = describe_os_error(exc) if isinstance(exc, OSError) else "invalid path"
+        raise DiscoveryError(path, reason) from None
+
+
+#: Folders never searched for scenes (given explicitly, they are): hidden ones (``.git``,
+#: ``.venv``, ``.kcheck_cache``...) and these.
+SKIPPED_FOLDERS = frozenset(("__pycache__", "node_modules"))
+
+
+def _scene_file(path: Path) -> None:
+    """Raise DiscoveryError unless ``path`` is a regular file (not a device, pipe or socket,
+    which could block or never end)."""
+    info = _stat(path)
+    if stat.S_ISDIR(info.st_mode):
+        raise DiscoveryError(path, "it is a folder, not a file")
+    if not stat.S_ISREG(info.st_mode):
+        raise DiscoveryError(path, "not a regular file (a device, pipe or socket)")
+
+
+def walk_scenes(folder: Path, errors: list[DiscoveryError]) -> Iterator[Path]:
+    """Scene files under a folder, depth first in sorted order; every folder that cannot be
+    read and every scene-named entry that cannot be used is appended to ``errors``.
+    Symbolic links to folders are followed once (a link back up is not walked again);
+    hidden folders and :data:`SKIPPED_FOLDERS` are not entered."""
+    seen: set[tuple[int, int]] = set()
+
+    def walk(current: Path) -> Iterator[Path]:
+        try:
+            info = current.stat()
+            key = (info.st_dev, info.st_ino)
+            if key in seen:
+                return
+            seen.add(key)
+            with os.scandir(current) as it:
+                entries = sorted(it, key=lambda e: e.name)
+        except OSError as exc:
+            errors.append(
+                DiscoveryError(current, f"cannot read this folder: {describe_os_error(exc)}")
+            )
+            return
+        for entry in entries:
+            path = Path(entry.path)
+            try:
+                is_dir = entry.is_dir()
+            except OSError:
+                is_dir = False
+            if is_dir:
+                if not (entry.name.startswith(".") or entry.name in SKIPPED_FOLDERS):
+                    yield from walk(path)
+            elif entry.name.endswith(SCENE_SUFFIX):
+                try:
+                    _scene_file(path)
+                except DiscoveryError as exc:
+                    errors.append(exc)
+                    continue
+                yield path
+
+    yield from walk(folder)
+
+
+def discover_paths(
+    paths: Iterable[Path | str],
+) -> tuple[list[Path], list[Path], list[DiscoveryError]]:
+    """Scene files and mesh files named by ``paths`` (folders searched for scenes), and
+    every path that cannot be used. Files are returned in the order given, each once."""
+    scenes: list[Path] = []
+    meshes: list[Path] = []
+    errors: list[DiscoveryError] = []
+    for raw in paths:
+        path = Path(raw)
+        try:
+            info = _stat(path)
+        except DiscoveryError as exc:
+            errors.append(exc)
+            continue
+        if stat.S_ISDIR(info.st_mode):
+            before = len(errors)
+            found = list(walk_scenes(path, errors))
+            if not found and len(errors) == before:
+                errors.append(
+                    DiscoveryError(path, f"no *{SCENE_SUFFIX} files found in this folder")
+                )
+            scenes.extend(found)
+        elif not stat.S_ISREG(info.st_mode):
+            errors.append(DiscoveryError(path, "not a regular file (a device, pipe or socket)"))
+        elif path.suffix.lower() in MESH_SUFFIXES and not path.name.endswith(SCENE_SUFFIX):
+            meshes.append(path)
+        else:
+            scenes.append(path)
+    return scenes, meshes, errors
+
+
+def _strings(data: object) -> Iterator[str]:
+    if isinstance(data, str):
+        yield data
+    elif isinstance(data, dict):
+        for value in data.values():
+            yield from _strings(value)
+    elif isinstance(data, list):
+        for value in data:
+            yield from _strings(value)
+
+
+def scenes_using(meshes: Iterable[Path], root: Path) -> dict[Path, list[Path]]:
+    """For each mesh, the scene files under ``root`` that name it (any string value of the
+    scene that resolves, relative to the scene's folder, to the same file).
+
+    Scene files are first filtered by the mesh's file name in their text, so only a few
+    are parsed. Unreadable or invalid scenes are left out here: checking them reports them.
+    """
+    from kcheck.scene.yamlio import load_yaml
+
+    wanted = {}
+    for mesh in meshes:
+        try:
+            wanted[mesh.resolve()] = mesh
+        except (OSError, RuntimeError):
+            continue
+    found: dict[Path, list[Path]] = {m: [] for m in wanted.values()}
+    if not wanted:
+        return found
+    names = {m.name for m in wanted}
+    for scene in walk_scenes(root, []):
+        try:
+            text = scene.read_text(encoding="utf-8", errors="replace")
+        except OSError:
+            continue
+        if not any(n in text for n in names):
+            continue
+        try:
+            data, _ = load_yaml(scene)
+        except Exception:  # a broken scene cannot be told apart; checking it reports it
+            continue
+        for value in _strings(data):
+            if not any(value.endswith(n) for n in names):
+                continue
+            try:
+                target = (scene.parent / value).resolve()
+            except (OSError, RuntimeError, ValueError):
+                continue
+            if target in wanted and scene not in found[wanted[target]]:
+                found[wanted[target]].append(scene)
+    return found
+
+
+def search_root(mesh: Path) -> Path:
+    """Where to look for scenes using a mesh: the git repository holding it; else the
+    working directory if it holds the mesh; else the mesh's folder. (A scene names meshes in
+    its own folder or below, unless --allow-outside-paths.)"""
+    folder = mesh.resolve().parent
+    for parent in (folder, *folder.parents):
+        if (parent / ".git").exists():
+            return parent
+    cwd = Path.cwd().resolve()
+    return cwd if folder.is_relative_to(cwd) else folder
+
+
+def _first_existing(path: Path) -> Path:
+    for parent in (path, *path.parents):
+        if os.path.lexists(parent):
+            return parent
+    return Path(".")
+
+
+def _refuse_special(path: Path) -> None:
+    resolved = path.resolve()
+    for special in ("/proc", "/sys"):
+        if resolved.is_relative_to(special):
+            raise UsageError(f"{path}: cannot write a report under {special}")
+
+
+def check_output_file(path: Path, what: str) -> None:
+    """Raise UsageError unless a report file can be written at ``path`` (its folder may be
+    created). Probes without writing anything: a full device refuses even an empty write."""
+    try:
+        _refuse_special(path)
+        if path.is_dir():
+            raise UsageError(f"{what} {path}: is a folder; give a file name")
+        anchor = _first_existing(path.parent)
+        if not anchor.is_dir():
+            raise UsageError(f"{what} {path}: {anchor} is a file, not a folder")
+        if path.exists() and not stat.S_ISREG(path.stat().st_mode):
+            # A device or a pipe: without blocking (a pipe nobody reads is ENXIO).
+            fd = os.open(path, os.O_WRONLY | os.O_NONBLOCK)
+            try:
+                os.write(fd, b"")
+            finally:
+                os.close(fd)
+        elif not os.access(anchor, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
+            raise UsageError(f"{what} {path}: permission denied")
+    except OSError as exc:
+        raise UsageError(f"{what} {path}: {describe_os_error(exc)}") from None
+    except ValueError:
+        raise UsageError(f"{what} {path}: invalid path") from None
+
+
+def check_output_dir(path: Path, what: str) -> None:
+    """Raise UsageError unless ``path`` is (or can be made) a folder kcheck can write into;
+    creates it, and probes it with an empty temporary file."""
+    import tempfile
+
+    try:
+        _refuse_special(path)
+        if path.exists() and not path.is_dir():
+            raise UsageError(f"{what} {path}: is a file, not a folder")
+        anchor = _first_existing(path)
+        if not anchor.is_dir():
+            raise UsageError(f"{what} {path}: {anchor} is a file, not a folder")
+        path.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=path):
+            pass
+    except OSError as exc:
+        raise UsageError(f"{what} {path}: {describe_os_error(exc)}") from None
+    except ValueError:
+        raise UsageError(f"{what} {path}: invalid path") from None

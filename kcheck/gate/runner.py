@@ -1,0 +1,368 @@
+"""Run checks over scene files: discovery, option validation, lazy mass properties, timing.
+
+Nothing a check does not need is computed: mass properties (and so trimesh and every mesh
+read) only when an applicable check needs them (``Check.needs_mass_for``), and then once
+(through the mass-property cache when one is configured).
+:func:`run_batch` yields scene results in the order of the files, whatever runs them (this
+process, or worker processes with a time and memory budget per scene, :mod:`kcheck.gate.pool`),
+so a report can print each scene as it finishes.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from pydantic import ValidationError
+
+from kcheck.errors import SceneError
+from kcheck.gate.paths import discover_paths
+from kcheck.plugin import Inputs, LoadedCheck, Options
+from kcheck.result import CheckResult, Finding, SceneResult, Severity, Status
+from kcheck.analysis.sanity import scene_warnings
+from kcheck.scene import Scene, describe_pydantic, load_scene
+from kcheck.scene.yamlio import DEFAULT_LIMITS
+
+__all__ = ["Settings", "discover", "check_scene", "run_batch", "scene_status"]
+
+#: Top-level modules of the `plot` extra: only their absence means "install the extra".
+PLOT_EXTRA = ("matplotlib", "networkx")
+
+#: Key of a check's options in a scene that sets the check's severity, not an option.
+SEVERITY_KEY = "severity"
+
+
+@dataclass(frozen=True)
+class Settings:
+    """How scenes are checked: everything a worker needs besides the file and the checks.
+
+    ``severities`` overrides a check's default severity (from configuration or the command
+    line); a scene's own ``checks: {id: {severity: ...}}`` wins over both.
+    ``check_options`` are per-check option defaults (from configuration): a scene's own
+    options win key by key. ``selected`` names the checks to run (None: every check given);
+    options of the others are still validated, and are no error. ``cache_dir`` holds the
+    mass-property cache (None: no cache). ``jobs`` is the number of worker processes (0: run
+    in this process), each scene limited to ``timeout_s`` seconds and ``memory_bytes`` of
+    address space (None: no limit; limits need workers).
+    ``max_file_bytes`` is the largest scene file read (configuration ``max_file_size``),
+    ``max_mesh_bytes`` the largest mesh file (``max_mesh_size``); None: the defaults.
+    """
+
+    allow_outside: bool = False
+    plots: Path | None = None
+    severities: Mapping[str, Severity] = field(default_factory=dict)
+    check_options: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
+    selected: frozenset[str] | None = None
+    cache_dir: Path | None = None
+    jobs: int = 0
+    timeout_s: float | None = None
+    memory_bytes: int | None = None
+    max_file_bytes: int | None = None
+    max_mesh_bytes: int | None = None
+    plot_formats: tuple[str, ...] = ("png",)
+
+
+def discover(paths: Iterable[Path | str]) -> tuple[list[Path], list[SceneResult]]:
+    """Scene files under the given files and folders (folders recursively, in sorted order),
+    each once, and an error result for every path that cannot be used: missing, a dangling
+    symlink or a symlink loop, an unreadable folder, a folder without scenes, a path too long.
+    Mesh files among ``paths`` are replaced by the scenes that use them, searched for in the
+    mesh's repository (:func:`kcheck.gate.paths.scenes_using`)."""
+    from kcheck.gate.paths import scenes_using, search_root
+
+    scenes, meshes, problems = discover_paths(paths)
+    for mesh in meshes:
+        for users in scenes_using([mesh], search_root(mesh)).values():
+            scenes.extend(users)
+    errors = [_error(p.path, f"{p.path}: {p.message}") for p in problems]
+    cwd = Path.cwd()
+    unique: dict[Path, Path] = {}
+    for p in scenes:
+        try:
+            key = p.resolve()
+        except (OSError, RuntimeError):
+            key = p.absolute()
+        unique.setdefault(key, p)
+    found = [k.relative_to(cwd) if k.is_relative_to(cwd) else k for k in unique]
+    return found, errors
+
+
+def _error(path: Path, message: str, errors: tuple[Finding, ...] = ()) -> SceneResult:
+    return SceneResult(
+        path=str(path),
+        status=Status.ERROR,
+        error=message,
+        errors=errors or (Finding(message),),
+    )
+
+
+def _input_error(path: Path, exc: SceneError) -> SceneResult:
+    """An error result listing every input error of the file, each located."""
+    findings = tuple(
+        Finding(e.message, field=e.where or _field(e.field), line=e.line, column=e.column)
+        for e in exc.all()
+    )
+    return _error(path, str(exc.all()[0]), findings)
+
+
+def _field(text: str | None) -> tuple[str, ...] | None:
+    """A field given as text (``supports[2].normal``) as a one-part field path."""
+    return None if not text else (text,)
+
+
+def scene_status(checks: Sequence[CheckResult], warnings: Sequence[Finding] = ()) -> Status:
+    """``error`` if a check erred; ``fail`` if a check of severity ``error`` failed; ``warn``
+    if only checks of severity ``warning`` failed or the scene has warnings; else ``pass``."""
+    if any(c.status is Status.ERROR for c in checks):
+        return Status.ERROR
+    failed = [c for c in checks if c.status is Status.FAIL]
+    if any(c.severity == "error" for c in failed):
+        return Status.FAIL
+    if failed or warnings:
+        return Status.WARN
+    return Status.PASS
+
+
+def _options(
+    scene: Scene, lc: LoadedCheck, defaults: Mapping[str, Any]
+) -> tuple[Options, Severity | None]:
+    raw = {**defaults, **scene.check_options.get(lc.spec.name, {})}
+    severity = raw.pop(SEVERITY_KEY, None)
+    if severity is not None and severity not in ("error", "warning"):
+        raise scene.error(
+            ("checks", lc.spec.name, SEVERITY_KEY),
+            f"expected `error` or `warning`, got {severity!r}",
+        )
+    try:
+        return lc.check.options.model_validate(raw), severity
+    except ValidationError as exc:
+        err = exc.errors(include_url=False)[0]
+        where = ("checks", lc.spec.name, *err["loc"])
+        raise scene.error(where, describe_pydantic(err)) from None
+
+
+def _crashed(lc: LoadedCheck, exc: Exception) -> str:
+    return f"check {lc.spec.display_name} crashed: {type(exc).__name__}: {exc}"
+
+
+def _ask(lc: LoadedCheck, scene: Scene) -> tuple[str | None, bool, str | None]:
+    """A check's skip reason for a scene, whether it then needs mass properties, and the
+    crash message when the plugin raised while answering (that check's error, not the
+    scene's: the other checks still run)."""
+    try:
+        reason = lc.check.skip_reason(scene)
+        return reason, reason is None and lc.check.needs_mass_for(scene), None
+    except MemoryError:
+        raise
+    except Exception as exc:
+        return None, False, _crashed(lc, exc)
+
+
+def _locate(scene: Scene, findings: Sequence[Finding]) -> tuple[Finding, ...]:
+    """Findings with the line of their field in the scene file filled in."""
+    return tuple(
+        dataclasses.replace(f, line=scene.line_of(f.field))
+        if f.field is not None and f.line is None
+        else f
+        for f in findings
+    )
+
+
+def check_scene(
+    path: Path,
+    checks: Sequence[LoadedCheck],
+    *,
+    allow_outside: bool = False,
+    plots: Path | None = None,
+    settings: Settings | None = None,
+) -> SceneResult:
+    """Load one scene and run every check on it; bad input becomes an error result."""
+    from kcheck.gate.cache import body_mass_properties_cached
+    from kcheck.gate.config import did_you_mean
+
+    if settings is None:
+        settings = Settings(allow_outside=allow_outside, plots=plots)
+    started = time.perf_counter()
+    try:
+        limits = (
+            DEFAULT_LIMITS
+            if settings.max_file_bytes is None
+            else dataclasses.replace(DEFAULT_LIMITS, max_bytes=settings.max_file_bytes)
+        )
+        scene = load_scene(path, allow_outside=settings.allow_outside, limits=limits)
+        known = {lc.spec.name for lc in checks}
+        for check_id in scene.check_options:
+            if check_id not in known:
+                raise scene.error(
+                    ("checks", check_id),
+                    f"options for unknown check `{check_id}`{did_you_mean(check_id, known)}; "
+                    f"installed: {', '.join(sorted(known))}",
+                )
+        plan = []
+        for lc in checks:
+            defaults = settings.check_options.get(lc.spec.name, {})
+            options, severity = _options(scene, lc, defaults)
+            if settings.selected is not None and lc.spec.name not in settings.selected:
+                continue  # its options are valid; it just does not run
+            severity = severity or settings.severities.get(lc.spec.name) or lc.check.severity
+            plan.append((lc, options, severity, *_ask(lc, scene)))
+        mass = None
+        if any(needs_mass for *_, needs_mass, _ in plan):
+            if scene.body is None:
+                raise scene.error(
+                    ("body",),
+                    "a check needs the body's mass properties; "
+                    "give `body` with a mesh or explicit mass properties",
+                )
+            try:
+                mass = body_mass_properties_cached(
+                    scene.body, scene.scale, settings.cache_dir, settings.max_mesh_bytes
+                )
+            except SceneError as exc:
+                where = exc.where or ("body",)
+                raise SceneError(
+                    scene.path, f"{exc.path}: {exc.message}", field=where, line=scene.line_of(where)
+                ) from exc
+    except SceneError as exc:
+        return _input_error(path, exc)
+    except MemoryError:
+        raise  # a budget, not a bug: the batch reports it (run_batch)
+    except Exception as exc:  # a bug must not take the batch down or print a traceback
+        return _error(
+            path,
+            f"{path}: internal error while reading the scene "
+            f"({type(exc).__name__}: {exc}); please report it",
+        )
+
+    results = []
+    written: list[str] = []
+    notes = scene.notes
+    for lc, options, severity, reason, needs_mass, crash in plan:
+        if crash is not None:
+            results.append(CheckResult(lc.spec.name, Status.ERROR, crash, severity=severity))
+            continue
+        if reason is not None:
+            results.append(CheckResult(lc.spec.name, Status.SKIPPED, reason, severity=severity))
+            continue
+        inputs = Inputs(scene, mass if needs_mass else None, options)
+        start = time.perf_counter()
+        try:
+            result = lc.check.run(inputs)
+        except MemoryError:
+            raise
+        except Exception as exc:  # a crashing check must not take the batch down
+            result = CheckResult(lc.spec.name, Status.ERROR, _crashed(lc, exc))
+        result = dataclasses.replace(
+            result,
+            runtime_s=time.perf_counter() - start,
+            severity=severity,
+            findings=_locate(scene, result.findings),
+        )
+        results.append(result)
+        if settings.plots is not None and result.status in (Status.PASS, Status.FAIL):
+            files, note = _plot(lc, inputs, result, settings)
+            notes = notes if note is None else (*notes, note)
+            written.extend(str(f) for f in files)
+    warnings = _locate(scene, scene_warnings(scene, mass, results))
+    return SceneResult(
+        path=str(path),
+        status=scene_status(results, warnings),
+        name=scene.name,
+        kind=scene.kind,
+        mass_properties=mass,
+        checks=tuple(results),
+        notes=notes + (mass.notes if mass is not None else ()),
+        plots=tuple(written),
+        units=scene.units,
+        runtime_s=time.perf_counter() - started,
+        warnings=warnings,
+        supports=tuple(s.to_json() for s in scene.supports),
+        # The scene's own plane: planar scenes, or a `sweep:` entry (a spatial check that
+        # chooses a plane of its own reports it in its `sweep_plane`).
+        sweep=(tuple(scene.sweep.normal.tolist()), tuple(scene.sweep.e1.tolist()))
+        if scene.kind == "planar" or scene.sweep.given
+        else None,
+    )
+
+
+def _budget_error(path: Path, outcome: Any, settings: Settings) -> SceneResult:
+    """The error result of a scene whose worker ran out of a budget or died."""
+    memory = (
+        "the memory available"
+        if settings.memory_bytes is None
+        else f"its memory budget of {settings.memory_bytes / 2**20:g} MiB"
+    )
+    raise_it = (
+        "; the batch went on without it (raise the budget with {} if the scene is meant "
+        "to be this large)"
+    )
+    if outcome.kind == "time":
+        text = f"exceeded its time budget of {settings.timeout_s:g} s" + raise_it.format(
+            "--timeout (configuration `timeout`)"
+        )
+    elif outcome.kind == "memory":
+        text = f"exceeded {memory}" + raise_it.format(
+            "--memory-limit (configuration `memory_limit`)"
+        )
+    elif outcome.kind == "crashed":
+        return _error(path, f"{path}: internal error ({outcome.detail}); please report it")
+    else:
+        text = f"stopped: {outcome.detail}"
+        if settings.memory_bytes is not None:
+            text += f", most likely past {memory}"
+        text += "; the batch went on without it"
+    return _error(path, f"{path}: checking this scene {text}")
+
+
+def _plot(
+    lc: LoadedCheck, inputs: Inputs, result: CheckResult, settings: Settings
+) -> tuple[Sequence[Path], str | None]:
+    """A check's pictures, or none and a note saying why: a picture never stops a batch."""
+    from kcheck.pictures.plotting import formats
+
+    assert settings.plots is not None
+    try:
+        with formats(settings.plot_formats):
+            return lc.check.plot(inputs, result, settings.plots), None
+    except ModuleNotFoundError as exc:
+        if (exc.name or "").split(".")[0] not in PLOT_EXTRA:
+            return (), f"pictures of {lc.spec.name} failed (ModuleNotFoundError: {exc})"
+        return (), f"pictures need the plot extra: pip install 'kcheck[plot]' ({exc})"
+    except Exception as exc:  # a picture must not take the batch down
+        return (), f"pictures of {lc.spec.name} failed ({type(exc).__name__}: {exc})"
+
+
+def run_batch(
+    files: Sequence[Path], checks: Sequence[LoadedCheck], settings: Settings
+) -> Iterator[SceneResult]:
+    """Check scene files, yielding each result as soon as it and every earlier file are done,
+    in the order of the files.
+
+    With ``settings.jobs`` > 0 (and on Linux) scenes run in that many worker processes, each
+    scene within the time and memory budget of ``settings``; a scene that exceeds one is an
+    error result naming the budget, and the batch goes on. Otherwise they run here, in turn.
+    """
+    from kcheck.gate import pool
+
+    if settings.jobs < 1 or not files or not pool.available():
+        for path in files:
+            try:
+                yield check_scene(path, checks, settings=settings)
+            except MemoryError:
+                yield _budget_error(path, pool.BudgetExceeded("memory", ""), settings)
+        return
+
+    def work(path: Path) -> SceneResult:
+        return check_scene(path, checks, settings=settings)
+
+    budget = pool.Budget(settings.timeout_s, settings.memory_bytes)
+    outcomes = pool.run_in_workers(files, work, jobs=settings.jobs, budget=budget)
+    for path, outcome in zip(files, outcomes, strict=True):
+        if isinstance(outcome, pool.BudgetExceeded):
+            yield _budget_error(path, outcome, settings)
+        else:
+            yield outcome

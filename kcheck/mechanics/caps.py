@@ -1,0 +1,304 @@
+"""Exact geometry of an intersection of spherical caps: area, distance, deepest point.
+
+Every closing condition of a spatial case is affine in the unit direction ``d``:
+``a_k + c_k . d > 0`` holds on the cap of directions within the angular radius
+``r_k = arccos(-a_k / |c_k|)`` of the axis ``u_k = c_k / |c_k|``. The safe region ``S`` is the
+intersection of all caps. Here, in closed form:
+
+* its **area** by Stokes' theorem (the integral form of Gauss–Bonnet): with a pole ``N`` whose
+  antipode lies outside ``S``, the area form is ``d alpha`` with
+  ``alpha = (1 - cos theta) d phi`` (``theta`` from ``N``), so the area is the integral of
+  ``alpha`` along the boundary arcs of ``S`` — the parts of each cap's circle inside every
+  other cap. Along a circle of radius ``r`` that integral is
+  ``-cos r (t2 - t1) + (N . u + cos r) int dt / (B0 + rho cos(t - t0))``, elementary. Caps
+  larger than a hemisphere, several pieces and holes need no special case; nor do corners
+  (the corner angles of Gauss–Bonnet are carried by ``alpha``, which is smooth there);
+* the **distance** of a direction to ``S``: inside, to its boundary (the nearest circle);
+  outside, to the nearest point of ``S``, which is the foot of the perpendicular on a circle
+  or a vertex where two circles meet;
+* the deepest point (most robust direction) is in :mod:`kcheck.mechanics.deepest`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from itertools import combinations
+
+import numpy as np
+
+from kcheck.mechanics.arcs import cap_geometry
+from kcheck.mechanics.kinematics import cross3
+
+__all__ = [
+    "FOUR_PI",
+    "CapSet",
+    "Region",
+    "cap_set",
+    "region",
+    "angle_between",
+    "signed_distance",
+    "margin_in",
+]
+
+FOUR_PI = 4.0 * np.pi
+EPS = float(np.finfo(float).eps)
+# Caps whose axes and radii agree to this are one cap (duplicates would count twice).
+SAME_CAP = 1e-12
+# A candidate point counts as inside a cap when its margin is above minus this (rad).
+ON_BOUNDARY = 1e-11
+
+
+@dataclass(frozen=True)
+class CapSet:
+    """The caps ``u_k . d > cos r_k`` that bound a region (duplicates and caps holding
+    everywhere removed). ``source`` maps each cap to its condition; ``empty`` is True when
+    some condition holds nowhere."""
+
+    axes: np.ndarray  # (k, 3) unit
+    cos_radius: np.ndarray  # (k,)
+    radius: np.ndarray  # (k,) rad, in (0, pi)
+    source: np.ndarray  # (k,) index of the condition
+    empty: bool
+
+
+def cap_set(a: np.ndarray, c: np.ndarray) -> CapSet:
+    """The caps of conditions ``a_k + c_k . d > 0`` (``a`` (k,), ``c`` (k, 3))."""
+    a = np.asarray(a, float)
+    c = np.asarray(c, float).reshape(-1, 3)
+    ratio, axes, radius = cap_geometry(a, c)
+    empty = bool(np.any(ratio >= 1.0))
+    live = np.flatnonzero((ratio > -1.0) & (ratio < 1.0))
+    kept: list[int] = []
+    for k in live:
+        if not any(
+            abs(ratio[k] - ratio[j]) <= SAME_CAP and np.abs(axes[k] - axes[j]).max() <= SAME_CAP
+            for j in kept
+        ):
+            kept.append(int(k))
+    idx = np.array(kept, dtype=int)
+    return CapSet(axes[idx], ratio[idx], radius[idx], idx, empty)
+
+
+def angle_between(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Angle (rad) between unit vectors, accurate near 0 and pi (atan2 of |u x v| and u . v);
+    broadcasts over leading axes."""
+    cross = cross3(u, v)
+    return np.arctan2(np.sqrt(np.sum(cross * cross, axis=-1)), np.sum(u * v, axis=-1))
+
+
+def _frames(axes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unit vectors ``e1, e2`` (k, 3) with ``(e1, e2, u)`` right-handed for each axis ``u``."""
+    helper = np.where(np.abs(axes[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+    e1 = cross3(helper, axes)
+    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
+    return e1, cross3(axes, e1)
+
+
+def _circle_points(caps: CapSet, e1: np.ndarray, e2: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Points (k, m, 3) at parameters ``t`` (k, m) on each cap's circle (counter-clockwise
+    about the axis, so the cap lies on the left)."""
+    sin_r = np.sin(caps.radius)[:, None, None]
+    return (
+        caps.cos_radius[:, None, None] * caps.axes[:, None, :]
+        + sin_r * np.cos(t)[..., None] * e1[:, None, :]
+        + sin_r * np.sin(t)[..., None] * e2[:, None, :]
+    )
+
+
+def _inside_all(
+    caps: CapSet, points: np.ndarray, tol: float, skip: np.ndarray | None
+) -> np.ndarray:
+    """Whether points (..., 3) lie in every cap (margin > -tol in angle, to first order);
+    ``skip`` (..., k) marks caps not to test (e.g. the circle a point lies on)."""
+    dots = points @ caps.axes.T  # (..., k)
+    slack = dots - caps.cos_radius + tol * np.sin(caps.radius)
+    ok = slack > 0
+    if skip is not None:
+        ok |= skip
+    return np.all(ok, axis=-1)
+
+
+def _disjoint_pair(caps: CapSet) -> bool:
+    """Whether two caps do not overlap (their axes at least ``r_i + r_j`` apart; never when
+    ``r_i + r_j > pi``)."""
+    if len(caps.radius) < 2:
+        return False
+    total = caps.radius[:, None] + caps.radius[None, :]
+    apart = caps.axes @ caps.axes.T <= np.cos(np.minimum(total, np.pi)) + SAME_CAP
+    np.fill_diagonal(apart, False)
+    return bool(np.any(apart & (total <= np.pi + SAME_CAP)))
+
+
+@dataclass(frozen=True)
+class Region:
+    """An intersection of caps, exactly: its area (sr), boundary length (rad), which caps bound
+    it, and a few of its boundary points (for distances)."""
+
+    caps: CapSet
+    area: float
+    perimeter: float
+    bounding: np.ndarray  # (k,) bool: the cap's circle carries part of the boundary
+    empty: bool
+    full: bool
+    lengths: np.ndarray | None = None  # (k,) length (rad) of each cap's part of the boundary
+
+    @property
+    def fraction(self) -> float:
+        """Share of the whole sphere."""
+        return self.area / FOUR_PI
+
+
+def _arc_integral(
+    caps: CapSet, pole: np.ndarray, e1: np.ndarray, e2: np.ndarray, t1: np.ndarray, t2: np.ndarray
+) -> np.ndarray:
+    """Integral of ``alpha = N . (x × dx) / (1 + N . x)`` along circle arcs ``[t1, t2]``
+    (k, m): ``-cos r (t2 - t1) + (N . u + cos r) * int dt / (B0 + rho cos(t - t0))``."""
+    cos_r, sin_r = caps.cos_radius[:, None], np.sin(caps.radius)[:, None]
+    n_a = (caps.axes @ pole)[:, None]
+    b0 = 1.0 + n_a * cos_r
+    b1, b2 = (e1 @ pole)[:, None] * sin_r, (e2 @ pole)[:, None] * sin_r
+    rho = np.hypot(b1, b2)
+    t0 = np.arctan2(b2, b1)
+    # int dt / (B0 + rho cos u) = (2 / k) atan(c tan(u / 2)) + (2 pi / k) per turn, with
+    # k = sqrt(B0^2 - rho^2), c = k / (B0 + rho); written as 2 T atanc(c T) / (B0 + rho) it
+    # stays finite when the circle passes through the antipode of the pole (k = 0) — arcs of
+    # the region never reach that point, so they never add a turn there.
+    k = np.sqrt(np.maximum((b0 - rho) * (b0 + rho), 0.0))
+    c = k / (b0 + rho)
+
+    def smooth_part(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        u = t - t0
+        turns = np.round(u / (2.0 * np.pi))
+        big_t = np.tan(0.5 * (u - 2.0 * np.pi * turns))
+        y = c * big_t
+        small = np.abs(y) < 1e-8
+        atanc = np.where(small, 1.0 - y * y / 3.0, np.arctan(y) / np.where(small, 1.0, y))
+        return 2.0 * big_t * atanc / (b0 + rho), turns
+
+    with np.errstate(all="ignore"):
+        g2, n2 = smooth_part(t2)
+        g1, n1 = smooth_part(t1)
+        # A piece through the antipode (k = 0) is never part of the region: no value needed.
+        wraps = np.where(
+            (n2 != n1) & (k > 0), (2.0 * np.pi / np.where(k > 0, k, 1.0)) * (n2 - n1), 0.0
+        )
+        return -cos_r * (t2 - t1) + (n_a + cos_r) * (g2 - g1 + wraps)
+
+
+def region(a: np.ndarray, c: np.ndarray) -> Region:
+    """The intersection of the caps ``a_k + c_k . d > 0``, exactly (area to rounding)."""
+    caps = cap_set(a, c)
+    k = len(caps.radius)
+    none = np.zeros(k, bool)
+    if caps.empty or _disjoint_pair(caps):
+        return Region(caps, 0.0, 0.0, none, True, False)
+    if k == 0:
+        return Region(caps, FOUR_PI, 0.0, none, False, True)
+    e1, e2 = _frames(caps.axes)
+    # Where circle k crosses circle j: u_j . x(t) = cos r_j, i.e. A + B cos t + C sin t = 0.
+    sin_r = np.sin(caps.radius)
+    big_a = caps.cos_radius[:, None] * (caps.axes @ caps.axes.T) - caps.cos_radius[None, :]
+    big_b = sin_r[:, None] * (e1 @ caps.axes.T)
+    big_c = sin_r[:, None] * (e2 @ caps.axes.T)
+    size = np.hypot(big_b, big_c)
+    with np.errstate(all="ignore"):
+        ratio = -big_a / size
+    crosses = (np.abs(ratio) < 1.0) & ~np.eye(k, dtype=bool)
+    half = np.arccos(np.clip(ratio, -1.0, 1.0))
+    centre = np.arctan2(big_c, big_b)
+    cuts = np.concatenate(
+        [np.where(crosses, centre - half, np.nan), np.where(crosses, centre + half, np.nan)], axis=1
+    )
+    cuts = np.sort(np.where(np.isnan(cuts), np.inf, np.mod(cuts, 2.0 * np.pi)), axis=1)
+    count = np.isfinite(cuts).sum(axis=1)
+    # Pieces between consecutive cuts (the last wraps round); a circle without cuts is one piece.
+    m = max(int(count.max()), 1)
+    idx = np.arange(m)[None, :]
+    padded = np.concatenate([cuts, np.full((k, 1), np.inf)], axis=1)
+    start, end = padded[:, :m], padded[:, 1 : m + 1]
+    end = np.where(idx + 1 == count[:, None], cuts[:, :1] + 2.0 * np.pi, end)
+    uncut = (count == 0)[:, None] & (idx == 0)
+    start, end = np.where(uncut, 0.0, start), np.where(uncut, 2.0 * np.pi, end)
+    valid = idx < np.maximum(count, 1)[:, None]
+    start, end = np.where(valid, start, 0.0), np.where(valid, end, 0.0)
+    mid = _circle_points(caps, e1, e2, 0.5 * (start + end))
+    own = np.broadcast_to(np.eye(k, dtype=bool)[:, None, :], (k, m, k))
+    inside = valid & _inside_all(caps, mid, 0.0, own) & (end > start)
+    # The antipode of the smallest cap's axis is outside every point of the region.
+    pole = caps.axes[int(np.argmin(caps.radius))]
+    pieces = _arc_integral(caps, pole, e1, e2, start, end)
+    area = float(np.sum(np.where(inside, pieces, 0.0)))
+    lengths = np.where(inside, (end - start) * sin_r[:, None], 0.0)
+    bounding = np.any(inside, axis=1)
+    if not np.any(bounding):
+        return Region(caps, 0.0, 0.0, none, True, False)
+    area = min(max(area, 0.0), float(np.min(2.0 * np.pi * (1.0 - caps.cos_radius))))
+    per_cap = lengths.sum(axis=1)
+    return Region(caps, area, float(per_cap.sum()), bounding, False, False, per_cap)
+
+
+def margin_in(caps: CapSet, points: np.ndarray) -> np.ndarray:
+    """Margin (rad) of points (..., 3) in the cap set: least ``r_k - angle(point, u_k)``."""
+    if not len(caps.radius):
+        return np.full(points.shape[:-1], np.pi)
+    angles = angle_between(points[..., None, :], caps.axes)
+    return np.min(caps.radius - angles, axis=-1)
+
+
+def _vertices(caps: CapSet, pairs: np.ndarray) -> np.ndarray:
+    """Both intersection points (2p, 3) of the circles of cap pairs (p, 2); NaN where the
+    circles do not meet."""
+    ui, uj = caps.axes[pairs[:, 0]], caps.axes[pairs[:, 1]]
+    ci, cj = caps.cos_radius[pairs[:, 0]], caps.cos_radius[pairs[:, 1]]
+    g = np.sum(ui * uj, axis=1)
+    with np.errstate(all="ignore"):
+        det = 1.0 - g * g
+        alpha = (ci - g * cj) / det
+        beta = (cj - g * ci) / det
+        base = alpha[:, None] * ui + beta[:, None] * uj
+        w = cross3(ui, uj)
+        rest = (1.0 - np.sum(base * base, axis=1)) / np.sum(w * w, axis=1)
+        gamma = np.where(rest >= 0, np.sqrt(np.maximum(rest, 0.0)), np.nan)
+    return np.concatenate([base + gamma[:, None] * w, base - gamma[:, None] * w])
+
+
+def signed_distance(reg: Region, direction: np.ndarray) -> tuple[float | None, np.ndarray | None]:
+    """Signed angular distance (rad) of a unit direction to the region's boundary, and the
+    nearest direction of the region.
+
+    Inside (positive): the distance to the nearest boundary circle, and the direction itself.
+    Outside (negative): minus the exact distance to the region — the nearest point is the foot
+    of the perpendicular on a bounding circle or a vertex where two circles meet — and that
+    nearest point. ``(None, None)`` when the region is empty; ``(pi, d)`` for the whole sphere.
+    """
+    d = np.asarray(direction, float)
+    d = d / np.linalg.norm(d)
+    if reg.empty:
+        return None, None
+    caps = reg.caps
+    if reg.full:
+        return float(np.pi), d
+    inside = float(margin_in(caps, d))
+    if inside >= 0:
+        return inside, d
+    k = len(caps.radius)
+    # Feet of the perpendicular from d on every circle.
+    along = d - (caps.axes @ d)[:, None] * caps.axes
+    norm = np.linalg.norm(along, axis=1, keepdims=True)
+    e1, _ = _frames(caps.axes)
+    along = np.where(norm > 1e-15, along / np.where(norm > 0, norm, 1.0), e1)
+    feet = caps.cos_radius[:, None] * caps.axes + np.sin(caps.radius)[:, None] * along
+    candidates = [feet]
+    if k >= 2:
+        pairs = np.array(list(combinations(range(k), 2)))
+        candidates.append(_vertices(caps, pairs))
+    points = np.concatenate(candidates)
+    points = points[np.all(np.isfinite(points), axis=1)]
+    points /= np.linalg.norm(points, axis=1, keepdims=True)
+    ok = margin_in(caps, points) > -ON_BOUNDARY
+    if not np.any(ok):
+        return None, None
+    points = points[ok]
+    distance = angle_between(points, d)
+    best = int(np.argmin(distance))
+    return -float(distance[best]), points[best]

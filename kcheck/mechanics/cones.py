@@ -1,0 +1,216 @@
+"""Polyhedral convex cones: facets from generators, pointedness, essential inequalities.
+
+Small numpy functions on cones ``{sum lambda_i g_i : lambda >= 0}`` and on their inequality
+form ``{x : F x >= 0}``, for the statics of :mod:`kcheck.mechanics.statics`. Three dimensions are
+handled exactly (cross products); more with qhull on a section of the cone (scipy, imported
+only then) and small linear programmes solved by clarabel.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+
+from kcheck.numerics.arrays import unique_rows
+
+__all__ = ["FACET_TOL", "cone_facets", "pointing", "essential_rows"]
+
+# Relative tolerance of "generator on the facet's plane" and of facets through the origin.
+FACET_TOL = 1e-10
+PERCEPTRON_STEPS = 50
+# Least margin (cosine) by which a direction must be inside a cone to count as interior.
+POINTED = 1e-6
+# Margin (cosine) from which a perceptron direction is used without the linear programme.
+WELL_INSIDE = 0.05
+
+
+def cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "flat"]:
+    """Inward unit facet normals (f, n) of the cone spanned by the generators (g, n).
+
+    The cone is ``{x : F x >= 0}``. Returns ``"everywhere"`` when the generators span the
+    whole space positively (any wrench is balanced) and ``"flat"`` when they do not span it
+    (e.g. every remaining support frictionless: equilibrium only for loads on a measure-zero
+    set of directions). Three dimensions (planar): cross products of pairs, exact. Six
+    (spatial): the facets of a section of the cone, from qhull (joggled input, ``QJ``: the
+    pyramids' coplanar edges are degenerate for exact arithmetic; facets move by about 1e-11).
+    """
+    n = generators.shape[1]
+    if np.linalg.matrix_rank(generators, tol=FACET_TOL) < n:
+        return "flat"
+    if n == 3:
+        i, j = np.triu_indices(len(generators), 1)
+        normals = np.cross(generators[i], generators[j])
+        size = np.linalg.norm(normals, axis=1)
+        normals = normals[size > FACET_TOL] / size[size > FACET_TOL, None]
+    else:
+        normals = _hull_facets(generators)
+    side = normals @ generators.T
+    tol = 1e3 * FACET_TOL if n > 3 else FACET_TOL
+    upper = np.all(side >= -tol, axis=1)
+    lower = np.all(side <= tol, axis=1)
+    facets = np.vstack([normals[upper], -normals[lower & ~upper]])
+    if not len(facets):
+        return "everywhere"
+    return unique_rows(np.round(facets, 9 if n > 3 else 13))
+
+
+def pointing(vectors: np.ndarray) -> np.ndarray | None:
+    """A direction ``h`` with ``vectors @ h > 0`` (the cone they span is pointed), or None.
+
+    Perceptron steps from the mean of the unit vectors first (enough for most cones), else a
+    linear programme maximising the smallest ``v . h`` over ``|h_i| <= 1``.
+    """
+    unit = vectors / np.linalg.norm(vectors, axis=1, keepdims=True)
+    h = unit.mean(axis=0)
+    # Perceptron steps towards the violated vectors: converges when the cone is pointed with
+    # some margin, at the cost of a few matrix-vector products. A direction barely inside
+    # makes a badly scaled section, so a small margin goes on to the linear programme.
+    for _ in range(PERCEPTRON_STEPS):
+        side = unit @ h
+        bad = side <= WELL_INSIDE * np.linalg.norm(h)
+        if not np.any(bad):
+            return h
+        h = h + unit[bad].mean(axis=0)
+    n = vectors.shape[1]
+    # maximise t subject to unit @ h >= t, |h_i| <= 1, t <= 1 (an LP, solved by clarabel:
+    # a tenth of scipy's per-call overhead, and already imported for the conic problems).
+    rows = np.vstack(
+        [
+            np.column_stack([-unit, np.ones(len(unit))]),
+            np.hstack([np.eye(n), np.zeros((n, 1))]),
+            np.hstack([-np.eye(n), np.zeros((n, 1))]),
+            np.append(np.zeros(n), 1.0),
+        ]
+    )
+    rhs = np.concatenate([np.zeros(len(unit)), np.ones(2 * n), [1.0]])
+    x = _solve_lp(np.append(np.zeros(n), -1.0), rows, rhs)
+    # A margin below 1e-6 is within the solver's tolerances: not pointed (flat).
+    return x[:n] if x is not None and x[n] > POINTED else None
+
+
+def _solve_lp(cost: np.ndarray, rows: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
+    """Minimise ``cost . x`` subject to ``rows @ x <= rhs`` with clarabel; None unless solved."""
+    import clarabel
+    from scipy import sparse
+
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    n = len(cost)
+    solver = clarabel.DefaultSolver(
+        sparse.csc_matrix((n, n)),
+        cost,
+        sparse.csc_matrix(rows),
+        rhs,
+        [clarabel.NonnegativeConeT(len(rhs))],
+        settings,
+    )
+    solution = solver.solve()
+    return np.asarray(solution.x) if str(solution.status) == "Solved" else None
+
+
+def _section(vectors: np.ndarray, h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Points where the rays cross ``h . x = 1``, in an orthonormal basis ``Q`` of ``h``'s
+    complement: returns ``(Y, Q)`` with ``x = Q y + h / |h|^2``."""
+    q = np.linalg.svd(np.eye(len(h)) - np.outer(h, h) / (h @ h))[0][:, : len(h) - 1]
+    return (vectors / (vectors @ h)[:, None]) @ q, q
+
+
+def _hull_facets(generators: np.ndarray) -> np.ndarray:
+    """Facet normals of the cone spanned by the generators (four or more dimensions).
+
+    A pointed cone: the facets of a section (qhull). A cone containing a line (two supports
+    squeezing the body between them inside their friction cones): its facets are those of
+    its projection onto the complement of that lineality space.
+    """
+    h = pointing(generators)
+    if h is not None:
+        return _section_facets(generators, h)
+    lineality = _lineality(generators)
+    n = generators.shape[1]
+    if lineality.shape[1] == n:
+        return np.zeros((0, n))
+    basis = np.linalg.svd(np.eye(n) - lineality @ lineality.T)[0][:, : n - lineality.shape[1]]
+    reduced = generators @ basis
+    reduced = reduced[np.linalg.norm(reduced, axis=1) > FACET_TOL]
+    k = basis.shape[1]
+    if k == 1:
+        return np.sign(reduced[:1, 0])[:, None] * basis.T
+    if k == 2:
+        angles = np.arctan2(reduced[:, 1], reduced[:, 0])
+        rays = reduced[[int(np.argmin(angles)), int(np.argmax(angles))]]
+        facets = np.column_stack([-rays[:, 1], rays[:, 0]])
+    elif k == 3:
+        i, j = np.triu_indices(len(reduced), 1)
+        facets = np.cross(reduced[i], reduced[j])
+        facets = facets[np.linalg.norm(facets, axis=1) > FACET_TOL]
+    else:
+        h = pointing(reduced)
+        if h is None:  # numerically borderline: no trustworthy facets
+            return np.zeros((0, n))
+        facets = _section_facets(reduced, h)
+    normals = facets @ basis.T
+    return normals / np.linalg.norm(normals, axis=1, keepdims=True)
+
+
+def _section_facets(generators: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """Facet normals of a pointed cone (``generators @ h > 0``) from qhull on a section."""
+    from scipy.spatial import ConvexHull
+
+    y, q = _section(generators, h)
+    eq = ConvexHull(y, qhull_options="QJ").equations
+    # e . y + o <= 0 inside, with y = Q^T x on h . x = 1: (Q e + o h) . x <= 0.
+    normals = -(eq[:, :-1] @ q.T) - eq[:, -1:] * h[None, :]
+    return normals / np.linalg.norm(normals, axis=1, keepdims=True)
+
+
+def _lineality(generators: np.ndarray) -> np.ndarray:
+    """Orthonormal basis (n, l) of the largest subspace inside the cone: the span of the
+    generators that take part in a positive dependency ``sum lambda_i g_i = 0`` (an LP)."""
+    g, n = generators.shape
+    # Variables lambda (g), t (g): maximise sum t with 0 <= t <= lambda, t <= 1,
+    # G^T lambda = 0 (as two inequalities), lambda <= 1e6 (bounded).
+    eye, zero = np.eye(g), np.zeros((g, g))
+    rows = np.vstack(
+        [
+            np.hstack([-eye, eye]),
+            np.hstack([zero, eye]),
+            np.hstack([zero, -eye]),
+            np.hstack([-eye, zero]),
+            np.hstack([eye, zero]),
+            np.hstack([generators.T, np.zeros((n, g))]),
+            np.hstack([-generators.T, np.zeros((n, g))]),
+        ]
+    )
+    rhs = np.concatenate([np.zeros(g), np.ones(g), np.zeros(2 * g), np.full(g, 1e6)])
+    rhs = np.concatenate([rhs, np.full(2 * n, 1e-9)])
+    x = _solve_lp(np.concatenate([np.zeros(g), -np.ones(g)]), rows, rhs)
+    inside = x[g:] > 1e-6 if x is not None else np.zeros(g, bool)
+    if not np.any(inside):
+        return np.zeros((n, 0))
+    u, s, _ = np.linalg.svd(generators[inside].T, full_matrices=False)
+    return u[:, s > FACET_TOL * s[0]]
+
+
+def essential_rows(rows: np.ndarray) -> np.ndarray | None:
+    """Indices of the rows that are extreme rays of the cone they span: the others are
+    non-negative combinations of them, so ``rows @ x >= 0`` keeps its solutions without them.
+    None when that cone is not pointed (the solution set has an empty interior)."""
+    if len(rows) <= rows.shape[1]:
+        return np.arange(len(rows))
+    _, s, vt = np.linalg.svd(rows, full_matrices=False)
+    rank = int(np.count_nonzero(s > FACET_TOL * s[0]))
+    reduced = rows @ vt[:rank].T
+    h = pointing(reduced)
+    if h is None:
+        return None
+    if rank <= 2:
+        y = _section(reduced, h)[0][:, 0] if rank == 2 else np.zeros(len(rows))
+        return np.unique([int(np.argmin(y)), int(np.argmax(y))])
+    from scipy.spatial import ConvexHull, QhullError
+
+    points = _section(reduced, h)[0]
+    try:  # exact arithmetic first: joggling is relative to the spread of the points
+        return np.sort(ConvexHull(points).vertices)
+    except QhullError:
+        return np.sort(ConvexHull(points, qhull_options="QJ").vertices)

@@ -1,0 +1,340 @@
+"""Newton–Euler at the instant of retraction, one implementation for planar and spatial scenes.
+
+The body starts from rest, so its acceleration is ``lambda * xi_r`` along the free twist of the
+retracted case (methods.md §3). Unknowns ``lambda`` and the normal forces ``N_j`` of the
+remaining supports solve a square linear system whose matrix depends on the friction
+assumption only, and whose right-hand side (the external wrench about the centre of mass) is
+affine in the force direction ``d``. So every unknown is ``x(d) = a + C d`` — exact safe ranges
+follow in closed form (:mod:`kcheck.mechanics.arcs`).
+
+All arrays are nondimensional (:mod:`kcheck.mechanics.problem`): lengths by the layout size
+``L``, forces by the force scale ``F`` (the largest of the load, the weight and the preloads),
+masses by ``m`` (so the nondimensional mass is 1 and inertia is ``I / (m L^2)``). Equations are
+ordered ``[moment about the centre of mass; force]``, like the wrenches of
+:mod:`kcheck.mechanics.kinematics`.
+
+Painlevé-type cases: with friction the system matrix ``K(mu)`` can turn singular as ``mu``
+grows; ``det K(mu) / det K(0)`` is the effective mass along the free twist under that friction
+(``xi'^T M xi`` with ``xi'`` the free twist of the friction-tilted reaction lines, followed
+continuously from ``mu = 0``). Where it is not positive for forward or backward sliding,
+rigid-body Coulomb friction gives more than one consistent outcome, or none: such a case is
+``ambiguous`` and has no safe direction.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from kcheck.mechanics.kinematics import FreeTwist, free_twists, point_velocity, wrenches
+from kcheck.mechanics.problem import Problem, build_problem, log_size, relative
+
+__all__ = [
+    "Problem",
+    "Affine",
+    "Case",
+    "SLIP_TOL",
+    "ILL_CONDITIONED",
+    "build_problem",
+    "log_size",
+    "relative",
+    "friction_directions",
+    "system_matrix",
+    "system_parts",
+    "friction_matrices",
+    "contact_matrices",
+    "solve_affine",
+    "analyse_case",
+    "analyse_cases",
+    "with_load",
+]
+
+# A contact whose nondimensional speed under the unit free twist is below this does not slide:
+# its friction direction is undetermined and, as in the thesis, its friction is set to zero.
+SLIP_TOL = 1e-9
+# Condition number (of the equilibrated system) above which numbers are not reported.
+ILL_CONDITIONED = 1e12
+# Free-motion determinacy (smallest/largest singular value) below which it is not unique.
+UNDETERMINED = 1e-10
+EPS = float(np.finfo(float).eps)
+TINY = float(np.finfo(float).tiny)
+# Forward error of a solve: this many roundings per unit of condition number, and of a free
+# twist per unit of its inverse determinacy (calibrated against 50-digit solutions: the
+# estimate stays above the actual error, typically within 10x; tests/kcheck/test_errors.py).
+ROUNDINGS = 1.0
+TWIST_ROUNDINGS = 1.0
+
+
+@dataclass(frozen=True)
+class Affine:
+    """Unknowns ``x(d) = a + c @ d`` (``x = [lambda, N_1, ...]``) for one friction assumption."""
+
+    matrix: np.ndarray
+    a: np.ndarray
+    c: np.ndarray
+    condition: float
+    error: np.ndarray  # estimated absolute error of each unknown (nondimensional)
+
+    def at(self, direction: np.ndarray | None) -> np.ndarray:
+        """Unknowns for a unit force direction, or for the fixed wrench alone."""
+        return self.a if direction is None else self.a + self.c @ direction
+
+
+@dataclass(frozen=True)
+class Case:
+    """One retracted support: free motion, sliding of the others, both friction assumptions.
+
+    ``effective_mass`` is ``det K / det K(mu = 0)`` under forward and under backward friction:
+    the effective mass along the free twist relative to the frictionless one (1 without
+    friction); a value <= 0 makes the case Painlevé-type (``ambiguous``).
+    """
+
+    retracted: int
+    keep: np.ndarray  # indices of the remaining supports
+    free: FreeTwist
+    sliding: np.ndarray  # (k-1,) bool: does the contact slide under the free twist
+    forward: Affine | None
+    backward: Affine | None
+    effective_mass: tuple[float, float] | None = None
+    k0: np.ndarray | None = None  # system matrix without friction
+    k_friction: np.ndarray | None = None  # its change per unit of mu (scene's pattern)
+
+    @property
+    def determined(self) -> bool:
+        """Whether the free motion is unique (one-dimensional null space, closes the gap)."""
+        return self.free.determinacy > UNDETERMINED and self.free.closing > UNDETERMINED
+
+    @property
+    def well_conditioned(self) -> bool:
+        """Whether both linear systems are far enough from singular to trust their numbers."""
+        return all(
+            s is not None and s.condition < ILL_CONDITIONED for s in (self.forward, self.backward)
+        )
+
+    @property
+    def painleve(self) -> bool:
+        """Whether friction makes the effective mass along the free twist non-positive."""
+        return self.effective_mass is not None and min(self.effective_mass) <= 0.0
+
+
+def friction_directions(
+    twist: np.ndarray, points: np.ndarray, sense: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Unit friction directions opposing sliding at contacts, and which contacts slide.
+
+    ``sense`` +1 opposes the motion along the twist (forward), -1 the reverse. Contacts that do
+    not slide get a zero direction (undetermined friction, set to zero as in the thesis).
+    """
+    u = point_velocity(twist, points)
+    speed = np.sqrt(np.einsum("ij,ij->i", u, u))
+    sliding = speed > SLIP_TOL
+    t = np.where(sliding[:, None], -sense * u / np.where(sliding, speed, 1.0)[:, None], 0.0)
+    return t, sliding
+
+
+def contact_matrices(
+    twists: np.ndarray,
+    points: np.ndarray,
+    normals: np.ndarray,
+    mu: np.ndarray,
+    com: np.ndarray,
+    inertia: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``K0``, ``F`` (..., n, n) and sliding (..., k-1) of free twists (..., n) with the
+    remaining supports' points and unit normals (..., k-1, dim) and coefficients (..., k-1),
+    about the centre of mass ``com`` with inertia ``inertia`` (nondimensional; any leading
+    axes, e.g. cases, or samples and cases). See :func:`system_parts`."""
+    nw = 1 if points.shape[-1] == 2 else 3
+    u = point_velocity(twists[..., None, :], points)
+    speed = np.sqrt(np.sum(u * u, axis=-1))
+    sliding = speed > SLIP_TOL
+    t = np.where(sliding[..., None], -u / np.where(sliding, speed, 1.0)[..., None], 0.0)
+    lever = points - com
+    normal = -wrenches(lever, normals)  # (..., k-1, n)
+    friction = -wrenches(lever, mu[..., None] * t)
+    inertial = np.concatenate(
+        [twists[..., :nw] @ inertia.T, point_velocity(twists, com)], axis=-1
+    )  # (..., n)
+    k0 = np.concatenate([inertial[..., :, None], np.swapaxes(normal, -1, -2)], axis=-1)
+    zero = np.zeros_like(inertial)[..., :, None]
+    big_f = np.concatenate([zero, np.swapaxes(friction, -1, -2)], axis=-1)
+    return k0, big_f, sliding
+
+
+def _parts(
+    problem: Problem, twists: np.ndarray, keeps: np.ndarray, mu: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`system_parts` for a stack of cases: twists (c, n), kept supports (c, k-1), friction
+    coefficients ``mu`` (k,) per support. Returns ``K0``, ``F`` (c, n, n) and sliding (c, k-1)."""
+    return contact_matrices(
+        twists,
+        problem.points[keeps],
+        problem.normals[keeps],
+        mu[keeps],
+        problem.com,
+        problem.inertia,
+    )
+
+
+def system_parts(
+    problem: Problem, twist: np.ndarray, keep: np.ndarray, mu: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``K = K0 + F`` under forward friction ``mu`` (``K0 - F`` under backward): ``(K0, F)``,
+    and which contacts slide.
+
+    Column 0 of ``K0`` is the inertial wrench of the unit twist acceleration ``[I w, m u(c)]``;
+    column ``1 + j`` is minus the wrench of the unit normal force ``n_j``; ``F`` holds minus the
+    wrenches of the friction forces ``mu_j t_j`` (``t_j`` opposing forward sliding). ``mu``
+    holds the coefficients of the kept supports.
+    """
+    full = np.zeros(len(problem.points))
+    full[keep] = mu
+    k0, big_f, sliding = _parts(problem, twist[None], np.asarray(keep)[None], full)
+    return k0[0], big_f[0], sliding[0]
+
+
+def friction_matrices(problem: Problem, cases: Sequence[Case], mu: np.ndarray) -> np.ndarray:
+    """The friction part ``F`` (c, n, n) of each case's forward system for per-support
+    coefficients ``mu`` (k,): ``K = K0 + F`` (backward ``K0 - F``); linear in ``mu``."""
+    twists = np.array([c.free.twist for c in cases])
+    keeps = np.array([c.keep for c in cases])
+    return _parts(problem, twists, keeps, np.asarray(mu, float))[1]
+
+
+def system_matrix(
+    problem: Problem, twist: np.ndarray, keep: np.ndarray, mu: np.ndarray, sense: int
+) -> np.ndarray:
+    """Matrix of ``[lambda, N_j]`` in Newton–Euler about the centre of mass, friction ``mu``
+    opposing forward (``sense = +1``) or backward (``-1``) sliding (:func:`system_parts`)."""
+    k0, big_f, _ = system_parts(problem, twist, keep, mu)
+    return k0 + sense * big_f
+
+
+def _equilibrate(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Row and column scale factors (..., n) making every row and column's largest entry 1."""
+    size = np.abs(matrices)
+    rows = size.max(axis=-1)
+    # A row or column below the smallest normal number carries nothing: leave it unscaled
+    # (its reciprocal would overflow).
+    rows = 1.0 / np.where(rows > TINY, rows, 1.0)
+    cols = (size * rows[..., :, None]).max(axis=-2)
+    cols = 1.0 / np.where(cols > TINY, cols, 1.0)
+    return rows, cols
+
+
+def _solve_many(
+    matrices: np.ndarray, rhs: np.ndarray, matrix_error: np.ndarray | None = None
+) -> list[Affine]:
+    """:func:`solve_affine` for a stack of matrices (s, n, n) sharing one right-hand side
+    (n, 1 + dim), in one batch of numpy calls. ``matrix_error`` (s,): the relative error the
+    matrices carry from their construction (e.g. the free twist's), for the error estimate."""
+    rows, cols = _equilibrate(matrices)
+    scaled = matrices * rows[..., :, None] * cols[..., None, :]
+    n = rhs.shape[0]
+    with np.errstate(all="ignore"):
+        try:
+            singular = np.linalg.svd(scaled, compute_uv=False)
+        except np.linalg.LinAlgError:  # non-finite entries
+            singular = np.zeros(scaled.shape[:-1])
+        condition = np.where(singular[..., -1] > 0, singular[..., 0] / singular[..., -1], np.inf)
+    good = np.isfinite(condition) & (condition <= 1 / EPS)
+    out: list[Affine] = []
+    sol = np.full((len(matrices), n, rhs.shape[1]), np.nan)
+    if np.any(good):
+        scaled_rhs = rhs[None, :, :] * rows[good][:, :, None]
+        try:
+            sol[good] = np.linalg.solve(scaled[good], scaled_rhs) * cols[good][:, :, None]
+        except np.linalg.LinAlgError:
+            good[:] = False
+    for k, matrix in enumerate(matrices):
+        if not good[k]:
+            nan = np.full((n, rhs.shape[1]), np.nan)
+            out.append(Affine(matrix, nan[:, 0], nan[:, 1:], float("inf"), np.full(n, np.inf)))
+            continue
+        x = sol[k]
+        scale = np.abs(x).sum(axis=1)
+        # Forward error: the condition number times the matrix's own relative error and the
+        # solve's rounding (LU with pivoting is backward stable: its residual is of that size).
+        cond = float(condition[k])
+        built = 0.0 if matrix_error is None else float(matrix_error[k])
+        error = cond * (EPS * ROUNDINGS + built) * scale
+        out.append(Affine(matrix, x[:, 0], x[:, 1:], cond, error))
+    return out
+
+
+def solve_affine(matrix: np.ndarray, b0: np.ndarray, big_b: np.ndarray) -> Affine:
+    """Solve ``K x = b0 + B d`` for the affine coefficients, with conditioning and error.
+
+    Rows and columns are equilibrated first, so the condition number measures the geometry,
+    not the choice of units or how mass compares with inertia. A singular (or non-finite)
+    system gives NaN coefficients and an infinite condition number.
+    """
+    return _solve_many(matrix[None], np.column_stack([b0, big_b]))[0]
+
+
+def _effective_masses(k0: np.ndarray, big_f: np.ndarray) -> list[tuple[float, float] | None]:
+    """Per case, ``det(K0 + F) / det K0`` and ``det(K0 - F) / det K0`` (see :class:`Case`);
+    ``k0``, ``big_f`` (c, n, n)."""
+    rows, cols = _equilibrate(k0)
+    scale = rows[:, None, :, None] * cols[:, None, None, :]  # one scaling keeps the ratios
+    stack = np.stack([k0, k0 + big_f, k0 - big_f], axis=1) * scale
+    with np.errstate(all="ignore"):
+        try:
+            sign, logdet = np.linalg.slogdet(stack)
+        except np.linalg.LinAlgError:
+            return [None] * len(k0)
+        ratio = sign[:, 1:] * sign[:, :1] * np.exp(logdet[:, 1:] - logdet[:, :1])
+    good = (sign[:, 0] != 0) & np.all(np.isfinite(logdet), axis=1)
+    return [(float(r[0]), float(r[1])) if g else None for r, g in zip(ratio, good, strict=True)]
+
+
+def analyse_cases(problem: Problem, retracted: Sequence[int] | None = None) -> tuple[Case, ...]:
+    """Free motion and both friction-assumption systems for each retracted support (default:
+    every support), in one batch of numpy calls."""
+    k = len(problem.points)
+    which = np.arange(k) if retracted is None else np.asarray(retracted, dtype=int)
+    frees = free_twists(problem.points, problem.normals, which)
+    keeps = np.array([np.flatnonzero(np.arange(k) != r) for r in which])
+    twists = np.array([f.twist for f in frees])
+    pattern, mu = problem.friction_pattern()
+    k0, unit_f, sliding = _parts(problem, twists, keeps, pattern)
+    big_f = mu * unit_f
+    cases = [
+        Case(int(r), keeps[i], frees[i], sliding[i], None, None, None, k0[i], unit_f[i])
+        for i, r in enumerate(which)
+    ]
+    live = [i for i, case in enumerate(cases) if case.determined]
+    if not live:
+        return tuple(cases)
+    b0, big_b = problem.load_basis()
+    stack = np.concatenate([k0[live] + big_f[live], k0[live] - big_f[live]])
+    # The free twist (a null vector) is off by about eps over its singular-value gap; the
+    # matrix built from it (inertial column, friction directions) inherits that.
+    twist_error = np.array([TWIST_ROUNDINGS * EPS / cases[i].free.determinacy for i in live])
+    solved = _solve_many(
+        stack, np.column_stack([b0, big_b]), np.concatenate([twist_error, twist_error])
+    )
+    masses = _effective_masses(k0[live], big_f[live])
+    for n, i in enumerate(live):
+        cases[i] = replace(
+            cases[i], forward=solved[n], backward=solved[len(live) + n], effective_mass=masses[n]
+        )
+    return tuple(cases)
+
+
+def analyse_case(problem: Problem, retracted: int) -> Case:
+    """Free motion and both friction-assumption systems for one retracted support."""
+    return analyse_cases(problem, [retracted])[0]
+
+
+def with_load(case: Case, b0: np.ndarray, big_b: np.ndarray) -> Case:
+    """The same case with another external wrench ``b0 + B d`` (e.g. gravity's direction swept
+    instead of the load's): both systems solved again, the friction assumptions unchanged."""
+    if case.forward is None or case.backward is None:
+        return case
+    fwd, bwd = _solve_many(
+        np.stack([case.forward.matrix, case.backward.matrix]), np.column_stack([b0, big_b])
+    )
+    return replace(case, forward=fwd, backward=bwd)

@@ -1,0 +1,302 @@
+"""For which friction coefficients a retracted case closes: exact intervals of ``mu``.
+
+Friction enters the equations of a case as ``K(mu) = K0 + mu F`` (forward sliding; backward
+sliding is ``K(-mu)``), with ``mu`` the scene's largest coefficient and every support keeping
+its share of it (equal coefficients: one common ``mu``; frictionless supports stay
+frictionless; see :meth:`kcheck.mechanics.dynamics.Problem.friction_pattern`). Every quantity the outcome
+depends on is a ratio of determinants polynomial in ``mu`` (Cramer's rule): ``lambda`` and the
+normal forces under forward and backward friction, and the effective mass
+``det K(+-mu) / det K(0)`` (Painlevé). So "closes" can only change where one of these
+polynomials has a real root: the real eigenvalues of the pencils ``(A0, A1)`` with
+``det(A0 + mu A1) = 0`` — ``K`` itself and ``K`` with one column replaced by the right-hand
+side. Between consecutive roots the outcome is constant; one evaluation per piece decides it.
+
+The roots come from numpy alone: for a shift ``s`` with ``B = A0 + s A1`` well conditioned,
+``det(A0 + mu A1) = det B det(I + (mu - s) B^-1 A1)``, so ``mu = s - 1 / eig(B^-1 A1)``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from kcheck.mechanics.dynamics import ILL_CONDITIONED, Case, Problem, _equilibrate
+from kcheck.fmt import format_number
+from kcheck.mechanics.outcomes import outcome
+
+__all__ = [
+    "FrictionIntervals",
+    "friction_intervals",
+    "friction_intervals_many",
+    "pencil_roots",
+    "describe_friction",
+]
+
+# Shifts tried for the pencils; the best-conditioned one is used per pencil.
+SHIFTS = np.array([0.0, 0.6180339887, -0.7548776662, 1.7320508076, -2.2360679775, 4.1231056256])
+# A pencil whose every shifted matrix is worse conditioned than this is singular for every mu.
+PENCIL_SINGULAR = 1e12
+# Roots with an imaginary part below this (relative) are kept as real (a spare breakpoint
+# costs one evaluation; a missed one would merge two pieces).
+IMAG_RTOL = 1e-6
+
+
+@dataclass(frozen=True)
+class FrictionIntervals:
+    """The friction coefficients for which a case closes (uniquely), and the scene's.
+
+    ``intervals`` are closed intervals ``(lo, hi)`` of ``mu`` (``hi`` may be ``inf``), sorted;
+    ``mu`` is the scene's (largest) coefficient and ``closes`` whether the case closes there;
+    ``painleve`` the intervals where the case is Painlevé-type (ambiguous); ``uniform`` whether
+    every support with friction has the same coefficient (else the others scale with ``mu``).
+    """
+
+    intervals: tuple[tuple[float, float], ...]
+    mu: float
+    closes: bool
+    painleve: tuple[tuple[float, float], ...] = ()
+    uniform: bool = True
+
+    @property
+    def containing(self) -> tuple[float, float] | None:
+        """The interval that holds the scene's ``mu``, or None when it does not close there."""
+        if not self.closes:
+            return None
+        return _around(self.intervals, self.mu)
+
+    @property
+    def limiting(self) -> float | None:
+        """Upper end of the interval holding the scene's ``mu`` (``inf``: none stops it)."""
+        around = self.containing
+        return None if around is None else around[1]
+
+    @property
+    def painleve_from(self) -> float | None:
+        """Where the Painlevé interval holding the scene's ``mu`` starts, or None."""
+        around = _around(self.painleve, self.mu)
+        return None if around is None else around[0]
+
+
+def _around(intervals: tuple[tuple[float, float], ...], mu: float) -> tuple[float, float] | None:
+    """The interval containing ``mu`` (with a relative tolerance at its ends), or None."""
+    tol = 1e-9 * max(1.0, abs(mu))
+    for lo, hi in intervals:
+        if lo - tol <= mu <= hi + tol:
+            return lo, hi
+    return None
+
+
+def _hadamard(matrices: np.ndarray) -> np.ndarray:
+    """``|det A| / prod(row norms)`` in [0, 1] for a stack: 1 for orthogonal rows, 0 when
+    singular — a cheap (LU instead of SVD) measure of how far from singular a matrix is."""
+    with np.errstate(all="ignore"):
+        sign, logdet = np.linalg.slogdet(matrices)
+        rows = np.sum(np.log(np.sqrt(np.sum(matrices * matrices, axis=-1))), axis=-1)
+        ratio = np.where(sign != 0, np.exp(logdet - rows), 0.0)
+    return np.where(np.isfinite(ratio), ratio, 0.0)
+
+
+def pencil_roots(a0: np.ndarray, a1: np.ndarray) -> np.ndarray:
+    """Real roots ``mu`` of ``det(A0 + mu A1)`` for a stack of pencils (p, n, n): (p, n), NaN
+    where a pencil has fewer.
+
+    Each pencil is equilibrated, shifted to the least singular ``B = A0 + s A1`` of a few
+    shifts (by the Hadamard ratio), and its roots are ``s - 1 / eig(B^-1 A1)`` (zero
+    eigenvalues are roots at infinity). A pencil singular for every ``mu`` (e.g. an unknown
+    that is zero for every ``mu``) has no roots.
+    """
+    p, n = a0.shape[0], a0.shape[-1]
+    out = np.full((p, n), np.nan)
+    rows, cols = _equilibrate(np.abs(a0) + np.abs(a1))
+    a0 = a0 * rows[..., :, None] * cols[..., None, :]
+    a1 = a1 * rows[..., :, None] * cols[..., None, :]
+    shifted = a0[None] + SHIFTS[:, None, None, None] * a1[None]  # (s, p, n, n)
+    quality = _hadamard(shifted)
+    best = np.argmax(quality, axis=0)
+    usable = quality[best, np.arange(p)] > 1.0 / PENCIL_SINGULAR
+    if not np.any(usable):
+        return out
+    picked = np.flatnonzero(usable)
+    base = shifted[best[picked], picked]
+    shift = SHIFTS[best[picked]]
+    with np.errstate(all="ignore"):
+        try:
+            values = np.linalg.eigvals(np.linalg.solve(base, a1[picked]))
+        except np.linalg.LinAlgError:
+            return out
+        size = np.abs(values).max(axis=1, keepdims=True)
+        finite = np.abs(values) > 1e-14 * np.where(size > 0, size, 1.0)
+        roots = shift[:, None] - 1.0 / np.where(finite, values, 1.0)
+    real = (
+        finite & np.isfinite(roots) & (np.abs(roots.imag) <= IMAG_RTOL * (1.0 + np.abs(roots.real)))
+    )
+    out[picked] = np.where(real, roots.real, np.nan)
+    return out
+
+
+def _pencils(k0: np.ndarray, big_f: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``K`` and, per unknown, ``K`` with that column replaced by the right-hand side:
+    (n + 1, n, n) each."""
+    n = k0.shape[0]
+    a0 = np.repeat(k0[None], n + 1, axis=0)
+    a1 = np.repeat(big_f[None], n + 1, axis=0)
+    idx = np.arange(n)
+    a0[idx + 1, :, idx] = rhs
+    a1[idx + 1, :, idx] = 0.0
+    return a0, a1
+
+
+def _breakpoints(roots: np.ndarray) -> np.ndarray:
+    """Sorted distinct positive ``|root|`` values (roots of either sign matter: ``K(-mu)`` is
+    the backward system)."""
+    size = np.sort(np.abs(roots[np.isfinite(roots)]))
+    size = size[size > 0]
+    if not len(size):
+        return size
+    keep = np.append(True, np.diff(size) > 1e-13 * size[1:])
+    return size[keep]
+
+
+def _samples(points: np.ndarray) -> np.ndarray:
+    """One ``mu`` inside each piece between 0, the breakpoints and infinity."""
+    edges = np.concatenate([[0.0], points])
+    inner = 0.5 * (edges[:-1] + edges[1:])
+    return np.append(inner, 2.0 * edges[-1] + 1.0)
+
+
+def _pieces(points: np.ndarray, flags: np.ndarray) -> tuple[tuple[float, float], ...]:
+    """Closed intervals from the pieces ``[0, p1], [p1, p2], ..., [pm, inf)`` whose flag holds,
+    adjacent ones merged."""
+    edges = np.concatenate([[0.0], points, [np.inf]])
+    out: list[list[float]] = []
+    for i, flag in enumerate(flags):
+        if not flag:
+            continue
+        if out and out[-1][1] == edges[i]:
+            out[-1][1] = float(edges[i + 1])
+        else:
+            out.append([float(edges[i]), float(edges[i + 1])])
+    return tuple((lo, hi) for lo, hi in out)
+
+
+def _evaluate(
+    k0: np.ndarray, big_f: np.ndarray, rhs: np.ndarray, mus: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """At each sample ``mu`` (m,) of a case (``k0``, ``big_f``, ``rhs`` (m, ...) stacked per
+    sample): whether the case closes uniquely, and whether it is Painlevé-type."""
+    m = len(mus)
+    signed = np.concatenate([mus, -mus])
+    k0_2, f_2, rhs_2 = (np.concatenate([x, x]) for x in (k0, big_f, rhs))
+    stack = k0_2 + signed[:, None, None] * f_2
+    rows, cols = _equilibrate(stack)
+    scaled = stack * rows[..., :, None] * cols[..., None, :]
+    with np.errstate(all="ignore"):
+        sign0, _ = np.linalg.slogdet(k0)
+        sign, _ = np.linalg.slogdet(scaled)
+        quality = _hadamard(scaled)
+        try:
+            x = np.linalg.solve(scaled, (rhs_2 * rows)[..., None])[..., 0] * cols
+        except np.linalg.LinAlgError:
+            return np.zeros(m, bool), np.zeros(m, bool)
+    effective = sign * np.concatenate([sign0, sign0]) > 0
+    painleve = ~(effective[:m] & effective[m:])
+    forward = x[:m]
+    trusted = (quality[:m] > 1.0 / ILL_CONDITIONED) & (quality[m:] > 1.0 / ILL_CONDITIONED)
+    closes = trusted & ~painleve & (forward[:, 0] > 0) & np.all(forward[:, 1:] > 0, axis=1)
+    return closes, painleve
+
+
+def friction_intervals_many(
+    problem: Problem, cases: Sequence[Case], direction: np.ndarray | None
+) -> list[FrictionIntervals]:
+    """:func:`friction_intervals` for several cases of one problem, in one batch of numpy
+    calls."""
+    _, mu = problem.friction_pattern()
+    rough = problem.friction[problem.friction > 0]
+    uniform = bool(len(rough) == 0 or np.ptp(rough) <= 1e-12 * rough.max())
+    live = [c for c in cases if c.determined and c.k0 is not None and c.k_friction is not None]
+    if not live:
+        return [FrictionIntervals((), mu, False, (), uniform) for _ in cases]
+    rhs = problem.wrench(direction)
+    k0 = np.stack([c.k0 for c in live])  # type: ignore[misc]
+    big_f = np.stack([c.k_friction for c in live])  # type: ignore[misc]
+    n = k0.shape[-1]
+    pencils = [_pencils(a, b, rhs) for a, b in zip(k0, big_f, strict=True)]
+    roots = pencil_roots(
+        np.concatenate([p[0] for p in pencils]), np.concatenate([p[1] for p in pencils])
+    ).reshape(len(live), n + 1, n)
+    # Samples of every case, for closing (all roots) and for Painlevé (det K roots only).
+    points = [_breakpoints(r) for r in roots]
+    det_points = [_breakpoints(r[0]) for r in roots]
+    samples = [_samples(p) for p in points] + [_samples(p) for p in det_points]
+    owner = np.concatenate([np.full(len(x), i % len(live)) for i, x in enumerate(samples)])
+    mus = np.concatenate(samples)
+    closes, painleve = _evaluate(k0[owner], big_f[owner], np.broadcast_to(rhs, (len(mus), n)), mus)
+    bounds = np.cumsum([0] + [len(x) for x in samples])
+    by_case = {}
+    for i, case in enumerate(live):
+        first = slice(bounds[i], bounds[i + 1])
+        second = slice(bounds[len(live) + i], bounds[len(live) + i + 1])
+        by_case[id(case)] = FrictionIntervals(
+            _pieces(points[i], closes[first]),
+            mu,
+            outcome(case, direction)[0] == "closes",
+            _pieces(det_points[i], painleve[second]),
+            uniform,
+        )
+    return [by_case.get(id(c), FrictionIntervals((), mu, False, (), uniform)) for c in cases]
+
+
+def friction_intervals(
+    problem: Problem, case: Case, direction: np.ndarray | None
+) -> FrictionIntervals:
+    """The intervals of ``mu`` for which a case closes at a force direction (or under the
+    fixed wrench alone, ``direction`` None), exact to the roots' rounding.
+
+    The scene's ``mu`` is placed by the case's own outcome, so ``closes`` agrees with
+    :func:`kcheck.mechanics.outcomes.outcome` there.
+    """
+    return friction_intervals_many(problem, [case], direction)[0]
+
+
+def _distinct(value: float, scene_mu: float) -> str:
+    """``value`` to 3 significant digits, more (up to 6) while it would read as the scene's
+    coefficient: "jams at μ = 0.15; it closes for μ ≤ 0.1498", not "μ ≤ 0.15"."""
+    for digits in range(3, 7):
+        text = format_number(value, digits)
+        if value == scene_mu or text != format_number(scene_mu, digits):
+            return text
+    return text
+
+
+def describe_friction(intervals: FrictionIntervals) -> str:
+    """Where the case closes, in a designer's words: "closes for μ ≤ 0.122", "needs μ ≥ 0.08",
+    "closes for 0.05 ≤ μ ≤ 0.3 or μ ≥ 0.9", "closes for every μ", "closes for no μ"."""
+
+    def _mu(value: float) -> str:
+        return _distinct(value, intervals.mu)
+
+    if intervals.closes and intervals.containing is not None:
+        lo, hi = intervals.containing
+        if lo > 0 and np.isfinite(hi):
+            return f"needs μ ≥ {_mu(lo)} and closes up to μ = {_mu(hi)}"
+        if lo > 0:
+            return f"needs μ ≥ {_mu(lo)}"
+        if np.isfinite(hi):
+            return f"closes for μ ≤ {_mu(hi)}"
+        return "closes for every μ"
+    if not intervals.intervals:
+        return "closes for no μ"
+    parts = []
+    for lo, hi in intervals.intervals:
+        if lo <= 0 and not np.isfinite(hi):
+            parts.append("every μ")
+        elif lo <= 0:
+            parts.append(f"μ ≤ {_mu(hi)}")
+        elif not np.isfinite(hi):
+            parts.append(f"μ ≥ {_mu(lo)}")
+        else:
+            parts.append(f"{_mu(lo)} ≤ μ ≤ {_mu(hi)}")
+    return "closes for " + " or ".join(parts)

@@ -1,0 +1,280 @@
+"""The least friction that holds: the smallest common coefficient for which the remaining
+supports can balance a wrench (:mod:`kcheck.mechanics.statics` decides single coefficients).
+
+* Planar: exactly, as the least feasible root among the pair and triple determinants of the
+  edge wrenches (:func:`friction_candidates`), found by bisection over those candidates.
+* Spatial: Dinkelbach-type steps on the largest friction ratio of balancing forces, each a
+  conic programme (:func:`least_friction_exactly`).
+* Otherwise (and as the check of both): bisection on the monotone feasibility
+  (:func:`least_friction`).
+
+Nondimensional, as :mod:`kcheck.mechanics.statics`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from kcheck.numerics.arrays import unique
+from kcheck.mechanics.kinematics import cross3, wrenches
+from kcheck.mechanics.statics import (
+    Statics,
+    _contact_axes,
+    _solve_conic,
+    equilibrium_forces,
+    tangent_frames,
+)
+
+__all__ = [
+    "friction_candidates",
+    "least_friction",
+    "least_friction_exactly",
+    "rough_supports",
+]
+
+#: Most Dinkelbach-type steps of :func:`least_friction_exactly` (it needs 3 to 8).
+STEPS = 30
+#: Friction coefficients below this are zero to every purpose: bisection stops there.
+MU_FLOOR = 1e-12
+
+
+def _largest_ratio(local: np.ndarray, scale: np.ndarray) -> float:
+    """The largest ``|f_t| / (scale f_n)`` over the contacts with a share of the normal
+    force (forces in the contacts' axes, (k, 3))."""
+    fn = local[:, 0] * scale
+    tangential = np.linalg.norm(local[:, 1:], axis=1)
+    pressed = (scale > 0) & (fn > 1e-9 * max(float(np.abs(local[:, 0]).max()), 1e-300))
+    ratios = tangential[pressed] / fn[pressed]
+    return float(ratios.max()) if len(ratios) else 0.0
+
+
+def least_friction_exactly(
+    statics: Statics,
+    keep: np.ndarray,
+    wrench: np.ndarray,
+    scale: np.ndarray,
+    upper: float = 1.0,
+    *,
+    largest: float = 100.0,
+    rtol: float = 1e-6,
+) -> float | None:
+    """Spatial: the smallest common coefficient ``mu`` for which the supports ``keep``, with
+    coefficients ``mu * scale`` and exact circular cones, balance ``wrench``; None when not
+    even ``largest`` does.
+
+    The least coefficient is ``min over balancing forces of max_j |f_t,j| / (scale_j f_n,j)``,
+    a generalised fractional programme. From a balance found at a feasible coefficient
+    (doubling ``upper``), Dinkelbach-type steps (Crouzeix, Ferland & Schaible 1985), each a
+    conic programme (:func:`_solve_conic`), lower the largest ratio of actual balancing
+    forces; they stop when a step gains less than ``rtol / 1000``. The result is then checked
+    as bisection would have found it: it holds, and ``(1 - rtol)`` times it does not (else
+    bisection below it decides). About 7 conic solves instead of bisection's 17.
+    """
+    scale = np.asarray(scale, float)
+
+    def feasible(mu: float) -> bool:
+        return equilibrium_forces(statics, keep, wrench, mu * scale) is not None
+
+    if feasible(0.0):
+        return 0.0
+    axes, columns = _contact_axes(statics, keep)
+    mu = max(upper, 1e-3)
+    while (found := _solve_conic(columns, wrench, mu * scale[keep], None)) is None:
+        if mu >= largest:
+            return None
+        mu = min(2.0 * mu, largest)
+    local, kept = found[0], scale[keep]
+    ratio = _largest_ratio(local, kept)
+    for _ in range(STEPS):
+        step = _solve_conic(columns, wrench, ratio * kept, np.maximum(local[:, 0] * kept, 0.0))
+        if step is None:
+            break
+        lower = _largest_ratio(step[0], kept)
+        if not lower < ratio:
+            break
+        gain = ratio - lower
+        local, ratio = step[0], lower
+        if gain <= 1e-3 * rtol * ratio:
+            break
+    if feasible(ratio * (1.0 - rtol)):  # not converged (degenerate): bisection below it
+        return least_friction(feasible, ratio, largest=largest, rtol=rtol)
+    return ratio
+
+
+def rough_supports(friction: np.ndarray) -> np.ndarray:
+    """Which supports a common friction coefficient applies to: those with friction in the
+    scene, or all of them when the scene is frictionless (as for the limiting friction)."""
+    rough = friction > 0
+    return rough if np.any(rough) else np.ones_like(rough)
+
+
+def friction_candidates(
+    statics: Statics, keep: np.ndarray, wrench: np.ndarray, scale: np.ndarray
+) -> np.ndarray:
+    """Planar: every common coefficient ``mu > 0`` at which the supports ``keep``, with the
+    coefficients ``mu * scale``, can start to balance ``wrench`` (sorted).
+
+    Each edge wrench is affine in ``mu``, ``g(mu) = a + mu b`` (``a`` the normal's wrench,
+    ``b`` the tangent's). By Carathéodory ``x = -wrench`` is balanced iff it is a non-negative
+    combination of at most three independent edges, whose coefficients are ratios of
+    determinants (Cramer): ``det[x, g_v, g_w] / det[g_u, g_v, g_w]``. Their signs change only
+    where a numerator (``x`` on the plane of two edges: a quadratic in ``mu``) or a
+    denominator (three edges in one plane, the cone turning into a half-space or the whole
+    space: a cubic) vanishes; the positive real roots of these polynomials are the
+    candidates (exact up to rounding).
+    """
+    points, normals = statics.points[keep], statics.normals[keep]
+    tangents = tangent_frames(normals)[:, 0]
+    a = wrenches(points, normals)
+    b = scale[keep, None] * wrenches(points, tangents)
+    # Both edges of each cone, n + mu t and n - mu t; an edge that does not move with mu
+    # (a frictionless support) once.
+    moving = np.any(b != 0, axis=1)
+    a, b = np.concatenate([a, a[moving]]), np.concatenate([b, -b[moving]])
+    x = -np.asarray(wrench, float)
+    i, j = np.triu_indices(len(a), 1)
+    # det[x, a_i + mu b_i, a_j + mu b_j]: coefficients of mu^2, mu, 1 (a leading 0: cubics)
+    ax, bx = cross3(a, x), cross3(b, x)  # det[x, p, q] = -(p x x) . q
+    pairs = -np.column_stack(
+        [
+            np.zeros(len(i)),
+            np.sum(bx[i] * b[j], axis=1),
+            np.sum(ax[i] * b[j] + bx[i] * a[j], axis=1),
+            np.sum(ax[i] * a[j], axis=1),
+        ]
+    )
+    u, v, w = _triples(len(a))
+    # det[g_u, g_v, g_w] = (g_u x g_v) . g_w: coefficients of mu^3 ... 1
+    aa, ab, ba, bb = (cross3(p[u], q[v]) for p, q in ((a, a), (a, b), (b, a), (b, b)))
+    triples = np.column_stack(
+        [
+            np.sum(bb * b[w], axis=1),
+            np.sum(bb * a[w] + (ab + ba) * b[w], axis=1),
+            np.sum((ab + ba) * a[w] + aa * b[w], axis=1),
+            np.sum(aa * a[w], axis=1),
+        ]
+    )
+    return unique(_positive_roots(np.vstack([pairs, triples])))
+
+
+def _triples(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Indices (u < v < w) of every triple of ``n`` items."""
+    u, v, w = (
+        np.array(
+            [(u, v, w) for u in range(n) for v in range(u + 1, n) for w in range(v + 1, n)], int
+        )
+        .reshape(-1, 3)
+        .T
+    )
+    return u, v, w
+
+
+def _positive_roots(coefficients: np.ndarray) -> np.ndarray:
+    """Positive real roots of polynomials of degree up to three (rows, highest power first),
+    all at once; none of a polynomial that does not depend on ``mu`` (relative to its size).
+    The companion matrices' eigenvalues, then Newton steps on each polynomial (the
+    eigenvalues are accurate relative to the largest root, not each one)."""
+    size = np.abs(coefficients).sum(axis=1, keepdims=True)
+    c = np.where(np.abs(coefficients) > 1e-14 * size, coefficients, 0.0)
+    found = []
+    for degree in (3, 2, 1):
+        lead = 3 - degree
+        rows = c[(c[:, lead] != 0) & np.all(c[:, :lead] == 0, axis=1)]
+        if not len(rows):
+            continue
+        monic = rows[:, lead + 1 :] / rows[:, lead : lead + 1]  # (r, degree)
+        companion = np.zeros((len(rows), degree, degree))
+        companion[:, 0, :] = -monic
+        companion[:, np.arange(1, degree), np.arange(degree - 1)] = 1.0
+        roots = np.linalg.eigvals(companion)  # (r, degree)
+        real = np.abs(roots.imag) <= 1e-9 * np.maximum(np.abs(roots), 1.0)
+        owner = np.broadcast_to(np.arange(len(rows))[:, None], roots.shape)[real]
+        x, poly = roots.real[real], rows[owner]
+        for _ in range(3):
+            value = ((poly[:, 0] * x + poly[:, 1]) * x + poly[:, 2]) * x + poly[:, 3]
+            slope = (3 * poly[:, 0] * x + 2 * poly[:, 1]) * x + poly[:, 2]
+            x = x - np.divide(value, slope, out=np.zeros_like(x), where=slope != 0)
+        found.append(x[x > 0])
+    return np.concatenate(found) if found else np.zeros(0)
+
+
+def least_friction(
+    feasible: Callable[[float], bool],
+    upper: float = 1.0,
+    *,
+    largest: float = 100.0,
+    rtol: float = 1e-6,
+    candidates: np.ndarray | None = None,
+) -> float | None:
+    """Smallest common coefficient ``mu`` with ``feasible(mu)``.
+
+    Feasibility is monotone in ``mu`` (every friction cone grows with it). With
+    ``candidates`` (sorted values among which feasibility can change,
+    :func:`friction_candidates`) the least feasible candidate, found by bisection over them:
+    the exact value. Otherwise, and should the candidates miss the change (degenerate
+    geometry), by bisection: ``upper`` is a first guess, doubled up to ``largest``; the
+    result is within ``rtol`` (relative) above the true value. None when not even
+    ``largest`` holds the body (the load would need a pulling support).
+    """
+    if feasible(0.0):
+        return 0.0
+    if candidates is not None:
+        found = _least_candidate(feasible, candidates, largest, rtol)
+        if found is not None:
+            return found
+    hi = max(upper, 1e-3)
+    while not feasible(hi):
+        if hi >= largest:
+            return None
+        hi = min(2.0 * hi, largest)
+    lo = 0.0
+    # The absolute floor ends a bisection towards an infimum of 0 that 0 itself does not
+    # attain (a degenerate balance): relative steps alone would halve into denormals and
+    # then loop forever at 5e-324 (fuzz finding extreme-4245-885: a jamming check ran past
+    # its 120 s budget).
+    while hi - lo > max(rtol * hi, MU_FLOOR):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if feasible(mid) else (mid, hi)
+    return hi
+
+
+def _least_candidate(
+    feasible: Callable[[float], bool], candidates: np.ndarray, largest: float, rtol: float
+) -> float | None:
+    """The least feasible coefficient, given that feasibility is constant between
+    consecutive candidates: bisection over the candidates interleaved with a point inside
+    each interval after one. None if nothing up to ``largest`` is feasible. When the least is
+    an infimum (feasible just above a candidate, not at it: the cone turning into a
+    half-space or the whole space there), a value within ``rtol`` above it, as bisection
+    gives."""
+    ends = [float(c) for c in candidates if 0 < c < largest]
+    if not ends:
+        return None
+    upper = [*ends[1:], largest]
+    sequence: list[tuple[float, bool]] = []
+    for c, above in zip(ends, upper, strict=True):
+        sequence += [(c, True), (0.5 * (c + above), False)]
+    lo, hi = 0, len(sequence)
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if feasible(sequence[mid][0]):
+            hi = mid
+        else:
+            lo = mid + 1
+    if lo == len(sequence):
+        return None
+    value, attained = sequence[lo]
+    if attained:
+        return value
+    # Not attained at the candidate below (or that candidate is rounded below the change):
+    # bisection from it, as without candidates, mostly one step.
+    low = sequence[lo - 1][0]
+    probe = low * (1.0 + rtol)
+    if probe < value and feasible(probe):
+        return probe
+    while value - low > rtol * value:
+        mid = 0.5 * (low + value)
+        low, value = (low, mid) if feasible(mid) else (mid, value)
+    return value

@@ -1,0 +1,398 @@
+"""Static equilibrium with Coulomb friction: can the remaining supports hold the body?
+
+With support ``r`` retracted, the body stays put if the external wrench ``W`` (load, weight,
+preloads, torque) is balanced by contact forces of the remaining supports, each inside its
+friction cone ``|f_t| <= mu_j f_n`` (``f_n >= 0``: a support only pushes). The contact
+wrenches form a convex cone ``C`` (the sum of the supports' friction cones, mapped to wrenches
+by :func:`kcheck.mechanics.kinematics.wrenches`); equilibrium exists iff ``-W`` lies in ``C``.
+
+* Planar: a friction cone is exactly two rays ``n +- mu t``, so ``C`` is polyhedral and its
+  facets are cross products of pairs of edge wrenches (exact).
+* Spatial: a circular cone is approximated by an ``m``-sided pyramid, inscribed (edges at
+  ``mu``: a lower bound of ``C``) or circumscribed (edges at ``mu / cos(pi/m)``: an upper
+  bound); the true boundary lies between. Its facets come from qhull. At single wrenches the
+  exact second-order cones are decided by a conic solver (:func:`holds_exactly`, clarabel).
+
+The swept load makes ``W`` affine in the unit direction ``d``: ``W(d) = w0 + B d``. Each facet
+``f`` of ``C`` gives one condition ``a + c . d >= 0`` with ``a = -f . w0``, ``c = -B^T f``: a
+half circle in the sweep plane, a spherical cap on the sphere (:mod:`kcheck.mechanics.arcs`). So the
+directions where friction can hold the body are exact arc sets (planar) or a cap intersection.
+
+All arrays are nondimensional (:class:`kcheck.mechanics.kinematics.Frame`): lengths by the layout size,
+forces by the force scale. Wrenches are ``(moment about the origin, force)``. Friction
+coefficients are per support, so callers may pass a static value, a range end, or a common
+factor (:mod:`kcheck.mechanics.least_friction`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+from kcheck.mechanics.arcs import FULL, ArcSet, affine_arcs
+from kcheck.numerics.arrays import unique_rows
+from kcheck.mechanics.cones import FACET_TOL, cone_facets, essential_rows
+from kcheck.mechanics.dynamics import friction_directions
+from kcheck.mechanics.kinematics import Frame, wrenches
+
+__all__ = [
+    "PYRAMID_EDGES",
+    "Statics",
+    "Equilibria",
+    "build_statics",
+    "tangent_frames",
+    "friction_edges",
+    "edge_wrenches",
+    "equilibria",
+    "closing_condition",
+    "forward_limit",
+    "holds",
+    "holds_exactly",
+    "equilibrium_forces",
+]
+
+#: Sides of the pyramid approximating a spatial friction cone. The inscribed and the
+#: circumscribed pyramids differ in friction by the factor cos(pi/8) = 0.924 (option
+#: `pyramid_edges`; the error it makes in degrees is measured and reported).
+PYRAMID_EDGES = 8
+EPS = float(np.finfo(float).eps)
+# Directions times facets evaluated at once by Equilibria.contains (16 MB of float64).
+CONTAINS_CHUNK = 2_000_000
+Pyramid = Literal["inscribed", "circumscribed"]
+
+
+@dataclass(frozen=True)
+class Statics:
+    """A scene's statics, nondimensional.
+
+    ``fixed`` (n,) is the wrench that does not depend on the swept direction (weight when the
+    load is swept, preloads, torque); ``swept`` (n, dim) maps a unit direction to its wrench
+    (the load at its point, or the weight at the centre of mass when gravity is swept).
+    """
+
+    frame: Frame
+    names: tuple[str, ...]
+    points: np.ndarray  # (k, dim)
+    normals: np.ndarray  # (k, dim), unit
+    friction: np.ndarray  # (k,)
+    fixed: np.ndarray  # (n,)
+    swept: np.ndarray  # (n, dim)
+
+    @property
+    def dim(self) -> int:
+        """2 (planar) or 3 (spatial)."""
+        return self.points.shape[1]
+
+    def wrench(self, direction: np.ndarray) -> np.ndarray:
+        """External wrench (n,) for a unit swept direction (dim,)."""
+        return self.fixed + self.swept @ direction
+
+
+def build_statics(
+    *,
+    points: np.ndarray,
+    normals: np.ndarray,
+    friction: np.ndarray,
+    names: tuple[str, ...],
+    dim: int,
+    force: float,
+    swept_point: np.ndarray,
+    swept_magnitude: float,
+    fixed_forces: tuple[tuple[np.ndarray, np.ndarray], ...] = (),
+    torque: np.ndarray | None = None,
+) -> Statics:
+    """Nondimensionalise (SI inputs, 3-vectors) into :class:`Statics`.
+
+    ``force`` (N) is the force scale; the swept force of ``swept_magnitude`` (N) acts at
+    ``swept_point`` (m); ``fixed_forces`` are ``(point, force vector)`` pairs in m and N (the
+    weight when the load is swept, preloads); ``torque`` (N m) is a fixed couple.
+    """
+    if not force > 0:
+        raise ValueError("the force scale must be positive")
+    frame = Frame.for_points(np.asarray(points, float), dim, force)
+    nw = 1 if dim == 2 else 3
+    normals = np.asarray(normals, float)[:, :dim]
+    fixed = np.zeros(nw + dim)
+    for point, vector in fixed_forces:
+        fixed += wrenches(frame.point(point), frame.vector(vector) / force)
+    if torque is not None:
+        fixed[:nw] += np.asarray(torque, float)[3 - nw :] / (force * frame.length)
+    q = np.broadcast_to(frame.point(swept_point), (dim, dim))
+    swept = (swept_magnitude / force) * wrenches(q, np.eye(dim)).T
+    return Statics(
+        frame=frame,
+        names=names,
+        points=frame.point(np.asarray(points, float)),
+        normals=normals / np.linalg.norm(normals, axis=1, keepdims=True),
+        friction=np.asarray(friction, float),
+        fixed=fixed,
+        swept=swept,
+    )
+
+
+# --- friction cones and the contact-wrench cone ---------------------------------------------
+
+
+def tangent_frames(normals: np.ndarray) -> np.ndarray:
+    """Unit tangents of each contact: (k, 1, 2) planar (``n`` turned +90°), (k, 2, 3) spatial
+    (a right-handed pair ``t1, t2 = n x t1``)."""
+    if normals.shape[1] == 2:
+        return np.stack([-normals[:, 1], normals[:, 0]], axis=-1)[:, None, :]
+    helper = np.where(np.abs(normals[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
+    t1 = np.cross(normals, helper)
+    t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
+    return np.stack([t1, np.cross(normals, t1)], axis=1)
+
+
+def friction_edges(
+    normals: np.ndarray,
+    mu: np.ndarray,
+    edges: int = PYRAMID_EDGES,
+    pyramid: Pyramid = "circumscribed",
+) -> np.ndarray:
+    """Edge directions (k, m, dim) of each contact's friction cone (per unit normal force).
+
+    Planar: the two exact edges ``n + mu t`` and ``n - mu t`` (``m = 2``). Spatial: an
+    ``edges``-sided pyramid, inscribed in the circular cone or circumscribed about it.
+    """
+    tangents = tangent_frames(normals)
+    if normals.shape[1] == 2:
+        signs = np.array([1.0, -1.0])
+        return normals[:, None, :] + (mu[:, None] * signs)[:, :, None] * tangents
+    angles = 2.0 * np.pi * np.arange(edges) / edges
+    radius = mu / np.cos(np.pi / edges) if pyramid == "circumscribed" else mu
+    ring = np.cos(angles)[None, :, None] * tangents[:, None, 0] + (
+        np.sin(angles)[None, :, None] * tangents[:, None, 1]
+    )
+    return normals[:, None, :] + radius[:, None, None] * ring
+
+
+def edge_wrenches(points: np.ndarray, forces: np.ndarray) -> np.ndarray:
+    """Unit wrenches (g, n) of the edge forces (k, m, dim) at their contacts, duplicates
+    (a frictionless contact's coinciding edges) removed."""
+    k, m, _ = forces.shape
+    g = wrenches(np.repeat(points, m, axis=0), forces.reshape(k * m, -1))
+    g = g / np.linalg.norm(g, axis=1, keepdims=True)
+    return unique_rows(np.round(g, 14)) if len(g) > 1 else g
+
+
+# --- equilibrium sets over the swept direction ------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Equilibria:
+    """Swept directions ``d`` for which friction can hold the body: ``a + c . d >= 0`` for
+    every row, or ``everywhere`` / ``flat`` (nowhere but a measure-zero set)."""
+
+    kind: Literal["cone", "everywhere", "flat"]
+    a: np.ndarray  # (f,)
+    c: np.ndarray  # (f, dim)
+
+    def contains(self, directions: np.ndarray, tol: float = 0.0) -> np.ndarray:
+        """Whether each unit direction (m, dim) is held (boundary included within ``tol``)."""
+        if self.kind != "cone":
+            return np.full(len(directions), self.kind == "everywhere")
+        # In chunks: a spatial cone has hundreds of facets, and a picture's 58,000 directions
+        # against all of them at once took 180 MB.
+        step = max(1, CONTAINS_CHUNK // max(1, len(self.a)))
+        return np.concatenate(
+            [
+                np.all(self.a + directions[i : i + step] @ self.c.T >= -tol, axis=1)
+                for i in range(0, len(directions), step)
+            ]
+            or [np.zeros(0, bool)]
+        )
+
+    def arcs(self, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, float]:
+        """Held directions in the sweep plane (rad from ``e1`` towards ``e2``) and the error
+        of the arc ends (rad) from rounding of the facet coefficients (0 without ends)."""
+        if self.kind != "cone":
+            return (FULL if self.kind == "everywhere" else ()), 0.0
+        scale = np.abs(self.a) + np.linalg.norm(self.c, axis=1)
+        arcs, error = affine_arcs(self.a, self.c, e1, e2, 64 * EPS * scale)
+        return arcs, 0.0 if error is None else error
+
+
+def equilibria(
+    statics: Statics,
+    keep: np.ndarray,
+    mu: np.ndarray | None = None,
+    *,
+    edges: int = PYRAMID_EDGES,
+    pyramid: Pyramid = "circumscribed",
+) -> Equilibria:
+    """Directions of the swept force for which the supports ``keep`` can hold the body.
+
+    ``mu`` (k,) overrides the scene's coefficients (per support, all supports indexed).
+    """
+    mu = statics.friction if mu is None else np.asarray(mu, float)
+    forces = friction_edges(statics.normals[keep], mu[keep], edges, pyramid)
+    facets = cone_facets(edge_wrenches(statics.points[keep], forces))
+    dim = statics.dim
+    if isinstance(facets, str):
+        return Equilibria(facets, np.zeros(0), np.zeros((0, dim)))  # type: ignore[arg-type]
+    a, c = -(facets @ statics.fixed), -(facets @ statics.swept)
+    if dim == 3:
+        # Most facets of the six-dimensional cone never bound the three-dimensional set of
+        # swept directions; keep those that do (same set, far fewer caps to evaluate).
+        rows = essential_rows(np.column_stack([c, a]))
+        if rows is None:
+            return Equilibria("flat", np.zeros(0), np.zeros((0, dim)))
+        a, c = a[rows], c[rows]
+    return Equilibria("cone", a, c)
+
+
+def closing_condition(statics: Statics, twist: np.ndarray) -> tuple[float, np.ndarray]:
+    """Virtual power ``xi . W(d) = a + c . d`` of the external wrench on a free twist:
+    positive where, without friction, the body would move along ``xi`` (close the gap)."""
+    return float(twist @ statics.fixed), statics.swept.T @ twist
+
+
+def forward_limit(
+    statics: Statics, keep: np.ndarray, twist: np.ndarray, mu: np.ndarray | None = None
+) -> tuple[float, np.ndarray] | None:
+    """Planar: the condition ``a + c . d >= 0`` that ``-W`` lies on the cone's side of the
+    plane through both forward-limit edges ``n_j + mu_j t_j`` (``t_j`` opposing sliding along
+    ``twist``), when that plane carries a facet of the contact-wrench cone whose inward normal
+    ``f`` has ``f . xi > 0``; None otherwise.
+
+    This is Koster's friction-pole condition (``f`` is the friction twist ``xi'``): it ignores
+    the sign of the normal forces, so it admits loads that only a pulling support could hold.
+    The facet fails to exist when the rotation about the friction pole presses into a
+    remaining contact; the graphical construction then does not describe the equilibria.
+    """
+    mu = statics.friction if mu is None else np.asarray(mu, float)
+    points, normals = statics.points[keep], statics.normals[keep]
+    t, _ = friction_directions(twist, points, +1)
+    limit = wrenches(points, normals + mu[keep, None] * t)
+    normal = np.cross(limit[0], limit[1])
+    size = float(np.linalg.norm(normal))
+    if normals.shape[1] != 2 or not size > FACET_TOL:
+        return None
+    normal /= size
+    if normal @ twist < 0:
+        normal = -normal
+    facets = cone_facets(edge_wrenches(points, friction_edges(normals, mu[keep])))
+    if isinstance(facets, str):
+        return None
+    match = facets @ normal
+    if not match.max() > 1.0 - 1e-11:
+        return None
+    # The cone's own facet row, so that its arc ends are bit-identical to the held set's.
+    normal = facets[int(np.argmax(match))]
+    return float(-(normal @ statics.fixed)), -(statics.swept.T @ normal)
+
+
+# --- single wrenches: exact decisions and the least friction --------------------------------
+
+
+def holds(
+    statics: Statics,
+    keep: np.ndarray,
+    wrench: np.ndarray,
+    mu: np.ndarray | None = None,
+    *,
+    edges: int = PYRAMID_EDGES,
+    pyramid: Pyramid = "circumscribed",
+) -> bool:
+    """Whether the supports ``keep`` balance ``wrench`` with forces in the (polyhedral)
+    friction cones; exact for planar scenes."""
+    mu = statics.friction if mu is None else np.asarray(mu, float)
+    forces = friction_edges(statics.normals[keep], mu[keep], edges, pyramid)
+    facets = cone_facets(edge_wrenches(statics.points[keep], forces))
+    if isinstance(facets, str):
+        return facets == "everywhere"
+    scale = float(np.linalg.norm(wrench)) or 1.0
+    return bool(np.all(facets @ -wrench >= -FACET_TOL * scale))
+
+
+def holds_exactly(
+    statics: Statics, keep: np.ndarray, wrench: np.ndarray, mu: np.ndarray | None = None
+) -> bool:
+    """Whether ``wrench`` is balanced with forces in the exact circular friction cones.
+
+    Spatial: :func:`equilibrium_forces` (clarabel); planar cones are polyhedral and decided
+    exactly by :func:`holds`.
+    """
+    mu = statics.friction if mu is None else np.asarray(mu, float)
+    if statics.dim == 2:
+        return holds(statics, keep, wrench, mu)
+    return equilibrium_forces(statics, keep, wrench, mu) is not None
+
+
+def equilibrium_forces(
+    statics: Statics, keep: np.ndarray, wrench: np.ndarray, mu: np.ndarray | None = None
+) -> np.ndarray | None:
+    """Contact forces (k, 3) of the supports ``keep`` balancing ``wrench`` inside the exact
+    circular friction cones, or None when there are none (spatial, nondimensional).
+
+    A second-order-cone feasibility problem solved by clarabel (interior point, default
+    tolerances 1e-8): unknowns per support are the normal force and two tangential
+    components, with ``|f_t| <= mu f_n``.
+    """
+    mu = statics.friction if mu is None else np.asarray(mu, float)
+    axes, columns = _contact_axes(statics, keep)
+    local = _solve_conic(columns, wrench, mu[keep], None)
+    return None if local is None else np.einsum("ki,kij->kj", local[0], axes)
+
+
+def _contact_axes(statics: Statics, keep: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each kept contact's axes (k, 3, 3: normal, two tangents) and their unit wrenches as
+    the columns (3k, 6) of the equilibrium equations."""
+    frames = tangent_frames(statics.normals[keep])
+    axes = np.stack([statics.normals[keep], frames[:, 0], frames[:, 1]], axis=1)
+    columns = wrenches(statics.points[keep][:, None, :], axes).reshape(3 * len(keep), -1)
+    return axes, columns
+
+
+def _solve_conic(
+    columns: np.ndarray, wrench: np.ndarray, mu: np.ndarray, shrink: np.ndarray | None
+) -> tuple[np.ndarray, float] | None:
+    """Forces in the contacts' axes (k, 3) balancing ``wrench`` with ``|f_t| <= mu f_n``; or,
+    with ``shrink`` (k,), those minimising ``s >= -1`` subject to
+    ``|f_t| <= mu f_n + s shrink`` (a step of
+    :func:`kcheck.mechanics.least_friction.least_friction_exactly`), and ``s``. None unless clarabel
+    solves it."""
+    import clarabel
+    from scipy import sparse
+
+    k, n = len(mu), len(wrench)
+    extra = 0 if shrink is None else 1
+    size = 3 * k + extra
+    equal = np.zeros((n, size))
+    equal[:, : 3 * k] = columns.T
+    cone_rows = np.zeros((3 * k + extra, size))
+    cone_rows[np.arange(3 * k), np.arange(3 * k)] = -1.0
+    cone_rows[0 : 3 * k : 3, 0 : 3 * k : 3] *= mu[:, None] * np.eye(k)
+    rhs = np.concatenate([-wrench, np.zeros(3 * k)])
+    cones = [clarabel.ZeroConeT(n)] + [clarabel.SecondOrderConeT(3)] * k
+    cost = np.zeros(size)
+    if shrink is not None:
+        cone_rows[0 : 3 * k : 3, -1] = -shrink
+        cone_rows[-1, -1] = -1.0  # s >= -1: the step stays bounded
+        rhs = np.append(rhs, 1.0)
+        cones.append(clarabel.NonnegativeConeT(1))
+        cost[-1] = 1.0
+    # A support only pushes: f_n >= 0 (the cone implies it only where mu > 0).
+    pushes = np.zeros((k, size))
+    pushes[np.arange(k), 3 * np.arange(k)] = -1.0
+    cone_rows = np.vstack([cone_rows, pushes])
+    rhs = np.append(rhs, np.zeros(k))
+    cones.append(clarabel.NonnegativeConeT(k))
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    solver = clarabel.DefaultSolver(
+        sparse.csc_matrix((size, size)),
+        cost,
+        sparse.csc_matrix(np.vstack([equal, cone_rows])),
+        rhs,
+        cones,
+        settings,
+    )
+    solution = solver.solve()
+    if str(solution.status) not in ("Solved", "AlmostSolved"):
+        return None
+    x = np.asarray(solution.x)
+    return x[: 3 * k].reshape(k, 3), float(x[-1]) if extra else 0.0

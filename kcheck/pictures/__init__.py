@@ -1,0 +1,1 @@
+"""Picture plumbing shared by every check's pictures (matplotlib only below here)."""
