@@ -19,13 +19,13 @@ from pathlib import Path
 import numpy as np
 from kcheck_checks.analytical_3d import Analytical3D, Analytical3DOptions, direction_caps
 
-from kcheck.analysis.cases import analyse
+from kcheck.analysis import analyse
+from kcheck.body.mass import body_mass_properties
 from kcheck.mechanics.caps import region, signed_distance
 from kcheck.mechanics.deepest import deepest_point
-from kcheck.body.mass import body_mass_properties
+from kcheck.mechanics.sphere import safe_fraction
 from kcheck.plugin import Inputs
 from kcheck.scene import load_scene
-from kcheck.mechanics.sphere import safe_fraction
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ("three-groove/coupling.kcheck.yaml", "block-321/block.kcheck.yaml")

@@ -14,21 +14,21 @@ from pathlib import Path
 
 import numpy as np
 from kcheck_checks.jamming import Jamming, JammingOptions
-from kcheck.analysis.jamming_cases import analyse_jamming, case_arcs, jam_map, jam_statics
 from scipy.optimize import linprog
 
+from kcheck.analysis.jamming_cases import analyse_jamming, case_arcs, jam_map, jam_statics
+from kcheck.body.mass import body_mass_properties
 from kcheck.mechanics.least_friction import (
     least_friction,
 )
-from kcheck.body.mass import body_mass_properties
-from kcheck.plugin import Inputs
-from kcheck.scene import load_scene
 from kcheck.mechanics.statics import (
     edge_wrenches,
     equilibrium_forces,
     friction_edges,
     holds_exactly,
 )
+from kcheck.plugin import Inputs
+from kcheck.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = {

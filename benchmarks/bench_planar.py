@@ -20,9 +20,9 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
-from kcheck.analysis.cases import analyse
-from kcheck.mechanics.arcs import boundary_angles, intersect
+from kcheck.analysis import analyse
 from kcheck.body.mass import body_mass_properties, load_mesh, mesh_mass_properties
+from kcheck.mechanics.arcs import boundary_angles, intersect
 from kcheck.mechanics.outcomes import outcome
 from kcheck.scene import load_scene
 

@@ -17,9 +17,9 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+from kcheck.gate.runner import Settings, check_scene
 from kcheck.plugin import load_checks
 from kcheck.report import ReportOptions, make_reporter
-from kcheck.gate.runner import Settings, check_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -17,11 +17,8 @@ from pathlib import Path
 import numpy as np
 from bench_analytical_3d import median_time  # the benchmarks' one timer
 
-from kcheck.analysis.cases import problem_for
 from kcheck.analysis.candidates import SurfaceSampler
-from kcheck.body.mass import body_mass_properties
-from kcheck.scene import load_scene
-from kcheck.mechanics.sphere import most_robust_direction
+from kcheck.analysis.cases import problem_for
 from kcheck.analysis.suggest import (
     caps_at,
     least_force,
@@ -29,6 +26,9 @@ from kcheck.analysis.suggest import (
     search,
     with_load,
 )
+from kcheck.body.mass import body_mass_properties
+from kcheck.mechanics.deepest import most_robust_direction
+from kcheck.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 

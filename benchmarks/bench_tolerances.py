@@ -4,7 +4,8 @@ Run: ``python benchmarks/bench_tolerances.py`` (medians of repeated warm runs). 
 tables recorded in docs/performance.md, with the machine's load average (the numbers are
 only comparable on a quiet machine).
 
-* the Monte Carlo core (:func:`kcheck.mechanics.tolerance.sample_margins`) on the three-groove fixture
+* the Monte Carlo core (:func:`kcheck.mechanics.tolerance.sample_margins`) on the three-groove
+fixture
   and the planar block, 10^3 to 10^5 samples, and the whole check at 10^4;
 * the analytical checks with ``friction: {min, max}`` against one coefficient.
 """
@@ -25,9 +26,9 @@ from kcheck_checks.tolerances import Tolerances, TolerancesOptions
 
 from kcheck.analysis.cases import problem_for
 from kcheck.body.mass import body_mass_properties
+from kcheck.mechanics.tolerance import perturb, sample_margins
 from kcheck.plugin import Inputs
 from kcheck.scene import Scene, load_scene
-from kcheck.mechanics.tolerance import perturb, sample_margins
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = {

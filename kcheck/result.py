@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any, Literal
 from kcheck.errors import FieldPath, format_path
 
 if TYPE_CHECKING:
-    from kcheck.body.mass import MassProperties
+    import numpy as np
 
 __all__ = [
     "JSON_FORMAT_VERSION",
@@ -26,6 +26,7 @@ __all__ = [
     "SEVERITIES",
     "Status",
     "Finding",
+    "MassProperties",
     "CaseResult",
     "CheckResult",
     "SceneResult",
@@ -223,6 +224,42 @@ class CheckResult:
         if self.cases:
             out["cases"] = [c.to_json() for c in self.cases]
         out.update(details_json(self.details))
+        return out
+
+
+@dataclass(frozen=True)
+class MassProperties:
+    """Mass (kg), centre of mass (m), inertia tensor about the centre of mass (kg m^2).
+
+    ``bounds`` (m, rows min and max) is the axis-aligned box of the meshes in the scene's
+    frame, when mass properties come from meshes, and ``part_bounds`` the box of each mesh
+    part in order; ``warnings`` are findings for the scene's warnings (a repaired mesh).
+    """
+
+    mass: float
+    center_of_mass: np.ndarray
+    inertia: np.ndarray
+    source: Literal["mesh", "explicit"]
+    volume: float | None = None
+    notes: tuple[str, ...] = ()
+    bounds: np.ndarray | None = None
+    warnings: tuple[Finding, ...] = ()
+    part_bounds: tuple[np.ndarray, ...] = ()
+
+    def to_json(self) -> dict[str, object]:
+        """The documented JSON form (SI units)."""
+        import numpy as np  # only where mass properties exist: results need no numpy
+
+        out: dict[str, object] = {
+            "mass": self.mass,
+            "center_of_mass": self.center_of_mass.tolist(),
+            "inertia": np.where(np.isfinite(self.inertia), self.inertia, None).tolist(),
+            "source": self.source,
+        }
+        if self.volume is not None:
+            out["volume"] = self.volume
+        if self.notes:
+            out["notes"] = list(self.notes)
         return out
 
 

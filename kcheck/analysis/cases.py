@@ -8,14 +8,13 @@ from typing import Any
 
 import numpy as np
 
+from kcheck.fmt import clean, format_ranges
 from kcheck.mechanics.arcs import FULL, ArcSet, contains, intersect, margin, to_degrees
 from kcheck.mechanics.dynamics import Case, Problem, analyse_cases, build_problem, with_load
-from kcheck.fmt import clean, format_ranges
 from kcheck.mechanics.friction import FrictionIntervals, friction_intervals_many
 from kcheck.mechanics.kinematics import Frame, row_norms, unit_rows
-from kcheck.body.mass import MassProperties
 from kcheck.mechanics.outcomes import outcome, safe_arcs
-from kcheck.result import CaseResult
+from kcheck.result import CaseResult, MassProperties
 from kcheck.scene import Scene
 
 __all__ = [
@@ -24,7 +23,7 @@ __all__ = [
     "problem_for",
     "motion_details",
     "Analysis",
-    "analyse",
+    "analyse_fixed",
     "swept_design",
     "sweep_ranges",
     "nearest_end",
@@ -132,8 +131,8 @@ class Analysis:
     is the design direction's signed distance to the combined ranges (negative outside: the
     distance to the nearest safe angle, ``nearest_safe_deg``); None when nothing is safe.
     ``friction`` holds each evaluated case's friction intervals. ``friction_range``: when the
-    kinetic coefficients are ranges, what holds over them (:mod:`kcheck.analysis.friction_ranges`); the
-    arcs are then those that close for every coefficient of the range.
+    kinetic coefficients are ranges, what holds over them (:mod:`kcheck.analysis.friction_ranges`);
+    the arcs are then those that close for every coefficient of the range.
     """
 
     problem: Problem
@@ -225,25 +224,18 @@ def _evaluated(
     return verdict, forces, accel
 
 
-def analyse(
+def analyse_fixed(
     scene: Scene,
     mass: MassProperties,
     plane: tuple[np.ndarray, np.ndarray] | None = None,
     friction: np.ndarray | None = None,
 ) -> Analysis:
-    """Free motion, outcome, forces, friction intervals and exact safe arcs for every case.
+    """Free motion, outcome, forces, friction intervals and exact safe arcs for every case, at
+    fixed friction coefficients: ``friction`` (k,), or the supports' kinetic coefficients (the
+    upper ends of ranges; :func:`kcheck.analysis.analyse` decides ranges over all of them).
 
-    ``plane`` (``e1, e2``, 3-vectors) overrides the scene's sweep plane for the ranges. The
-    supports' kinetic coefficients are used; when they are ranges, every case must close for
-    every coefficient in them (:func:`kcheck.analysis.friction_ranges.analyse_range`). ``friction`` (k,)
-    fixes the coefficients instead.
+    ``plane`` (``e1, e2``, 3-vectors) overrides the scene's sweep plane for the ranges.
     """
-    if friction is None:
-        low, high = scene.friction_range("kinetic")
-        if not np.array_equal(low, high):
-            from kcheck.analysis.friction_ranges import analyse_range
-
-            return analyse_range(scene, mass, low, high, plane)
     problem = problem_for(scene, mass, friction)
     load = scene.load
     sweeping = load is not None and load.magnitude > 0
@@ -312,7 +304,8 @@ def nearest_end(arcs: ArcSet, angle: float) -> float:
 
 def swept_design(analysis: Analysis) -> np.ndarray | None:
     """The design direction of what is swept (unit, dim): the load's direction, or without a
-    load the scene's gravity (:attr:`kcheck.mechanics.problem.Problem.swept`); None when it has none."""
+    load the scene's gravity (:attr:`kcheck.mechanics.problem.Problem.swept`); None when it has
+    none."""
     problem = analysis.problem
     if problem.swept == "load":
         return analysis.design

@@ -18,12 +18,12 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from kcheck.numerics import chebyshev as cheb
-from kcheck.analysis.cases import Analysis, analyse, intervals_json, sweep_ranges
+from kcheck.analysis.cases import Analysis, analyse_fixed, intervals_json, sweep_ranges
 from kcheck.mechanics.arcs import ArcSet
 from kcheck.mechanics.dynamics import Case, Problem
 from kcheck.mechanics.friction_range import FrictionPath, RangeCase, range_arcs, range_cases
-from kcheck.body.mass import MassProperties
+from kcheck.numerics import chebyshev as cheb
+from kcheck.result import MassProperties
 from kcheck.scene import Scene
 
 __all__ = [
@@ -191,10 +191,10 @@ def analyse_range(
     high: np.ndarray,
     plane: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> Analysis:
-    """:func:`kcheck.analysis.cases.analyse` when the kinetic coefficients run from ``low`` to
+    """:func:`kcheck.analysis.cases.analyse_fixed` when the kinetic coefficients run from ``low`` to
     ``high`` (k,): every case must close for every coefficient of the range."""
     path = FrictionPath(np.asarray(low, float), np.asarray(high, float))
-    top = analyse(scene, mass, plane, friction=path.high)
+    top = analyse_fixed(scene, mass, plane, friction=path.high)
     problem, cases = top.problem, top.cases
     rcs = tuple(range_cases(problem, cases, path))
     load = scene.load
@@ -221,7 +221,7 @@ def analyse_range(
         worst[r] = worst_parameter(rc, top.design, failing[r])
         t = worst[r][0]  # type: ignore[index]
         if t not in at_worst:
-            at_worst[t] = analyse(scene, mass, plane, friction=path.at(t))
+            at_worst[t] = analyse_fixed(scene, mass, plane, friction=path.at(t))
         results[r], friction[r] = at_worst[t].results[r], at_worst[t].friction[r]
     info = RangeInfo(
         path,

@@ -33,8 +33,6 @@ from kcheck.mechanics.least_friction import (
     least_friction_exactly,
     rough_supports,
 )
-from kcheck.body.mass import MassProperties
-from kcheck.scene import Scene
 from kcheck.mechanics.statics import (
     PYRAMID_EDGES,
     Equilibria,
@@ -46,6 +44,8 @@ from kcheck.mechanics.statics import (
     holds,
     holds_exactly,
 )
+from kcheck.result import MassProperties
+from kcheck.scene import Scene
 
 __all__ = [
     "JamCase",

@@ -35,7 +35,7 @@ from kcheck.result import CheckResult, Finding
 from kcheck.scene import Scene
 
 if TYPE_CHECKING:
-    from kcheck.body.mass import MassProperties
+    from kcheck.result import MassProperties
 
 __all__ = ["Box", "body_box", "scene_warnings", "BODY_SIZE_M", "PART_RATIO", "GYRATION_RATIO"]
 
@@ -246,7 +246,7 @@ def _normals_reversed(
     scene: Scene, mass: MassProperties, checks: Sequence[CheckResult]
 ) -> list[Finding]:
     """Every case opens (or no direction closes any case), the same scene with every normal
-    reversed closes every case (re-evaluated with :func:`kcheck.analysis.cases.analyse`), and the
+    reversed closes every case (re-evaluated with :func:`kcheck.analysis.analyse`), and the
     normals do not clearly point towards the centre of mass.
 
     The dynamics alone cannot tell reversed normals from a reversed load: without friction
@@ -263,7 +263,8 @@ def _normals_reversed(
     cosine = np.einsum("ij,ij->i", normals, towards) / np.where(distance > 0, distance, 1.0)
     if np.count_nonzero(cosine > 0.5) > len(cosine) / 2:
         return []
-    from kcheck.analysis.cases import analyse, closing_force_reason
+    from kcheck.analysis import analyse
+    from kcheck.analysis.cases import closing_force_reason
 
     if closing_force_reason(scene) is not None:
         return []

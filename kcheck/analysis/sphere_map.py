@@ -1,6 +1,7 @@
 """The map of safe directions of a spatial scene: every case's closing conditions as caps on
-the sphere of force (or gravity) directions, and their exact intersection (:mod:`kcheck.mechanics.caps`):
-area, margins, the nearest and the most robust direction, and the default sweep plane.
+the sphere of force (or gravity) directions, and their exact intersection
+(:mod:`kcheck.mechanics.caps`): area, margins, the nearest and the most robust direction, and the
+default sweep plane.
 """
 
 from __future__ import annotations
@@ -17,8 +18,8 @@ from kcheck.mechanics.dynamics import EPS, Problem, with_load
 from kcheck.mechanics.friction_range import range_caps
 from kcheck.mechanics.kinematics import unit_rows
 from kcheck.mechanics.outcomes import closing_conditions
-from kcheck.scene import Scene
 from kcheck.mechanics.sphere import SafeFraction, safe_fraction
+from kcheck.scene import Scene
 
 __all__ = [
     "SphereMap",
@@ -72,8 +73,8 @@ def direction_caps(
     kept: the wrench ``[torque; |m g| d]`` plus the preloads about the centre of mass.
     Returns ``(swept, a, c, owner, cap_errors)``: ``cap_errors`` (k,) the angular error (rad)
     of each cap's boundary. Over a kinetic friction range, each case's caps are those of
-    :func:`kcheck.mechanics.friction_range.range_caps` (closing for every coefficient), and their error
-    includes how far a sampled envelope may lie from the true boundary.
+    :func:`kcheck.mechanics.friction_range.range_caps` (closing for every coefficient), and their
+    error includes how far a sampled envelope may lie from the true boundary.
     """
     swept = problem.swept
     a_all, c_all, owner, err_all, extra = [], [], [], [], []

@@ -25,15 +25,17 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from kcheck.analysis.cases import analyse, problem_for
-from kcheck.mechanics.arcs import cap_margin_matrix
+from kcheck.analysis import analyse
 from kcheck.analysis.candidates import Sampler, SuggestError
+from kcheck.analysis.cases import problem_for
+from kcheck.mechanics.arcs import cap_margin_matrix
+from kcheck.mechanics.deepest import most_robust_direction
 from kcheck.mechanics.dynamics import Problem, analyse_case, solve_affine
+from kcheck.mechanics.sphere import fibonacci_sphere
 from kcheck.scene import Load, Scene
-from kcheck.mechanics.sphere import fibonacci_sphere, most_robust_direction
 
 if TYPE_CHECKING:
-    from kcheck.body.mass import MassProperties
+    from kcheck.result import MassProperties
 
 __all__ = [
     "Caps",
@@ -176,7 +178,7 @@ def limiting_friction_at(
     scene: Scene, mass: MassProperties, point: np.ndarray, direction: np.ndarray
 ) -> float | None:
     """Smallest, over the retracted cases, of the limiting friction with the load at ``point``
-    pointing along ``direction`` (:func:`kcheck.mechanics.outcomes.limiting_friction`)."""
+    pointing along ``direction`` (:func:`kcheck.mechanics.friction.limiting_friction`)."""
     analysis = analyse(with_load(scene, point, direction), mass)
     values = [r.limiting_friction for r in analysis.results]
     if any(v is None for v in values):

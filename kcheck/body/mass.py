@@ -12,13 +12,11 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Sequence
-from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from kcheck.errors import FieldPath, MeshError
 from kcheck.body.meshio import (
     MERGE_RTOL,
     load_mesh,
@@ -26,7 +24,8 @@ from kcheck.body.meshio import (
     release_memory,
     step_length_unit,
 )
-from kcheck.result import Finding
+from kcheck.errors import FieldPath, MeshError
+from kcheck.result import Finding, MassProperties
 from kcheck.scene import Body, Part
 from kcheck.scene.limits import LIMITS
 
@@ -35,7 +34,6 @@ if TYPE_CHECKING:
 
 __all__ = [
     "MERGE_RTOL",
-    "MassProperties",
     "body_mass_properties",
     "combine",
     "load_mesh",
@@ -46,40 +44,6 @@ __all__ = [
     "step_length_unit",
     "transformed",
 ]
-
-
-@dataclass(frozen=True)
-class MassProperties:
-    """Mass (kg), centre of mass (m), inertia tensor about the centre of mass (kg m^2).
-
-    ``bounds`` (m, rows min and max) is the axis-aligned box of the meshes in the scene's
-    frame, when mass properties come from meshes, and ``part_bounds`` the box of each mesh
-    part in order; ``warnings`` are findings for the scene's warnings (a repaired mesh).
-    """
-
-    mass: float
-    center_of_mass: np.ndarray
-    inertia: np.ndarray
-    source: Literal["mesh", "explicit"]
-    volume: float | None = None
-    notes: tuple[str, ...] = ()
-    bounds: np.ndarray | None = None
-    warnings: tuple[Finding, ...] = ()
-    part_bounds: tuple[np.ndarray, ...] = ()
-
-    def to_json(self) -> dict[str, object]:
-        """The documented JSON form (SI units)."""
-        out: dict[str, object] = {
-            "mass": self.mass,
-            "center_of_mass": self.center_of_mass.tolist(),
-            "inertia": np.where(np.isfinite(self.inertia), self.inertia, None).tolist(),
-            "source": self.source,
-        }
-        if self.volume is not None:
-            out["volume"] = self.volume
-        if self.notes:
-            out["notes"] = list(self.notes)
-        return out
 
 
 def principal_axes(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -205,10 +205,10 @@ def run(args: argparse.Namespace) -> int:
     """Check every scene, stream the reports, choose the exit code."""
     from kcheck.cli.config import cache_folder, effective_config, output_targets, plan_checks
     from kcheck.gate.paths import check_output_dir, check_output_file
+    from kcheck.gate.runner import Settings, discover, run_batch
     from kcheck.plugin import load_checks
     from kcheck.report import ReportOptions, make_reporter
     from kcheck.result import Status
-    from kcheck.gate.runner import Settings, discover, run_batch
 
     config = effective_config(args)
     checks = load_checks()

@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from kcheck.cli.common import ExitCode
+from kcheck.errors import UsageError
 from kcheck.gate.config import (
     KEYS,
     Config,
@@ -20,7 +21,6 @@ from kcheck.gate.config import (
     load_config,
     user_cache_dir,
 )
-from kcheck.errors import UsageError
 
 if TYPE_CHECKING:
     from kcheck.plugin import LoadedCheck

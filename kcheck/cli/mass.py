@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 from kcheck.cli.common import ExitCode, fail
 
 if TYPE_CHECKING:
-    from kcheck.body.mass import MassProperties
+    from kcheck.result import MassProperties
 
 __all__ = ["add_parser", "run"]
 
@@ -54,8 +54,8 @@ def add_parser(sub: Any) -> None:
 
 def _in_units(props: MassProperties, unit_m: float) -> dict[str, Any]:
     """Mass properties with lengths in a unit of ``unit_m`` metres, noise cleaned."""
-    from kcheck.fmt import clean
     from kcheck.body.mass import principal_axes
+    from kcheck.fmt import clean
 
     inertia = props.inertia / unit_m**2
     moments, axes = principal_axes(props.inertia)
@@ -104,8 +104,8 @@ def _text(console: Any, title: str, values: dict[str, Any], unit: str) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Load each mesh, gate it, and print its mass properties and bounds."""
-    from kcheck.errors import MeshError
     from kcheck.body.mass import combine, part_mass_properties
+    from kcheck.errors import MeshError
     from kcheck.scene import Part
     from kcheck.scene.units import LENGTH_TO_M, MATERIALS, density_of
 

@@ -16,8 +16,8 @@ from kcheck.cli.suggest_report import Report, write_scene
 if TYPE_CHECKING:
     import numpy as np
 
-    from kcheck.scene import Scene
     from kcheck.analysis.suggest import Search
+    from kcheck.scene import Scene
 
 __all__ = ["add_parser", "run"]
 
@@ -150,8 +150,8 @@ def _frictions(scene: Scene, args: argparse.Namespace) -> list[np.ndarray] | Non
     checks take a range); None for one coefficient per support."""
     import numpy as np
 
-    from kcheck.numerics.chebyshev import lobatto
     from kcheck.mechanics.friction_range import FrictionPath
+    from kcheck.numerics.chebyshev import lobatto
 
     low, high = scene.friction_range("kinetic")
     if np.array_equal(low, high):
@@ -178,7 +178,7 @@ def _range_margin(scene: Scene, mass: Any, point: np.ndarray, direction: np.ndar
     """The exact margin (rad) of a load at ``point`` along ``direction`` over the scene's
     kinetic friction range: the least, over the cases, of the design margin over the range
     (:mod:`kcheck.analysis.friction_ranges`)."""
-    from kcheck.analysis.cases import analyse
+    from kcheck.analysis import analyse
     from kcheck.analysis.suggest import with_load
 
     analysis = analyse(with_load(scene, point, direction), mass)
@@ -215,10 +215,10 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from kcheck.analysis.candidates import BoxSampler, SuggestError, SurfaceSampler
-    from kcheck.errors import KcheckError
-    from kcheck.body.mass import body_mass_properties
-    from kcheck.scene import load_scene
     from kcheck.analysis.suggest import search, with_load
+    from kcheck.body.mass import body_mass_properties
+    from kcheck.errors import KcheckError
+    from kcheck.scene import load_scene
 
     problem = _usage(args)
     if problem:
@@ -303,8 +303,8 @@ def _design_margin(
 ) -> float | None:
     """The scene's own design's margin (rad): exact over its friction range when it has one."""
     from kcheck.analysis.cases import problem_for
-    from kcheck.mechanics.arcs import cap_margins
     from kcheck.analysis.suggest import caps_at, point_caps
+    from kcheck.mechanics.arcs import cap_margins
 
     if design is None:
         return None

@@ -9,8 +9,8 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     import numpy as np
 
-    from kcheck.scene import Scene
     from kcheck.analysis.suggest import Candidate, Search
+    from kcheck.scene import Scene
 
 __all__ = ["Report", "margin_text", "write_scene"]
 

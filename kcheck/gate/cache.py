@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any
 from kcheck import __version__
 
 if TYPE_CHECKING:
-    from kcheck.body.mass import MassProperties
+    from kcheck.result import MassProperties
     from kcheck.scene import Body
 
 __all__ = ["CACHE_FOLDER", "MassCache", "body_mass_properties_cached"]
@@ -180,7 +180,7 @@ def _to_payload(mass: MassProperties) -> dict[str, Any]:
 def _from_payload(payload: dict[str, Any]) -> MassProperties | None:
     import numpy as np
 
-    from kcheck.body.mass import MassProperties
+    from kcheck.result import MassProperties
 
     mass = float(payload["mass"])
     com = np.asarray(payload["center_of_mass"], dtype=float)

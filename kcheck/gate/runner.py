@@ -19,11 +19,11 @@ from typing import Any
 
 from pydantic import ValidationError
 
+from kcheck.analysis.sanity import scene_warnings
 from kcheck.errors import SceneError
 from kcheck.gate.paths import discover_paths
 from kcheck.plugin import Inputs, LoadedCheck, Options
 from kcheck.result import CheckResult, Finding, SceneResult, Severity, Status
-from kcheck.analysis.sanity import scene_warnings
 from kcheck.scene import Scene, describe_pydantic, load_scene
 from kcheck.scene.yamlio import DEFAULT_LIMITS
 

@@ -9,10 +9,11 @@ from itertools import combinations
 
 import numpy as np
 
-from kcheck.mechanics.caps import ON_BOUNDARY, CapSet, Region, angle_between, margin_in
+from kcheck.mechanics.caps import ON_BOUNDARY, CapSet, Region, angle_between, margin_in, region
 from kcheck.mechanics.kinematics import cross3
+from kcheck.mechanics.sphere import fibonacci_sphere
 
-__all__ = ["deepest_point"]
+__all__ = ["deepest_point", "most_robust_direction"]
 
 # The deepest point is found among all caps directly up to this many, else by an active set
 # started from the caps nearest the best of GRID directions and grown ACTIVE_STEP at a time.
@@ -85,8 +86,6 @@ def deepest_point(reg: Region) -> tuple[np.ndarray | None, float | None]:
         return None, None
     if k <= ACTIVE_START:
         return _deepest_among(caps, np.arange(k))
-    from kcheck.mechanics.sphere import fibonacci_sphere
-
     grid = fibonacci_sphere(GRID)
     at_grid = _margins_each(caps, grid)  # (GRID, k)
     best = int(np.argmax(at_grid.min(axis=1)))
@@ -128,3 +127,13 @@ def _deepest_among(caps: CapSet, active: np.ndarray) -> tuple[np.ndarray, float]
     margins = margin_in(sub, cand)
     best = int(np.argmax(margins))
     return cand[best], float(margins[best])
+
+
+def most_robust_direction(a: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, float]:
+    """Direction deepest inside every cap and its margin (rad), exactly
+    (:func:`deepest_point`); without any bounding cap, ``+z`` and
+    ``pi``."""
+    direction, margin = deepest_point(region(a, c))
+    if direction is None or margin is None:
+        return np.array([0.0, 0.0, 1.0]), float(np.pi)
+    return direction, margin

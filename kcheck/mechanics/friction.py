@@ -3,9 +3,9 @@
 Friction enters the equations of a case as ``K(mu) = K0 + mu F`` (forward sliding; backward
 sliding is ``K(-mu)``), with ``mu`` the scene's largest coefficient and every support keeping
 its share of it (equal coefficients: one common ``mu``; frictionless supports stay
-frictionless; see :meth:`kcheck.mechanics.dynamics.Problem.friction_pattern`). Every quantity the outcome
-depends on is a ratio of determinants polynomial in ``mu`` (Cramer's rule): ``lambda`` and the
-normal forces under forward and backward friction, and the effective mass
+frictionless; see :meth:`kcheck.mechanics.dynamics.Problem.friction_pattern`). Every quantity the
+outcome depends on is a ratio of determinants polynomial in ``mu`` (Cramer's rule): ``lambda`` and
+the normal forces under forward and backward friction, and the effective mass
 ``det K(+-mu) / det K(0)`` (Painlevé). So "closes" can only change where one of these
 polynomials has a real root: the real eigenvalues of the pencils ``(A0, A1)`` with
 ``det(A0 + mu A1) = 0`` — ``K`` itself and ``K`` with one column replaced by the right-hand
@@ -22,13 +22,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kcheck.mechanics.dynamics import ILL_CONDITIONED, Case, Problem, _equilibrate
 from kcheck.fmt import format_number
+from kcheck.mechanics.dynamics import ILL_CONDITIONED, Case, Problem, _equilibrate
 from kcheck.mechanics.outcomes import outcome
 
 __all__ = [
     "FrictionIntervals",
     "friction_intervals",
+    "limiting_friction",
     "friction_intervals_many",
     "pencil_roots",
     "describe_friction",
@@ -300,3 +301,13 @@ def describe_friction(intervals: FrictionIntervals) -> str:
         else:
             parts.append(f"{_mu(lo)} ≤ μ ≤ {_mu(hi)}")
     return "closes for " + " or ".join(parts)
+
+
+def limiting_friction(problem: Problem, case: Case, direction: np.ndarray | None) -> float | None:
+    """Upper end of the interval of friction coefficients, containing the scene's, for which
+    the case closes at ``direction`` (:func:`friction_intervals`).
+
+    ``inf`` when no larger coefficient stops it; None when the case does not close at the
+    scene's friction.
+    """
+    return friction_intervals(problem, case, direction).limiting

@@ -27,9 +27,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kcheck.numerics import chebyshev as cheb
 from kcheck.mechanics.arcs import FULL, TAU, ArcSet, union
-from kcheck.mechanics.dynamics import ILL_CONDITIONED, Case, Problem, _equilibrate, friction_matrices
+from kcheck.mechanics.dynamics import (
+    ILL_CONDITIONED,
+    Case,
+    Problem,
+    _equilibrate,
+    friction_matrices,
+)
+from kcheck.numerics import chebyshev as cheb
 
 __all__ = [
     "FrictionPath",

@@ -12,7 +12,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kcheck.numerics import chebyshev as cheb
 from kcheck.mechanics.arcs import ArcSet, affine_arcs, complement, intersect
 from kcheck.mechanics.dynamics import friction_directions
 from kcheck.mechanics.kinematics import (
@@ -23,6 +22,7 @@ from kcheck.mechanics.kinematics import (
     row_norms,
     wrenches,
 )
+from kcheck.numerics import chebyshev as cheb
 
 __all__ = [
     "GraphicalCase",
@@ -173,8 +173,8 @@ def friction_over_range(
 
     The tilted rows are affine in the coefficients, so their cross product (unnormalised,
     signed as at ``mu = 0``) and with it the virtual power ``a + c . d`` are quadratic along
-    the range: :func:`kcheck.mechanics.friction_range.range_arcs` intersects the arcs over it (ends of the
-    range and envelope points, one exact decision per piece).
+    the range: :func:`kcheck.mechanics.friction_range.range_arcs` intersects the arcs over it (ends
+    of the range and envelope points, one exact decision per piece).
     """
     from kcheck.mechanics.friction_range import RangeCase, range_arcs
 

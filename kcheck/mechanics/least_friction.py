@@ -17,7 +17,6 @@ from collections.abc import Callable
 
 import numpy as np
 
-from kcheck.numerics.arrays import unique
 from kcheck.mechanics.kinematics import cross3, wrenches
 from kcheck.mechanics.statics import (
     Statics,
@@ -26,6 +25,7 @@ from kcheck.mechanics.statics import (
     equilibrium_forces,
     tangent_frames,
 )
+from kcheck.numerics.arrays import unique
 
 __all__ = [
     "friction_candidates",

@@ -1,6 +1,6 @@
 """What a retracted case does for a force direction: the outcome rule of methods.md §3 on
-the affine unknowns ``x(d) = a + C d`` that :mod:`kcheck.mechanics.dynamics` solves for, vectorised over
-directions, and the exact safe arcs and limiting friction that follow from it.
+the affine unknowns ``x(d) = a + C d`` that :mod:`kcheck.mechanics.dynamics` solves for, vectorised
+over directions, and the exact safe arcs and limiting friction that follow from it.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from typing import Literal, get_args
 import numpy as np
 
 from kcheck.mechanics.arcs import ArcSet, affine_arcs
-from kcheck.mechanics.dynamics import Case, Problem
+from kcheck.mechanics.dynamics import Case
 
 __all__ = [
     "Outcome",
@@ -19,7 +19,6 @@ __all__ = [
     "outcome",
     "outcomes",
     "safe_arcs",
-    "limiting_friction",
 ]
 
 Outcome = Literal[
@@ -119,15 +118,3 @@ def safe_arcs(case: Case, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, float
     """
     a, c, error = closing_conditions(case)
     return affine_arcs(a, c, e1, e2, error)
-
-
-def limiting_friction(problem: Problem, case: Case, direction: np.ndarray | None) -> float | None:
-    """Upper end of the interval of friction coefficients, containing the scene's, for which
-    the case closes at ``direction`` (:func:`kcheck.mechanics.friction.friction_intervals`).
-
-    ``inf`` when no larger coefficient stops it; None when the case does not close at the
-    scene's friction.
-    """
-    from kcheck.mechanics.friction import friction_intervals
-
-    return friction_intervals(problem, case, direction).limiting

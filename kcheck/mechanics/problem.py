@@ -1,7 +1,7 @@
 """A scene's dynamics in nondimensional form: the problem every retracted case is solved in.
 
-Lengths are divided by the layout size ``L`` (:class:`kcheck.mechanics.kinematics.Frame`), forces by the
-force scale ``F`` — the largest of the load, the weight and the preloads, compared as
+Lengths are divided by the layout size ``L`` (:class:`kcheck.mechanics.kinematics.Frame`), forces by
+the force scale ``F`` — the largest of the load, the weight and the preloads, compared as
 logarithms so that no magnitude overflows or vanishes — and masses by ``m`` (so the
 nondimensional mass is 1 and inertia is ``I / (m L^2)``). Wrenches are ordered
 ``[moment about the centre of mass; force]``, like those of :mod:`kcheck.mechanics.kinematics`.

@@ -33,7 +33,7 @@ from kcheck.mechanics.kinematics import Frame, wrenches
 from kcheck.scene import Preload, Scene
 
 if TYPE_CHECKING:
-    from kcheck.body.mass import MassProperties
+    from kcheck.result import MassProperties
 
 __all__ = [
     "Seat",

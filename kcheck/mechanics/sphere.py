@@ -1,11 +1,13 @@
-"""Safe force directions on the unit sphere, counted on a lattice: the test oracle of
-:mod:`kcheck.mechanics.caps`.
+"""Directions on the unit sphere: the Fibonacci lattice, and the safe share counted on it.
 
 Within the forward friction assumption every unknown of a retracted case is affine in the unit
 force direction ``d`` (methods.md §4): ``x_k(d) = a_k + c_k . d``, positive on a spherical cap.
-The safe directions are the intersection of the caps. :mod:`kcheck.mechanics.caps` computes its area,
-distances and deepest point exactly; this module counts the same region on a Fibonacci lattice
-— an independent check, in chunks so memory stays bounded at any number of directions.
+The safe directions are the intersection of the caps. :mod:`kcheck.mechanics.caps` computes its
+area, distances and deepest point exactly; this module counts the same region on a Fibonacci
+lattice, in chunks so memory stays bounded at any number of directions. The count is reported beside
+the exact share when a check is asked for lattice points (``lattice_points``), seeds the deepest
+point's active set (:mod:`kcheck.mechanics.deepest`), and is the tests' independent check of
+the closed forms.
 """
 
 from __future__ import annotations
@@ -16,8 +18,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from kcheck.mechanics.arcs import cap_margins
-from kcheck.mechanics.caps import region
-from kcheck.mechanics.deepest import deepest_point
 
 __all__ = [
     "GOLDEN_ANGLE",
@@ -29,7 +29,6 @@ __all__ = [
     "safe_fraction",
     "lattice_best",
     "cap_fraction",
-    "most_robust_direction",
     "to_lon_lat",
     "from_lon_lat",
 ]
@@ -106,15 +105,6 @@ def cap_fraction(a: float, c: np.ndarray) -> float:
         return 1.0 if a > 0 else 0.0
     cos_radius = float(np.clip(-a / r, -1.0, 1.0))
     return 0.5 * (1.0 - cos_radius)
-
-
-def most_robust_direction(a: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, float]:
-    """Direction deepest inside every cap and its margin (rad), exactly
-    (:func:`kcheck.mechanics.deepest.deepest_point`); without any bounding cap, ``+z`` and ``pi``."""
-    direction, margin = deepest_point(region(a, c))
-    if direction is None or margin is None:
-        return np.array([0.0, 0.0, 1.0]), float(np.pi)
-    return direction, margin
 
 
 def to_lon_lat(directions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -18,8 +18,8 @@ The swept load makes ``W`` affine in the unit direction ``d``: ``W(d) = w0 + B d
 half circle in the sweep plane, a spherical cap on the sphere (:mod:`kcheck.mechanics.arcs`). So the
 directions where friction can hold the body are exact arc sets (planar) or a cap intersection.
 
-All arrays are nondimensional (:class:`kcheck.mechanics.kinematics.Frame`): lengths by the layout size,
-forces by the force scale. Wrenches are ``(moment about the origin, force)``. Friction
+All arrays are nondimensional (:class:`kcheck.mechanics.kinematics.Frame`): lengths by the layout
+size, forces by the force scale. Wrenches are ``(moment about the origin, force)``. Friction
 coefficients are per support, so callers may pass a static value, a range end, or a common
 factor (:mod:`kcheck.mechanics.least_friction`).
 """
@@ -32,10 +32,10 @@ from typing import Literal
 import numpy as np
 
 from kcheck.mechanics.arcs import FULL, ArcSet, affine_arcs
-from kcheck.numerics.arrays import unique_rows
 from kcheck.mechanics.cones import FACET_TOL, cone_facets, essential_rows
 from kcheck.mechanics.dynamics import friction_directions
 from kcheck.mechanics.kinematics import Frame, wrenches
+from kcheck.numerics.arrays import unique_rows
 
 __all__ = [
     "PYRAMID_EDGES",

@@ -24,7 +24,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kcheck.mechanics.dynamics import ILL_CONDITIONED, UNDETERMINED, Problem, _equilibrate, contact_matrices
+from kcheck.mechanics.dynamics import (
+    ILL_CONDITIONED,
+    UNDETERMINED,
+    Problem,
+    _equilibrate,
+    contact_matrices,
+)
 from kcheck.mechanics.kinematics import free_twist_arrays, wrenches
 
 __all__ = ["Perturbed", "perturb", "sample_margins", "CHUNK"]

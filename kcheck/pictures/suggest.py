@@ -8,9 +8,9 @@ from typing import Any
 
 import numpy as np
 
+from kcheck.analysis.suggest import Search
 from kcheck.pictures.plotting import figure, formats, save
 from kcheck.scene import Scene
-from kcheck.analysis.suggest import Search
 
 __all__ = ["plot_suggestion"]
 

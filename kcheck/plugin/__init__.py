@@ -7,6 +7,7 @@ Discovery is two typed steps: find the entry points, then load them.
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -14,14 +15,13 @@ from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
 
 from pydantic import BaseModel, ConfigDict
 
-from kcheck.plugin.dist_info import EntryPoint, distributions
 from kcheck.errors import PluginError
+from kcheck.plugin.dist_info import EntryPoint, distributions
 
 if TYPE_CHECKING:
     import importlib.metadata
 
-    from kcheck.body.mass import MassProperties
-    from kcheck.result import CheckResult, Severity
+    from kcheck.result import CheckResult, MassProperties, Severity
     from kcheck.scene import Scene
 
 __all__ = [
@@ -75,6 +75,11 @@ class Check:
     needs_mass: ClassVar[bool] = False
     options: ClassVar[type[Options]] = Options
     severity: ClassVar[Severity] = "error"
+    #: ``"module:function"`` drawing this check's pictures, called as
+    #: ``function(check, inputs, result, directory) -> paths``. A string, so that the check's
+    #: module never imports its pictures or matplotlib: they are imported only when pictures
+    #: are asked for.
+    pictures: ClassVar[str | None] = None
 
     def skip_reason(self, scene: Scene) -> str | None:
         """Why this check does not apply to a scene, or None when it does."""
@@ -93,8 +98,16 @@ class Check:
         raise NotImplementedError
 
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
-        """Write pictures for a result into ``directory``; return their paths (none by default)."""
-        return ()
+        """Write pictures for a result into ``directory``; return their paths.
+
+        By default this draws with the function ``pictures`` names (none without it). A check
+        may override it instead.
+        """
+        if self.pictures is None:
+            return ()
+        module, _, name = self.pictures.partition(":")
+        draw = getattr(importlib.import_module(module), name)
+        return draw(self, inputs, result, directory)  # type: ignore[no-any-return]
 
 
 class CheckSpec(NamedTuple):

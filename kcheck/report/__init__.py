@@ -15,8 +15,7 @@ from typing import TYPE_CHECKING, Protocol, TextIO
 if TYPE_CHECKING:
     from rich.console import Console
 
-    from kcheck.body.mass import MassProperties
-    from kcheck.result import SceneResult
+    from kcheck.result import MassProperties, SceneResult
 
 __all__ = [
     "FORMATS",

@@ -31,8 +31,8 @@ from kcheck.scene.types import (
     Sweep,
     Tolerances,
 )
-from kcheck.scene.validate import Problems, plain_value_problems, pydantic_problems
 from kcheck.scene.units import LENGTH_TO_M
+from kcheck.scene.validate import Problems, plain_value_problems, pydantic_problems
 from kcheck.scene.yamlio import DEFAULT_LIMITS, FieldPath, YamlLimits, format_path, read_yaml
 
 __all__ = ["SCENE_GLOB", "load_scene", "rotation_matrix"]

@@ -12,16 +12,14 @@ from __future__ import annotations
 
 import math
 import re
-from typing import TYPE_CHECKING, Any
+from dataclasses import dataclass
+from typing import Any
 
 import yaml
 
 from kcheck.errors import FieldPath, format_path
 
-if TYPE_CHECKING:
-    from kcheck.scene.yamlio import YamlLimits
-
-__all__ = ["Located", "Composer", "NOTHING", "plain_scalar"]
+__all__ = ["Located", "Composer", "NOTHING", "plain_scalar", "YamlLimits", "DEFAULT_LIMITS"]
 
 # YAML 1.2 core schema (https://yaml.org/spec/1.2.2/#1032-tag-resolution).
 _NULL = re.compile(r"^(?:~|null|Null|NULL|)$")
@@ -38,6 +36,25 @@ _MAX_INT_DIGITS = 4000
 _TAG = "tag:yaml.org,2002:"
 _SCALAR_TAGS = {f"{_TAG}{t}" for t in ("str", "int", "float", "bool", "null")}
 _COLLECTION_TAGS = {f"{_TAG}map", f"{_TAG}seq"}
+
+
+@dataclass(frozen=True)
+class YamlLimits:
+    """Resource limits of one YAML file (configuration may change them).
+
+    ``max_bytes``: file size; ``max_depth``: nesting of mappings and lists; ``max_values``:
+    values (scalars, mappings, lists) in the document after expanding aliases;
+    ``max_alias_values``: values that aliases may add in total (an alias counts the whole
+    value it refers to each time it is used).
+    """
+
+    max_bytes: int = 5 * 1024 * 1024
+    max_depth: int = 64
+    max_values: int = 200_000
+    max_alias_values: int = 10_000
+
+
+DEFAULT_LIMITS = YamlLimits()
 
 
 class Located(Exception):

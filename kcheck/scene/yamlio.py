@@ -19,14 +19,20 @@ import errno
 import os
 import stat
 from collections.abc import Callable, Iterator, Mapping
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, BinaryIO, Literal, NamedTuple
 
 import yaml
 
 from kcheck.errors import FieldPath, SceneError, format_path
-from kcheck.scene.yamlcompose import NOTHING, Composer, Located, plain_scalar
+from kcheck.scene.yamlcompose import (
+    DEFAULT_LIMITS,
+    NOTHING,
+    Composer,
+    Located,
+    YamlLimits,
+    plain_scalar,
+)
 
 __all__ = [
     "FieldPath",
@@ -47,25 +53,6 @@ LineMap = Mapping[FieldPath, int]
 
 #: Whether PyYAML was built with libyaml (the C parser is then used by default).
 HAVE_LIBYAML = bool(getattr(yaml, "__with_libyaml__", False))
-
-
-@dataclass(frozen=True)
-class YamlLimits:
-    """Resource limits of one YAML file (configuration may change them).
-
-    ``max_bytes``: file size; ``max_depth``: nesting of mappings and lists; ``max_values``:
-    values (scalars, mappings, lists) in the document after expanding aliases;
-    ``max_alias_values``: values that aliases may add in total (an alias counts the whole
-    value it refers to each time it is used).
-    """
-
-    max_bytes: int = 5 * 1024 * 1024
-    max_depth: int = 64
-    max_values: int = 200_000
-    max_alias_values: int = 10_000
-
-
-DEFAULT_LIMITS = YamlLimits()
 
 
 class YamlDocument(NamedTuple):

@@ -3,24 +3,23 @@
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Sequence
-from pathlib import Path
 
 import numpy as np
-from pydantic import Field
 
-from kcheck.analysis.cases import Analysis, analyse, closing_force_reason, describe_ranges, ranges_deg
+from kcheck.analysis import analyse
+from kcheck.analysis.cases import Analysis, closing_force_reason, describe_ranges, ranges_deg
+from kcheck.analysis.friction_ranges import range_details
+from kcheck.fmt import format_angle
 from kcheck.mechanics.arcs import ArcSet, affine_arcs
 from kcheck.mechanics.dynamics import Affine
-from kcheck.fmt import format_angle
-from kcheck.plugin import Check, Inputs, Options
-from kcheck.analysis.friction_ranges import range_details
-from kcheck.result import CaseResult, CheckResult, Finding, Status
+from kcheck.plugin import Check, Inputs
+from kcheck.result import CaseResult, CheckResult, Status
 from kcheck.scene import Scene
+from kcheck_checks.options import AnalyticalOptions
 from kcheck_checks.wording import (
     case_findings,
+    design_findings,
     empty_range_findings,
-    load_field,
     merge_findings,
     verdict,
 )
@@ -29,59 +28,6 @@ from kcheck_checks.wording import (
 UNCERTAIN_DEG = 0.01
 
 __all__ = ["Analytical2D", "AnalyticalOptions", "analytical_result", "design_findings"]
-
-
-class AnalyticalOptions(Options):
-    """Options of the analytical checks."""
-
-    min_margin_deg: float = Field(
-        0.0, ge=0, description="Least angular distance of the design direction from a boundary"
-    )
-
-
-def design_findings(
-    scene: Scene,
-    design_deg: float,
-    margin_deg: float | None,
-    nearest_deg: float | None,
-    ranges_text: str,
-    min_margin_deg: float,
-    what: str = "design direction",
-) -> list[Finding]:
-    """Why a design direction is not good enough: outside the safe ranges (by how much, and
-    the nearest safe angle), or inside by less than the required margin. None when no range
-    is safe (the empty ranges have their own finding)."""
-    if margin_deg is None:
-        return []
-    design = format_angle(design_deg % 360.0)
-    field = load_field(scene)
-    if margin_deg < 0:
-        near = (
-            ""
-            if nearest_deg is None
-            else f"; the nearest safe angle is {format_angle(nearest_deg)}"
-        )
-        return [
-            Finding(
-                f"the {what} {design} lies {format_angle(-margin_deg)} outside the safe "
-                f"range {ranges_text}{near}",
-                code="design-outside",
-                field=field,
-                hint=None
-                if nearest_deg is None
-                else f"turn the force to {format_angle(nearest_deg)} or further in",
-            )
-        ]
-    if margin_deg < min_margin_deg:
-        return [
-            Finding(
-                f"the {what} {design} is {format_angle(margin_deg)} inside the safe range "
-                f"{ranges_text}, less than the required {min_margin_deg:g}°",
-                code="margin",
-                field=field,
-            )
-        ]
-    return []
 
 
 def analytical_result(
@@ -157,6 +103,7 @@ class Analytical2D(Check):
     """Newton–Euler for each retracted support of a planar scene, with Coulomb friction."""
 
     id = "analytical-2d"
+    pictures = "kcheck_checks.pictures.analytical_2d:draw"
     summary = (
         "equations of motion per retracted support: outcome, normal forces, limiting friction, "
         "exact safe force-angle ranges"
@@ -177,15 +124,6 @@ class Analytical2D(Check):
         analysis = analyse(inputs.scene, inputs.mass)
         result = analytical_result(self.id, inputs.scene, analysis, inputs.options.min_margin_deg)
         return with_partial_ranges(result, analysis, inputs.scene)
-
-    def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
-        """Normal forces and acceleration against force angle, one panel per retracted support
-        (thesis Figures 2.17-2.20), from the exact affine forms (needs the `plot` extra)."""
-        from kcheck_checks.pictures.analytical_2d import plot_analytical_2d
-        from kcheck_checks.pictures.friction import plot_friction
-
-        paths = plot_analytical_2d(inputs, result, directory)
-        return [*paths, *plot_friction(self.id, inputs, result, directory)]
 
 
 # --- partial ranges (the thesis reports motion and contact separately) ------------------------

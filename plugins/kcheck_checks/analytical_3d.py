@@ -3,29 +3,28 @@
 Besides the planar-style report (outcome, forces, friction intervals, exact ranges in a sweep
 plane), the spatial check maps the safe force directions on the whole sphere: per retracted
 case every unknown is affine in the unit force direction, so each condition is a spherical cap
-and the safe region is their intersection, computed exactly (:mod:`kcheck.mechanics.caps`): its area, the
-design direction's signed distance to it, the nearest safe direction and the most robust one.
-Without a load, gravity is the closing force and the map is over gravity directions relative to
+and the safe region is their intersection, computed exactly (:mod:`kcheck.mechanics.caps`): its
+area, the design direction's signed distance to it, the nearest safe direction and the most robust
+one. Without a load, gravity is the closing force and the map is over gravity directions relative to
 the body (its tilt).
 """
 
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Sequence
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from pydantic import Field
 
-from kcheck.analysis.cases import Analysis, analyse, closing_force_reason, describe_ranges, sweep_ranges
+from kcheck.analysis import analyse
+from kcheck.analysis.cases import Analysis, closing_force_reason, describe_ranges, sweep_ranges
+from kcheck.analysis.friction_ranges import range_details
 from kcheck.fmt import clean, format_angle, format_share, format_vector
 from kcheck.plugin import Check, Inputs
-from kcheck.analysis.friction_ranges import range_details
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
-from kcheck_checks.analytical_2d import AnalyticalOptions
+from kcheck_checks.options import AnalyticalOptions
 from kcheck_checks.wording import (
     case_findings,
     load_field,
@@ -306,6 +305,7 @@ class Analytical3D(Check):
     """Every retracted support of a spatial scene: free screw, outcome, forces, ranges, map."""
 
     id = "analytical-3d"
+    pictures = "kcheck_checks.pictures.spatial:draw"
     summary = (
         "Newton–Euler per retracted support with the full inertia tensor: outcome, normal "
         "forces, friction intervals, exact safe region on the sphere of directions (share, "
@@ -326,14 +326,3 @@ class Analytical3D(Check):
         assert inputs.mass is not None and isinstance(inputs.options, Analytical3DOptions)
         analysis = analyse(inputs.scene, inputs.mass)
         return spatial_result(self.id, inputs.scene, analysis, inputs.options)[0]
-
-    def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
-        """Scene with screw axes, safe-direction map, normal forces per case (PNG and SVG)."""
-        from kcheck_checks.pictures.spatial import plot_spatial
-        from kcheck_checks.pictures.friction import plot_friction
-
-        assert inputs.mass is not None and isinstance(inputs.options, Analytical3DOptions)
-        analysis = analyse(inputs.scene, inputs.mass)
-        _, smap, analysis = spatial_result(self.id, inputs.scene, analysis, inputs.options)
-        paths = plot_spatial(inputs.scene, analysis, smap, result, directory)
-        return [*paths, *plot_friction(self.id, inputs, result, directory)]

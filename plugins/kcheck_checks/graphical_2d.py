@@ -1,7 +1,8 @@
 """Graphical 2D: Koster's construction (methods.md §5) in twist form, mass-free.
 
 For every retracted support ``r`` the free twist ``xi_r`` of the two remaining supports (from
-:func:`kcheck.mechanics.kinematics.free_twist`, oriented to close the gap) is a rotation about the pole
+:func:`kcheck.mechanics.kinematics.free_twist`, oriented to close the gap) is a rotation about the
+pole
 ``(-v_y, v_x) / w`` (homogeneous ``(-v_y, v_x, w)``; ``w = 0`` is the pole at infinity, a
 translation). No line intersections are computed, so parallel and nearly parallel normals need
 no special case.
@@ -43,13 +44,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 from pydantic import Field
 
 from kcheck.analysis.cases import describe_ranges, nearest_end, ranges_deg, support_layout
+from kcheck.analysis.friction_ranges import coefficients_used
+from kcheck.fmt import format_angle
 from kcheck.mechanics.arcs import (
     ArcSet,
     complement,
@@ -58,23 +60,10 @@ from kcheck.mechanics.arcs import (
     margin,
     union,
 )
-from kcheck.fmt import format_angle
 from kcheck.mechanics.kinematics import (
     RANK_RTOL,
     Frame,
     layout_singular_values,
-)
-from kcheck.plugin import Check, Inputs, Options
-from kcheck.analysis.friction_ranges import coefficients_used
-from kcheck.result import CaseResult, CheckResult, Finding, Status
-from kcheck.scene import Scene
-from kcheck_checks.analytical_2d import design_findings
-from kcheck_checks.graphical_attachment import (
-    Attachment,
-    attachment,
-    attachment_of,
-    missing_force,
-    needs_centre_of_mass,
 )
 from kcheck.mechanics.koster import (
     GraphicalCase,
@@ -85,7 +74,23 @@ from kcheck.mechanics.koster import (
     tilted_twist,
     virtual_power,
 )
-from kcheck_checks.wording import empty_range_findings, ranges_text, support_field, verdict
+from kcheck.plugin import Check, Inputs, Options
+from kcheck.result import CaseResult, CheckResult, Finding, Status
+from kcheck.scene import Scene
+from kcheck_checks.graphical_attachment import (
+    Attachment,
+    attachment,
+    attachment_of,
+    missing_force,
+    needs_centre_of_mass,
+)
+from kcheck_checks.wording import (
+    design_findings,
+    empty_range_findings,
+    ranges_text,
+    support_field,
+    verdict,
+)
 
 __all__ = [
     "Graphical2D",
@@ -232,6 +237,7 @@ class Graphical2D(Check):
     """Koster's graphical construction for a planar coupling: poles, funnel, jamming areas."""
 
     id = "graphical-2d"
+    pictures = "kcheck_checks.pictures.graphical_2d:draw"
     summary = (
         "Koster's construction (mass-free): poles and senses, frictionless funnel, friction "
         "jamming areas, safe force-angle ranges"
@@ -292,14 +298,6 @@ class Graphical2D(Check):
                 details=details,
             )
         return _verdict(self.id, scene, built, opts.min_margin_deg, details)
-
-    def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
-        """The construction like the thesis's Figure 2.8 (needs the `plot` extra)."""
-        from kcheck_checks.pictures.friction import plot_friction
-        from kcheck_checks.pictures.graphical_2d import plot_graphical
-
-        paths = plot_graphical(inputs, result, directory)
-        return [*paths, *plot_friction(self.id, inputs, result, directory)]
 
 
 def _verdict(

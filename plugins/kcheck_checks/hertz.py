@@ -11,7 +11,6 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -50,6 +49,7 @@ class Hertz(Check):
     """Hertz contact stress and stiffness per ball contact; coupling stiffness; error motion."""
 
     id = "hertz"
+    pictures = "kcheck_checks.pictures.hertz:draw"
     summary = (
         "Hertz contact of every ball contact under the seated load: peak pressure against the "
         "materials' allowable, contact stiffness; the coupling's stiffness matrix and the "
@@ -99,12 +99,6 @@ class Hertz(Check):
         """Seated forces, Hertz contacts, stiffness matrix, error motion, verdict."""
         assert isinstance(inputs.options, HertzOptions)
         return hertz_result(self.id, inputs.scene, inputs.mass, inputs.options)
-
-    def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
-        """Peak pressure per contact against its allowable, and the stiffness at the point."""
-        from kcheck_checks.pictures.hertz import plot_hertz
-
-        return plot_hertz(inputs.scene, result, directory)
 
 
 def _unknown_couplings(scene: Scene, options: HertzOptions) -> CheckResult | None:

@@ -2,8 +2,8 @@
 
 For every retracted support the check asks whether a static equilibrium exists in which the
 external wrench (load, weight, preloads, torque) is balanced by the remaining supports with
-every contact force inside its friction cone (:mod:`kcheck.mechanics.statics`). If so, the body may stay
-put whatever the forward dynamics say. Outcomes per case at the design direction:
+every contact force inside its friction cone (:mod:`kcheck.mechanics.statics`). If so, the body may
+stay put whatever the forward dynamics say. Outcomes per case at the design direction:
 
 * ``jams``: an equilibrium exists and, without friction, the body would close the gap;
 * ``holds``: an equilibrium exists although, without friction, the load would open the gap;
@@ -15,21 +15,13 @@ cones, clarabel) and bound the maps between inscribed and circumscribed pyramids
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 from pydantic import Field
 
 from kcheck.analysis.cases import ranges_deg
-from kcheck.mechanics.arcs import FULL, TAU, ArcSet, complement, intersect, margin
-from kcheck.fmt import format_angle, format_number, format_ranges, format_share_bounds
-from kcheck.plugin import Check, Inputs, Options
 from kcheck.analysis.friction_ranges import coefficients_used
-from kcheck.result import CaseResult, CheckResult, Finding, Status
-from kcheck.scene import Scene
-from kcheck.mechanics.statics import PYRAMID_EDGES
 from kcheck.analysis.jamming_cases import (
     CaseArcs,
     JamAnalysis,
@@ -45,6 +37,12 @@ from kcheck.analysis.jamming_cases import (
     needs_body,
     tidy,
 )
+from kcheck.fmt import format_angle, format_number, format_ranges, format_share_bounds
+from kcheck.mechanics.arcs import FULL, TAU, ArcSet, complement, intersect, margin
+from kcheck.mechanics.statics import PYRAMID_EDGES
+from kcheck.plugin import Check, Inputs, Options
+from kcheck.result import CaseResult, CheckResult, Finding, Status
+from kcheck.scene import Scene
 
 __all__ = ["Jamming", "JammingOptions", "jamming_result", "run_jamming"]
 
@@ -348,6 +346,7 @@ class Jamming(Check):
     """Static equilibrium with friction per retracted support: can the body stay put?"""
 
     id = "jamming"
+    pictures = "kcheck_checks.pictures.jamming:draw"
     summary = (
         "static equilibrium with Coulomb friction per retracted support: where friction can "
         "hold the body, and the least friction that does"
@@ -367,14 +366,3 @@ class Jamming(Check):
     def run(self, inputs: Inputs) -> CheckResult:
         """Every retracted case: held directions, outcome and least friction at the design."""
         return run_jamming(inputs)[0]
-
-    def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
-        """Sweep circle per case (planar) or sphere map (spatial); needs the `plot` extra."""
-        from kcheck_checks.pictures.friction import plot_friction
-        from kcheck_checks.pictures.jamming import plot_jamming
-
-        _, analysis, smap = run_jamming(inputs)
-        if analysis is None:
-            return []
-        paths = plot_jamming(inputs.scene, analysis, smap, result, directory)
-        return [*paths, *plot_friction(self.id, inputs, result, directory)]

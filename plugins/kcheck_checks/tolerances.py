@@ -2,9 +2,9 @@
 
 The scene's ``tolerances:`` give a box of made couplings — support positions, support normals,
 the load direction — and its ``friction`` ranges the coefficients. This check samples the box
-(seeded Monte Carlo, :mod:`kcheck.mechanics.tolerance`: positions, normals and the kinetic coefficients
-drawn uniformly — the coefficients along their ranges together, as the analytical checks take
-them, unless ``independent_friction``) and treats the load direction exactly (a sample
+(seeded Monte Carlo, :mod:`kcheck.mechanics.tolerance`: positions, normals and the kinetic
+coefficients drawn uniformly — the coefficients along their ranges together, as the analytical
+checks take them, unless ``independent_friction``) and treats the load direction exactly (a sample
 passes for every load direction within ``±δ`` iff its design margin is at least ``δ``). It
 reports the worst design margin over the box — the worst sample, and the nominal coupling over
 its friction range exactly (:mod:`kcheck.analysis.friction_ranges`) — and the probability that the
@@ -22,10 +22,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from pydantic import Field
 
-from kcheck.analysis.cases import analyse, closing_force_reason, problem_for
+from kcheck.analysis import analyse
+from kcheck.analysis.cases import closing_force_reason, problem_for
+from kcheck.analysis.friction_ranges import RangeInfo
 from kcheck.fmt import format_angle, format_length, format_number
 from kcheck.plugin import Check, Inputs, Options
-from kcheck.analysis.friction_ranges import RangeInfo
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.wording import verdict
@@ -105,8 +106,8 @@ class Tolerances(Check):
 
     def run(self, inputs: Inputs) -> CheckResult:
         """Sample the box, count the passes, find the worst."""
-        from kcheck.numerics.stats import clopper_pearson
         from kcheck.mechanics.tolerance import perturb, sample_margins
+        from kcheck.numerics.stats import clopper_pearson
 
         scene, opts = inputs.scene, inputs.options
         assert inputs.mass is not None and isinstance(opts, TolerancesOptions)

@@ -13,9 +13,9 @@ from collections.abc import Sequence
 import numpy as np
 
 from kcheck.analysis.cases import Analysis
-from kcheck.mechanics.arcs import ArcSet, intersect
 from kcheck.errors import FieldPath
 from kcheck.fmt import format_angle, format_number, format_ranges
+from kcheck.mechanics.arcs import ArcSet, intersect
 from kcheck.mechanics.friction import FrictionIntervals, describe_friction
 from kcheck.result import CaseResult, Finding
 from kcheck.scene import Scene
@@ -29,6 +29,7 @@ __all__ = [
     "mu_text",
     "case_findings",
     "empty_range_findings",
+    "design_findings",
 ]
 
 
@@ -262,3 +263,48 @@ def verdict(parts: Sequence[str], findings: Sequence[Finding]) -> str:
         more = f" (and {len(findings) - 1} more)" if len(findings) > 1 else ""
         line.append(findings[0].message + more)
     return "; ".join(line)
+
+
+def design_findings(
+    scene: Scene,
+    design_deg: float,
+    margin_deg: float | None,
+    nearest_deg: float | None,
+    ranges_text: str,
+    min_margin_deg: float,
+    what: str = "design direction",
+) -> list[Finding]:
+    """Why a design direction is not good enough: outside the safe ranges (by how much, and
+    the nearest safe angle), or inside by less than the required margin. None when no range
+    is safe (the empty ranges have their own finding)."""
+    if margin_deg is None:
+        return []
+    design = format_angle(design_deg % 360.0)
+    field = load_field(scene)
+    if margin_deg < 0:
+        near = (
+            ""
+            if nearest_deg is None
+            else f"; the nearest safe angle is {format_angle(nearest_deg)}"
+        )
+        return [
+            Finding(
+                f"the {what} {design} lies {format_angle(-margin_deg)} outside the safe "
+                f"range {ranges_text}{near}",
+                code="design-outside",
+                field=field,
+                hint=None
+                if nearest_deg is None
+                else f"turn the force to {format_angle(nearest_deg)} or further in",
+            )
+        ]
+    if margin_deg < min_margin_deg:
+        return [
+            Finding(
+                f"the {what} {design} is {format_angle(margin_deg)} inside the safe range "
+                f"{ranges_text}, less than the required {min_margin_deg:g}°",
+                code="margin",
+                field=field,
+            )
+        ]
+    return []

@@ -24,9 +24,7 @@ GOLDEN = ROOT / "tests" / "golden" / "fixtures.json"
 
 def _strip(value):
     if isinstance(value, dict):
-        return {
-            k: _strip(v) for k, v in value.items() if "time" not in k and k != "kcheck_version"
-        }
+        return {k: _strip(v) for k, v in value.items() if "time" not in k and k != "kcheck_version"}
     if isinstance(value, list):
         return [_strip(v) for v in value]
     return value
@@ -41,7 +39,7 @@ def _differences(expected, actual, where="$"):
     elif isinstance(expected, list) and isinstance(actual, list):
         if len(expected) != len(actual):
             yield f"{where}: {len(expected)} items, now {len(actual)}"
-        for i, (e, a) in enumerate(zip(expected, actual)):
+        for i, (e, a) in enumerate(zip(expected, actual, strict=False)):
             yield from _differences(e, a, f"{where}[{i}]")
     elif (
         isinstance(expected, float)

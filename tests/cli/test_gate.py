@@ -13,7 +13,9 @@ import pytest
 import kcheck.gate.pool
 from tests.conftest import FIXTURES, PLANAR_SCENE
 
-pytestmark = pytest.mark.skipif(not kcheck.gate.pool.available(), reason="worker processes need fork")
+pytestmark = pytest.mark.skipif(
+    not kcheck.gate.pool.available(), reason="worker processes need fork"
+)
 
 
 # -- --select ------------------------------------------------------------------------------

@@ -11,8 +11,8 @@ import shutil
 
 import pytest
 
-from kcheck.plugin import load_checks
 from kcheck.gate.runner import check_scene
+from kcheck.plugin import load_checks
 from tests.conftest import FIXTURES, PLANAR_SCENE
 
 FAST = ("--points", "200", "--directions", "150")

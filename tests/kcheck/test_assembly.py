@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 import trimesh
 
-from kcheck.errors import MeshError, SceneError
 from kcheck.body.mass import body_mass_properties, load_mesh, mesh_mass_properties, step_length_unit
-from kcheck.plugin import load_checks
+from kcheck.errors import MeshError, SceneError
 from kcheck.gate.runner import check_scene
+from kcheck.plugin import load_checks
 from kcheck.scene import load_scene
 from tests.conftest import FIXTURES
 

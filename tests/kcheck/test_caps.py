@@ -10,7 +10,8 @@ References:
   corner's exterior angle ``beta`` from the spherical law of cosines in the triangle of the
   two axes and a corner — corner angles, which kcheck's Stokes form never computes;
 * the 2^k cells cut by k circles tile the sphere: their areas add up to 4 pi;
-* brute force: a Fibonacci lattice (kcheck.mechanics.sphere) for areas, distances and the deepest point.
+* brute force: a Fibonacci lattice (kcheck.mechanics.sphere) for areas, distances and the deepest
+point.
 """
 
 from __future__ import annotations

@@ -13,9 +13,8 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from kcheck.scene import couplings
 from kcheck.errors import SceneError
-from kcheck.scene import load_scene
+from kcheck.scene import couplings, load_scene
 from tests.conftest import FIXTURES
 
 S2 = math.sqrt(0.5)

@@ -1,5 +1,5 @@
-"""Dynamics of a retracted case (kcheck.mechanics.dynamics): Painlevé-type cases, the outcome rule, and
-preloads, against closed forms derived by hand in the docstrings.
+"""Dynamics of a retracted case (kcheck.mechanics.dynamics): Painlevé-type cases, the outcome rule,
+and preloads, against closed forms derived by hand in the docstrings.
 
 The Painlevé case is a long, light body sliding on two rough supports: y1 (-a, 0) and
 y2 (a, 0) push up (+y), x1 (-b, h) pushes along +x at the height h of the centre of mass

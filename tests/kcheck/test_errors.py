@@ -382,7 +382,7 @@ def test_safe_share_error_estimate_is_honest(tmp_path: Path) -> None:
     double only at the end): the error the caps' coefficients carry into the area."""
     from kcheck_checks.analytical_3d import sphere_map
 
-    from kcheck.analysis.cases import analyse
+    from kcheck.analysis import analyse
     from kcheck.mechanics.caps import region
 
     rng = np.random.default_rng(1)

@@ -1,4 +1,5 @@
-"""Friction intervals (kcheck.mechanics.friction) against 50-digit polynomial roots and closed forms.
+"""Friction intervals (kcheck.mechanics.friction) against 50-digit polynomial roots and closed
+forms.
 
 The reference: ``det(A0 + mu A1)`` as a polynomial, interpolated from mpmath determinants at
 n + 1 points (50 digits), and its roots from ``mpmath.polyroots`` — no eigenvalues, no numpy.

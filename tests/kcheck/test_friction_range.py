@@ -1,10 +1,11 @@
-"""Friction ranges (kcheck.mechanics.friction_range, kcheck.analysis.friction_ranges) against dense brute force.
+"""Friction ranges (kcheck.mechanics.friction_range, kcheck.analysis.friction_ranges) against dense
+brute force.
 
 The brute force solves the equations of motion directly at many coefficients of the range —
 one LU solve per coefficient (``K(t) x = b0 + B d``), the outcome rule on the solution, the
 effective masses from determinants — and intersects over them. It shares with the code under
-test only the system matrices of :mod:`kcheck.mechanics.dynamics`; the code under test never solves at a
-sampled coefficient (Cramer polynomials, real roots, envelopes).
+test only the system matrices of :mod:`kcheck.mechanics.dynamics`; the code under test never solves
+at a sampled coefficient (Cramer polynomials, real roots, envelopes).
 """
 
 from __future__ import annotations
@@ -14,13 +15,13 @@ import dataclasses
 import numpy as np
 import pytest
 
+from kcheck.analysis.friction_ranges import design_margins, failing_intervals, worst_parameter
 from kcheck.mechanics.arcs import TAU
 from kcheck.mechanics.caps import region
 from kcheck.mechanics.dynamics import Problem, analyse_cases, build_problem, friction_matrices
 from kcheck.mechanics.friction import friction_intervals
 from kcheck.mechanics.friction_range import FrictionPath, range_arcs, range_caps, range_cases
 from kcheck.mechanics.outcomes import safe_arcs
-from kcheck.analysis.friction_ranges import design_margins, failing_intervals, worst_parameter
 from kcheck.mechanics.sphere import fibonacci_sphere
 
 
@@ -182,8 +183,8 @@ def test_envelope_ends_inside_the_range():
 
 def test_uniform_range_verdict_is_the_friction_intervals():
     """With one common coefficient the range closes throughout exactly when it lies inside one
-    of the case's friction intervals (kcheck.mechanics.friction, an independent exact computation), and
-    it fails exactly on the rest of the range. The design direction is one that closes at the
+    of the case's friction intervals (kcheck.mechanics.friction, an independent exact computation),
+    and it fails exactly on the rest of the range. The design direction is one that closes at the
     middle of the range, so both verdicts occur."""
     rng = np.random.default_rng(11)
     checked = failing = 0

@@ -8,10 +8,11 @@ import numpy as np
 import pytest
 import trimesh
 
+from kcheck.body.mass import body_volumes, combine, load_mesh, mesh_mass_properties
 from kcheck.errors import MeshError
-from kcheck.body.mass import MassProperties, body_volumes, combine, load_mesh, mesh_mass_properties
-from kcheck.plugin import load_checks
 from kcheck.gate.runner import check_scene
+from kcheck.plugin import load_checks
+from kcheck.result import MassProperties
 
 RHO = 2700.0
 # Binary STL stores coordinates as float32: a relative precision of about 1e-7 per coordinate,

@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 import trimesh
 
-from kcheck.errors import MeshError
 from kcheck.body.mass import body_mass_properties, mesh_mass_properties
 from kcheck.body.meshio import load_mesh
+from kcheck.errors import MeshError
 from kcheck.scene import load_scene
 from tests.conftest import FIXTURES
 

@@ -184,8 +184,8 @@ def test_no_numerical_noise_in_verbose_report(every_fixture: str) -> None:
 
 
 def test_noise_is_zeroed_relative_to_the_largest_entry() -> None:
-    from kcheck.body.mass import MassProperties
     from kcheck.report.tables import mass_view
+    from kcheck.result import MassProperties
 
     inertia = np.array([[0.0170547, -9.14796e-18, 0], [-9.14796e-18, 0.0270953, 0], [0, 0, 0.0358]])
     mass = MassProperties(6.885, np.array([0.1, 2.2e-18, 0.0425]), inertia, "mesh", 0.00255)
@@ -475,7 +475,7 @@ def test_the_sphere_picture_writes_the_share_as_the_check_does(tmp_path: Path) -
     from kcheck_checks.analytical_3d import Analytical3D, Analytical3DOptions, spatial_result
     from kcheck_checks.pictures.sphere import sphere_figure
 
-    from kcheck.analysis.cases import analyse
+    from kcheck.analysis import analyse
     from kcheck.body.mass import body_mass_properties
     from kcheck.scene import load_scene
     from tests.couplings import user_kelvin

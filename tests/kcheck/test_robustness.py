@@ -13,9 +13,9 @@ import re
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from kcheck.gate.runner import check_scene
 from kcheck.plugin import load_checks
 from kcheck.result import Status
-from kcheck.gate.runner import check_scene
 from tests.conftest import PLANAR_SCENE
 
 COUPLED_SCENE = """

@@ -8,9 +8,9 @@ import importlib.metadata
 from collections.abc import Sequence
 from pathlib import Path
 
+from kcheck.gate.runner import Settings, run_batch
 from kcheck.plugin import Check, CheckSpec, Inputs, LoadedCheck
 from kcheck.result import CheckResult, Status
-from kcheck.gate.runner import Settings, run_batch
 from tests.conftest import PLANAR_SCENE
 
 

@@ -9,11 +9,10 @@ import numpy as np
 import pytest
 import trimesh
 
-from kcheck.body.mass import MassProperties
-from kcheck.plugin import load_checks
-from kcheck.result import Status
-from kcheck.gate.runner import check_scene
 from kcheck.analysis.sanity import body_box
+from kcheck.gate.runner import check_scene
+from kcheck.plugin import load_checks
+from kcheck.result import MassProperties, Status
 from tests.conftest import FIXTURES, PLANAR_SCENE
 
 # The verdict each fixture is meant to have (some thesis fixtures fail on purpose: see their

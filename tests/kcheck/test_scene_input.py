@@ -13,9 +13,9 @@ from pathlib import Path
 import pytest
 
 from kcheck.errors import SceneError
+from kcheck.gate.runner import check_scene
 from kcheck.plugin import load_checks
 from kcheck.result import Status
-from kcheck.gate.runner import check_scene
 from kcheck.scene import load_scene
 from kcheck.scene.yamlio import HAVE_LIBYAML, YamlLimits, read_yaml
 from tests.conftest import FIXTURES, PLANAR_SCENE

@@ -13,7 +13,6 @@ import numpy as np
 import pytest
 
 from kcheck.mechanics.hertz import contact_modulus, hertz
-from kcheck.scene import Preload
 from kcheck.mechanics.seat import (
     contact_forces,
     external_wrench,
@@ -22,6 +21,7 @@ from kcheck.mechanics.seat import (
     stiffness_matrix,
     twist_from_approach,
 )
+from kcheck.scene import Preload
 from tests.couplings import kelvin, three_vee
 
 STEEL = contact_modulus(210e9, 0.3, 210e9, 0.3)

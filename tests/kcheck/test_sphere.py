@@ -1,5 +1,5 @@
-"""The lattice count of safe directions (kcheck.mechanics.sphere), the oracle of kcheck.mechanics.caps, against
-closed forms.
+"""The lattice count of safe directions (kcheck.mechanics.sphere), the oracle of
+kcheck.mechanics.caps, against closed forms.
 
 References: the area of a spherical cap of angular radius r is 2 pi (1 - cos r), a fraction
 (1 - cos r) / 2 of the sphere; three orthogonal hemispheres meet in an octant (1/8), whose
@@ -12,13 +12,13 @@ import numpy as np
 import pytest
 
 from kcheck.mechanics.arcs import cap_margin_matrix, cap_margins
+from kcheck.mechanics.deepest import most_robust_direction
 from kcheck.mechanics.sphere import (
     cap_fraction,
     fibonacci_chunks,
     fibonacci_sphere,
     grid_spacing,
     lattice_best,
-    most_robust_direction,
     safe_fraction,
 )
 

@@ -14,13 +14,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from kcheck.analysis.cases import problem_for
-from kcheck.mechanics.arcs import cap_margins
 from kcheck.analysis.candidates import BoxSampler, SuggestError, SurfaceSampler
-from kcheck.mechanics.dynamics import analyse_case
-from kcheck.body.mass import body_mass_properties
-from kcheck.scene import load_scene
-from kcheck.mechanics.sphere import fibonacci_sphere, most_robust_direction
+from kcheck.analysis.cases import problem_for
 from kcheck.analysis.suggest import (
     caps_at,
     point_caps,
@@ -28,6 +23,12 @@ from kcheck.analysis.suggest import (
     search,
     with_load,
 )
+from kcheck.body.mass import body_mass_properties
+from kcheck.mechanics.arcs import cap_margins
+from kcheck.mechanics.deepest import most_robust_direction
+from kcheck.mechanics.dynamics import analyse_case
+from kcheck.mechanics.sphere import fibonacci_sphere
+from kcheck.scene import load_scene
 from tests.conftest import FIXTURES, PLANAR_SCENE
 
 THREE_GROOVE = FIXTURES / "three-groove" / "coupling.kcheck.yaml"

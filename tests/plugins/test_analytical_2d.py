@@ -17,12 +17,12 @@ import pytest
 import yaml
 from kcheck_checks.analytical_2d import Analytical2D, AnalyticalOptions
 
-from kcheck.mechanics.arcs import TAU, contains
-from kcheck.cli import main
-from kcheck.mechanics.dynamics import analyse_case, build_problem, solve_affine, system_matrix
-from kcheck.mechanics.friction import friction_intervals
 from kcheck.body.mass import body_mass_properties
-from kcheck.mechanics.outcomes import limiting_friction, outcome, safe_arcs
+from kcheck.cli import main
+from kcheck.mechanics.arcs import TAU, contains
+from kcheck.mechanics.dynamics import analyse_case, build_problem, solve_affine, system_matrix
+from kcheck.mechanics.friction import friction_intervals, limiting_friction
+from kcheck.mechanics.outcomes import outcome, safe_arcs
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult, Status
 from kcheck.scene import load_scene

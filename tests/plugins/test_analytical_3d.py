@@ -34,9 +34,9 @@ from kcheck_checks.analytical_2d import Analytical2D, AnalyticalOptions
 from kcheck_checks.analytical_3d import Analytical3D, Analytical3DOptions, sphere_map
 from kcheck_checks.maxwell import Maxwell, MaxwellOptions
 
-from kcheck.analysis.cases import analyse
-from kcheck.cli.expand import expanded_text
+from kcheck.analysis import analyse
 from kcheck.body.mass import body_mass_properties
+from kcheck.cli.expand import expanded_text
 from kcheck.mechanics.outcomes import outcome
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult, Status

@@ -220,7 +220,7 @@ def test_spatial_design_outside_is_a_distance_and_offers_the_nearest_direction(
     design = np.array([1, 0, -0.5]) / np.linalg.norm([1, 0, -0.5])
     assert margin < 0
     assert np.degrees(np.arccos(nearest @ design)) == pytest.approx(-margin, abs=1e-9)
-    from kcheck.analysis.cases import analyse
+    from kcheck.analysis import analyse
 
     analysis = analyse(scene, body_mass_properties(scene.body, scene.scale))  # type: ignore[arg-type]
     _, a, c, _, _ = direction_caps(analysis.problem, analysis)
@@ -291,8 +291,8 @@ def test_pure_rotation_and_clean_axes(tmp_path: Path) -> None:
 
 def test_findings_are_located_by_the_runner(tmp_path: Path) -> None:
     """Through the runner, a case's finding carries the line of its support in the file."""
-    from kcheck.plugin import load_checks
     from kcheck.gate.runner import check_scene
+    from kcheck.plugin import load_checks
 
     path = tmp_path / "jam.kcheck.yaml"
     path.write_text(
@@ -353,7 +353,7 @@ def test_gravity_map_with_a_preload_against_case_by_case_outcomes() -> None:
     equals every case closing when the scene is solved again with that gravity."""
     from kcheck_checks.analytical_3d import direction_caps
 
-    from kcheck.analysis.cases import analyse
+    from kcheck.analysis import analyse
     from kcheck.mechanics.arcs import cap_margins
     from kcheck.scene import Preload
 
@@ -390,8 +390,8 @@ def test_gravity_map_with_a_preload_against_case_by_case_outcomes() -> None:
 def test_findings_on_shorthand_supports_point_at_their_coupling_entry():
     """A support made by a coupling shorthand is written in its `couplings:` entry: findings
     about it carry that field and line (not a `supports[i]` that does not exist)."""
-    from kcheck.plugin import load_checks
     from kcheck.gate.runner import check_scene
+    from kcheck.plugin import load_checks
     from tests.conftest import FIXTURES
 
     path = FIXTURES / "three-groove-beta-15" / "coupling.kcheck.yaml"

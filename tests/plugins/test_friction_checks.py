@@ -21,12 +21,12 @@ from kcheck_checks.analytical_2d import Analytical2D
 from kcheck_checks.analytical_3d import Analytical3D
 from kcheck_checks.graphical_2d import Graphical2D
 from kcheck_checks.jamming import Jamming
-from kcheck.mechanics.koster import construct_case, friction_over_range
 
+from kcheck.body.mass import body_mass_properties
 from kcheck.mechanics.arcs import TAU
 from kcheck.mechanics.dynamics import friction_directions
 from kcheck.mechanics.kinematics import cross3, point_velocity, wrenches
-from kcheck.body.mass import body_mass_properties
+from kcheck.mechanics.koster import construct_case, friction_over_range
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult
 from kcheck.scene import Scene, load_scene

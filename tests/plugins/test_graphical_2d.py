@@ -21,9 +21,9 @@ from kcheck_checks.graphical_2d import (
     attachment,
 )
 
-from kcheck.analysis.cases import analyse
-from kcheck.mechanics.arcs import TAU, ArcSet
+from kcheck.analysis import analyse
 from kcheck.body.mass import body_mass_properties
+from kcheck.mechanics.arcs import TAU, ArcSet
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult, Status
 from kcheck.scene import Preload, Scene, load_scene
@@ -488,8 +488,8 @@ def test_weight_as_the_closing_force(write_scene: Callable[..., Path]) -> None:
 def test_centre_of_mass_comes_from_the_runner_once(monkeypatch: pytest.MonkeyPatch) -> None:
     """The force acts at the centre of mass: the runner reads the mesh once for every check."""
     import kcheck.body.mass
-    from kcheck.plugin import load_checks
     from kcheck.gate.runner import check_scene
+    from kcheck.plugin import load_checks
 
     calls: list[Path] = []
     original = kcheck.body.mass.load_mesh
@@ -513,8 +513,8 @@ def test_bad_mesh_is_an_input_error_for_graphical_alone(
     then the scene's input error (field and line), not a crashed check."""
     import trimesh
 
-    from kcheck.plugin import load_checks
     from kcheck.gate.runner import check_scene
+    from kcheck.plugin import load_checks
 
     mesh = trimesh.creation.box(extents=(100.0, 60.0, 20.0))
     mesh.invert()

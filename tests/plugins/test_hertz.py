@@ -20,11 +20,10 @@ import pytest
 from kcheck_checks.hertz import Hertz
 from kcheck_checks.hertz_materials import HertzOptions
 
-from kcheck.mechanics.hertz import contact_modulus, hertz
-from kcheck.body.mass import MassProperties
-from kcheck.plugin import Inputs, load_checks
-from kcheck.result import Status
 from kcheck.gate.runner import check_scene
+from kcheck.mechanics.hertz import contact_modulus, hertz
+from kcheck.plugin import Inputs, load_checks
+from kcheck.result import MassProperties, Status
 from kcheck.scene import Preload, load_scene
 from tests.conftest import FIXTURES
 from tests.couplings import ball_cylinders, coupling_scene, kelvin, three_vee, with_preloads

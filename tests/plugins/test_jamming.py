@@ -16,17 +16,17 @@ import numpy as np
 import pytest
 from kcheck_checks.graphical_2d import construct_case
 from kcheck_checks.jamming import Jamming, JammingOptions
-from kcheck.analysis.jamming_cases import analyse_jamming, case_arcs, tidy
 
+from kcheck.analysis.jamming_cases import analyse_jamming, case_arcs, tidy
+from kcheck.body.mass import body_mass_properties
 from kcheck.mechanics.arcs import TAU, ArcSet, complement, intersect, union
 from kcheck.mechanics.dynamics import analyse_case, build_problem
 from kcheck.mechanics.kinematics import wrenches
-from kcheck.body.mass import body_mass_properties
 from kcheck.mechanics.outcomes import outcomes
-from kcheck.plugin import Inputs
-from kcheck.scene import load_scene
 from kcheck.mechanics.sphere import fibonacci_sphere
 from kcheck.mechanics.statics import build_statics, equilibrium_forces
+from kcheck.plugin import Inputs
+from kcheck.scene import load_scene
 from tests.kcheck.test_statics import random_planar
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -325,7 +325,6 @@ def test_spatial_scene_without_sweep_gets_a_plane_through_the_design_gravity(
     (clarabel's second-order-cone feasibility, not the pyramids the ranges come from) hold no
     case inside the reported jam-free ranges, including at the design angle 0°."""
     from kcheck.analysis.jamming_cases import held_at, jam_statics
-
     from kcheck.fmt import normalise_range
     from tests.couplings import tilted_kelvin
 

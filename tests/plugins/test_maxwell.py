@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from kcheck.plugin import load_checks
 from kcheck.gate.runner import check_scene
+from kcheck.plugin import load_checks
 from tests.conftest import PLANAR_SCENE
 
 

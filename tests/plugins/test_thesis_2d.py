@@ -14,8 +14,8 @@ from typing import Any
 import numpy as np
 import pytest
 
-from kcheck.mechanics.arcs import intersect
 from kcheck.cli import main
+from kcheck.mechanics.arcs import intersect
 
 FIXTURES = Path(__file__).resolve().parents[2] / "fixtures"
 

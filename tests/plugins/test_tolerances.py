@@ -2,8 +2,8 @@
 
 References: the full analysis of each perturbed scene (kcheck.analysis.cases + the exact sphere map,
 an independent route through the code: SVD free twists, per-scene solves); the exact friction
-intervals of kcheck.analysis.friction_ranges for friction-only tolerances; scipy's beta quantiles for the
-Clopper–Pearson bounds.
+intervals of kcheck.analysis.friction_ranges for friction-only tolerances; scipy's beta quantiles
+for the Clopper–Pearson bounds.
 """
 
 from __future__ import annotations
@@ -13,15 +13,16 @@ import dataclasses
 import numpy as np
 import pytest
 from kcheck_checks.analytical_2d import Analytical2D
-from kcheck.analysis.sphere_map import sphere_map
 from kcheck_checks.tolerances import Tolerances, TolerancesOptions
 
-from kcheck.analysis.cases import analyse, problem_for
+from kcheck.analysis import analyse
+from kcheck.analysis.cases import problem_for
+from kcheck.analysis.sphere_map import sphere_map
 from kcheck.body.mass import body_mass_properties
+from kcheck.mechanics.tolerance import perturb, sample_margins
+from kcheck.numerics.stats import clopper_pearson
 from kcheck.plugin import Inputs
 from kcheck.scene import Scene, load_scene
-from kcheck.numerics.stats import clopper_pearson
-from kcheck.mechanics.tolerance import perturb, sample_margins
 from tests.conftest import FIXTURES, PLANAR_SCENE
 
 THREE_GROOVE = FIXTURES / "three-groove" / "coupling.kcheck.yaml"

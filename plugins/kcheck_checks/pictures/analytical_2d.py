@@ -17,12 +17,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from kcheck.analysis.cases import Analysis, analyse
-from kcheck.mechanics.dynamics import Case
+from kcheck.analysis import analyse
+from kcheck.analysis.cases import Analysis
 from kcheck.fmt import format_angle, format_number, format_point, format_ranges
+from kcheck.mechanics.dynamics import Case
 from kcheck.mechanics.outcomes import outcomes
 from kcheck.pictures.plotting import VERDICT_COLOURS, outcome_colour, sweep_note
-from kcheck.plugin import Inputs
+from kcheck.plugin import Check, Inputs
 from kcheck.report.views import verdict
 from kcheck.result import CaseResult, CheckResult
 from kcheck.scene import Scene
@@ -271,3 +272,12 @@ def _combined_strip(ax: Axes, scene: Scene, analysis: Analysis, result: CheckRes
             xycoords=ax.get_xaxis_transform(), xytext=(3, 2), textcoords="offset points",
             fontsize=8, color=DESIGN, ha="left" if design < 270 else "right",
         )  # fmt: skip
+
+
+def draw(check: Check, inputs: Inputs, result: CheckResult, directory: Path) -> list[Path]:
+    """analytical-2d's pictures: normal forces and acceleration against force angle, one panel
+    per retracted support (thesis Figures 2.17-2.20), and the safe set against friction."""
+    from kcheck_checks.pictures.friction import plot_friction
+
+    paths = plot_analytical_2d(inputs, result, directory)
+    return [*paths, *plot_friction(check.id, inputs, result, directory)]

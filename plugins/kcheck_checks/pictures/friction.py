@@ -142,9 +142,9 @@ def _uniform(pattern: np.ndarray) -> bool:
 
 def _spatial_picture(inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
     """analytical-3d: the safe share of the sphere and the design margin against μ."""
-    from kcheck.analysis.cases import analyse
-    from kcheck.pictures.plotting import figure, save, slug
+    from kcheck.analysis import analyse
     from kcheck.analysis.sphere_map import sphere_map
+    from kcheck.pictures.plotting import figure, save, slug
 
     scene, mass = inputs.scene, inputs.mass
     assert mass is not None
@@ -208,7 +208,8 @@ def plot_friction(
     if scene.kind != "planar":
         return ()
     if check == "analytical-2d":
-        from kcheck.analysis.cases import analyse, ranges_deg
+        from kcheck.analysis import analyse
+        from kcheck.analysis.cases import ranges_deg
 
         def safe(at: Scene) -> Sequence[Sequence[float]] | None:
             combined = analyse(at, inputs.mass).combined  # type: ignore[arg-type]
@@ -230,8 +231,8 @@ def plot_friction(
         return _band_picture(scene, result, check, "static", koster, "safe angles", directory)
     if check == "jamming":
         from kcheck.analysis.cases import ranges_deg
-        from kcheck.mechanics.arcs import complement, intersect
         from kcheck.analysis.jamming_cases import analyse_jamming, case_arcs, jam_statics, tidy
+        from kcheck.mechanics.arcs import complement, intersect
 
         e1, e2 = scene.sweep.e1[:2], scene.sweep.e2[:2]
 

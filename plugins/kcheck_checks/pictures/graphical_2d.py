@@ -15,10 +15,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from kcheck.mechanics.arcs import FULL, TAU, ArcSet, complement, intersect, union
 from kcheck.errors import KcheckError
 from kcheck.fmt import format_angle, format_point, format_ranges
-from kcheck.plugin import Inputs
+from kcheck.mechanics.arcs import FULL, TAU, ArcSet, complement, intersect, union
+from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
 from kcheck_checks.graphical_2d import MASS_FREE, Construction, attachment, construct
@@ -380,3 +380,12 @@ def _case_summary(result: CheckResult, scale: float, units: str) -> str:
         lines.append(f"{c.retracted}: {where}, {d.get('sense')}")
         lines.append(f"  {format_ranges(c.safe_ranges_deg, 1)}")
     return "\n".join(lines)
+
+
+def draw(check: Check, inputs: Inputs, result: CheckResult, directory: Path) -> list[Path]:
+    """graphical-2d's pictures: the construction like the thesis's Figure 2.8, and the safe
+    set against friction."""
+    from kcheck_checks.pictures.friction import plot_friction
+
+    paths = plot_graphical(inputs, result, directory)
+    return [*paths, *plot_friction(check.id, inputs, result, directory)]

@@ -11,6 +11,7 @@ import numpy as np
 
 from kcheck.fmt import format_vector
 from kcheck.pictures.plotting import figure, save, slug
+from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
 
@@ -106,3 +107,9 @@ def _stiffness_panel(ax: Any, compliance: np.ndarray, scene: Scene, point: list[
     shown = format_vector(np.asarray(point) / scene.scale)
     ax.set_title(f"stiffness at {shown} {scene.units}, N/µm", fontsize=9)
     ax.legend(fontsize=7, loc="lower left", bbox_to_anchor=(-0.1, -0.15))
+
+
+def draw(check: Check, inputs: Inputs, result: CheckResult, directory: Path) -> list[Path]:
+    """hertz's pictures: peak pressure per contact against its allowable, and the stiffness at
+    the point."""
+    return list(plot_hertz(inputs.scene, result, directory))

@@ -10,12 +10,13 @@ from typing import Any
 
 import numpy as np
 
-from kcheck.mechanics.arcs import ArcSet
+from kcheck.analysis.jamming_cases import JamAnalysis, JamMap, case_arcs
 from kcheck.fmt import format_angle, format_number, format_share_bounds
+from kcheck.mechanics.arcs import ArcSet
 from kcheck.pictures.plotting import figure, save, slug
+from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
-from kcheck.analysis.jamming_cases import JamAnalysis, JamMap, case_arcs
 from kcheck_checks.pictures.sphere import lambert_forward, lambert_inverse, ring
 
 __all__ = ["plot_jamming", "circle_panel", "sphere_panel"]
@@ -230,3 +231,16 @@ def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
         "equal-area (Lambert azimuthal) views; white: no retracted case can be held",
         fontsize=11,
     )
+
+
+def draw(check: Check, inputs: Inputs, result: CheckResult, directory: Path) -> list[Path]:
+    """jamming's pictures: the sweep circle per case (planar) or the sphere map (spatial), and
+    the safe set against friction."""
+    from kcheck_checks.jamming import run_jamming
+    from kcheck_checks.pictures.friction import plot_friction
+
+    _, analysis, smap = run_jamming(inputs)
+    if analysis is None:
+        return []
+    paths = plot_jamming(inputs.scene, analysis, smap, result, directory)
+    return [*paths, *plot_friction(check.id, inputs, result, directory)]

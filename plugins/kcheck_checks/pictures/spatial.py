@@ -19,6 +19,7 @@ import numpy as np
 
 from kcheck.analysis.cases import Analysis
 from kcheck.pictures.plotting import VERDICT_COLOURS, figure, outcome_colour, save, slug
+from kcheck.plugin import Check, Inputs
 from kcheck.report.tables import motion_text
 from kcheck.report.views import verdict
 from kcheck.result import CaseResult, CheckResult
@@ -88,9 +89,9 @@ def plot_spatial(
 def _mesh_triangles(scene: Scene) -> np.ndarray | None:
     """About MAX_TRIANGLES triangles (t, 3, 3) of the body's meshes in scene units, each part
     placed by its units and transform; None without a mesh (or one that cannot be read)."""
-    from kcheck.errors import KcheckError
     from kcheck.body.mass import place
     from kcheck.body.meshio import load_triangles
+    from kcheck.errors import KcheckError
 
     if scene.body is None or not scene.body.parts:
         return None
@@ -415,3 +416,17 @@ def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
         ha="center", fontsize=8.5, color="0.25",
     )  # fmt: skip
     return fig
+
+
+def draw(check: Check, inputs: Inputs, result: CheckResult, directory: Path) -> list[Path]:
+    """analytical-3d's pictures: the scene with screw axes, the safe-direction map, normal
+    forces per case, and the safe set against friction."""
+    from kcheck.analysis import analyse
+    from kcheck_checks.analytical_3d import Analytical3DOptions, spatial_result
+    from kcheck_checks.pictures.friction import plot_friction
+
+    assert inputs.mass is not None and isinstance(inputs.options, Analytical3DOptions)
+    analysis = analyse(inputs.scene, inputs.mass)
+    _, smap, analysis = spatial_result(check.id, inputs.scene, analysis, inputs.options)
+    paths = plot_spatial(inputs.scene, analysis, smap, result, directory)
+    return [*paths, *plot_friction(check.id, inputs, result, directory)]

@@ -15,8 +15,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from kcheck.analysis.cases import Analysis
-from kcheck.mechanics.arcs import cap_margin_matrix
 from kcheck.fmt import format_direction, format_share
+from kcheck.mechanics.arcs import cap_margin_matrix
 from kcheck.pictures.plotting import VERDICT_COLOURS, figure
 from kcheck.report.views import verdict
 from kcheck.result import CheckResult
