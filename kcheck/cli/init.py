@@ -78,7 +78,8 @@ def _mesh_body(mesh_path: Path, scene_path: Path, material: str) -> _Body:
     import numpy as np
 
     from kcheck.body.mass import load_mesh, mesh_mass_properties, step_length_unit
-    from kcheck.scene.units import LENGTH_TO_M, density_of
+    from kcheck.scene.materials import density_of
+    from kcheck.scene.units import LENGTH_TO_M
 
     density = density_of(material) or 0.0
     step = mesh_path.suffix.lower() in (".step", ".stp")
@@ -272,7 +273,7 @@ def template(coupling: str, mesh: Path | None, scene_path: Path, material: str) 
 def run(args: argparse.Namespace) -> int:
     """Write the template scene."""
     from kcheck.errors import MeshError
-    from kcheck.scene.units import MATERIALS, density_of
+    from kcheck.scene.materials import MATERIALS, density_of
 
     if density_of(args.material) is None:
         return fail(f"unknown material `{args.material}`; known: {', '.join(sorted(MATERIALS))}")

@@ -107,7 +107,8 @@ def run(args: argparse.Namespace) -> int:
     from kcheck.body.mass import combine, part_mass_properties
     from kcheck.errors import MeshError
     from kcheck.scene import Part
-    from kcheck.scene.units import LENGTH_TO_M, MATERIALS, density_of
+    from kcheck.scene.materials import MATERIALS, density_of
+    from kcheck.scene.units import LENGTH_TO_M
 
     if args.material is not None:
         density = density_of(args.material)

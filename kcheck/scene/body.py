@@ -12,9 +12,10 @@ from typing import Any
 import numpy as np
 
 from kcheck.scene.limits import INERTIA_SYMMETRY_RTOL, LIMITS
+from kcheck.scene.materials import MATERIALS, density_of
 from kcheck.scene.models import BodyModel, PartModel, TransformModel
 from kcheck.scene.types import Body, ExplicitMass, Part, PointMass
-from kcheck.scene.units import LENGTH_TO_M, MATERIALS, density_of
+from kcheck.scene.units import LENGTH_TO_M
 from kcheck.scene.validate import Problems
 from kcheck.scene.yamlio import FieldPath
 
