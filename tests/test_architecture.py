@@ -55,9 +55,7 @@ def test_every_package_sits_in_a_layer():
     checks_folder = ROOT / "plugins" / "kcheck_checks"
     plugin_modules = {
         f"kcheck_checks.{p.stem}" for p in checks_folder.glob("*.py") if p.stem != "__init__"
-    } | {
-        f"kcheck_checks.{p.name}" for p in checks_folder.iterdir() if (p / "__init__.py").exists()
-    }
+    } | {f"kcheck_checks.{p.name}" for p in checks_folder.iterdir() if (p / "__init__.py").exists()}
     assert plugin_modules <= layered, f"not in a layer: {sorted(plugin_modules - layered)}"
 
 
