@@ -78,7 +78,9 @@ def _tamper(path: Path, change) -> None:
             p,
             lambda e: (
                 e["payload"].update(mass=-1.0),
-                e.update(checksum=__import__("kcheck.gate.cache").cache._checksum(e["payload"])),
+                e.update(
+                    checksum=__import__("kcheck.gate.cache").gate.cache._checksum(e["payload"])
+                ),
             ),
         ),
         # another entry's content filed under this key

@@ -430,7 +430,7 @@ def test_partial_ranges_block(tmp_path: Path) -> None:
 
 def test_plots_are_written(tmp_path: Path) -> None:
     """`kcheck check --plots` writes the analytical-2d PNG and SVG for a planar scene, and its
-    picture against friction (plots_friction)."""
+    picture against friction (kcheck_checks.pictures.friction)."""
     scene = write_scene(tmp_path, block_scene(name="Block §7"))
     plots = tmp_path / "plots"
     out = tmp_path / "out.json"
