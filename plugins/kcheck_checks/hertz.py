@@ -349,8 +349,9 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
             "rotation": rotation.tolist(),
         }
         parts.append(
-            f"error motion {format_number(np.linalg.norm(translation) * 1e6, 3)} µm, "
-            f"{format_number(np.linalg.norm(rotation) * 1e6, 3)} µrad under the disturbing load"
+            f"error motion {format_number(float(np.linalg.norm(translation) * 1e6), 3)} µm, "
+            f"{format_number(float(np.linalg.norm(rotation) * 1e6), 3)} µrad "
+            "under the disturbing load"
         )
     # Forces err by about the solve's estimate; p0 ~ N^(1/3), so utilisation by a third of it.
     rel = float(np.max(forces.error / np.maximum(np.abs(forces.seated), 1e-300)))

@@ -320,7 +320,7 @@ def _view(
                 "", xy=tuple(q[k]), xytext=tuple(tail[k]),
                 arrowprops={"arrowstyle": "-|>", "color": colour, "lw": 2.2}, zorder=6,
             )  # fmt: skip
-            near = sum(np.linalg.norm(p - tail[k]) < 0.05 * size for p in placed)
+            near = int(sum(np.linalg.norm(p - tail[k]) < 0.05 * size for p in placed))
             placed.append(tail[k])
             ax.annotate(
                 f" {label}", xy=tuple(tail[k]), xytext=(0, -10 * near),
@@ -328,7 +328,7 @@ def _view(
             )  # fmt: skip
         else:
             towards = float(direction @ view.towards_viewer) > 0
-            near = sum(np.linalg.norm(p - q[k]) < 0.05 * size for p in placed)
+            near = int(sum(np.linalg.norm(p - q[k]) < 0.05 * size for p in placed))
             placed.append(q[k])
             ax.annotate(
                 ("⊙ " if towards else "⊗ ") + label, xy=tuple(q[k]), xytext=(0, -11 * near),

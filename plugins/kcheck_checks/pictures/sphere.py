@@ -97,7 +97,8 @@ def _margins(smap: SphereMap, dirs: np.ndarray, cases: np.ndarray) -> np.ndarray
 
 
 def _grid(lo: np.ndarray, hi: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
-    return np.meshgrid(np.linspace(lo[0], hi[0], n), np.linspace(lo[1], hi[1], n))
+    x, y = np.meshgrid(np.linspace(lo[0], hi[0], n), np.linspace(lo[1], hi[1], n))
+    return x, y
 
 
 def _beyond(smap: SphereMap, centre: np.ndarray) -> float:
