@@ -105,7 +105,8 @@ def format_number(value: float | None, digits: int = 4) -> str:
     """A number with ``digits`` significant digits; ``–`` for None, ``∞`` for infinity."""
     if value is None:
         return "–"
-    if isinstance(value, float) and not math.isfinite(value):
+    # Not redundant, whatever mypy says: an int is a float to it (numeric promotion).
+    if isinstance(value, float) and not math.isfinite(value):  # type: ignore[redundant-expr]
         return "–" if math.isnan(value) else ("∞" if value > 0 else "-∞")
     if value == 0:
         return "0"

@@ -253,7 +253,10 @@ class MassProperties:
         out: dict[str, object] = {
             "mass": self.mass,
             "center_of_mass": self.center_of_mass.tolist(),
-            "inertia": np.where(np.isfinite(self.inertia), self.inertia, None).tolist(),
+            # numpy's stubs take no None here; numpy makes an object array of it (JSON null).
+            "inertia": np.where(  # type: ignore[call-overload]
+                np.isfinite(self.inertia), self.inertia, None
+            ).tolist(),
             "source": self.source,
         }
         if self.volume is not None:

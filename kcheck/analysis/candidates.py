@@ -71,7 +71,9 @@ class SurfaceSampler:
         if scene.body is None or not scene.body.parts:
             raise SuggestError("the scene's body has no mesh to sample: give --box")
         meshes = [placed_mesh(p) for p in scene.body.parts]
-        self.mesh = trimesh.util.concatenate(meshes) if len(meshes) > 1 else meshes[0]
+        mesh = trimesh.util.concatenate(meshes) if len(meshes) > 1 else meshes[0]
+        assert isinstance(mesh, trimesh.Trimesh)  # meshes join into a mesh
+        self.mesh = mesh
         self.rng = np.random.default_rng(seed)
         self.spacing = 0.0
 

@@ -101,7 +101,9 @@ def motion_details(problem: Problem, case: Case) -> dict[str, object]:
         pole = np.array([-v[1], v[0]]) / w[0]
         return {
             "motion": "rotation",
-            "pole": clean(frame.origin[:2] + frame.length * clean(pole, 1.0 + row_norms(pole))),
+            "pole": clean(
+                frame.origin[:2] + frame.length * clean(pole, 1.0 + float(row_norms(pole)))
+            ),
             "sense": "ccw" if w[0] > 0 else "cw",
         }
     axis = unit_rows(clean(w / wn))
@@ -245,11 +247,11 @@ def analyse_fixed(
     evaluate = design is not None or not sweeping
     cases = analyse_cases(problem)
     good = [c.determined and c.well_conditioned for c in cases]
-    friction: list[FrictionIntervals | None] = [None] * len(cases)
+    case_friction: list[FrictionIntervals | None] = [None] * len(cases)
     if evaluate:
         chosen = [c for c, g in zip(cases, good, strict=True) if g]
         found = iter(friction_intervals_many(problem, chosen, design))
-        friction = [next(found) if g else None for g in good]
+        case_friction = [next(found) if g else None for g in good]
     results = []
     max_condition = 0.0
     names = problem.names
@@ -262,7 +264,7 @@ def analyse_fixed(
         if not case.well_conditioned:
             results.append(CaseResult(names[r], "ill_conditioned", details=details))
             continue
-        verdict, forces, accel, intervals = "swept", None, None, friction[r]
+        verdict, forces, accel, intervals = "swept", None, None, case_friction[r]
         if intervals is not None:
             verdict, forces, accel = _evaluated(problem, case, design, intervals, details)
         results.append(
@@ -285,7 +287,7 @@ def analyse_fixed(
         design_margin_deg=None,
         error_deg=None,
         max_condition=max_condition,
-        friction=tuple(friction),
+        friction=tuple(case_friction),
     )
     if not sweeping:
         return analysis

@@ -123,9 +123,11 @@ def jam_statics(
     weight = None if mass is None else mass.mass * gravity
     fixed = [(p.point, p.force) for p in scene.preloads]
     torque = None if load is None else load.torque
+    swept: Literal["load", "gravity"]
     if load is not None and load.magnitude > 0:
         point = load.point if load.point is not None else com
         if weight is not None and np.any(weight):
+            assert com is not None  # a weight: mass properties
             fixed.append((com, weight))
         force, swept = load.magnitude, "load"
         design = None if load.direction is None else load.direction[:dim]
@@ -144,6 +146,9 @@ def jam_statics(
             )
         design = unit / np.linalg.norm(unit)
     scale = max([force, *(_magnitude(vector) for _, vector in fixed)])
+    # A load without a point acts at the centre of mass: the check runs only with mass
+    # properties then (closing_force_missing).
+    assert point is not None
     statics = build_statics(
         points=np.array([s.position for s in scene.supports]),
         normals=np.array([s.normal for s in scene.supports]),
@@ -156,7 +161,7 @@ def jam_statics(
         fixed_forces=tuple(fixed),
         torque=torque,
     )
-    return statics, swept, design  # type: ignore[return-value]
+    return statics, swept, design
 
 
 # --- per case -------------------------------------------------------------------------------

@@ -94,6 +94,7 @@ def direction_caps(
             # Over a friction range: the caps that close for every coefficient of it, their
             # coefficients as exact as the equations (condition number times rounding).
             a, c, moved = range_caps(forms[i])
+            assert case.forward is not None  # checked above (with_load keeps it)
             err = case.forward.condition * EPS * (np.abs(a) + np.abs(c).sum(axis=1))
         a_all.append(a)
         c_all.append(c)

@@ -18,7 +18,7 @@ reports as the design margin); the best points are refined with
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -209,6 +209,7 @@ def _grid_margins(
     margins, index = np.empty(len(points)), np.empty(len(points), dtype=int)
     pieces = [(caps, chunk, grid) for chunk in _chunks(points, size)]
     done = 0
+    results: Iterable[tuple[np.ndarray, np.ndarray]]
     if jobs > 1 and len(pieces) > 1:
         with ProcessPoolExecutor(max_workers=jobs) as pool:
             results = list(pool.map(_margins_job, pieces))

@@ -64,7 +64,7 @@ def combine(parts: Sequence[MassProperties]) -> MassProperties:
     union of the known bounds.
     """
     mass = sum(p.mass for p in parts)
-    com = sum(p.mass * p.center_of_mass for p in parts) / mass
+    com = np.asarray(sum(p.mass * p.center_of_mass for p in parts) / mass)
     inertia = np.zeros((3, 3))
     for p in parts:
         r = p.center_of_mass - com

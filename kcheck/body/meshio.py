@@ -167,7 +167,7 @@ def _read(path: Path, field: FieldPath | str, max_bytes: int | None = None) -> t
         raise MeshError(
             path, f"cannot read the mesh ({type(exc).__name__}: {exc})", field=field
         ) from exc
-    if not isinstance(mesh, trimesh.Trimesh) or mesh.is_empty or len(mesh.faces) == 0:
+    if mesh.is_empty or len(mesh.faces) == 0:
         raise MeshError(path, "the mesh is empty (no triangles)", field=field)
     return mesh
 

@@ -68,7 +68,8 @@ def skip_pydantic_plugins() -> None:
 
     loader = types.ModuleType(name, "pydantic's plugin loader while every plugin is disabled")
     loader.get_plugins = get_plugins  # type: ignore[attr-defined]
-    loader.__getattr__ = real  # type: ignore[attr-defined]
+    # A module's __getattr__ (PEP 562) is an attribute; typeshed has ModuleType's as a method.
+    loader.__getattr__ = real  # type: ignore[method-assign]
     sys.modules[name] = loader
 
 

@@ -102,6 +102,7 @@ def _mesh_body(mesh_path: Path, scene_path: Path, material: str) -> _Body:
         mesh.apply_scale(LENGTH_TO_M[units])
         to_scene = 1 / LENGTH_TO_M[units]
     props = mesh_mass_properties(mesh, density, mesh_path, "mesh")
+    assert props.bounds is not None  # a mesh's properties have its bounds
     lo, hi = props.bounds * to_scene
     com = props.center_of_mass * to_scene
     try:

@@ -26,7 +26,7 @@ import time
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any, Generic, TypeVar
+from typing import Any, Generic, TypeVar, cast
 
 __all__ = ["available", "Budget", "BudgetExceeded", "run_in_workers"]
 
@@ -136,7 +136,7 @@ def _child(tasks: int, results: int, work: Callable[[T], R], budget: Budget) -> 
                 break
             if message is None:
                 break
-            index, task = message  # type: ignore[misc]
+            index, task = cast("tuple[int, T]", message)  # what the parent writes
             try:
                 data = _dumps((index, "ok", work(task)))
             except MemoryError:
@@ -283,10 +283,12 @@ def run_in_workers(
             ready, _, _ = select.select([w.results for w in busy], [], [], max(wait, 0))
             for worker in [w for w in busy if w.results in ready]:
                 try:
-                    index, status, value = _read(worker.results)  # type: ignore[misc]
+                    # what _child writes: (index, status, work's result or why it has none)
+                    index, status, value = cast("tuple[int, str, object]", _read(worker.results))
                 except (EOFError, pickle.UnpicklingError, OSError):
+                    assert worker.index is not None  # a busy worker
                     how = pool.retire(worker, kill=True)
-                    done[worker.index] = BudgetExceeded(  # type: ignore[index]
+                    done[worker.index] = BudgetExceeded(
                         "died", f"the worker process checking it ended ({how})"
                     )
                     if pending:
@@ -299,7 +301,7 @@ def run_in_workers(
                     done[index] = BudgetExceeded("crashed", str(value))
                     assign(worker)
                     continue
-                done[index] = value  # type: ignore[assignment]
+                done[index] = cast(R, value)  # status "ok": work's result
                 assign(worker)
             now = time.monotonic()
             for worker in [w for w in pool.workers if w.index is not None and w.deadline <= now]:

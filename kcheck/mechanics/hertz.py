@@ -25,6 +25,7 @@ is numpy, vectorised over contacts, SI units.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -69,10 +70,10 @@ class HertzContact:
 
 
 def contact_modulus(
-    youngs1: np.ndarray | float,
-    poisson1: np.ndarray | float,
-    youngs2: np.ndarray | float,
-    poisson2: np.ndarray | float,
+    youngs1: np.ndarray | Sequence[float] | float,
+    poisson1: np.ndarray | Sequence[float] | float,
+    youngs2: np.ndarray | Sequence[float] | float,
+    poisson2: np.ndarray | Sequence[float] | float,
 ) -> np.ndarray:
     """Contact modulus ``E* = 1 / ((1 - nu1^2)/E1 + (1 - nu2^2)/E2)`` in Pa (Johnson §4.2)."""
     e1, n1, e2, n2 = (np.asarray(x, dtype=float) for x in (youngs1, poisson1, youngs2, poisson2))

@@ -275,6 +275,6 @@ def _least_candidate(
     if probe < value and feasible(probe):
         return probe
     while value - low > rtol * value:
-        mid = 0.5 * (low + value)
-        low, value = (low, mid) if feasible(mid) else (mid, value)
+        middle = 0.5 * (low + value)
+        low, value = (low, middle) if feasible(middle) else (middle, value)
     return value

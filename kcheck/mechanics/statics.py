@@ -232,7 +232,7 @@ def equilibria(
     facets = cone_facets(edge_wrenches(statics.points[keep], forces))
     dim = statics.dim
     if isinstance(facets, str):
-        return Equilibria(facets, np.zeros(0), np.zeros((0, dim)))  # type: ignore[arg-type]
+        return Equilibria(facets, np.zeros(0), np.zeros((0, dim)))
     a, c = -(facets @ statics.fixed), -(facets @ statics.swept)
     if dim == 3:
         # Most facets of the six-dimensional cone never bound the three-dimensional set of

@@ -107,7 +107,7 @@ class Check:
             return ()
         module, _, name = self.pictures.partition(":")
         draw = getattr(importlib.import_module(module), name)
-        return draw(self, inputs, result, directory)  # type: ignore[no-any-return]
+        return draw(self, inputs, result, directory)
 
 
 class CheckSpec(NamedTuple):
@@ -152,10 +152,10 @@ def find_checks() -> list[CheckSpec]:
                     specs.setdefault((package, ep.name), CheckSpec(package, dist.version, ep))
         return sorted(specs.values(), key=lambda s: (s.name, s.package))
     for folder in dists:
-        for ep in folder.entry_points(GROUP):
+        for entry in folder.entry_points(GROUP):
             package = folder.name or "unknown"
             # A distribution seen twice on sys.path (e.g. editable + installed) counts once.
-            specs.setdefault((package, ep.name), CheckSpec(package, folder.version, ep))
+            specs.setdefault((package, entry.name), CheckSpec(package, folder.version, entry))
     return sorted(specs.values(), key=lambda s: (s.name, s.package))
 
 

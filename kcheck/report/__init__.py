@@ -74,7 +74,7 @@ class Reporter(Protocol):
 def make_reporter(name: str, stream: TextIO, options: ReportOptions) -> Reporter:
     """The reporter of a format, writing to ``stream``."""
     module, _, cls = FORMATS[name].partition(":")
-    return getattr(importlib.import_module(module), cls)(stream, options)  # type: ignore[no-any-return]
+    return getattr(importlib.import_module(module), cls)(stream, options)
 
 
 def make_console(color: str = "auto", file: TextIO | None = None, stderr: bool = False) -> Console:

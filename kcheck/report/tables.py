@@ -57,7 +57,8 @@ def fixed(values: Sequence[float | None], digits: int = 4, most: int = 4) -> lis
     out = []
     cleaned = clean([v if v is not None else np.nan for v in values], scale=top or None)
     for v, c in zip(values, cleaned, strict=True):
-        if v is None or (isinstance(v, float) and math.isnan(v)):
+        # Not redundant, whatever mypy says: an int is a float to it (numeric promotion).
+        if v is None or (isinstance(v, float) and math.isnan(v)):  # type: ignore[redundant-expr]
             out.append("–")
         elif not math.isfinite(c):
             out.append("∞" if c > 0 else "-∞")

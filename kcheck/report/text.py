@@ -112,7 +112,8 @@ def _print_table(console: Console, view: tables.Table, indent: int) -> None:
         return
     options = console.options.update(width=width)
     for line in console.render_lines(table, options, pad=False, new_lines=False):
-        text = Text.assemble(" " * indent, *((seg.text, seg.style) for seg in line))
+        # No style is "" in rich's types (None and a null Style add no span either).
+        text = Text.assemble(" " * indent, *((seg.text, seg.style or "") for seg in line))
         text.rstrip()
         console.print(text)
 

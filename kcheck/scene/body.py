@@ -69,14 +69,14 @@ class BodyReader:
             p.add((*where, "repair"), "`repair` applies to `mesh`; with `parts`, set it per part")
         point_masses = []
         names: set[str] = set()
-        for i, pm in enumerate(model.point_masses):
+        for i, point_mass in enumerate(model.point_masses):
             pw = (*where, "point_masses", i)
-            if pm.name in names:
-                p.add((*pw, "name"), f"point mass name `{pm.name}` used twice")
-            names.add(pm.name)
-            point = p.coordinates((*pw, "point"), pm.point, self.scale)
-            if p.in_range((*pw, "mass"), pm.mass, "mass") and point is not None:
-                point_masses.append(PointMass(pm.name, float(pm.mass), point))
+            if point_mass.name in names:
+                p.add((*pw, "name"), f"point mass name `{point_mass.name}` used twice")
+            names.add(point_mass.name)
+            point = p.coordinates((*pw, "point"), point_mass.point, self.scale)
+            if p.in_range((*pw, "mass"), point_mass.mass, "mass") and point is not None:
+                point_masses.append(PointMass(point_mass.name, float(point_mass.mass), point))
         return Body(tuple(parts), explicit, tuple(point_masses))
 
     def density(

@@ -166,8 +166,8 @@ class _Builder:
             made = expand_coupling(c, where, self.p, self.scale, mu.largest)
             for k in range(1, contact_count(c) + 1):
                 self.unique_name(names, f"{c.name}.{k}", where)
-            for s in made or ():
-                out.append(_with_friction(dataclasses.replace(s, field=where), mu))
+            for support in made or ():
+                out.append(_with_friction(dataclasses.replace(support, field=where), mu))
                 fields.append(where)
             if made and c.type == "ball-cone":
                 self.notes.append(

@@ -41,8 +41,9 @@ Name = Annotated[str, Field(min_length=1, max_length=200)]
 def bounded(key: str, default: Any = ..., **kwargs: Any) -> Any:
     """A pydantic Field limited to the range ``LIMITS[key]``."""
     r = LIMITS[key]
-    bounds = {"gt": r.low, "lt": r.high} if r.open else {"ge": r.low, "le": r.high}
-    return Field(default, **bounds, **kwargs)
+    if r.open:
+        return Field(default, gt=r.low, lt=r.high, **kwargs)
+    return Field(default, ge=r.low, le=r.high, **kwargs)
 
 
 class _Model(BaseModel):

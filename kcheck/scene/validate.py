@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 from pydantic import BaseModel, ValidationError
+from pydantic_core import ErrorDetails
 
 from kcheck.errors import FieldPath, SceneError, SceneErrors
 from kcheck.scene.limits import LIMITS, MAX_DIRECTION, MIN_DIRECTION, Range
@@ -340,7 +341,7 @@ _UNIT_WORDS = {
 def pydantic_problems(exc: ValidationError, root: type[BaseModel], problems: Problems) -> None:
     """Record every pydantic error of a validation; where a plain union (``inertia``: a
     matrix or a number) reports one error per branch, only the most specific (deepest)."""
-    chosen: dict[Any, tuple[int, FieldPath, Mapping[str, Any]]] = {}
+    chosen: dict[Any, tuple[int, FieldPath, ErrorDetails]] = {}
     for i, err in enumerate(exc.errors(include_url=False)):
         loc = tuple(err["loc"])
         path, _, union_at = _resolve(loc, root)

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
 import yaml
 
@@ -97,8 +97,19 @@ def plain_scalar(value: str, line: int, column: int) -> Any:
     return value
 
 
+class _Mark(Protocol):
+    """Where an event starts: PyYAML's ``yaml.Mark`` or libyaml's (0-based)."""
+
+    @property
+    def line(self) -> int: ...
+
+    @property
+    def column(self) -> int: ...
+
+
 def _scalar(event: yaml.ScalarEvent) -> Any:
     mark = event.start_mark
+    assert mark is not None  # both parsers mark every event
     tag, value = event.tag, event.value
     plain = event.implicit[0] and tag in (None, "!")
     if plain:
@@ -113,7 +124,9 @@ def _scalar(event: yaml.ScalarEvent) -> Any:
         )
     result = plain_scalar(value, mark.line, mark.column)
     kind = tag.removeprefix(_TAG)
-    expected = {"int": int, "float": (int, float), "bool": bool, "null": type(None)}[kind]
+    kinds: dict[str, type[Any] | tuple[type[Any], ...]]
+    kinds = {"int": int, "float": (int, float), "bool": bool, "null": type(None)}
+    expected = kinds[kind]
     if not isinstance(result, expected) or (kind != "bool" and isinstance(result, bool)):
         raise Located(f"`{value}` is not a valid !!{kind}", mark.line, mark.column)
     return float(result) if kind == "float" else result
@@ -153,7 +166,7 @@ class Composer:
         self.columns: dict[FieldPath, int] = {}
         self.root: Any = NOTHING
 
-    def _count(self, size: int, mark: yaml.Mark) -> None:
+    def _count(self, size: int, mark: _Mark) -> None:
         self.values += size
         if self.values > self.limits.max_values:
             raise Located(
@@ -163,7 +176,7 @@ class Composer:
                 mark.column,
             )
 
-    def _child_path(self, mark: yaml.Mark) -> FieldPath:
+    def _child_path(self, mark: _Mark) -> FieldPath:
         """Path of the value about to be added (a collection starting), after checks."""
         if not self.stack:
             return ()
@@ -174,7 +187,7 @@ class Composer:
             raise Located("mapping keys must be plain names, not lists or mappings", mark.line)
         return (*top.path, top.key)
 
-    def _add(self, value: Any, size: int, mark: yaml.Mark, scalar: bool) -> None:
+    def _add(self, value: Any, size: int, mark: _Mark, scalar: bool) -> None:
         if not self.stack:
             self.root = value
             self.lines[()] = mark.line + 1
@@ -194,7 +207,7 @@ class Composer:
             top.key = NOTHING
         top.size += size
 
-    def _key(self, top: _Frame, key: Any, mark: yaml.Mark, scalar: bool) -> None:
+    def _key(self, top: _Frame, key: Any, mark: _Mark, scalar: bool) -> None:
         line, column = mark.line, mark.column
         where = format_path(top.path) or "the top level"
         if not scalar or isinstance(key, (dict, list)):
@@ -224,6 +237,7 @@ class Composer:
 
     def event(self, event: yaml.Event) -> None:
         mark = event.start_mark
+        assert mark is not None  # both parsers mark every event
         if isinstance(event, yaml.ScalarEvent):
             top = self.stack[-1] if self.stack else None
             awaiting_key = top is not None and isinstance(top.value, dict) and top.key is NOTHING
@@ -287,6 +301,7 @@ class Composer:
 
     def _alias(self, event: yaml.AliasEvent) -> None:
         mark, name = event.start_mark, event.anchor
+        assert mark is not None  # both parsers mark every event
         if name in self.open_anchors:
             raise Located(
                 f"the alias `*{name}` refers to a mapping or list that contains it "

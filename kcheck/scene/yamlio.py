@@ -70,6 +70,7 @@ def _events(text: str, backend: str) -> Iterator[yaml.Event]:
     try:
         while True:
             event = loader.get_event()
+            assert event is not None  # None only after the StreamEndEvent
             yield event
             if isinstance(event, yaml.StreamEndEvent):
                 return
@@ -220,6 +221,7 @@ def _compose(text: str, backend: str, limits: YamlLimits) -> Composer:
         if isinstance(event, yaml.DocumentStartEvent):
             documents += 1
             if documents > 1:
+                assert event.start_mark is not None  # both parsers mark every event
                 raise Located(
                     "the file holds more than one YAML document (`---`); a scene file "
                     "is one mapping",
@@ -265,7 +267,7 @@ class _Dumper(yaml.SafeDumper):
     """Writes what :func:`read_yaml` reads back identically: strings that YAML 1.2 would
     read as something else are quoted, floats keep every digit (``repr``)."""
 
-    def represent_str(self, data: str) -> yaml.ScalarNode:  # type: ignore[override]
+    def represent_str(self, data: str) -> yaml.ScalarNode:
         if not isinstance(plain_scalar(data, 0, 0), str) or data in ("<<", "="):
             return self.represent_scalar("tag:yaml.org,2002:str", data, style="'")
         return super().represent_str(data)

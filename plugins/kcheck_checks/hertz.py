@@ -196,7 +196,7 @@ def _forces(
 def _contact_findings(scene: Scene, forces: _Forces) -> list[Finding]:
     names = [s.name for s in scene.supports]
     out = []
-    for i in np.flatnonzero(forces.lifted):
+    for i in map(int, np.flatnonzero(forces.lifted)):
         out.append(
             Finding(
                 f"{names[i]} would have to pull ({format_number(forces.seated[i], 3)} N) under "
@@ -207,7 +207,7 @@ def _contact_findings(scene: Scene, forces: _Forces) -> list[Finding]:
                 "carries load",
             )
         )
-    for i in np.flatnonzero(forces.opened):
+    for i in map(int, np.flatnonzero(forces.opened)):
         out.append(
             Finding(
                 f"{names[i]} opens under the disturbing load "
@@ -225,7 +225,7 @@ def _stress_findings(
     scene: Scene, contacts: Contacts, worst: HertzContact, utilisation: np.ndarray, sf: float
 ) -> list[Finding]:
     out = []
-    for i in np.flatnonzero(utilisation > 1.0):
+    for i in map(int, np.flatnonzero(utilisation > 1.0)):
         weak = contacts.weaker(i)
         factor = f" / safety factor {sf:g}" if sf != 1 else ""
         out.append(
@@ -349,8 +349,9 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
             "rotation": rotation.tolist(),
         }
         parts.append(
-            f"error motion {format_number(np.linalg.norm(translation) * 1e6, 3)} µm, "
-            f"{format_number(np.linalg.norm(rotation) * 1e6, 3)} µrad under the disturbing load"
+            f"error motion {format_number(float(np.linalg.norm(translation) * 1e6), 3)} µm, "
+            f"{format_number(float(np.linalg.norm(rotation) * 1e6), 3)} µrad "
+            "under the disturbing load"
         )
     # Forces err by about the solve's estimate; p0 ~ N^(1/3), so utilisation by a third of it.
     rel = float(np.max(forces.error / np.maximum(np.abs(forces.seated), 1e-300)))

@@ -75,19 +75,19 @@ class Maxwell(Check):
             )
         details = {"rank": rank, "smallest_scaled_singular_value": sigma, "min_cos": opts.min_cos}
         if not deterministic:
-            free = len(points) - rank
+            motions = len(points) - rank
             return CheckResult(
                 self.id,
                 Status.FAIL,
                 f"not deterministic: constraint matrix rank {rank} of {len(points)}, so "
-                f"{free} motion(s) stay free with every support in place "
+                f"{motions} motion(s) stay free with every support in place "
                 "(e.g. all normals through one point)",
                 error_estimate=None,
                 cases=tuple(cases),
                 details=details,
                 findings=(
                     Finding(
-                        f"the supports leave {free} motion(s) free with every support in place "
+                        f"the supports leave {motions} motion(s) free with every support in place "
                         f"(constraint matrix rank {rank} of {len(points)})",
                         code="not-deterministic",
                         field=("supports",),

@@ -222,7 +222,9 @@ def _case_panel(
         fontsize=9, loc="left", color=outcome_colour(result.outcome),
     )  # fmt: skip
     if analysis.design is not None:
-        ax.axvline(scene.design_angle_deg, color=DESIGN, lw=1.4, ls=":")
+        design = scene.design_angle_deg
+        assert design is not None  # the design direction is the load's
+        ax.axvline(design, color=DESIGN, lw=1.4, ls=":")
     _mark_design(ax, twin, scene, result, analysis.problem.names)
     ax.grid(alpha=0.3)
     return {str(x) for x in np.unique(curves["state"])}
@@ -233,7 +235,7 @@ def _legend(fig: Any, analysis: Analysis, states: set[str]) -> None:
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    handles = [
+    handles: list[Line2D | Patch] = [
         Line2D([], [], label=f"N {name}", **support_style(j))
         for j, name in enumerate(analysis.problem.names)
     ]
@@ -264,6 +266,7 @@ def _combined_strip(ax: Axes, scene: Scene, analysis: Analysis, result: CheckRes
             va="center", fontsize=8)  # fmt: skip
     if analysis.design is not None:
         design = scene.design_angle_deg
+        assert design is not None  # the design direction is the load's
         ax.axvline(design, color=DESIGN, lw=1.4, ls=":")
         margin = result.details.get("design_margin_deg")
         note = "" if margin is None or not result.safe_ranges_deg else f", margin {margin:.1f}°"

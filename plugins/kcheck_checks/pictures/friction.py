@@ -107,7 +107,7 @@ def _band_picture(
     ax.plot([], [], color=SAFE, lw=6, alpha=0.6, label=what)
     _range_marks(ax, (low, high), f"{kind} μ")
     if high > low and result.safe_ranges_deg is not None:
-        label = "safe over the whole range"
+        label: str | None = "safe over the whole range"
         for start, end in result.safe_ranges_deg:
             for a, b in ((start, end),) if end > start else ((start, 360.0), (0.0, end)):
                 ax.fill_between(
@@ -225,7 +225,7 @@ def plot_friction(
             return ()
 
         def koster(at: Scene) -> Sequence[Sequence[float]] | None:
-            built = construct(at, where)  # type: ignore[arg-type]
+            built = construct(at, where)
             return None if built is None else ranges_deg(built.combined)
 
         return _band_picture(scene, result, check, "static", koster, "safe angles", directory)

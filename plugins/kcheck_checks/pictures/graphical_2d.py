@@ -133,7 +133,7 @@ def _supports(ax: Axes, scene: Scene, built: Construction, to_plot: Any, size: f
         )  # fmt: skip
         at = tail - 0.06 * size * n
         ax.text(
-            *at, s.name, fontsize=10, weight="bold", zorder=7, bbox=LABEL_BOX,
+            at[0], at[1], s.name, fontsize=10, weight="bold", zorder=7, bbox=LABEL_BOX,
             ha="left" if n[0] < -0.4 else "right" if n[0] > 0.4 else "center",
             va="bottom" if n[1] < -0.4 else "top" if n[1] > 0.4 else "center",
         )  # fmt: skip
@@ -251,7 +251,7 @@ def _compass(ax: Axes, built: Construction) -> None:
             "", xy=tuple(v), xytext=(0, 0),
             arrowprops={"arrowstyle": "-|>", "color": "0.2", "lw": 1.3},
         )  # fmt: skip
-        ax.text(*(1.35 * v), text, fontsize=8, ha="center", va="center", color="0.2")
+        ax.text(1.35 * v[0], 1.35 * v[1], text, fontsize=8, ha="center", va="center", color="0.2")
     start = float(np.degrees(np.arctan2(built.e1[1], built.e1[0])))
     turn = 1.0 if built.e1[0] * built.e2[1] - built.e1[1] * built.e2[0] > 0 else -1.0
     t = np.radians(start + turn * np.linspace(15, 75, 20))
@@ -326,7 +326,7 @@ def draw_construction(ax: Axes, scene: Scene, built: Construction, result: Check
             t = np.radians(_to_plot_angle(built, a))
             tip = q + 1.1 * radius * np.array([np.cos(t), np.sin(t)])
             ax.text(
-                *tip, format_angle(np.degrees(a) % 360, 1), ha="center", va="center",
+                tip[0], tip[1], format_angle(np.degrees(a) % 360, 1), ha="center", va="center",
                 fontsize=9, color="darkgreen", weight="bold", zorder=8, bbox=LABEL_BOX,
             )  # fmt: skip
     ax.plot(*q, "o", color="k", ms=7, zorder=8, label="force attachment point")

@@ -57,10 +57,10 @@ def _bars(ax: Any, arcs: ArcSet, radius: float, height: float, **kw: Any) -> Non
 def _end_labels(ax: Any, ends: list[float]) -> None:
     """Angle labels (rad) outside the rings; a label within 12° of the one before it moves
     further out so that the two do not overlap."""
-    previous = None
+    previous: tuple[float, float] | None = None
     for end in sorted(e % (2 * np.pi) for e in ends):
         close = previous is not None and abs(end - previous[0]) < np.radians(12)
-        radius = 1.26 if close and previous[1] == 1.12 else 1.12
+        radius = 1.26 if close and previous is not None and previous[1] == 1.12 else 1.12
         ax.text(end, radius, format_angle(np.degrees(end) % 360, 1), fontsize=7,
                 ha="center", va="center")  # fmt: skip
         previous = (end, radius)
@@ -225,6 +225,7 @@ def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
     share = ""
     if low is not None:
         # As the check's message writes it.
+        assert high is not None  # given with the lower bound
         share = f": {format_share_bounds(low, high, 1)} of the sphere is jam-free"
     fig.suptitle(
         f"{scene.name}: {what} directions where friction can hold the body{share}\n"

@@ -210,7 +210,7 @@ def _labels(ax: Axes, d: Drawing, view: View, keep: np.ndarray, size: float, nud
             at = at + np.array([-away[1], away[0]]) * 0.08 * size
         placed.append(at)
         ax.text(
-            *at, d.names[j], fontsize=8, color=SUPPORT, weight="bold",
+            at[0], at[1], d.names[j], fontsize=8, color=SUPPORT, weight="bold",
             ha="left" if away[0] > 0.3 else "right" if away[0] < -0.3 else "center",
             va="bottom" if away[1] > 0.3 else "top" if away[1] < -0.3 else "center",
             zorder=6,
@@ -241,7 +241,7 @@ def _rotation_sense(ax: Axes, centre: np.ndarray, axis: np.ndarray, view: View, 
         at = centre + sign * r * side
         towards = float(np.cross(axis, sign * side) @ view.towards_viewer) > 0
         ax.text(
-            *at[k], "⊙" if towards else "⊗", fontsize=12, color=MOTION,
+            at[k[0]], at[k[1]], "⊙" if towards else "⊗", fontsize=12, color=MOTION,
             ha="center", va="center", zorder=7,
         )  # fmt: skip
 
@@ -276,8 +276,9 @@ def _motion(ax: Axes, d: Drawing, view: View, case: CaseResult, retracted: int, 
         else:
             towards = float(direction @ view.towards_viewer) > 0
             ax.text(
-                *p[k], "⊙" if towards else "⊗", fontsize=12, color=MOTION, ha="center", va="center"
-            )
+                p[k[0]], p[k[1]], "⊙" if towards else "⊗", fontsize=12, color=MOTION,
+                ha="center", va="center",
+            )  # fmt: skip
 
 
 def _view(
@@ -290,7 +291,12 @@ def _view(
     size = float(np.max(d.hi - d.lo))
     if d.triangles is not None:
         body = PolyCollection(
-            d.triangles[:, :, k], facecolor="0.86", edgecolor="none", zorder=0, rasterized=True
+            # matplotlib's stubs say a sequence of polygons; it takes an (N, 3, 2) array too.
+            d.triangles[:, :, k],  # type: ignore[arg-type]
+            facecolor="0.86",
+            edgecolor="none",
+            zorder=0,
+            rasterized=True,
         )
         ax.add_collection(body)
     keep = np.arange(len(d.points)) != retracted
@@ -314,7 +320,7 @@ def _view(
                 "", xy=tuple(q[k]), xytext=tuple(tail[k]),
                 arrowprops={"arrowstyle": "-|>", "color": colour, "lw": 2.2}, zorder=6,
             )  # fmt: skip
-            near = sum(np.linalg.norm(p - tail[k]) < 0.05 * size for p in placed)
+            near = int(sum(np.linalg.norm(p - tail[k]) < 0.05 * size for p in placed))
             placed.append(tail[k])
             ax.annotate(
                 f" {label}", xy=tuple(tail[k]), xytext=(0, -10 * near),
@@ -322,7 +328,7 @@ def _view(
             )  # fmt: skip
         else:
             towards = float(direction @ view.towards_viewer) > 0
-            near = sum(np.linalg.norm(p - q[k]) < 0.05 * size for p in placed)
+            near = int(sum(np.linalg.norm(p - q[k]) < 0.05 * size for p in placed))
             placed.append(q[k])
             ax.annotate(
                 ("⊙ " if towards else "⊗ ") + label, xy=tuple(q[k]), xytext=(0, -11 * near),

@@ -97,7 +97,8 @@ def _margins(smap: SphereMap, dirs: np.ndarray, cases: np.ndarray) -> np.ndarray
 
 
 def _grid(lo: np.ndarray, hi: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
-    return np.meshgrid(np.linspace(lo[0], hi[0], n), np.linspace(lo[1], hi[1], n))
+    x, y = np.meshgrid(np.linspace(lo[0], hi[0], n), np.linspace(lo[1], hi[1], n))
+    return x, y
 
 
 def _beyond(smap: SphereMap, centre: np.ndarray) -> float:
@@ -144,7 +145,7 @@ def _rings(ax: Axes, lo: np.ndarray, hi: np.ndarray, about: str) -> None:
         ax.add_patch(Circle((0, 0), r, fill=False, color="0.45", lw=0.6, ls=(0, (2, 3)), zorder=3))
         at = np.array([np.cos(np.radians(58)), np.sin(np.radians(58))]) * r
         if np.all((at > lo) & (at < hi)):
-            ax.text(*at, f"{angle:g}°", fontsize=7, color="0.3", zorder=3)
+            ax.text(at[0], at[1], f"{angle:g}°", fontsize=7, color="0.3", zorder=3)
     ax.plot(0, 0, "+", color="0.3", ms=9, zorder=3)
     ax.set_xlabel(f"dotted rings: angle from the {about} direction", fontsize=8, color="0.3")
 
@@ -168,12 +169,14 @@ def _marks(ax: Axes, smap: SphereMap, centre: np.ndarray, what: str) -> list[Any
     from matplotlib.lines import Line2D
 
     handles = []
-    for d, margin, marker, kw, name in (
+    # direction, margin, marker, its matplotlib keyword arguments, name
+    marks: tuple[tuple[np.ndarray | None, float | None, str, dict[str, Any], str], ...] = (
         (smap.robust, smap.robust_margin, "o",
          {"mfc": "white", "mec": "black", "mew": 1.6, "ms": 8}, "most robust"),
         (smap.design, smap.design_margin, "*",
          {"mfc": "#ff7f0e", "mec": "black", "mew": 0.8, "ms": 12}, f"design {what}"),
-    ):  # fmt: skip
+    )  # fmt: skip
+    for d, margin, marker, kw, name in marks:
         if d is None or margin is None:
             continue
         label = f"{name} {format_direction(d, 2)}: margin {margin * DEG:.1f}°"
@@ -192,7 +195,7 @@ def _case_boundaries(
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    handles = []
+    handles: list[Line2D | Patch] = []
     for i, name in enumerate(names):
         mi = m[i]
         if not (np.nanmin(mi) < 0 < np.nanmax(mi)):
@@ -264,7 +267,7 @@ def sphere_figure(scene: Scene, analysis: Analysis, smap: SphereMap, result: Che
         bar = fig.colorbar(
             filled, ax=over, orientation="horizontal", fraction=0.08, pad=0.25, aspect=25
         )
-        bar.set_ticks(levels)
+        bar.set_ticks(levels.tolist())
         bar.set_ticklabels([f"{v:g}°" for v in levels])
         bar.set_label("safe: margin to the nearest boundary", fontsize=8)
         bar.ax.tick_params(labelsize=7)
