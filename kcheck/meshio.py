@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from kcheck.errors import FieldPath, MeshError
+from kcheck.paths import describe_os_error
 from kcheck.scene.limits import LIMITS
 
 if TYPE_CHECKING:
@@ -119,7 +120,7 @@ def check_mesh_file(path: Path, field: FieldPath | str, max_bytes: int | None = 
         info = os.stat(path)
     except OSError as exc:
         raise MeshError(
-            path, f"cannot read the mesh ({exc.strerror or exc})", field=field
+            path, f"cannot read the mesh ({describe_os_error(exc)})", field=field
         ) from None
     if not stat.S_ISREG(info.st_mode):
         raise MeshError(path, "not a regular file (a folder, pipe, socket or device)", field=field)

@@ -26,6 +26,7 @@ from typing import Any, BinaryIO, Literal, NamedTuple
 import yaml
 
 from kcheck.errors import FieldPath, SceneError, format_path
+from kcheck.paths import describe_os_error
 from kcheck.yamlcompose import NOTHING, Composer, Located, plain_scalar
 
 __all__ = [
@@ -140,7 +141,7 @@ def _read_text(path: Path, limits: YamlLimits) -> str:
                 chunks.append(chunk)
                 size += len(chunk)
     except (OSError, ValueError) as exc:
-        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        reason = describe_os_error(exc) if isinstance(exc, OSError) else str(exc)
         raise SceneError(path, f"cannot read the file: {reason}") from None
     raw = b"".join(chunks)
     if len(raw) > limits.max_bytes:

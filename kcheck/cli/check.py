@@ -204,7 +204,7 @@ def _pictures(
 def run(args: argparse.Namespace) -> int:
     """Check every scene, stream the reports, choose the exit code."""
     from kcheck.cli.config import cache_folder, effective_config, output_targets, plan_checks
-    from kcheck.paths import check_output_dir, check_output_file
+    from kcheck.paths import check_output_dir, check_output_file, describe_os_error
     from kcheck.plugin import load_checks
     from kcheck.report import ReportOptions, make_reporter
     from kcheck.result import Status
@@ -286,7 +286,7 @@ def run(args: argparse.Namespace) -> int:
                 try:
                     stream.close()
                 except OSError as exc:
-                    tee.failures.append(f"cannot write {stream.name}: {exc.strerror}")
+                    tee.failures.append(f"cannot write {stream.name}: {describe_os_error(exc)}")
     if not (config["format"] == "text" and args.output is None):
         _errors_to_stderr(results)
         _summary_to_terminal(results, elapsed, args.output)

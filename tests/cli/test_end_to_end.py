@@ -217,4 +217,15 @@ def test_changed_only_and_since(repo, cli):
         "couplings/pass/block.kcheck.yaml",
     ]
     code, _, err = cli("check", "--since", "no-such-ref")
-    assert code == 2 and "no-such-ref" in err
+    assert code == 2 and "`no-such-ref` is not a commit of this git repository" in err
+
+
+def test_changed_only_outside_a_repository(cli, tmp_path, monkeypatch):
+    # kcheck says what is wrong; git's own message (its wording is git's) only follows.
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("GIT_CEILING_DIRECTORIES", str(tmp_path.parent))
+    code, out, err = cli("check", "--changed-only")
+    assert code == 2 and out == ""
+    assert err.startswith(
+        "kcheck: error: --changed-only/--since: the working directory is not in a git repository"
+    )
