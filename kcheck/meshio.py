@@ -165,8 +165,13 @@ def _read(path: Path, field: FieldPath | str, max_bytes: int | None = None) -> t
             raise MeshError(
                 path, f"cannot read the STEP file (OpenCASCADE: {reason})", field=field
             ) from exc
+        # What kcheck expected first: trimesh's reason alone is often an internal detail
+        # ("IndexError: list index out of range"), and its wording is trimesh's.
+        kind = path.suffix.lstrip(".").upper() or "mesh"
         raise MeshError(
-            path, f"cannot read the mesh ({type(exc).__name__}: {exc})", field=field
+            path,
+            f"cannot read the mesh: not a valid {kind} file (trimesh: {type(exc).__name__}: {exc})",
+            field=field,
         ) from exc
     if not isinstance(mesh, trimesh.Trimesh) or mesh.is_empty or len(mesh.faces) == 0:
         raise MeshError(path, "the mesh is empty (no triangles)", field=field)
