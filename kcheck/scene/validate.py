@@ -311,8 +311,9 @@ def describe_pydantic(err: Mapping[str, Any], root: type[BaseModel] | None = Non
     if kind == "union_tag_invalid":
         tag = (err.get("ctx") or {}).get("tag")
         return f"unknown coupling type {tag!r}; expected one of {', '.join(COUPLING_TYPES)}"
-    if kind == "value_error":
-        return str(err["msg"]).removeprefix("Value error, ")
+    if kind == "value_error":  # a validator's own message: kcheck's words, without pydantic's
+        cause = (err.get("ctx") or {}).get("error")
+        return str(cause) if cause is not None else str(err["msg"]).removeprefix("Value error, ")
     msg = _expected(kind, err.get("ctx") or {}, info, name)
     if msg is None:  # a rare kind: pydantic's own words, the best there is
         msg = str(err["msg"]).replace("Input should be", "expected")

@@ -118,6 +118,12 @@ TYPE_ERRORS = {
         "expected at most 200 character(s), got 300",
     ),
     "not a mapping": ("friction: 0.1", "friction: 0.1\nchecks: 3", "checks", "expected a mapping"),
+    "a validator's own words": (
+        "version: 1",
+        "version: true",
+        "version",
+        "expected the integer 1, got True",
+    ),
     "unknown unit": (
         "units: mm",
         "units: furlong",
