@@ -38,13 +38,8 @@ def changed_files(ref: str) -> set[Path]:
     """Absolute paths of files changed against ``ref`` (working tree and index) or untracked."""
     if ref.startswith("-"):
         raise UsageError(f"--since: expected a git revision, got {ref!r}")
-    top = Path(
-        _git(
-            "rev-parse",
-            "--show-toplevel",
-            failure="--changed-only/--since: the working directory is not in a git repository",
-        ).strip()
-    )
+    outside = "--changed-only/--since need the working directory in a git repository git can read"
+    top = Path(_git("rev-parse", "--show-toplevel", failure=outside).strip())
     _git(
         "rev-parse",
         "--verify",

@@ -227,5 +227,6 @@ def test_changed_only_outside_a_repository(cli, tmp_path, monkeypatch):
     code, out, err = cli("check", "--changed-only")
     assert code == 2 and out == ""
     assert err.startswith(
-        "kcheck: error: --changed-only/--since: the working directory is not in a git repository"
+        "kcheck: error: --changed-only/--since need the working directory in a git repository git "
+        "can read"
     )
