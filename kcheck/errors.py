@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import errno
 from pathlib import Path
 
 __all__ = [
@@ -99,3 +100,20 @@ class PluginError(KcheckError):
 
 class UsageError(KcheckError):
     """A bad command line or configuration (exit code 2, no scene involved)."""
+
+
+def describe_os_error(exc: OSError) -> str:
+    """A short reason for an OS error, without the repeated file name."""
+    reasons = {
+        errno.ENAMETOOLONG: "the path is too long for the operating system",
+        errno.ELOOP: "too many levels of symbolic links (a symlink loop)",
+        errno.EACCES: "permission denied",
+        errno.EPERM: "operation not permitted",
+        errno.ENOTDIR: "a part of the path is a file, not a folder",
+        errno.EISDIR: "it is a folder, not a file",
+        errno.ENOSPC: "no space left on the device",
+        errno.EROFS: "the file system is read-only",
+        errno.ENOENT: "no such file or folder",
+        errno.ENXIO: "a pipe that nobody reads",
+    }
+    return reasons.get(exc.errno or 0, exc.strerror or str(exc))

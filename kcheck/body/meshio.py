@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from kcheck.errors import FieldPath, MeshError
+from kcheck.errors import FieldPath, MeshError, describe_os_error
 from kcheck.scene.limits import LIMITS
 
 if TYPE_CHECKING:
@@ -119,7 +119,7 @@ def check_mesh_file(path: Path, field: FieldPath | str, max_bytes: int | None = 
         info = os.stat(path)
     except OSError as exc:
         raise MeshError(
-            path, f"cannot read the mesh ({exc.strerror or exc})", field=field
+            path, f"cannot read the mesh ({describe_os_error(exc)})", field=field
         ) from None
     if not stat.S_ISREG(info.st_mode):
         raise MeshError(path, "not a regular file (a folder, pipe, socket or device)", field=field)
@@ -164,8 +164,13 @@ def _read(path: Path, field: FieldPath | str, max_bytes: int | None = None) -> t
             raise MeshError(
                 path, f"cannot read the STEP file (OpenCASCADE: {reason})", field=field
             ) from exc
+        # What kcheck expected first: trimesh's reason alone is often an internal detail
+        # ("IndexError: list index out of range"), and its wording is trimesh's.
+        kind = path.suffix.lstrip(".").upper() or "mesh"
         raise MeshError(
-            path, f"cannot read the mesh ({type(exc).__name__}: {exc})", field=field
+            path,
+            f"cannot read the mesh: not a valid {kind} file (trimesh: {type(exc).__name__}: {exc})",
+            field=field,
         ) from exc
     if mesh.is_empty or len(mesh.faces) == 0:
         raise MeshError(path, "the mesh is empty (no triangles)", field=field)

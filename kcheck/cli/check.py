@@ -144,7 +144,7 @@ class _Tee:
         self.failures: list[str] = []
 
     def _each(self, method: str, *args: Any) -> None:
-        from kcheck.gate.paths import describe_os_error
+        from kcheck.errors import describe_os_error
 
         for entry in list(self.reporters):
             label, reporter, stream = entry
@@ -253,7 +253,7 @@ def run(args: argparse.Namespace) -> int:
                 (f"the {name} report {path}", make_reporter(name, stream, file_options), stream)
             )
     except OSError as exc:
-        from kcheck.gate.paths import describe_os_error
+        from kcheck.errors import describe_os_error
 
         for _, _, stream in streams:
             if stream is not sys.stdout:
@@ -286,7 +286,7 @@ def run(args: argparse.Namespace) -> int:
                 try:
                     stream.close()
                 except OSError as exc:
-                    tee.failures.append(f"cannot write {stream.name}: {exc.strerror}")
+                    tee.failures.append(f"cannot write {stream.name}: {describe_os_error(exc)}")
     if not (config["format"] == "text" and args.output is None):
         _errors_to_stderr(results)
         _summary_to_terminal(results, elapsed, args.output)

@@ -36,8 +36,8 @@ def fail(message: str) -> int:
 def write_text(text: str, output: Path | None, what: str = "--output") -> None:
     """Write a document to stdout, or to a file (its folder created); a file that cannot be
     written is a UsageError naming it (and the option ``what``)."""
-    from kcheck.errors import UsageError
-    from kcheck.gate.paths import check_output_file, describe_os_error
+    from kcheck.errors import UsageError, describe_os_error
+    from kcheck.gate.paths import check_output_file
 
     if output is None:
         sys.stdout.write(text)

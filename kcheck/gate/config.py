@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from kcheck.errors import UsageError
+from kcheck.errors import UsageError, describe_os_error
 
 __all__ = [
     "CONFIG_FILES",
@@ -223,7 +223,9 @@ def _read_toml(path: Path) -> dict[str, Any]:
         with open_regular(path) as fh:
             raw = fh.read(MAX_CONFIG_BYTES + 1)
     except OSError as exc:
-        raise ConfigError(f"{path}: cannot read the configuration ({exc.strerror or exc})") from exc
+        raise ConfigError(
+            f"{path}: cannot read the configuration ({describe_os_error(exc)})"
+        ) from exc
     if len(raw) > MAX_CONFIG_BYTES:
         raise ConfigError(f"{path}: larger than {MAX_CONFIG_BYTES >> 20} MiB; not a configuration")
     try:

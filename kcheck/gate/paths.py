@@ -8,20 +8,18 @@ an input error for a scene path (the batch goes on), a usage error for an output
 
 from __future__ import annotations
 
-import errno
 import os
 import stat
 from collections.abc import Iterable, Iterator
 from pathlib import Path
 
-from kcheck.errors import UsageError
+from kcheck.errors import UsageError, describe_os_error
 
 __all__ = [
     "MESH_SUFFIXES",
     "SCENE_SUFFIX",
     "SKIPPED_FOLDERS",
     "DiscoveryError",
-    "describe_os_error",
     "walk_scenes",
     "discover_paths",
     "scenes_using",
@@ -46,23 +44,6 @@ class DiscoveryError(Exception):
         self.path = path
         self.message = message
         super().__init__(f"{path}: {message}")
-
-
-def describe_os_error(exc: OSError) -> str:
-    """A short reason for an OS error, without the repeated file name."""
-    reasons = {
-        errno.ENAMETOOLONG: "the path is too long for the operating system",
-        errno.ELOOP: "too many levels of symbolic links (a symlink loop)",
-        errno.EACCES: "permission denied",
-        errno.EPERM: "operation not permitted",
-        errno.ENOTDIR: "a part of the path is a file, not a folder",
-        errno.EISDIR: "it is a folder, not a file",
-        errno.ENOSPC: "no space left on the device",
-        errno.EROFS: "the file system is read-only",
-        errno.ENOENT: "no such file or folder",
-        errno.ENXIO: "a pipe that nobody reads",
-    }
-    return reasons.get(exc.errno or 0, exc.strerror or str(exc))
 
 
 def _missing(path: Path) -> str:

@@ -128,10 +128,12 @@ def save(fig: Figure, directory: Path, stem: str) -> tuple[Path, ...]:
 def _quiet_drawing() -> Iterator[None]:
     """Drawing without matplotlib's notes on stderr (issue 13: nothing but kcheck's own lines
     there): a name in a script the font lacks is drawn as boxes, and a figure crowded by very
-    long names is saved without its layout; either way the picture is written."""
+    long names is saved without its layout; either way the picture is written. Every
+    UserWarning while saving is matplotlib's note, silenced by its kind, not by its wording
+    ("Glyph ... missing from font", "constrained_layout not applied"), which is
+    matplotlib's to change."""
     import warnings
 
     with warnings.catch_warnings():
-        warnings.filterwarnings("ignore", r"Glyph \d+ .* missing from font", UserWarning)
-        warnings.filterwarnings("ignore", "constrained_layout not applied", UserWarning)
+        warnings.simplefilter("ignore", UserWarning)
         yield

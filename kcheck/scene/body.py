@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from kcheck.errors import describe_os_error
 from kcheck.scene.limits import INERTIA_SYMMETRY_RTOL, LIMITS
 from kcheck.scene.materials import MATERIALS, density_of
 from kcheck.scene.models import BodyModel, PartModel, TransformModel
@@ -277,4 +278,4 @@ def _os_reason(path: Path, exc: OSError) -> str:
         return "cannot be reached (permission denied)"
     if exc.errno == errno.ENOTDIR:
         return "cannot be reached: a folder on its path is a file"
-    return f"cannot be read ({exc.strerror or exc})"
+    return f"cannot be read ({describe_os_error(exc)})"

@@ -298,6 +298,11 @@ def describe_pydantic(err: Mapping[str, Any], root: type[BaseModel] | None = Non
         if kind == "too_short":
             return f"expected at least {ctx.get('min_length')} item(s), got {len(got)}"
         return f"expected at most {ctx.get('max_length')} item(s), got {len(got)}"
+    if kind in ("string_too_long", "string_too_short") and isinstance(got, str):
+        ctx = err.get("ctx") or {}
+        if kind == "string_too_long":
+            return f"expected at most {ctx.get('max_length')} character(s), got {len(got)}"
+        return f"expected at least {ctx.get('min_length')} character(s), got {len(got)}"
     if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
         bounds = _bounds(info, name)
         if bounds is not None:
@@ -305,18 +310,75 @@ def describe_pydantic(err: Mapping[str, Any], root: type[BaseModel] | None = Non
     if kind == "union_tag_not_found":
         return f"required field is missing; expected one of {', '.join(COUPLING_TYPES)}"
     if kind == "union_tag_invalid":
-        ctx = err.get("ctx") or {}
-        return (
-            f"unknown coupling type {ctx.get('tag')!r}; expected one of {ctx.get('expected_tags')}"
-        )
-    if kind == "value_error":
-        return str(err["msg"]).removeprefix("Value error, ")
-    msg = str(err["msg"]).replace("Input should be", "expected")
+        tag = (err.get("ctx") or {}).get("tag")
+        return f"unknown coupling type {tag!r}; expected one of {', '.join(COUPLING_TYPES)}"
+    if kind == "value_error":  # a validator's own message: kcheck's words, without pydantic's
+        cause = (err.get("ctx") or {}).get("error")
+        return str(cause) if cause is not None else str(err["msg"]).removeprefix("Value error, ")
+    msg = _expected(kind, err.get("ctx") or {}, info, name)
+    if msg is None:  # a rare kind: pydantic's own words, the best there is
+        msg = str(err["msg"]).replace("Input should be", "expected")
     if name in ("units", "report_units") and isinstance(got, str):
         unit = _UNIT_WORDS.get(got.strip().lower().rstrip("s").replace("-", ""))
         if unit is not None:
             return f"{msg}, got {shown}; did you mean `{unit}`?"
     return f"{msg}, got {shown}"
+
+
+#: What a field expected, in kcheck's words, by pydantic's error type: pydantic's own wording
+#: is its to change between releases, and kcheck's messages (and the errors it says once, such
+#: as a non-finite number found by :func:`plain_value_problems` too) must not change with it.
+_EXPECTED = {
+    "float_type": "a number",
+    "float_parsing": "a number",
+    "int_type": "a whole number",
+    "int_parsing": "a whole number",
+    "int_from_float": "a whole number",
+    "finite_number": "a finite number",
+    "bool_type": "true or false",
+    "bool_parsing": "true or false",
+    "string_type": "text",
+    "string_unicode": "valid Unicode text",
+    "list_type": "a list",
+    "tuple_type": "a list",
+    "dict_type": "a mapping",
+    "model_type": "a mapping",
+    "model_attributes_type": "a mapping",
+}
+
+_COMPARISONS = {
+    "greater_than": ("gt", "<"),
+    "greater_than_equal": ("ge", "≤"),
+    "less_than": ("lt", "<"),
+    "less_than_equal": ("le", "≤"),
+}
+
+
+def _literal_values(annotation: Any) -> list[Any]:
+    """The values a ``Literal`` in an annotation allows (through unions and Annotated)."""
+    if typing.get_origin(annotation) is typing.Literal:
+        return list(typing.get_args(annotation))
+    return [v for arg in typing.get_args(annotation) for v in _literal_values(arg)]
+
+
+def _expected(kind: str, ctx: Mapping[str, Any], info: Any, name: str) -> str | None:
+    """What was expected, in kcheck's words, for a pydantic error of type ``kind``; None for
+    a kind kcheck has no words for."""
+    if kind in _EXPECTED:
+        return f"expected {_EXPECTED[kind]}"
+    if kind in _COMPARISONS:
+        key, sign = _COMPARISONS[kind]
+        limit = ctx.get(key)
+        if isinstance(limit, (int, float)):
+            if kind.startswith("greater"):
+                return f"out of range: expected {limit:g} {sign} {name}"
+            return f"out of range: expected {name} {sign} {limit:g}"
+    if kind == "literal_error":
+        allowed = _literal_values(getattr(info, "annotation", None))
+        if allowed:
+            shown = ", ".join(repr(v) for v in allowed)
+            return f"expected {shown}" if len(allowed) == 1 else f"expected one of {shown}"
+    return None
 
 
 # Unit names as people write them (singular, lower case, no hyphen) → kcheck's symbol.
@@ -358,8 +420,11 @@ def pydantic_problems(exc: ValidationError, root: type[BaseModel], problems: Pro
             close = difflib.get_close_matches(str(path[-1]), allowed, n=1, cutoff=0.6)
             if close:
                 meant.add((*path[:-1], close[0]))
+    # A value the plain-value checks refused already (a non-finite number, a surrogate in a
+    # text) is said once, in their words.
+    said = {e.where for e in problems.errors}
     for _, path, err in chosen.values():
-        if err["type"] == "missing" and path in meant:
+        if (err["type"] == "missing" and path in meant) or path in said:
             continue
         if err["type"] in ("union_tag_invalid", "union_tag_not_found"):
             path = (*path, "type")

@@ -19,7 +19,15 @@ import yaml
 
 from kcheck.errors import FieldPath, format_path
 
-__all__ = ["Located", "Composer", "NOTHING", "plain_scalar", "YamlLimits", "DEFAULT_LIMITS"]
+__all__ = [
+    "Located",
+    "TooDeep",
+    "Composer",
+    "NOTHING",
+    "plain_scalar",
+    "YamlLimits",
+    "DEFAULT_LIMITS",
+]
 
 # YAML 1.2 core schema (https://yaml.org/spec/1.2.2/#1032-tag-resolution).
 _NULL = re.compile(r"^(?:~|null|Null|NULL|)$")
@@ -72,6 +80,10 @@ class Located(Exception):
         self.line = line
         self.column = column
         self.field = field
+
+
+class TooDeep(Located):
+    """Mappings and lists nested past the depth limit (the one limit libyaml has too)."""
 
 
 def plain_scalar(value: str, line: int, column: int) -> Any:
@@ -266,7 +278,7 @@ class Composer:
                     mark.column,
                 )
             if len(self.stack) >= self.limits.max_depth:
-                raise Located(
+                raise TooDeep(
                     f"mappings and lists nest deeper than {self.limits.max_depth} levels",
                     mark.line,
                     mark.column,

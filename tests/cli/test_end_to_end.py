@@ -97,7 +97,10 @@ def test_every_format_in_one_run(repo, cli):
 
     concise = (out / "concise").read_text().splitlines()
     where = f"{broken}:{BROKEN_LINE}:{BROKEN_COLUMN}"
-    assert f"{where}: input-error: field `load.magnitude`: expected a valid " in concise[0]
+    assert (
+        f"{where}: input-error: field `load.magnitude`: expected a number, got 'lots'"
+        in (concise[0])
+    )
     # each failing finding at the line of its support or field
     assert any(re.match(r"couplings/fail.kcheck.yaml:\d+: analytical-2d: ", x) for x in concise)
     assert re.search(r"couplings/warn.kcheck.yaml:\d+: maxwell \(warning\): ", "\n".join(concise))
@@ -214,4 +217,16 @@ def test_changed_only_and_since(repo, cli):
         "couplings/pass/block.kcheck.yaml",
     ]
     code, _, err = cli("check", "--since", "no-such-ref")
-    assert code == 2 and "no-such-ref" in err
+    assert code == 2 and "`no-such-ref` is not a commit of this git repository" in err
+
+
+def test_changed_only_outside_a_repository(cli, tmp_path, monkeypatch):
+    # kcheck says what is wrong; git's own message (its wording is git's) only follows.
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("GIT_CEILING_DIRECTORIES", str(tmp_path.parent))
+    code, out, err = cli("check", "--changed-only")
+    assert code == 2 and out == ""
+    assert err.startswith(
+        "kcheck: error: --changed-only/--since need the working directory in a git repository git "
+        "can read"
+    )

@@ -99,8 +99,32 @@ def test_broken_step_says_why_and_prints_nothing(tmp_path, capfd):
         load_mesh(path, 1.0, ("body", "mesh"))
     out, err = capfd.readouterr()
     assert out == "" and err == ""
-    assert "OpenCASCADE" in info.value.message and "Line 6" in info.value.message
-    assert "converted.glb" not in info.value.message
+    # OpenCASCADE's reason is quoted after kcheck's words; its wording is OpenCASCADE's.
+    error = info.value
+    assert (error.path, error.field) == (str(path), "body.mesh")
+    prefix = "cannot read the STEP file (OpenCASCADE: "
+    assert error.message.startswith(prefix) and error.message.endswith(")")
+    reason = error.message[len(prefix) : -1]
+    assert reason.strip() and reason != "no solid found"  # what OpenCASCADE printed, caught
+    assert "converted.glb" not in error.message
+
+
+def test_a_mesh_trimesh_cannot_read_says_what_was_expected(tmp_path, monkeypatch):
+    # trimesh's reason alone was the explanation ("IndexError: list index out of range" for
+    # a damaged PLY); kcheck says what it expected, and quotes trimesh after.
+    path = tmp_path / "part.ply"
+    path.write_text("ply\n")
+
+    def refuse(*args, **kwargs):
+        raise IndexError("what trimesh says")
+
+    monkeypatch.setattr(trimesh, "load_scene", refuse)
+    with pytest.raises(MeshError) as info:
+        load_mesh(path, 1.0, ("body", "mesh"))
+    assert (info.value.path, info.value.field) == (str(path), "body.mesh")
+    assert info.value.message == (
+        "cannot read the mesh: not a valid PLY file (trimesh: IndexError: what trimesh says)"
+    )
 
 
 def test_mass_properties_of_a_scene_respect_the_configured_limit(tmp_path):

@@ -40,7 +40,12 @@ def _edit(old: str, new: str) -> str:
 
 # Lines are 1-based; in PLANAR_SCENE line 1 is `version: 1` and line 14 `magnitude: 1`.
 BAD = {
-    "wrong type": (_edit("magnitude: 1", "magnitude: strong"), "load.magnitude", 14, "number"),
+    "wrong type": (
+        _edit("magnitude: 1", "magnitude: strong"),
+        "load.magnitude",
+        14,
+        "expected a number, got 'strong'",
+    ),
     "negative": (_edit("magnitude: 1", "magnitude: -1"), "load.magnitude", 14, "0 ≤ magnitude"),
     "missing": (_edit("version: 1\n", ""), "version", 1, "missing"),
     "typo": (_edit("friction: 0.1", "fricton: 0.1"), "fricton", 12, "unknown field"),
@@ -50,8 +55,13 @@ BAD = {
         9,
         "3 numbers",
     ),
-    "units": (_edit("units: mm", "units: furlong"), "units", 3, "'mm'"),
-    "version": (_edit("version: 1", "version: 2"), "version", 1, "1"),
+    "units": (
+        _edit("units: mm", "units: furlong"),
+        "units",
+        3,
+        "expected one of 'm', 'cm', 'mm', 'um', 'in', got 'furlong'",
+    ),
+    "version": (_edit("version: 1", "version: 2"), "version", 1, "expected 1, got 2"),
     "zero normal": (
         _edit("normal: [1, 0, 0]", "normal: [0, 0, 0]"),
         "supports[2].normal",

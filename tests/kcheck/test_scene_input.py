@@ -95,10 +95,61 @@ def test_nonsense_is_a_located_error(write_scene, name):
 
 
 def test_lone_surrogate(write_scene):
-    # libyaml refuses the escape itself; PyYAML's parser lets it through to the loader.
-    errors = _errors(write_scene(_edit("name: x1", 'name: "\\ud800"')))
-    assert errors[0].line == 11
-    assert "surrogate" in errors[0].message or "invalid Unicode" in errors[0].message
+    # Said once, in kcheck's words (pydantic refuses the text too, in its own), whichever
+    # parser read the escape.
+    (error,) = _errors(write_scene(_edit("name: x1", 'name: "\\ud800"')))
+    assert (error.field, error.line) == ("supports[2].name", 11)
+    assert error.message == "the text contains an unpaired surrogate (not valid Unicode text)"
+
+
+# Wrong types are said in kcheck's words, not pydantic's (whose wording changes between
+# releases): what was expected, and what came.
+TYPE_ERRORS = {
+    "not a list": (
+        "normal: [1, 0, 0]",
+        "normal: 3",
+        "supports[2].normal",
+        "expected a list, got 3",
+    ),
+    "name too long": (
+        "name: x1",
+        "name: " + "n" * 300,
+        "supports[2].name",
+        "expected at most 200 character(s), got 300",
+    ),
+    "not a mapping": ("friction: 0.1", "friction: 0.1\nchecks: 3", "checks", "expected a mapping"),
+    "a validator's own words": (
+        "version: 1",
+        "version: true",
+        "version",
+        "expected the integer 1, got True",
+    ),
+    "unknown unit": (
+        "units: mm",
+        "units: furlong",
+        "units",
+        "expected one of 'm', 'cm', 'mm', 'um', 'in', got 'furlong'",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", list(TYPE_ERRORS))
+def test_type_errors_in_kchecks_words(write_scene, name):
+    old, new, field, message = TYPE_ERRORS[name]
+    error = _one(write_scene(_edit(old, new)), field, message)
+    assert error.message.startswith(message)
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [("x", "expected a number, got 'x'"), ("2", "out of range: expected min_cos ≤ 1, got 2")],
+)
+def test_check_options_in_kchecks_words(write_scene, value, message):
+    text = PLANAR_SCENE + f"checks:\n  maxwell: {{min_cos: {value}}}\n"
+    result = check_scene(write_scene(text), load_checks())
+    (error,) = result.errors
+    assert result.status is Status.ERROR and error.field == ("checks", "maxwell", "min_cos")
+    assert error.line == 17 and error.message == message
 
 
 def test_planar_inertia_in_range(write_scene):

@@ -80,3 +80,12 @@ def test_a_pipe_or_device_is_refused_without_blocking(tmp_path):
         with pytest.raises(SceneError) as info:
             read_yaml(path)
         assert "not a regular file" in info.value.message
+
+
+def test_an_os_error_is_said_in_kchecks_words(tmp_path):
+    # Not the C library's strerror text, whose wording is the platform's.
+    path = tmp_path / "missing.yaml"
+    with pytest.raises(SceneError) as info:
+        read_yaml(path)
+    assert info.value.path == str(path) and info.value.line is None
+    assert info.value.message == "cannot read the file: no such file or folder"
