@@ -14,11 +14,12 @@ import numpy as np
 from kcheck.analysis.cases import Analysis
 from kcheck.mechanics.caps import FOUR_PI, Region, region, signed_distance
 from kcheck.mechanics.deepest import deepest_point
-from kcheck.mechanics.dynamics import EPS, Problem, with_load
+from kcheck.mechanics.dynamics import Problem, with_load
 from kcheck.mechanics.friction_range import range_caps
 from kcheck.mechanics.kinematics import unit_rows
 from kcheck.mechanics.outcomes import closing_conditions
 from kcheck.mechanics.sphere import SafeFraction, safe_fraction
+from kcheck.numerics.thresholds import EPS
 from kcheck.scene import Scene
 
 __all__ = [

@@ -16,6 +16,8 @@ import math
 
 import numpy as np
 
+from kcheck.numerics.thresholds import EPS
+
 __all__ = [
     "TAU",
     "FULL",
@@ -35,7 +37,6 @@ __all__ = [
 ]
 
 TAU = 2.0 * np.pi
-EPS = float(np.finfo(float).eps)
 ArcSet = tuple[tuple[float, float], ...]
 FULL: ArcSet = ((0.0, TAU),)
 

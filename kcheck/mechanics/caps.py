@@ -41,7 +41,6 @@ __all__ = [
 ]
 
 FOUR_PI = 4.0 * np.pi
-EPS = float(np.finfo(float).eps)
 # Caps whose axes and radii agree to this are one cap (duplicates would count twice).
 SAME_CAP = 1e-12
 # A candidate point counts as inside a cap when its margin is above minus this (rad).

@@ -29,6 +29,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from kcheck.numerics.thresholds import EPS
+
 __all__ = [
     "HertzContact",
     "contact_modulus",
@@ -40,7 +42,6 @@ __all__ = [
     "hertz",
 ]
 
-EPS = float(np.finfo(float).eps)
 # Iterations of the AGM: quadratic convergence; 1e-300 < k' needs fewer than 12.
 _AGM_STEPS = 40
 

@@ -23,6 +23,7 @@ from kcheck.mechanics.kinematics import (
     wrenches,
 )
 from kcheck.numerics import chebyshev as cheb
+from kcheck.numerics.thresholds import EPS
 
 __all__ = [
     "GraphicalCase",
@@ -34,7 +35,6 @@ __all__ = [
     "friction_over_range",
 ]
 
-EPS = float(np.finfo(float).eps)
 # Roundings per unit of conditioning in a virtual-power coefficient (error estimates;
 # calibrated against 50-digit references, tests/kcheck/test_errors.py).
 ROUNDINGS = 1.5

@@ -19,12 +19,11 @@ from kcheck.mechanics.kinematics import (
     maxwell_angle,
     maxwell_cos,
 )
+from kcheck.numerics.thresholds import EPS
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 
 __all__ = ["Maxwell", "MaxwellOptions"]
-
-EPS = float(np.finfo(float).eps)
 
 
 class MaxwellOptions(Options):
