@@ -16,6 +16,8 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
+from kcheck.numerics.thresholds import NOISE_RTOL
+
 __all__ = [
     "FULL_TURN",
     "normalise_range",
@@ -34,8 +36,6 @@ __all__ = [
 ]
 
 FULL_TURN = 360.0
-# Relative size below which an entry counts as rounding noise of the largest one.
-NOISE_RTOL = 1e-9
 
 
 def normalise_range(start: float, end: float) -> tuple[float, float]:

@@ -44,6 +44,7 @@ from kcheck.mechanics.statics import (
     holds,
     holds_exactly,
 )
+from kcheck.numerics.thresholds import SLIVER, UNDETERMINED
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 
@@ -63,8 +64,6 @@ __all__ = [
     "jam_map",
 ]
 
-# Free-motion determinacy below which the retracted case has no unique free motion.
-UNDETERMINED = 1e-10
 Outcome = Literal["jams", "holds", "moves", "swept", "undetermined"]
 
 
@@ -235,11 +234,6 @@ class CaseArcs:
     holding_open: ArcSet  # held, not closing
     lifts_off: ArcSet | None  # planar: Koster's jamming area where no equilibrium exists
     error: float  # rad: rounding (planar) or the inscribed/circumscribed band (spatial)
-
-
-# Arcs shorter than this (rad) are rounding slivers between sets that share an end; gaps
-# shorter than it are joins (the same end computed through a different wrap of 2 pi).
-SLIVER = 1e-12
 
 
 def tidy(arcs: ArcSet, tol: float = SLIVER) -> ArcSet:

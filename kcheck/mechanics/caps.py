@@ -28,6 +28,7 @@ import numpy as np
 
 from kcheck.mechanics.arcs import cap_geometry
 from kcheck.mechanics.kinematics import cross3
+from kcheck.numerics.thresholds import ON_BOUNDARY, SAME_CAP
 
 __all__ = [
     "FOUR_PI",
@@ -41,10 +42,6 @@ __all__ = [
 ]
 
 FOUR_PI = 4.0 * np.pi
-# Caps whose axes and radii agree to this are one cap (duplicates would count twice).
-SAME_CAP = 1e-12
-# A candidate point counts as inside a cap when its margin is above minus this (rad).
-ON_BOUNDARY = 1e-11
 
 
 @dataclass(frozen=True)

@@ -13,16 +13,11 @@ from typing import Literal
 import numpy as np
 
 from kcheck.numerics.arrays import unique_rows
+from kcheck.numerics.thresholds import FACET_TOL, LP_POSITIVE, WELL_INSIDE
 
 __all__ = ["FACET_TOL", "cone_facets", "pointing", "essential_rows"]
 
-# Relative tolerance of "generator on the facet's plane" and of facets through the origin.
-FACET_TOL = 1e-10
 PERCEPTRON_STEPS = 50
-# Least margin (cosine) by which a direction must be inside a cone to count as interior.
-POINTED = 1e-6
-# Margin (cosine) from which a perceptron direction is used without the linear programme.
-WELL_INSIDE = 0.05
 
 
 def cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "flat"]:
@@ -85,8 +80,8 @@ def pointing(vectors: np.ndarray) -> np.ndarray | None:
     )
     rhs = np.concatenate([np.zeros(len(unit)), np.ones(2 * n), [1.0]])
     x = _solve_lp(np.append(np.zeros(n), -1.0), rows, rhs)
-    # A margin below 1e-6 is within the solver's tolerances: not pointed (flat).
-    return x[:n] if x is not None and x[n] > POINTED else None
+    # A margin below LP_POSITIVE is within the solver's tolerances: not pointed (flat).
+    return x[:n] if x is not None and x[n] > LP_POSITIVE else None
 
 
 def _solve_lp(cost: np.ndarray, rows: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:

@@ -25,6 +25,7 @@ import numpy as np
 from kcheck.fmt import format_number
 from kcheck.mechanics.dynamics import ILL_CONDITIONED, Case, Problem, _equilibrate
 from kcheck.mechanics.outcomes import outcome
+from kcheck.numerics.thresholds import IMAG_RTOL, PENCIL_SINGULAR
 
 __all__ = [
     "FrictionIntervals",
@@ -37,11 +38,6 @@ __all__ = [
 
 # Shifts tried for the pencils; the best-conditioned one is used per pencil.
 SHIFTS = np.array([0.0, 0.6180339887, -0.7548776662, 1.7320508076, -2.2360679775, 4.1231056256])
-# A pencil whose every shifted matrix is worse conditioned than this is singular for every mu.
-PENCIL_SINGULAR = 1e12
-# Roots with an imaginary part below this (relative) are kept as real (a spare breakpoint
-# costs one evaluation; a missed one would merge two pieces).
-IMAG_RTOL = 1e-6
 
 
 @dataclass(frozen=True)

@@ -36,6 +36,7 @@ from kcheck.mechanics.dynamics import (
     friction_matrices,
 )
 from kcheck.numerics import chebyshev as cheb
+from kcheck.numerics.thresholds import ENVELOPE_TOL
 
 __all__ = [
     "FrictionPath",
@@ -319,10 +320,8 @@ def range_arcs(rc: RangeCase, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, d
 
 # --- the sphere of directions ----------------------------------------------------------------
 
-# Angular error (rad) aimed at where an envelope is approximated by caps at sampled
-# coefficients; the most samples spent on one condition; the grid on which envelope points
-# are looked for inside the region.
-ENVELOPE_TOL = np.radians(0.01)
+# The most samples spent on one condition (for the angular error ENVELOPE_TOL); the grid on
+# which envelope points are looked for inside the region.
 MAX_SAMPLES = 64
 ENVELOPE_GRID = 257
 

@@ -26,6 +26,7 @@ from kcheck.mechanics.statics import (
     tangent_frames,
 )
 from kcheck.numerics.arrays import unique
+from kcheck.numerics.thresholds import MU_FLOOR
 
 __all__ = [
     "friction_candidates",
@@ -36,8 +37,6 @@ __all__ = [
 
 #: Most Dinkelbach-type steps of :func:`least_friction_exactly` (it needs 3 to 8).
 STEPS = 30
-#: Friction coefficients below this are zero to every purpose: bisection stops there.
-MU_FLOOR = 1e-12
 
 
 def _largest_ratio(local: np.ndarray, scale: np.ndarray) -> float:

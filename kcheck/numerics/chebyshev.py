@@ -12,6 +12,8 @@ import functools
 
 import numpy as np
 
+from kcheck.numerics.thresholds import DEGREE_RTOL, IMAG_TOL
+
 __all__ = [
     "lobatto",
     "interpolate",
@@ -23,11 +25,6 @@ __all__ = [
     "positive",
     "abs_bound",
 ]
-
-# A leading coefficient below this fraction of the largest counts as zero (the degree drops).
-DEGREE_RTOL = 1e-12
-# Eigenvalues with an imaginary part below this are real (a spare root costs one evaluation).
-IMAG_TOL = 1e-7
 
 
 def lobatto(count: int) -> np.ndarray:

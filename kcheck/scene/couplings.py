@@ -28,7 +28,7 @@ from typing import Literal
 
 import numpy as np
 
-from kcheck.numerics.thresholds import EPS
+from kcheck.numerics.thresholds import EPS, PARALLEL_COS
 from kcheck.scene.types import ContactGeometry, Support, Surface
 
 __all__ = [
@@ -50,8 +50,6 @@ __all__ = [
 #: (or the ball centre and the cylinder axis) may differ from the sum of radii by this much,
 #: relative to that sum.
 GAP_RTOL = 0.01
-#: Alignment (|cos|) above which two directions count as parallel.
-PARALLEL_COS = 1 - 1e-9
 #: A flat surface's radii.
 FLAT = (math.inf, math.inf)
 
