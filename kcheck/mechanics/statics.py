@@ -36,7 +36,7 @@ from kcheck.mechanics.cones import FACET_TOL, cone_facets, essential_rows
 from kcheck.mechanics.dynamics import friction_directions
 from kcheck.mechanics.kinematics import Frame, wrenches
 from kcheck.numerics.arrays import unique_rows
-from kcheck.numerics.thresholds import EPS
+from kcheck.numerics.thresholds import EPS, SAME_FACET
 
 __all__ = [
     "PYRAMID_EDGES",
@@ -278,7 +278,7 @@ def forward_limit(
     if isinstance(facets, str):
         return None
     match = facets @ normal
-    if not match.max() > 1.0 - 1e-11:
+    if not match.max() > 1.0 - SAME_FACET:
         return None
     # The cone's own facet row, so that its arc ends are bit-identical to the held set's.
     normal = facets[int(np.argmax(match))]

@@ -12,7 +12,7 @@ import functools
 
 import numpy as np
 
-from kcheck.numerics.thresholds import DEGREE_RTOL, IMAG_TOL
+from kcheck.numerics.thresholds import DEGREE_RTOL, IMAG_TOL, ROOT_SLACK_RTOL
 
 __all__ = [
     "lobatto",
@@ -131,7 +131,7 @@ def real_roots(
     real = np.abs(found.imag) <= imag_tol * (1.0 + np.abs(found.real))
     x = np.where(real, found.real, np.nan)
     x = _polish(coefs, x)
-    slack = 1e-12 * (hi - lo)
+    slack = ROOT_SLACK_RTOL * (hi - lo)
     x = np.where((x >= lo - slack) & (x <= hi + slack), np.clip(x, lo, hi), np.nan)
     return np.sort(x, axis=1)
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from kcheck.numerics.thresholds import ZERO_GUARD
+from kcheck.numerics.thresholds import LENTZ_RTOL, QUANTILE_ATOL, ZERO_GUARD
 
 __all__ = ["incomplete_beta", "beta_quantile", "clopper_pearson"]
 
@@ -31,7 +31,7 @@ def _continued_fraction(a: float, b: float, x: float) -> float:
             c = 1.0 + num / c
             c = c if abs(c) > ZERO_GUARD else ZERO_GUARD
             h *= d * c
-        if abs(d * c - 1.0) < 1e-15:
+        if abs(d * c - 1.0) < LENTZ_RTOL:
             break
     return h
 
@@ -54,7 +54,7 @@ def incomplete_beta(a: float, b: float, x: float) -> float:
 def beta_quantile(p: float, a: float, b: float) -> float:
     """The ``x`` with ``I_x(a, b) = p`` (bisection to 1e-13)."""
     lo, hi = 0.0, 1.0
-    while hi - lo > 1e-13:
+    while hi - lo > QUANTILE_ATOL:
         mid = 0.5 * (lo + hi)
         if incomplete_beta(a, b, mid) < p:
             lo = mid

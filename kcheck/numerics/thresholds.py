@@ -34,6 +34,7 @@ __all__ = [
     "NOISE_RTOL",
     "RANK_RTOL",
     "UNDETERMINED",
+    "TILTED_UNDETERMINED",
     "NEARLY_SINGULAR",
     "ILL_CONDITIONED",
     "PENCIL_SINGULAR",
@@ -134,6 +135,12 @@ RANK_RTOL: float = 1e-10
 #: close the retracted support when its closing rate ``-n_r . u(p_r)`` is (both nondimensional:
 #: unit twists, layout lengths). The same cut as RANK_RTOL, applied per retracted support.
 UNDETERMINED: float = 1e-10
+#: Koster's construction: the friction-tilted reaction lines of the two kept supports are
+#: parallel (no friction pole) when the sine of the angle between their rows, ``|a x b| /
+#: |a||b|``, is at or below this (nondimensional). A cross product of two rows is accurate to
+#: their rounding, about 1e-16, so the cut is tighter than UNDETERMINED's, which judges
+#: singular values from an SVD of several rows.
+TILTED_UNDETERMINED: float = 1e-12
 #: A deterministic layout whose smallest scaled singular value (over the largest) is below
 #: this is called nearly singular in the maxwell check's message (nondimensional): its free
 #: motions and forces then amplify errors of the input by a million or more.
