@@ -14,7 +14,7 @@ from kcheck.mechanics.dynamics import Case, Problem, analyse_cases, build_proble
 from kcheck.mechanics.friction import FrictionIntervals, friction_intervals_many
 from kcheck.mechanics.kinematics import Frame, row_norms, unit_rows
 from kcheck.mechanics.outcomes import outcome, safe_arcs
-from kcheck.numerics.thresholds import INFINITE_POLE, NO_PITCH, UNDETERMINED
+from kcheck.numerics.thresholds import IN_SWEEP_PLANE, INFINITE_POLE, NO_PITCH, UNDETERMINED
 from kcheck.result import CaseResult, MassProperties
 from kcheck.scene import Scene
 
@@ -345,7 +345,8 @@ def sweep_ranges(analysis: Analysis, e1: np.ndarray, e2: np.ndarray) -> Analysis
     design_margin = nearest = None
     design = swept_design(analysis)
     in_plane = (
-        design is not None and abs(float(np.linalg.norm([design @ e1, design @ e2])) - 1) < 1e-9
+        design is not None
+        and abs(float(np.linalg.norm([design @ e1, design @ e2])) - 1) < IN_SWEEP_PLANE
     )
     if combined and design is not None and in_plane:
         angle = float(np.arctan2(design @ e2, design @ e1))

@@ -44,7 +44,7 @@ from kcheck.mechanics.statics import (
     holds,
     holds_exactly,
 )
-from kcheck.numerics.thresholds import SLIVER, UNDETERMINED
+from kcheck.numerics.thresholds import JAM_MU_RTOL, SLIVER, UNDETERMINED
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 
@@ -288,15 +288,15 @@ def least_holding_friction(
     rough = rough_supports(statics.friction).astype(float)
     start = max(float(statics.friction.max()), 0.05)
     # Planar: exact, among the coefficients where the cone's boundary can pass the wrench.
-    # Spatial: within 1e-4 (relative); messages show three significant digits.
+    # Spatial: within JAM_MU_RTOL (relative); messages show three significant digits.
     wrench = statics.wrench(design)
     if statics.dim == 3:
-        return least_friction_exactly(statics, case.keep, wrench, rough, start, rtol=1e-4)
+        return least_friction_exactly(statics, case.keep, wrench, rough, start, rtol=JAM_MU_RTOL)
     candidates = friction_candidates(statics, case.keep, wrench, rough)
     return least_friction(
         lambda mu: held_at(analysis, case, design, mu * rough),
         start,
-        rtol=1e-4,
+        rtol=JAM_MU_RTOL,
         candidates=candidates,
     )
 
