@@ -127,7 +127,7 @@ NOISE_RTOL: float = 1e-9
 # --- rank, determinacy and conditioning ------------------------------------------------------
 
 #: Singular values below this fraction of the largest count as zero (rank decisions of the
-#: constraint rows, nondimensional: rows in layout lengths). About 1e6 roundings: a layout
+#: constraint rows, nondimensional: rows in layout lengths). About 5e5 roundings: a layout
 #: exact to 10 digits is still of full rank, one degenerate to rounding is not.
 RANK_RTOL: float = 1e-10
 #: A free twist is not unique (the case is ``undetermined``) when its determinacy (smallest
@@ -229,14 +229,15 @@ SAME_POINT_RTOL: float = 1e-9
 #: wrench cones (nondimensional: unit facet normals, generators in layout units); with
 #: exact cross products (three dimensions) rounding is about 1e-15.
 FACET_TOL: float = 1e-10
-#: FACET_TOL for facets from qhull (four or more dimensions): its joggled input (``QJ``) moves
-#: facets by about 1e-11 and the section adds rounding, so a thousand times looser.
+#: FACET_TOL for facets from qhull (four or more dimensions; nondimensional): its joggled input
+#: (``QJ``) moves facets by about 1e-11 and the section adds rounding, so a thousand times
+#: looser.
 HULL_FACET_TOL: float = 1e3 * FACET_TOL
 #: Facet normals (unit, nondimensional) equal to this many decimals are one facet: exact
 #: cross products (three dimensions) agree to about 1e-15.
 FACET_DECIMALS: int = 13
-#: FACET_DECIMALS for qhull's facets, which its joggle moves by about 1e-11 (1e-9: two digits
-#: of margin).
+#: FACET_DECIMALS for qhull's facets (unit normals, nondimensional), which its joggle moves by
+#: about 1e-11 (1e-9: two digits of margin).
 HULL_FACET_DECIMALS: int = 9
 #: A cone facet is the sweep plane's own (Koster's construction) when the cosine between
 #: their unit normals exceeds ``1 - SAME_FACET`` (nondimensional): the same plane computed two
@@ -251,8 +252,9 @@ WELL_INSIDE: float = 0.05
 #: tolerances are about 1e-8, so smaller values are within the solver's error.
 LP_POSITIVE: float = 1e-6
 #: Slack of the equalities ``G^T lambda = 0`` written as two inequalities in the lineality
-#: programme (nondimensional, unit generators): exact zero would make the programme's
-#: interior empty; 1e-9 is far below any positive dependency with ``lambda <= 1e6``.
+#: programme (nondimensional, unit generators): a little slack leaves the interior-point
+#: solver an interior; with ``lambda <= 1e6`` it admits only dependencies that hold to about
+#: 1e-15 relative, i.e. to rounding.
 LP_EQUALITY_SLACK: float = 1e-9
 
 # --- arcs and angles -------------------------------------------------------------------------
@@ -288,8 +290,9 @@ ENVELOPE_INSIDE_SLACK: float = 1e-12
 #: most samples.
 SAMPLE_STEP_FLOOR: float = 1e-12
 #: Caps whose axes (unit vectors) and cosines of radii agree to this (nondimensional) are one
-#: cap (duplicates would count twice), and two caps with ``r_i + r_j`` within it of pi are
-#: treated as touching: caps of conditions computed two ways agree to rounding, about 1e-15.
+#: cap (duplicates would count twice); it is also the slack of the test whether two caps are
+#: disjoint (the cosine between their axes against ``cos(r_i + r_j)``, and ``r_i + r_j`` (rad)
+#: against pi). Caps of conditions computed two ways agree to rounding, about 1e-15.
 SAME_CAP: float = 1e-12
 #: A candidate point counts as inside a cap when its margin is above minus this (rad), and a
 #: cap is nearer than the active set's when it is by more: points on a cap's circle are
@@ -297,7 +300,7 @@ SAME_CAP: float = 1e-12
 ON_BOUNDARY: float = 1e-11
 #: A direction whose part perpendicular to a cap's axis is at most this (unit vectors,
 #: nondimensional) lies on the axis: every point of the circle is then a foot of the
-#: perpendicular, and one is taken. Only an exact (or denormal) zero needs this branch.
+#: perpendicular, and one is taken. A perpendicular part that short is rounding of zero.
 AXIS_FOOT: float = 1e-15
 #: ``atan(y) / y`` is taken as its series ``1 - y^2 / 3`` below this ``|y|`` (nondimensional):
 #: there the next term, ``y^4 / 5``, is below 1e-32, far below rounding, and 0/0 is avoided.
@@ -323,27 +326,30 @@ IMAG_TOL: float = 1e-7
 #: Real roots this far (relative to the interval's length) outside the interval are clipped
 #: into it (nondimensional): a root at an end moves by rounding when it is polished.
 ROOT_SLACK_RTOL: float = 1e-12
-#: IMAG_TOL for the envelope polynomials of friction ranges: their double roots (both ends of a
-#: half circle turning back together) split into complex pairs by about sqrt(rounding) of
-#: a product of series, so a looser bound keeps them (a spare candidate costs one decision).
+#: IMAG_TOL for the envelope polynomials of friction ranges (nondimensional, relative to
+#: ``1 + |real part|``): their double roots (both ends of a half circle turning back together)
+#: split by rounding into complex pairs, by about the square root of the rounding of a product
+#: of series, so a looser bound keeps them (a spare candidate costs one decision).
 ENVELOPE_IMAG_TOL: float = 1e-5
-#: IMAG_TOL for the eigenvalues of friction pencils (relative to ``1 + |real part|``): a spare
-#: breakpoint costs one evaluation, a missed one would merge two pieces.
+#: IMAG_TOL for the eigenvalues of friction pencils (nondimensional, relative to
+#: ``1 + |real part|``): a spare breakpoint costs one evaluation, a missed one would merge two
+#: pieces.
 IMAG_RTOL: float = 1e-6
 #: A pencil eigenvalue below this fraction of the largest is zero: its root in mu lies at
-#: infinity (nondimensional; a hundred roundings).
+#: infinity (nondimensional; about 50 roundings).
 PENCIL_INFINITE_RTOL: float = 1e-14
 #: Breakpoints in mu closer than this (relative) are one (nondimensional): the same root found
 #: from two shifts agrees to rounding.
 SAME_ROOT_RTOL: float = 1e-13
-#: A friction coefficient within this of an interval's end (relative to ``max(1, mu)``) lies in
-#: the interval: the ends are roots computed to about 1e-15.
+#: A friction coefficient within this of an interval's end (relative to ``max(1, mu)``,
+#: nondimensional) lies in the interval: the ends are roots computed to about 1e-15, so the
+#: scene's own coefficient at an end is not lost to their rounding.
 MU_END_RTOL: float = 1e-9
 #: Friction coefficients that agree to this (relative to the largest) are one uniform
 #: coefficient (nondimensional): the same number typed twice, or converted, agrees to rounding.
 SAME_FRICTION_RTOL: float = 1e-12
 #: A coefficient of a polynomial in mu (degree up to three) below this fraction of the sum of
-#: its magnitudes is zero (nondimensional): about a hundred roundings, tighter than
+#: its magnitudes is zero (nondimensional): about 50 roundings, tighter than
 #: DEGREE_RTOL because these come from a few products of unit rows, not from interpolation.
 POLY_ZERO_RTOL: float = 1e-14
 #: Roots of those polynomials with an imaginary part below this (relative to ``max(|root|, 1)``)
@@ -373,7 +379,8 @@ DINKELBACH_STALL: float = 1e-3
 #: solver's tolerances (about 1e-8), so its ratio would be noise.
 PRESSED_RTOL: float = 1e-9
 #: Golden-section search along a friction range stops when its bracket is narrower than this
-#: (nondimensional path parameter in [-1, 1]): rounding of the parameter itself.
+#: (nondimensional path parameter in [-1, 1]): a few thousand roundings of the parameter, far
+#: below any change of the margin a report shows.
 GOLDEN_XTOL: float = 1e-12
 #: kcheck suggest's least closing load is bisected to this relative accuracy (nondimensional):
 #: an answer for a designer, and each step searches every candidate point.
