@@ -16,6 +16,8 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
+from kcheck.numerics.thresholds import FULL_TURN_SLACK_DEG, NOISE_RTOL
+
 __all__ = [
     "FULL_TURN",
     "normalise_range",
@@ -34,8 +36,6 @@ __all__ = [
 ]
 
 FULL_TURN = 360.0
-# Relative size below which an entry counts as rounding noise of the largest one.
-NOISE_RTOL = 1e-9
 
 
 def normalise_range(start: float, end: float) -> tuple[float, float]:
@@ -45,7 +45,7 @@ def normalise_range(start: float, end: float) -> tuple[float, float]:
     ``end < start`` afterwards means the range passes through 0°.
     """
     width = end - start
-    if width >= FULL_TURN - 1e-9:
+    if width >= FULL_TURN - FULL_TURN_SLACK_DEG:
         return 0.0, FULL_TURN
     s = float(start % FULL_TURN)
     e = float(end % FULL_TURN)
@@ -158,7 +158,7 @@ def format_direction(values: Sequence[float] | np.ndarray, decimals: int = 3) ->
     """A unit direction: ``+x``, ``−z`` for a coordinate axis, else ``(0.707, 0.000, -0.707)``."""
     v = clean(values)
     key = tuple(int(round(x)) for x in v) + (0,) * (3 - len(v))  # a planar (x, y) too
-    if key in _AXIS_NAMES and np.allclose(v, key[: len(v)], atol=1e-9):
+    if key in _AXIS_NAMES and np.allclose(v, key[: len(v)], atol=NOISE_RTOL):
         return _AXIS_NAMES[key]
     return format_point(v, decimals)
 

@@ -104,3 +104,14 @@ load:
   magnitude: 1
   angle: 225
 """
+
+
+@pytest.fixture(autouse=True)
+def _mpmath_precision_restored():
+    """mpmath's precision is global: a test that raises it must not change the next test's
+    reference values (the order of tests is not part of a result)."""
+    import mpmath
+
+    dps = mpmath.mp.dps
+    yield
+    mpmath.mp.dps = dps

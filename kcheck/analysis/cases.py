@@ -14,6 +14,7 @@ from kcheck.mechanics.dynamics import Case, Problem, analyse_cases, build_proble
 from kcheck.mechanics.friction import FrictionIntervals, friction_intervals_many
 from kcheck.mechanics.kinematics import Frame, row_norms, unit_rows
 from kcheck.mechanics.outcomes import outcome, safe_arcs
+from kcheck.numerics.thresholds import IN_SWEEP_PLANE, INFINITE_POLE, NO_PITCH, UNDETERMINED
 from kcheck.result import CaseResult, MassProperties
 from kcheck.scene import Scene
 
@@ -31,11 +32,6 @@ __all__ = [
     "ranges_deg",
     "intervals_json",
 ]
-
-# A rotation whose pole lies beyond 1e12 layout sizes is reported as a translation, a screw
-# whose pitch is below 1e-9 layout sizes per radian as a pure rotation.
-INFINITE_POLE = 1e-12
-NO_PITCH = 1e-9
 
 
 def support_layout(scene: Scene) -> tuple[Frame, np.ndarray, np.ndarray]:
@@ -174,7 +170,7 @@ def _case_details(problem: Problem, case: Case) -> dict[str, object]:
     if not case.determined:
         details["diagnostic"] = (
             "the free motion is not unique (the remaining normals are degenerate)"
-            if case.free.determinacy <= 1e-10
+            if case.free.determinacy <= UNDETERMINED
             else "the layout is singular (e.g. normals through one point): the motion "
             "freed by removing this support does not move it towards the support"
         )
@@ -351,7 +347,8 @@ def sweep_ranges(analysis: Analysis, e1: np.ndarray, e2: np.ndarray) -> Analysis
     design_margin = nearest = None
     design = swept_design(analysis)
     in_plane = (
-        design is not None and abs(float(np.linalg.norm([design @ e1, design @ e2])) - 1) < 1e-9
+        design is not None
+        and abs(float(np.linalg.norm([design @ e1, design @ e2])) - 1) < IN_SWEEP_PLANE
     )
     if combined and design is not None and in_plane:
         angle = float(np.arctan2(design @ e2, design @ e1))

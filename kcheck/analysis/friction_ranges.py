@@ -23,6 +23,7 @@ from kcheck.mechanics.arcs import ArcSet
 from kcheck.mechanics.dynamics import Case, Problem
 from kcheck.mechanics.friction_range import FrictionPath, RangeCase, range_arcs, range_cases
 from kcheck.numerics import chebyshev as cheb
+from kcheck.numerics.thresholds import GOLDEN_XTOL
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 
@@ -117,7 +118,7 @@ def _golden(
     c, d = b - GOLDEN * (b - a), a + GOLDEN * (b - a)
     fc, fd = (float(v) for v in design_margins(rc, direction, np.array([c, d])))
     for _ in range(60):
-        if b - a < 1e-12:
+        if b - a < GOLDEN_XTOL:
             break
         if fc < fd:
             b, d, fd = d, c, fc

@@ -44,6 +44,7 @@ from kcheck.mechanics.statics import (
     holds,
     holds_exactly,
 )
+from kcheck.numerics.thresholds import JAM_MU_RTOL, SLIVER, UNDETERMINED
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 
@@ -63,8 +64,6 @@ __all__ = [
     "jam_map",
 ]
 
-# Free-motion determinacy below which the retracted case has no unique free motion.
-UNDETERMINED = 1e-10
 Outcome = Literal["jams", "holds", "moves", "swept", "undetermined"]
 
 
@@ -242,11 +241,6 @@ class CaseArcs:
     error: float  # rad: rounding (planar) or the inscribed/circumscribed band (spatial)
 
 
-# Arcs shorter than this (rad) are rounding slivers between sets that share an end; gaps
-# shorter than it are joins (the same end computed through a different wrap of 2 pi).
-SLIVER = 1e-12
-
-
 def tidy(arcs: ArcSet, tol: float = SLIVER) -> ArcSet:
     """An arc set with slivers dropped and near-touching arcs joined (both below ``tol``)."""
     kept = [(s, e) for s, e in arcs if e - s > tol]
@@ -299,15 +293,15 @@ def least_holding_friction(
     rough = rough_supports(statics.friction).astype(float)
     start = max(float(statics.friction.max()), 0.05)
     # Planar: exact, among the coefficients where the cone's boundary can pass the wrench.
-    # Spatial: within 1e-4 (relative); messages show three significant digits.
+    # Spatial: within JAM_MU_RTOL (relative); messages show three significant digits.
     wrench = statics.wrench(design)
     if statics.dim == 3:
-        return least_friction_exactly(statics, case.keep, wrench, rough, start, rtol=1e-4)
+        return least_friction_exactly(statics, case.keep, wrench, rough, start, rtol=JAM_MU_RTOL)
     candidates = friction_candidates(statics, case.keep, wrench, rough)
     return least_friction(
         lambda mu: held_at(analysis, case, design, mu * rough),
         start,
-        rtol=1e-4,
+        rtol=JAM_MU_RTOL,
         candidates=candidates,
     )
 

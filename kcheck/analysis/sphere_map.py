@@ -14,11 +14,12 @@ import numpy as np
 from kcheck.analysis.cases import Analysis
 from kcheck.mechanics.caps import FOUR_PI, Region, region, signed_distance
 from kcheck.mechanics.deepest import deepest_point
-from kcheck.mechanics.dynamics import EPS, Problem, with_load
+from kcheck.mechanics.dynamics import Problem, with_load
 from kcheck.mechanics.friction_range import range_caps
 from kcheck.mechanics.kinematics import unit_rows
 from kcheck.mechanics.outcomes import closing_conditions
 from kcheck.mechanics.sphere import SafeFraction, safe_fraction
+from kcheck.numerics.thresholds import EPS, PLANE_BASIS_SIN
 from kcheck.scene import Scene
 
 __all__ = [
@@ -189,7 +190,7 @@ def default_plane(design: np.ndarray | None, robust: np.ndarray) -> tuple[np.nda
     zero = zero / np.linalg.norm(zero)
     for towards in (robust, np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0])):
         e2 = towards - (towards @ zero) * zero
-        if np.linalg.norm(e2) > 1e-6:
+        if np.linalg.norm(e2) > PLANE_BASIS_SIN:
             return zero, e2 / np.linalg.norm(e2)
     return zero, np.array([0.0, 1.0, 0.0])  # unreachable: x and z cannot both be parallel
 

@@ -32,6 +32,7 @@ from kcheck.mechanics.arcs import cap_margin_matrix
 from kcheck.mechanics.deepest import most_robust_direction
 from kcheck.mechanics.dynamics import Problem, analyse_case, solve_affine
 from kcheck.mechanics.sphere import fibonacci_sphere
+from kcheck.numerics.thresholds import LEAST_FORCE_RTOL, SAME_POINT_RTOL
 from kcheck.scene import Load, Scene
 
 if TYPE_CHECKING:
@@ -275,7 +276,7 @@ def search(
         radius *= 0.5
     # refine the best points (the same point found twice counts once)
     span = float(np.ptp(points, axis=0).max()) or 1.0
-    order = _distinct(points, np.argsort(-margins), max(keep, refine), 1e-9 * span)
+    order = _distinct(points, np.argsort(-margins), max(keep, refine), SAME_POINT_RTOL * span)
     refined = []
     for j in order:
         c = caps_at(caps, points[j : j + 1])[0]
@@ -315,7 +316,7 @@ def least_force(
     *,
     start: float,
     directions: int = 500,
-    rtol: float = 0.01,
+    rtol: float = LEAST_FORCE_RTOL,
     limit: float = 1000.0,
 ) -> float | None:
     """The least load magnitude (N) at which some candidate point has a safe direction.

@@ -25,6 +25,7 @@ from kcheck.body.meshio import (
     step_length_unit,
 )
 from kcheck.errors import FieldPath, MeshError
+from kcheck.numerics.thresholds import DEGENERATE_FACE_RTOL, NO_VOLUME_RTOL
 from kcheck.result import Finding, MassProperties
 from kcheck.scene import Body, Part
 from kcheck.scene.limits import LIMITS
@@ -147,7 +148,7 @@ def mesh_mass_properties(
 
     extent = float(np.ptp(mesh.vertices, axis=0).max())
     areas = mesh.area_faces
-    degenerate = int(np.count_nonzero(areas <= (1e-12 * extent) ** 2))
+    degenerate = int(np.count_nonzero(areas <= (DEGENERATE_FACE_RTOL * extent) ** 2))
     if extent == 0 or degenerate == len(areas):
         raise MeshError(
             path, "the mesh is degenerate (zero extent or zero-area faces only)", field=field
@@ -185,7 +186,7 @@ def mesh_mass_properties(
         )
     with np.errstate(all="ignore"):  # trimesh divides by the volume before we can check it
         volume = float(mesh.volume)
-    if not np.isfinite(volume) or abs(volume) <= (1e-9 * extent) ** 3:
+    if not np.isfinite(volume) or abs(volume) <= (NO_VOLUME_RTOL * extent) ** 3:
         raise MeshError(
             path, f"the mesh encloses (almost) no volume: {volume:.3e} m^3", field=field
         )

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from kcheck.errors import FieldPath, MeshError, describe_os_error
+from kcheck.numerics.thresholds import MERGE_RTOL
 from kcheck.scene.limits import LIMITS
 
 if TYPE_CHECKING:
@@ -40,8 +41,6 @@ __all__ = [
     "step_length_unit",
 ]
 
-#: Vertices closer than this fraction of the mesh's largest extent are one vertex.
-MERGE_RTOL = 1e-6
 #: Largest mesh file read by default (configuration ``max_mesh_size``). Reading and checking
 #: a binary STL takes about 12 times the file's size above the imports (a 15.6 MiB file peaks
 #: at 340 MiB, a 62.5 MiB one at 862 MiB: benchmarks/bench_mesh_memory.py), so this keeps a

@@ -67,6 +67,7 @@ class _Body:
 
 
 def _n(x: float) -> str:
+    # Formatting: a computed value below 1e-9 is rounding of a zero and is written 0.
     return f"{float(x):.6g}" if abs(x) >= 1e-9 else "0"
 
 

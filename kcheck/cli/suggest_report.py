@@ -6,6 +6,8 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from kcheck.numerics.thresholds import NO_SAFE_DIRECTION_SLACK
+
 if TYPE_CHECKING:
     import numpy as np
 
@@ -25,7 +27,7 @@ def margin_text(margin: float, short: bool = False) -> str:
 
     from kcheck.fmt import format_angle
 
-    if margin <= -np.pi + 1e-9:
+    if margin <= -np.pi + NO_SAFE_DIRECTION_SLACK:
         return "none" if short else "no direction is safe at this point"
     text = format_angle(np.degrees(margin))
     if short or margin > 0:

@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from kcheck import __version__
+from kcheck.numerics.thresholds import CACHED_SYMMETRY_RTOL
 
 if TYPE_CHECKING:
     from kcheck.result import MassProperties
@@ -194,7 +195,7 @@ def _from_payload(payload: dict[str, Any]) -> MassProperties | None:
         and inertia.shape == (3, 3)
         and bool(np.all(np.isfinite(com)))
         and bool(np.all(np.isfinite(inertia)))
-        and bool(np.allclose(inertia, inertia.T, rtol=1e-9, atol=0))
+        and bool(np.allclose(inertia, inertia.T, rtol=CACHED_SYMMETRY_RTOL, atol=0))
         and payload["source"] == "mesh"
         and (volume is None or (isinstance(volume, (int, float)) and volume > 0))
         and isinstance(notes, list)

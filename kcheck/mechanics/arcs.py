@@ -16,6 +16,8 @@ import math
 
 import numpy as np
 
+from kcheck.numerics.thresholds import ARC_ZERO_RTOL, EPS
+
 __all__ = [
     "TAU",
     "FULL",
@@ -35,7 +37,6 @@ __all__ = [
 ]
 
 TAU = 2.0 * np.pi
-EPS = float(np.finfo(float).eps)
 ArcSet = tuple[tuple[float, float], ...]
 FULL: ArcSet = ((0.0, TAU),)
 
@@ -81,7 +82,7 @@ def affine_arcs(
     # Per condition: a direction term below rounding of that condition's own size is no term.
     # A tolerance shared by all would erase the direction term of a small unknown whenever
     # another one is huge (e.g. a heavy body's weight on one support).
-    zero_tol = 64 * EPS * np.maximum(np.abs(a), np.abs(c).max(axis=1))
+    zero_tol = ARC_ZERO_RTOL * np.maximum(np.abs(a), np.abs(c).max(axis=1))
     # positive_arc for every condition at once: full, empty, or one arc.
     r = np.hypot(b, s)
     flat = r <= zero_tol
@@ -119,7 +120,7 @@ def _one_arc(
     a: float, b: float, s: float, size_c: float, error: np.ndarray | None
 ) -> tuple[ArcSet, float | None]:
     """:func:`affine_arcs` for a single condition, in scalar arithmetic (no array overhead)."""
-    arcs = positive_arc(a, b, s, zero_tol=64 * EPS * max(abs(a), size_c))
+    arcs = positive_arc(a, b, s, zero_tol=ARC_ZERO_RTOL * max(abs(a), size_c))
     if error is None or not arcs or arcs == FULL:
         return arcs, None
     size = max(abs(a), abs(b), abs(s)) or 1.0

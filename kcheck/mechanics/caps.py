@@ -28,6 +28,7 @@ import numpy as np
 
 from kcheck.mechanics.arcs import cap_geometry
 from kcheck.mechanics.kinematics import cross3
+from kcheck.numerics.thresholds import ATAN_SERIES, AXIS_FOOT, ON_BOUNDARY, SAME_CAP
 
 __all__ = [
     "FOUR_PI",
@@ -41,11 +42,6 @@ __all__ = [
 ]
 
 FOUR_PI = 4.0 * np.pi
-EPS = float(np.finfo(float).eps)
-# Caps whose axes and radii agree to this are one cap (duplicates would count twice).
-SAME_CAP = 1e-12
-# A candidate point counts as inside a cap when its margin is above minus this (rad).
-ON_BOUNDARY = 1e-11
 
 
 @dataclass(frozen=True)
@@ -171,7 +167,7 @@ def _arc_integral(
         turns = np.round(u / (2.0 * np.pi))
         big_t = np.tan(0.5 * (u - 2.0 * np.pi * turns))
         y = c * big_t
-        small = np.abs(y) < 1e-8
+        small = np.abs(y) < ATAN_SERIES
         atanc = np.where(small, 1.0 - y * y / 3.0, np.arctan(y) / np.where(small, 1.0, y))
         return 2.0 * big_t * atanc / (b0 + rho), turns
 
@@ -286,7 +282,7 @@ def signed_distance(reg: Region, direction: np.ndarray) -> tuple[float | None, n
     along = d - (caps.axes @ d)[:, None] * caps.axes
     norm = np.linalg.norm(along, axis=1, keepdims=True)
     e1, _ = _frames(caps.axes)
-    along = np.where(norm > 1e-15, along / np.where(norm > 0, norm, 1.0), e1)
+    along = np.where(norm > AXIS_FOOT, along / np.where(norm > 0, norm, 1.0), e1)
     feet = caps.cos_radius[:, None] * caps.axes + np.sin(caps.radius)[:, None] * along
     candidates = [feet]
     if k >= 2:

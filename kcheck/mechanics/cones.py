@@ -13,16 +13,19 @@ from typing import Literal
 import numpy as np
 
 from kcheck.numerics.arrays import unique_rows
+from kcheck.numerics.thresholds import (
+    FACET_DECIMALS,
+    FACET_TOL,
+    HULL_FACET_DECIMALS,
+    HULL_FACET_TOL,
+    LP_EQUALITY_SLACK,
+    LP_POSITIVE,
+    WELL_INSIDE,
+)
 
 __all__ = ["FACET_TOL", "cone_facets", "pointing", "essential_rows"]
 
-# Relative tolerance of "generator on the facet's plane" and of facets through the origin.
-FACET_TOL = 1e-10
 PERCEPTRON_STEPS = 50
-# Least margin (cosine) by which a direction must be inside a cone to count as interior.
-POINTED = 1e-6
-# Margin (cosine) from which a perceptron direction is used without the linear programme.
-WELL_INSIDE = 0.05
 
 
 def cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "flat"]:
@@ -46,13 +49,13 @@ def cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "f
     else:
         normals = _hull_facets(generators)
     side = normals @ generators.T
-    tol = 1e3 * FACET_TOL if n > 3 else FACET_TOL
+    tol = HULL_FACET_TOL if n > 3 else FACET_TOL
     upper = np.all(side >= -tol, axis=1)
     lower = np.all(side <= tol, axis=1)
     facets = np.vstack([normals[upper], -normals[lower & ~upper]])
     if not len(facets):
         return "everywhere"
-    return unique_rows(np.round(facets, 9 if n > 3 else 13))
+    return unique_rows(np.round(facets, HULL_FACET_DECIMALS if n > 3 else FACET_DECIMALS))
 
 
 def pointing(vectors: np.ndarray) -> np.ndarray | None:
@@ -85,8 +88,8 @@ def pointing(vectors: np.ndarray) -> np.ndarray | None:
     )
     rhs = np.concatenate([np.zeros(len(unit)), np.ones(2 * n), [1.0]])
     x = _solve_lp(np.append(np.zeros(n), -1.0), rows, rhs)
-    # A margin below 1e-6 is within the solver's tolerances: not pointed (flat).
-    return x[:n] if x is not None and x[n] > POINTED else None
+    # A margin below LP_POSITIVE is within the solver's tolerances: not pointed (flat).
+    return x[:n] if x is not None and x[n] > LP_POSITIVE else None
 
 
 def _solve_lp(cost: np.ndarray, rows: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
@@ -183,9 +186,9 @@ def _lineality(generators: np.ndarray) -> np.ndarray:
         ]
     )
     rhs = np.concatenate([np.zeros(g), np.ones(g), np.zeros(2 * g), np.full(g, 1e6)])
-    rhs = np.concatenate([rhs, np.full(2 * n, 1e-9)])
+    rhs = np.concatenate([rhs, np.full(2 * n, LP_EQUALITY_SLACK)])
     x = _solve_lp(np.concatenate([np.zeros(g), -np.ones(g)]), rows, rhs)
-    inside = x[g:] > 1e-6 if x is not None else np.zeros(g, bool)
+    inside = x[g:] > LP_POSITIVE if x is not None else np.zeros(g, bool)
     if not np.any(inside):
         return np.zeros((n, 0))
     u, s, _ = np.linalg.svd(generators[inside].T, full_matrices=False)

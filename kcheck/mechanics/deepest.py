@@ -12,6 +12,7 @@ import numpy as np
 from kcheck.mechanics.caps import ON_BOUNDARY, CapSet, Region, angle_between, margin_in, region
 from kcheck.mechanics.kinematics import cross3
 from kcheck.mechanics.sphere import fibonacci_sphere
+from kcheck.numerics.thresholds import ON_UNIT_SPHERE, QUADRATIC_LEAD
 
 __all__ = ["deepest_point", "most_robust_direction"]
 
@@ -55,7 +56,7 @@ def _candidates_triples(caps: CapSet, triples: np.ndarray) -> np.ndarray:
         out = []
         for sign in (1.0, -1.0):
             tau = np.where(
-                np.abs(qa) > 1e-14,
+                np.abs(qa) > QUADRATIC_LEAD,
                 (-qb + sign * disc) / (2 * qa),
                 -qc / np.where(qb != 0, qb, np.nan),
             )
@@ -64,7 +65,8 @@ def _candidates_triples(caps: CapSet, triples: np.ndarray) -> np.ndarray:
             out.extend([x, -x])
     points = np.concatenate(out)
     return points[
-        np.all(np.isfinite(points), axis=1) & (np.abs(np.linalg.norm(points, axis=1) - 1) < 1e-6)
+        np.all(np.isfinite(points), axis=1)
+        & (np.abs(np.linalg.norm(points, axis=1) - 1) < ON_UNIT_SPHERE)
     ]
 
 

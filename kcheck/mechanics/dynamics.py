@@ -30,6 +30,7 @@ import numpy as np
 
 from kcheck.mechanics.kinematics import FreeTwist, free_twists, point_velocity, wrenches
 from kcheck.mechanics.problem import Problem, build_problem, log_size, relative
+from kcheck.numerics.thresholds import EPS, ILL_CONDITIONED, SLIP_TOL, TINY, UNDETERMINED
 
 __all__ = [
     "Problem",
@@ -51,15 +52,6 @@ __all__ = [
     "with_load",
 ]
 
-# A contact whose nondimensional speed under the unit free twist is below this does not slide:
-# its friction direction is undetermined and, as in the thesis, its friction is set to zero.
-SLIP_TOL = 1e-9
-# Condition number (of the equilibrated system) above which numbers are not reported.
-ILL_CONDITIONED = 1e12
-# Free-motion determinacy (smallest/largest singular value) below which it is not unique.
-UNDETERMINED = 1e-10
-EPS = float(np.finfo(float).eps)
-TINY = float(np.finfo(float).tiny)
 # Forward error of a solve: this many roundings per unit of condition number, and of a free
 # twist per unit of its inverse determinacy (calibrated against 50-digit solutions: the
 # estimate stays above the actual error, typically within 10x; tests/kcheck/test_errors.py).

@@ -25,6 +25,14 @@ import numpy as np
 from kcheck.fmt import format_number
 from kcheck.mechanics.dynamics import ILL_CONDITIONED, Case, Problem, _equilibrate
 from kcheck.mechanics.outcomes import outcome
+from kcheck.numerics.thresholds import (
+    IMAG_RTOL,
+    MU_END_RTOL,
+    PENCIL_INFINITE_RTOL,
+    PENCIL_SINGULAR,
+    SAME_FRICTION_RTOL,
+    SAME_ROOT_RTOL,
+)
 
 __all__ = [
     "FrictionIntervals",
@@ -37,11 +45,6 @@ __all__ = [
 
 # Shifts tried for the pencils; the best-conditioned one is used per pencil.
 SHIFTS = np.array([0.0, 0.6180339887, -0.7548776662, 1.7320508076, -2.2360679775, 4.1231056256])
-# A pencil whose every shifted matrix is worse conditioned than this is singular for every mu.
-PENCIL_SINGULAR = 1e12
-# Roots with an imaginary part below this (relative) are kept as real (a spare breakpoint
-# costs one evaluation; a missed one would merge two pieces).
-IMAG_RTOL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -82,7 +85,7 @@ class FrictionIntervals:
 
 def _around(intervals: tuple[tuple[float, float], ...], mu: float) -> tuple[float, float] | None:
     """The interval containing ``mu`` (with a relative tolerance at its ends), or None."""
-    tol = 1e-9 * max(1.0, abs(mu))
+    tol = MU_END_RTOL * max(1.0, abs(mu))
     for lo, hi in intervals:
         if lo - tol <= mu <= hi + tol:
             return lo, hi
@@ -128,7 +131,7 @@ def pencil_roots(a0: np.ndarray, a1: np.ndarray) -> np.ndarray:
         except np.linalg.LinAlgError:
             return out
         size = np.abs(values).max(axis=1, keepdims=True)
-        finite = np.abs(values) > 1e-14 * np.where(size > 0, size, 1.0)
+        finite = np.abs(values) > PENCIL_INFINITE_RTOL * np.where(size > 0, size, 1.0)
         roots = shift[:, None] - 1.0 / np.where(finite, values, 1.0)
     real = (
         finite & np.isfinite(roots) & (np.abs(roots.imag) <= IMAG_RTOL * (1.0 + np.abs(roots.real)))
@@ -156,7 +159,7 @@ def _breakpoints(roots: np.ndarray) -> np.ndarray:
     size = size[size > 0]
     if not len(size):
         return size
-    keep = np.append(True, np.diff(size) > 1e-13 * size[1:])
+    keep = np.append(True, np.diff(size) > SAME_ROOT_RTOL * size[1:])
     return size[keep]
 
 
@@ -216,7 +219,7 @@ def friction_intervals_many(
     calls."""
     _, mu = problem.friction_pattern()
     rough = problem.friction[problem.friction > 0]
-    uniform = bool(len(rough) == 0 or np.ptp(rough) <= 1e-12 * rough.max())
+    uniform = bool(len(rough) == 0 or np.ptp(rough) <= SAME_FRICTION_RTOL * rough.max())
     live = [c for c in cases if c.determined and c.k0 is not None and c.k_friction is not None]
     if not live:
         return [FrictionIntervals((), mu, False, (), uniform) for _ in cases]

@@ -36,6 +36,12 @@ from kcheck.mechanics.dynamics import (
     friction_matrices,
 )
 from kcheck.numerics import chebyshev as cheb
+from kcheck.numerics.thresholds import (
+    ENVELOPE_IMAG_TOL,
+    ENVELOPE_INSIDE_SLACK,
+    ENVELOPE_TOL,
+    SAMPLE_STEP_FLOOR,
+)
 
 __all__ = [
     "FrictionPath",
@@ -234,7 +240,7 @@ def _envelope(series: np.ndarray) -> np.ndarray:
     v = cheb.product(p, dq1) - cheb.product(dp, q1)
     w = cheb.product(q1, dq2) - cheb.product(q2, dq1)
     e = cheb.product(u, u) + cheb.product(v, v) - cheb.product(w, w)
-    return cheb.real_roots(e, imag_tol=1e-5)
+    return cheb.real_roots(e, imag_tol=ENVELOPE_IMAG_TOL)
 
 
 def _end_angles(series: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -319,10 +325,8 @@ def range_arcs(rc: RangeCase, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, d
 
 # --- the sphere of directions ----------------------------------------------------------------
 
-# Angular error (rad) aimed at where an envelope is approximated by caps at sampled
-# coefficients; the most samples spent on one condition; the grid on which envelope points
-# are looked for inside the region.
-ENVELOPE_TOL = np.radians(0.01)
+# The most samples spent on one condition (for the angular error ENVELOPE_TOL); the grid on
+# which envelope points are looked for inside the region.
 MAX_SAMPLES = 64
 ENVELOPE_GRID = 257
 
@@ -383,7 +387,7 @@ def range_caps(rc: RangeCase) -> tuple[np.ndarray, np.ndarray, float]:
         ok = np.all(np.isfinite(points), axis=1)
         inside = np.zeros(len(points), bool)
         if np.any(ok):
-            inside[ok] = np.all(a_end + points[ok] @ c_end.T > -1e-12, axis=1)
+            inside[ok] = np.all(a_end + points[ok] @ c_end.T > -ENVELOPE_INSIDE_SLACK, axis=1)
         hit = np.flatnonzero(inside.reshape(-1, 2).any(axis=1))
         if not len(hit):
             continue
@@ -412,7 +416,7 @@ def _samples(p: np.ndarray, q: np.ndarray, lo: float, hi: float) -> tuple[np.nda
     if bound <= 0:
         return np.array([lo, hi]), 0.0
     want = np.sqrt(8.0 * ENVELOPE_TOL * slope / bound)
-    count = int(min(MAX_SAMPLES, max(2, np.ceil((hi - lo) / max(want, 1e-12)) + 1)))
+    count = int(min(MAX_SAMPLES, max(2, np.ceil((hi - lo) / max(want, SAMPLE_STEP_FLOOR)) + 1)))
     h = (hi - lo) / (count - 1)
     error = bound * h * h / 8.0 / slope if slope > 0 else float(np.pi)
     return np.linspace(lo, hi, count), float(min(error, np.pi))

@@ -30,6 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from kcheck.numerics.thresholds import AGM_ULP_FRACTION, CURVATURE_RTOL, EPS, PARALLEL_SIN
+
 __all__ = [
     "HertzContact",
     "contact_modulus",
@@ -41,7 +43,6 @@ __all__ = [
     "hertz",
 ]
 
-EPS = float(np.finfo(float).eps)
 # Iterations of the AGM: quadratic convergence; 1e-300 < k' needs fewer than 12.
 _AGM_STEPS = 40
 
@@ -95,12 +96,12 @@ def curvature_tensor(
     kappa = 1.0 / radii
     tangent = np.eye(3) - n[..., :, None] * n[..., None, :]
     if direction is None:
-        if not np.allclose(kappa[..., 0], kappa[..., 1], rtol=1e-12, atol=0.0):
+        if not np.allclose(kappa[..., 0], kappa[..., 1], rtol=CURVATURE_RTOL, atol=0.0):
             raise ValueError("a surface with two different radii needs a direction")
         return kappa[..., 0, None, None] * tangent
     t1 = np.einsum("...ij,...j->...i", tangent, np.asarray(direction, dtype=float))
     norm = np.linalg.norm(t1, axis=-1, keepdims=True)
-    if np.any(norm < 1e-9):
+    if np.any(norm < PARALLEL_SIN):
         raise ValueError("a surface direction is parallel to its contact normal")
     t1 = t1 / norm
     t2 = np.cross(n, t1)
@@ -173,7 +174,7 @@ def _agm_series(kp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         weight *= 2.0
         term = weight * gamma**2
         sigma = sigma + term
-        if np.all(term <= EPS * sigma * 1e-3):
+        if np.all(term <= EPS * sigma * AGM_ULP_FRACTION):
             break
     return np.pi / (2.0 * a), sigma
 
@@ -261,7 +262,7 @@ def hertz(
         raise ValueError(
             "the surfaces do not touch at a point (a curvature sum <= 0: conformal or concave)"
         )
-    if np.any(big_b < big_a * (1 - 1e-12)):
+    if np.any(big_b < big_a * (1 - CURVATURE_RTOL)):
         raise ValueError("expected sum_a <= sum_b")
     if np.any(p < 0):
         raise ValueError("a contact cannot pull: negative normal force")

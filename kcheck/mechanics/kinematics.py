@@ -17,6 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from kcheck.numerics.thresholds import RANK_RTOL as RANK_RTOL  # re-exported
+
 __all__ = [
     "Frame",
     "unit_rows",
@@ -33,9 +35,6 @@ __all__ = [
     "maxwell_cos",
     "maxwell_angle",
 ]
-
-# Singular values below this fraction of the largest count as zero (rank decisions).
-RANK_RTOL = 1e-10
 
 
 def row_norms(vectors: np.ndarray) -> np.ndarray:

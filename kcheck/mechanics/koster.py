@@ -23,6 +23,7 @@ from kcheck.mechanics.kinematics import (
     wrenches,
 )
 from kcheck.numerics import chebyshev as cheb
+from kcheck.numerics.thresholds import EPS, TILTED_UNDETERMINED
 
 __all__ = [
     "GraphicalCase",
@@ -34,7 +35,6 @@ __all__ = [
     "friction_over_range",
 ]
 
-EPS = float(np.finfo(float).eps)
 # Roundings per unit of conditioning in a virtual-power coefficient (error estimates;
 # calibrated against 50-digit references, tests/kcheck/test_errors.py).
 ROUNDINGS = 1.5
@@ -98,7 +98,7 @@ def tilted_twist(
     plain = cross3(plain_rows[0], plain_rows[1])
     size = float(np.linalg.norm(tilted))
     determinacy = size / float(np.linalg.norm(tilted_rows[0]) * np.linalg.norm(tilted_rows[1]))
-    if determinacy <= 1e-12:
+    if determinacy <= TILTED_UNDETERMINED:
         return None, sliding, determinacy
     sign = 1.0 if float(plain @ free.twist) > 0 else -1.0
     return sign * tilted / size, sliding, determinacy

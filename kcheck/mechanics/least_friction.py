@@ -26,6 +26,15 @@ from kcheck.mechanics.statics import (
     tangent_frames,
 )
 from kcheck.numerics.arrays import unique
+from kcheck.numerics.thresholds import (
+    CUBIC_IMAG_RTOL,
+    DINKELBACH_STALL,
+    MU_FLOOR,
+    MU_RTOL,
+    POLY_ZERO_RTOL,
+    PRESSED_RTOL,
+    ZERO_GUARD,
+)
 
 __all__ = [
     "friction_candidates",
@@ -36,8 +45,6 @@ __all__ = [
 
 #: Most Dinkelbach-type steps of :func:`least_friction_exactly` (it needs 3 to 8).
 STEPS = 30
-#: Friction coefficients below this are zero to every purpose: bisection stops there.
-MU_FLOOR = 1e-12
 
 
 def _largest_ratio(local: np.ndarray, scale: np.ndarray) -> float:
@@ -45,7 +52,7 @@ def _largest_ratio(local: np.ndarray, scale: np.ndarray) -> float:
     force (forces in the contacts' axes, (k, 3))."""
     fn = local[:, 0] * scale
     tangential = np.linalg.norm(local[:, 1:], axis=1)
-    pressed = (scale > 0) & (fn > 1e-9 * max(float(np.abs(local[:, 0]).max()), 1e-300))
+    pressed = (scale > 0) & (fn > PRESSED_RTOL * max(float(np.abs(local[:, 0]).max()), ZERO_GUARD))
     ratios = tangential[pressed] / fn[pressed]
     return float(ratios.max()) if len(ratios) else 0.0
 
@@ -58,7 +65,7 @@ def least_friction_exactly(
     upper: float = 1.0,
     *,
     largest: float = 100.0,
-    rtol: float = 1e-6,
+    rtol: float = MU_RTOL,
 ) -> float | None:
     """Spatial: the smallest common coefficient ``mu`` for which the supports ``keep``, with
     coefficients ``mu * scale`` and exact circular cones, balance ``wrench``; None when not
@@ -96,7 +103,7 @@ def least_friction_exactly(
             break
         gain = ratio - lower
         local, ratio = step[0], lower
-        if gain <= 1e-3 * rtol * ratio:
+        if gain <= DINKELBACH_STALL * rtol * ratio:
             break
     if feasible(ratio * (1.0 - rtol)):  # not converged (degenerate): bisection below it
         return least_friction(feasible, ratio, largest=largest, rtol=rtol)
@@ -177,7 +184,7 @@ def _positive_roots(coefficients: np.ndarray) -> np.ndarray:
     The companion matrices' eigenvalues, then Newton steps on each polynomial (the
     eigenvalues are accurate relative to the largest root, not each one)."""
     size = np.abs(coefficients).sum(axis=1, keepdims=True)
-    c = np.where(np.abs(coefficients) > 1e-14 * size, coefficients, 0.0)
+    c = np.where(np.abs(coefficients) > POLY_ZERO_RTOL * size, coefficients, 0.0)
     found = []
     for degree in (3, 2, 1):
         lead = 3 - degree
@@ -189,7 +196,7 @@ def _positive_roots(coefficients: np.ndarray) -> np.ndarray:
         companion[:, 0, :] = -monic
         companion[:, np.arange(1, degree), np.arange(degree - 1)] = 1.0
         roots = np.linalg.eigvals(companion)  # (r, degree)
-        real = np.abs(roots.imag) <= 1e-9 * np.maximum(np.abs(roots), 1.0)
+        real = np.abs(roots.imag) <= CUBIC_IMAG_RTOL * np.maximum(np.abs(roots), 1.0)
         owner = np.broadcast_to(np.arange(len(rows))[:, None], roots.shape)[real]
         x, poly = roots.real[real], rows[owner]
         for _ in range(3):
@@ -205,7 +212,7 @@ def least_friction(
     upper: float = 1.0,
     *,
     largest: float = 100.0,
-    rtol: float = 1e-6,
+    rtol: float = MU_RTOL,
     candidates: np.ndarray | None = None,
 ) -> float | None:
     """Smallest common coefficient ``mu`` with ``feasible(mu)``.

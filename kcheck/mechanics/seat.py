@@ -181,7 +181,7 @@ def point_compliance(seat: Seat, stiffness: np.ndarray, point: np.ndarray) -> np
         return None
     d = 1.0 / np.sqrt(scale)
     balanced = stiffness * d[:, None] * d[None, :]
-    if np.linalg.cond(balanced) > 1e12:
+    if np.linalg.cond(balanced) > ILL_CONDITIONED:
         return None
     inv = np.linalg.inv(balanced) * d[:, None] * d[None, :]
     return jac @ inv @ jac.T

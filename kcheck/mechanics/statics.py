@@ -36,6 +36,7 @@ from kcheck.mechanics.cones import FACET_TOL, cone_facets, essential_rows
 from kcheck.mechanics.dynamics import friction_directions
 from kcheck.mechanics.kinematics import Frame, wrenches
 from kcheck.numerics.arrays import unique_rows
+from kcheck.numerics.thresholds import EPS, SAME_FACET
 
 __all__ = [
     "PYRAMID_EDGES",
@@ -57,7 +58,6 @@ __all__ = [
 #: circumscribed pyramids differ in friction by the factor cos(pi/8) = 0.924 (option
 #: `pyramid_edges`; the error it makes in degrees is measured and reported).
 PYRAMID_EDGES = 8
-EPS = float(np.finfo(float).eps)
 # Directions times facets evaluated at once by Equilibria.contains (16 MB of float64).
 CONTAINS_CHUNK = 2_000_000
 Pyramid = Literal["inscribed", "circumscribed"]
@@ -278,7 +278,7 @@ def forward_limit(
     if isinstance(facets, str):
         return None
     match = facets @ normal
-    if not match.max() > 1.0 - 1e-11:
+    if not match.max() > 1.0 - SAME_FACET:
         return None
     # The cone's own facet row, so that its arc ends are bit-identical to the held set's.
     normal = facets[int(np.argmax(match))]

@@ -12,6 +12,8 @@ import functools
 
 import numpy as np
 
+from kcheck.numerics.thresholds import DEGREE_RTOL, IMAG_TOL, ROOT_SLACK_RTOL
+
 __all__ = [
     "lobatto",
     "interpolate",
@@ -23,11 +25,6 @@ __all__ = [
     "positive",
     "abs_bound",
 ]
-
-# A leading coefficient below this fraction of the largest counts as zero (the degree drops).
-DEGREE_RTOL = 1e-12
-# Eigenvalues with an imaginary part below this are real (a spare root costs one evaluation).
-IMAG_TOL = 1e-7
 
 
 def lobatto(count: int) -> np.ndarray:
@@ -134,7 +131,7 @@ def real_roots(
     real = np.abs(found.imag) <= imag_tol * (1.0 + np.abs(found.real))
     x = np.where(real, found.real, np.nan)
     x = _polish(coefs, x)
-    slack = 1e-12 * (hi - lo)
+    slack = ROOT_SLACK_RTOL * (hi - lo)
     x = np.where((x >= lo - slack) & (x <= hi + slack), np.clip(x, lo, hi), np.nan)
     return np.sort(x, axis=1)
 

@@ -10,15 +10,15 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["incomplete_beta", "beta_quantile", "clopper_pearson"]
+from kcheck.numerics.thresholds import LENTZ_RTOL, QUANTILE_ATOL, ZERO_GUARD
 
-TINY = 1e-300
+__all__ = ["incomplete_beta", "beta_quantile", "clopper_pearson"]
 
 
 def _continued_fraction(a: float, b: float, x: float) -> float:
     """The continued fraction of ``I_x(a, b)`` (converges for ``x < (a + 1) / (a + b + 2)``)."""
     c, d = 1.0, 1.0 - (a + b) * x / (a + 1.0)
-    d = 1.0 / (d if abs(d) > TINY else TINY)
+    d = 1.0 / (d if abs(d) > ZERO_GUARD else ZERO_GUARD)
     h = d
     for m in range(1, 10_000):
         m2 = 2 * m
@@ -27,11 +27,11 @@ def _continued_fraction(a: float, b: float, x: float) -> float:
             -(a + m) * (a + b + m) * x / ((a + m2) * (a + m2 + 1.0)),
         ):
             d = 1.0 + num * d
-            d = 1.0 / (d if abs(d) > TINY else TINY)
+            d = 1.0 / (d if abs(d) > ZERO_GUARD else ZERO_GUARD)
             c = 1.0 + num / c
-            c = c if abs(c) > TINY else TINY
+            c = c if abs(c) > ZERO_GUARD else ZERO_GUARD
             h *= d * c
-        if abs(d * c - 1.0) < 1e-15:
+        if abs(d * c - 1.0) < LENTZ_RTOL:
             break
     return h
 
@@ -54,7 +54,7 @@ def incomplete_beta(a: float, b: float, x: float) -> float:
 def beta_quantile(p: float, a: float, b: float) -> float:
     """The ``x`` with ``I_x(a, b) = p`` (bisection to 1e-13)."""
     lo, hi = 0.0, 1.0
-    while hi - lo > 1e-13:
+    while hi - lo > QUANTILE_ATOL:
         mid = 0.5 * (lo + hi)
         if incomplete_beta(a, b, mid) < p:
             lo = mid

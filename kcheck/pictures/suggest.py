@@ -52,6 +52,7 @@ def plot_suggestion(
     for p, d, c, label in arrows:
         ax3.quiver(*(p - 0.3 * span * d), *(0.3 * span * d), color=c, lw=2, label=label)
         ax3.scatter(*p, color=c, marker="*", s=120)
+    # Cosmetic: a flat cloud of points still gets a thousandth of its span as depth.
     ax3.set_box_aspect(np.maximum(np.ptp(pts, axis=0), 1e-3 * span))
     ax3.set_xlabel(f"x ({units})")
     ax3.set_ylabel(f"y ({units})")

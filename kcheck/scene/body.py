@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from kcheck.errors import describe_os_error
+from kcheck.numerics.thresholds import PRINCIPAL_TRIANGLE_RTOL, ROTATION_TOL
 from kcheck.scene.limits import INERTIA_SYMMETRY_RTOL, LIMITS
 from kcheck.scene.materials import MATERIALS, density_of
 from kcheck.scene.models import BodyModel, PartModel, TransformModel
@@ -144,11 +145,11 @@ class BodyReader:
             axis = self.p.direction((*where, "axis"), value.axis, "the rotation axis")
             return None if axis is None else rotation_matrix(axis, value.angle)
         r = np.asarray(value, dtype=float)
-        if not np.all(np.abs(r) <= 1.0 + 1e-6):
+        if not np.all(np.abs(r) <= 1.0 + ROTATION_TOL):
             self.p.add(where, f"not a rotation matrix: entries must lie in [-1, 1], got {value}")
             return None
         error = float(np.abs(r.T @ r - np.eye(3)).max())
-        if error > 1e-6:
+        if error > ROTATION_TOL:
             self.p.add(
                 where,
                 f"not a rotation matrix: RᵀR differs from the identity by {error:.3g} "
@@ -255,7 +256,7 @@ class BodyReader:
             p.add(where, f"out of range: expected {r.text()}, got {eig.min():g}")
             return None
         a, b, c = np.sort(eig)
-        if a + b < c * (1 - 1e-6):
+        if a + b < c * (1 - PRINCIPAL_TRIANGLE_RTOL):
             p.add(
                 where,
                 f"principal moments {eig} violate the triangle inequality (not a rigid body)",

@@ -28,6 +28,7 @@ from typing import Literal
 
 import numpy as np
 
+from kcheck.numerics.thresholds import EPS, PARALLEL_COS
 from kcheck.scene.types import ContactGeometry, Support, Surface
 
 __all__ = [
@@ -49,11 +50,8 @@ __all__ = [
 #: (or the ball centre and the cylinder axis) may differ from the sum of radii by this much,
 #: relative to that sum.
 GAP_RTOL = 0.01
-#: Alignment (|cos|) above which two directions count as parallel.
-PARALLEL_COS = 1 - 1e-9
 #: A flat surface's radii.
 FLAT = (math.inf, math.inf)
-_EPS = float(np.finfo(float).eps)
 
 
 class CouplingError(ValueError):
@@ -79,7 +77,7 @@ def unit(vector: Sequence[float] | np.ndarray) -> np.ndarray:
     4 ulp) is returned unchanged, so normalising twice changes nothing."""
     v = np.asarray(vector, dtype=float)
     norm = float(np.sqrt(v @ v))
-    if abs(norm - 1.0) <= 4 * _EPS:
+    if abs(norm - 1.0) <= 4 * EPS:
         return v
     return v / norm
 

@@ -15,6 +15,7 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import ValidationError
 
+from kcheck.numerics.thresholds import PARALLEL_SIN, ZERO_GUARD
 from kcheck.scene.body import BodyReader, rotation_matrix
 from kcheck.scene.coefficients import resolve_friction
 from kcheck.scene.limits import MIN_FORCE
@@ -216,7 +217,7 @@ class _Builder:
                 )
                 ok = False
         z = positions[:, 2]
-        if np.ptp(z) > PLANAR_TOL * max(length, 1e-300):
+        if np.ptp(z) > PLANAR_TOL * max(length, ZERO_GUARD):
             self.p.add(
                 where,
                 "a 3-support (planar) scene needs every support at the same z, "
@@ -234,7 +235,7 @@ class _Builder:
         if normal is None or zero is None:
             return None
         e1 = zero - (zero @ normal) * normal
-        if np.linalg.norm(e1) < 1e-9:
+        if np.linalg.norm(e1) < PARALLEL_SIN:
             p.add(("sweep", "zero"), "expected a direction not parallel to the sweep normal")
             return None
         e1 = e1 / np.linalg.norm(e1)

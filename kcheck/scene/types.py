@@ -11,6 +11,7 @@ from typing import Any, Literal
 import numpy as np
 
 from kcheck.errors import FieldPath, SceneError
+from kcheck.numerics.thresholds import PLANAR_TOL
 from kcheck.scene.yamlio import LineMap
 
 __all__ = [
@@ -30,9 +31,6 @@ __all__ = [
     "Scene",
     "line_of",
 ]
-
-# Relative tolerance for "lies in the plane" tests, on unit normals and on positions / L.
-PLANAR_TOL = 1e-9
 
 
 def line_of(lines: LineMap, path: FieldPath) -> int | None:

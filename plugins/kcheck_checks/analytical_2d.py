@@ -12,6 +12,7 @@ from kcheck.analysis.friction_ranges import range_details
 from kcheck.fmt import format_angle
 from kcheck.mechanics.arcs import ArcSet, affine_arcs
 from kcheck.mechanics.dynamics import Affine
+from kcheck.numerics.thresholds import UNCERTAIN_DEG
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CaseResult, CheckResult, Status
 from kcheck.scene import Scene
@@ -23,9 +24,6 @@ from kcheck_checks.wording import (
     merge_findings,
     verdict,
 )
-
-# Range ends less certain than this (deg) are reported with a diagnostic.
-UNCERTAIN_DEG = 0.01
 
 __all__ = ["Analytical2D", "AnalyticalOptions", "analytical_result", "design_findings"]
 

@@ -74,6 +74,7 @@ from kcheck.mechanics.koster import (
     tilted_twist,
     virtual_power,
 )
+from kcheck.numerics.thresholds import INFINITE_POLE
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
@@ -112,9 +113,6 @@ __all__ = [
 
 # Said with every verdict: the construction has no inertia.
 MASS_FREE = "mass-free: contact loss not checked"
-# A rotation whose pole lies beyond 1e12 layout sizes is reported as a translation
-# (the same threshold as kcheck.analysis.cases.motion_details).
-INFINITE_POLE = 1e-12
 
 
 class GraphicalOptions(Options):

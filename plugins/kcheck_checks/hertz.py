@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from kcheck.fmt import format_number, format_vector
+from kcheck.numerics.thresholds import CURVATURE_RTOL, LIFTED_RTOL, ZERO_GUARD
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Preload, Scene, Support
@@ -131,7 +132,7 @@ def _contact_json(
         "curvature_sums": [float(contacts.sum_a[i]), float(contacts.sum_b[i])],
         # a circle has no major axis
         "major_axis": None
-        if contacts.sum_b[i] - contacts.sum_a[i] <= 1e-12 * contacts.sum_b[i]
+        if contacts.sum_b[i] - contacts.sum_a[i] <= CURVATURE_RTOL * contacts.sum_b[i]
         else contacts.major_axis[i].tolist(),
         "normal_force": float(seated.force[i]),
         "semi_axes": [float(seated.a[i]), float(seated.b[i])],
@@ -183,7 +184,7 @@ def _forces(
             "force": list(options.disturbing_force),
             "torque": list(options.disturbing_torque),
         }
-    tol = 1e-12 * seat.frame.force
+    tol = LIFTED_RTOL * seat.frame.force
     lifted = seated.value <= tol
     total = seated.value + change
     return (
@@ -262,7 +263,7 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
     positions = np.array([s.position for s in scene.supports])
     normals = np.array([s.normal for s in scene.supports])
     loads, torque, notes = seated_loads(scene, mass)
-    scale = max([float(np.linalg.norm(p.force)) for p in loads] + [1e-300])
+    scale = max([float(np.linalg.norm(p.force)) for p in loads] + [ZERO_GUARD])
     seat = seat_layout(positions, normals, scene.dim, scale)
     error_point = _point(options.error_point, scene, seat.frame.origin)
     details: dict[str, Any] = {
@@ -354,7 +355,7 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
             "under the disturbing load"
         )
     # Forces err by about the solve's estimate; p0 ~ N^(1/3), so utilisation by a third of it.
-    rel = float(np.max(forces.error / np.maximum(np.abs(forces.seated), 1e-300)))
+    rel = float(np.max(forces.error / np.maximum(np.abs(forces.seated), ZERO_GUARD)))
     return CheckResult(
         check_id,
         Status.PASS if not findings else Status.FAIL,

@@ -40,6 +40,7 @@ from kcheck.analysis.jamming_cases import (
 from kcheck.fmt import format_angle, format_number, format_ranges, format_share_bounds
 from kcheck.mechanics.arcs import FULL, TAU, ArcSet, complement, intersect, margin
 from kcheck.mechanics.statics import PYRAMID_EDGES
+from kcheck.numerics.thresholds import IN_SWEEP_PLANE, UNDETERMINED
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
@@ -79,7 +80,7 @@ def _case(
     if not case.determined:
         details["diagnostic"] = (
             "the free motion is not unique (the remaining normals are degenerate)"
-            if case.free.determinacy <= 1e-10
+            if case.free.determinacy <= UNDETERMINED
             else "removing this support frees no motion that closes its gap"
         )
         return CaseResult(name, "undetermined", details=details), None
@@ -123,7 +124,7 @@ def jamming_result(
     e1, e2, chosen = _sweep_plane(scene, analysis, smap)
     design = analysis.design
     angle = None
-    if design is not None and (dim == 2 or abs(float(design @ np.cross(e1, e2))) < 1e-9):
+    if design is not None and (dim == 2 or abs(float(design @ np.cross(e1, e2))) < IN_SWEEP_PLANE):
         angle = float(np.arctan2(design @ e2, design @ e1) % TAU)
     all_arcs = [case_arcs(c, e1, e2) if c.determined else None for c in analysis.cases]
     results, least = [], []

@@ -19,12 +19,11 @@ from kcheck.mechanics.kinematics import (
     maxwell_angle,
     maxwell_cos,
 )
+from kcheck.numerics.thresholds import EPS, NEARLY_SINGULAR
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 
 __all__ = ["Maxwell", "MaxwellOptions"]
-
-EPS = float(np.finfo(float).eps)
 
 
 class MaxwellOptions(Options):
@@ -98,7 +97,7 @@ class Maxwell(Check):
             )
         poor = [c for c in cases if c.outcome != "ok"]
         worst = min(cases, key=lambda c: c.cos_maxwell if c.cos_maxwell is not None else -1)
-        near = sigma < 1e-6
+        near = sigma < NEARLY_SINGULAR
         findings = tuple(
             Finding(
                 f"retracting {c.retracted} frees a motion at "

@@ -17,6 +17,7 @@ from kcheck.errors import FieldPath
 from kcheck.fmt import format_angle, format_number, format_ranges
 from kcheck.mechanics.arcs import ArcSet, intersect
 from kcheck.mechanics.friction import FrictionIntervals, describe_friction
+from kcheck.numerics.thresholds import FULL_TURN_SLACK_DEG
 from kcheck.result import CaseResult, Finding
 from kcheck.scene import Scene
 
@@ -50,7 +51,7 @@ def load_field(scene: Scene) -> FieldPath:
 
 def ranges_text(ranges: Sequence[Sequence[float]] | None) -> str:
     """Ranges in degrees, "every direction" or "none" (:func:`kcheck.fmt.format_ranges`)."""
-    if ranges and len(ranges) == 1 and ranges[0][1] - ranges[0][0] >= 360.0 - 1e-9:
+    if ranges and len(ranges) == 1 and ranges[0][1] - ranges[0][0] >= 360.0 - FULL_TURN_SLACK_DEG:
         return "every direction"
     return format_ranges(ranges)
 

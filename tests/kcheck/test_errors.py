@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pytest
 import yaml
 from kcheck_checks.analytical_3d import Analytical3D, Analytical3DOptions
 from kcheck_checks.graphical_2d import Graphical2D, GraphicalOptions
@@ -35,7 +36,15 @@ from tests.plugins.test_analytical_3d import random_layout, scene_dict
 from tests.plugins.test_stiff_2d import reference_case
 from tests.plugins.test_stiff_2d import run as run_2d
 
-mp.dps = 50
+
+@pytest.fixture(autouse=True)
+def _fifty_digits():
+    """The 50-digit references of this module, whatever another module set (mpmath's
+    precision is global)."""
+    with mp.workdps(50):
+        yield
+
+
 RATIO_MEAN = 10.0  # geometric mean of estimate / actual at most this
 RATIO_LOW = 0.5  # no estimate below half the actual error
 ANGLE_ULP = 180.0 * float(np.finfo(float).eps)  # half an ulp of an angle below 360 deg

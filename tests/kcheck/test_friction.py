@@ -25,7 +25,13 @@ from kcheck.mechanics.friction import (
     pencil_roots,
 )
 
-mp.dps = 50
+
+@pytest.fixture(autouse=True)
+def _fifty_digits():
+    """The 50-digit references of this module, whatever another module set (mpmath's
+    precision is global)."""
+    with mp.workdps(50):
+        yield
 
 
 def mp_roots(a0: np.ndarray, a1: np.ndarray) -> list[Any]:

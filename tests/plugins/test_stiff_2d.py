@@ -27,7 +27,15 @@ from kcheck.result import CheckResult
 from kcheck.scene import Scene, load_scene
 from kcheck.scene.limits import LIMITS, Range
 
-mp.dps = 50
+
+@pytest.fixture(autouse=True)
+def _fifty_digits():
+    """The 50-digit references of this module, whatever another module set (mpmath's
+    precision is global)."""
+    with mp.workdps(50):
+        yield
+
+
 DIAGNOSTIC = ("ill_conditioned", "undetermined")
 
 

@@ -94,6 +94,7 @@ def _wedges(
         t1, t2 = _to_plot_angle(built, s), _to_plot_angle(built, e)
         if np.cross(np.append(built.e1, 0), np.append(built.e2, 0))[2] < 0:
             t1, t2 = t2, t1
+        # Cosmetic: an arc a full turn to rounding is drawn as the whole circle.
         if e - s >= TAU - 1e-12:
             t1, t2 = 0.0, 360.0
         elif t2 <= t1:

@@ -47,6 +47,7 @@ def _pressure_panel(ax: Any, contacts: list[dict[str, Any]], safety_factor: floa
     x = np.arange(len(names))
     colours = ["tab:red" if u * safety_factor > 1 else "tab:green" for u in worst]
     ax.bar(x, share * seated, color=colours, alpha=0.85, label="seated")
+    # Cosmetic: the disturbed outline only when some bar changes beyond rounding (1e-9).
     if np.any(np.abs(worst - seated) > 1e-9 * np.maximum(worst, 1e-300)):
         ax.bar(x, share * worst, fill=False, edgecolor="black", label="with the disturbance")
     ax.axhline(100, color="black", lw=1, ls="--", label="allowable / safety factor")

@@ -148,6 +148,7 @@ def _sweep_circle(ax: Any, plane: Any, c0: np.ndarray, first: bool) -> None:
     e2 = np.cross(np.asarray(plane["normal"], float), e1)
     t = np.radians(np.arange(0.0, 360.5, 0.5))
     dirs = np.cos(t)[:, None] * e1 + np.sin(t)[:, None] * e2
+    # Cosmetic: the near hemisphere, its rim included despite rounding (-1e-9).
     front = dirs @ c0 >= -1e-9
     xy = np.array([lambert_forward(d, c0) for d in dirs])
     xy[~front] = np.nan
@@ -168,6 +169,7 @@ def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
     edge = np.sqrt(2.0)
     t = np.linspace(-edge, edge, 241)
     x, y = np.meshgrid(t, t)
+    # Cosmetic: grid points on the disc's edge, to rounding, are inside.
     inside = np.hypot(x, y) <= edge * (1 + 1e-9)
     axes = fig.subplots(1, 2)
     levels = np.arange(-0.5, len(analysis.cases) + 1.0)
@@ -197,6 +199,7 @@ def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
         for label, vec in (("+x", (1, 0, 0)), ("+y", (0, 1, 0)), ("+z", (0, 0, 1)),
                            ("−x", (-1, 0, 0)), ("−y", (0, -1, 0)), ("−z", (0, 0, -1))):  # fmt: skip
             v = np.array(vec, float)
+            # Cosmetic: label the axes on the near hemisphere, its rim included despite rounding.
             if v @ c0 >= -1e-9:
                 px, py = lambert_forward(v, c0)
                 ax.plot(px, py, "+", color="0.25", ms=8)

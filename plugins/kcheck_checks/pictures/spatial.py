@@ -116,6 +116,7 @@ def clip_segment(
     dimension), or None when the line misses it."""
     t0, t1 = -np.inf, np.inf
     for k in range(len(point)):
+        # Cosmetic: a line this nearly parallel to a pair of the box's faces is taken as parallel.
         if abs(direction[k]) < 1e-12:
             if not lo[k] <= point[k] <= hi[k]:
                 return None
@@ -257,6 +258,7 @@ def _motion(ax: Axes, d: Drawing, view: View, case: CaseResult, retracted: int, 
         nearest = foot + ((centre3 - foot) @ axis) * axis
         seg = (
             clip_segment(nearest[k], axis[k], d.lo[k], d.hi[k])
+            # Cosmetic: an axis seen end-on (shorter than 1e-9 in the view) gets no segment.
             if np.linalg.norm(axis[k]) > 1e-9
             else None
         )
@@ -268,6 +270,7 @@ def _motion(ax: Axes, d: Drawing, view: View, case: CaseResult, retracted: int, 
     elif motion == "translation":
         direction = np.asarray(case.details["direction"], float)
         p = d.points[retracted]
+        # Cosmetic: an arrow seen end-on (under 1e-6 of its length in the view) is not drawn.
         if np.linalg.norm(direction[k]) > 1e-6:
             ax.annotate(
                 "", xy=tuple(p[k] + 1.3 * d.arrow * direction[k]), xytext=tuple(p[k]),
@@ -315,6 +318,7 @@ def _view(
     placed: list[np.ndarray] = []
     for q, direction, label, colour in d.forces:
         tail = q - 1.5 * d.arrow * direction
+        # Cosmetic: an arrow seen end-on (under 1e-6 of its length in the view) is not drawn.
         if np.linalg.norm(direction[k]) > 1e-6:
             ax.annotate(
                 "", xy=tuple(q[k]), xytext=tuple(tail[k]),

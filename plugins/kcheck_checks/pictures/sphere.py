@@ -140,6 +140,7 @@ def _rings(ax: Axes, lo: np.ndarray, hi: np.ndarray, about: str) -> None:
     far = float(np.max(np.hypot(*np.meshgrid([lo[0], hi[0]], [lo[1], hi[1]]))))
     span = 2 * np.degrees(np.arcsin(min(far / 2, 1.0)))
     step = nice_step(min(span, 90.0), 4)
+    # Cosmetic: + 1e-9 keeps the last ring that rounding of arange's end would drop.
     for angle in np.arange(step, min(span, 90.0) + 1e-9, step):
         r = 2 * np.sin(np.radians(angle) / 2)
         ax.add_patch(Circle((0, 0), r, fill=False, color="0.45", lw=0.6, ls=(0, (2, 3)), zorder=3))
@@ -156,6 +157,7 @@ def _axes_marks(
     """The coordinate axes' directions inside the view, except where a marker sits."""
     for label, vec in AXES.items():
         v = np.array(vec, float)
+        # Cosmetic: an axis on the far hemisphere, or on its rim to rounding, is not labelled.
         if v @ centre < 1e-9 or any(float(v @ b) > np.cos(np.radians(1.0)) for b in busy):
             continue
         px, py = lambert_forward(v, centre)
@@ -254,6 +256,7 @@ def sphere_figure(scene: Scene, analysis: Analysis, smap: SphereMap, result: Che
     m = np.where(in_disc, m, np.nan)
     total = m.min(axis=0)
     top = float(np.nanmax(total)) if np.any(total > 0) else 0.0
+    # Cosmetic: the band from -1e9 (below every margin) to 0 fills where no direction is safe.
     ax.contourf(
         x, y, np.where(total > 0, np.nan, total), levels=[-1e9, 0.0], colors=["0.9"], zorder=1
     )
