@@ -34,6 +34,10 @@ __all__ = [
     "Reason",
     "verdict",
     "scene_verdict",
+    "worse",
+    "margin_text",
+    "status_text",
+    "scene_status_text",
     "counts",
     "run_line",
     "headline",
@@ -59,6 +63,11 @@ ANGLE_CONVENTION = (
 
 #: Verdict words in the order a summary counts them.
 VERDICTS = ("pass", "warn", "fail", "error")
+#: Every verdict word from best to worst. Issue 21's ``marginal`` (a passing check closer to
+#: its boundary than the scene allows) has its place here already: once :func:`verdict`
+#: returns it, picture titles (:func:`status_text`, :func:`scene_status_text`) say it with
+#: no other change.
+SEVERITY_ORDER = ("n/a", "pass", "marginal", "warn", "fail", "error")
 
 # Case outcomes that are good news: the case closes (analytical, graphical), the layout is
 # fine (maxwell), only ranges were asked for, or friction cannot hold the body (jamming).
@@ -72,6 +81,60 @@ def verdict(check: CheckResult) -> str:
     if check.status is Status.FAIL and check.severity == "warning":
         return "warn"
     return check.status.value
+
+
+def worse(a: str, b: str) -> bool:
+    """Whether verdict word ``a`` is worse than ``b`` (:data:`SEVERITY_ORDER`)."""
+    rank = {w: i for i, w in enumerate(SEVERITY_ORDER)}
+    return rank.get(a, len(rank)) > rank.get(b, len(rank))
+
+
+def margin_text(check: CheckResult) -> str | None:
+    """The check's design margin as a picture or summary says it: ``margin 7.59°`` (inside
+    its safe set) or ``margin -3.10°`` (outside); None when the check reports none, or when
+    nothing is safe (a margin then means nothing).
+
+    One definition across checks, summary and docs: the angle from the design direction to
+    the nearest edge of the set of directions the check calls safe, positive inside and
+    negative outside (``design_margin_deg``)."""
+    margin = check.details.get("design_margin_deg")
+    if not isinstance(margin, (int, float)) or not math.isfinite(margin) or _nothing_safe(check):
+        return None
+    return f"margin {format_angle(float(margin))}"
+
+
+def status_text(check: CheckResult, qualifier: str = "") -> str:
+    """A check's verdict for a picture's title, from the same result the text reports:
+    ``graphical-2d PASS (mass-free), margin 7.59°``; ``qualifier`` follows the word."""
+    text = f"{check.id} {verdict(check).upper()}{qualifier}"
+    margin = margin_text(check)
+    return text if margin is None else f"{text}, {margin}"
+
+
+def scene_status_text(
+    check: CheckResult,
+    scene_word: str,
+    checks: Sequence[CheckResult],
+    warnings: Sequence[Finding] = (),
+) -> str | None:
+    """Where the scene's verdict is worse than ``check``'s, that verdict and why, as the text
+    report says it beside the check: ``scene FAIL: analytical-2d FAIL — retract x3 → y1
+    loses contact (N = -0.0866 N), maxwell WARN``; None when the scene is no worse."""
+    own = verdict(check)
+    if not worse(scene_word, own):
+        return None
+    parts = []
+    for other in checks:
+        word = verdict(other)
+        if other is check or other.id == check.id or not worse(word, own):
+            continue
+        part = f"{other.id} {word.upper()}"
+        if word in ("fail", "error"):
+            part += f" — {reasons(other)[0].text.split('; ')[0]}"
+        parts.append(part)
+    if warnings:
+        parts.append(f"{len(warnings)} scene warning{'s' if len(warnings) > 1 else ''}")
+    return f"scene {scene_word.upper()}: {', '.join(parts)}"
 
 
 def scene_verdict(scene: SceneResult) -> str:
