@@ -13,6 +13,7 @@ from collections import Counter
 from collections.abc import Sequence
 
 from kcheck.report.issues import CollectingReporter, Issue, clean_text, summary_line
+from kcheck.report.views import verdict
 from kcheck.result import SceneResult, Status
 
 __all__ = ["MarkdownReporter", "escape"]
@@ -47,7 +48,8 @@ def _checks_cell(scene: SceneResult) -> str:
     parts = []
     for c in scene.checks:
         if c.status is not Status.SKIPPED:
-            parts.append(f"{escape(c.id)} {MARK[c.status].split(' ')[0]}")
+            # A failed check of severity warning warns: ⚠️, as the text says "warn".
+            parts.append(f"{escape(c.id)} {MARK[Status(verdict(c))].split(' ')[0]}")
     skipped = sum(1 for c in scene.checks if c.status is Status.SKIPPED)
     if skipped:
         parts.append(f"{skipped} n/a")

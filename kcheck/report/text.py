@@ -170,10 +170,13 @@ def _errors(console: Console, scene: SceneResult) -> None:
             _hanging(console, 4, Text("→ ", style="cyan"), Text(e.hint, style="cyan"))
 
 
-def render_scene(console: Console, scene: SceneResult, verbosity: int = 0) -> bool | None:
+def render_scene(
+    console: Console, scene: SceneResult, verbosity: int = 0, pictures: bool = True
+) -> bool | None:
     """One scene: its verdict line; unless it passed (or with -v) the details. Returns
     whether the block ended with a blank line (details do; a one-line scene does not), or
-    None when nothing was printed (-q and a passing scene)."""
+    None when nothing was printed (-q and a passing scene). ``pictures``: whether to list the
+    scene's picture files (not when they were only drawn for an HTML page)."""
     word = views.scene_verdict(scene)
     if verbosity < 0 and word == "pass":
         return None
@@ -201,6 +204,12 @@ def render_scene(console: Console, scene: SceneResult, verbosity: int = 0) -> bo
         render_mass(console, scene.mass_properties, units=scene.units, notes=False)
     for note in scene.notes:
         _hanging(console, 2, Text("note: ", style="yellow"), Text(note))
+    if scene.warnings:
+        n = len(scene.warnings)
+        what = Text("scene", style="bold").append(
+            f"  {n} warning{'s' if n > 1 else ''} about the scene itself (not a check's)"
+        )
+        _hanging(console, 2, _word("warn").append(" "), what)
     for warning in scene.warnings:
         _reason(console, "warn", warning.message, warning.line, warning.hint)
     skipped = [c for c in scene.checks if c.status is Status.SKIPPED]
@@ -217,7 +226,7 @@ def render_scene(console: Console, scene: SceneResult, verbosity: int = 0) -> bo
                     _print_table(console, view, 4)
     if skipped and not verbose:
         console.print(f"  {len(skipped)} n/a: {', '.join(c.id for c in skipped)}", style="dim")
-    if verbose:
+    if verbose and pictures:
         for plot in scene.plots:
             console.print(f"  picture: {plot}", style="cyan")
     console.print()
@@ -269,10 +278,11 @@ class TextReporter:
 
     def scene(self, result: SceneResult) -> None:
         """Print one scene."""
-        blank = render_scene(self.console, result, self.verbosity)
+        blank = render_scene(self.console, result, self.verbosity, self.options.pictures_kept)
         self.blank = self.blank if blank is None else blank
 
     def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
         """Print the short summary and the counts."""
-        plots = sum(len(r.plots) for r in results)
+        # Pictures drawn only to be inlined in an HTML page are not "written" anywhere.
+        plots = sum(len(r.plots) for r in results) if self.options.pictures_kept else 0
         render_summary(self.console, results, elapsed_s, plots, self.blank)

@@ -206,10 +206,11 @@ def _nothing_safe(check: CheckResult) -> bool:
 
 
 def headline(scene: SceneResult) -> str:
-    """The scene's key numbers on one line: the smallest design margin over the checks that
-    report one, the safe share of the sphere, or the narrowest safe range; n/a checks. Each
-    safe share and "no safe direction" names the check that says so and what it sweeps (force
-    or gravity directions)."""
+    """The scene's key numbers on one line, each figure after the check it comes from
+    (``analytical-3d: design margin 19.93°, 7.05% of force directions safe``): the smallest
+    design margin over the checks that report one (:func:`margin_text`'s definition), the
+    smallest safe share of the sphere, or the narrowest safe range; n/a checks. "No safe
+    direction" names the checks that say so and what they sweep (force or gravity)."""
     parts: list[str] = []
     checks = _checks(scene)
     nothing = [c for c in checks if _nothing_safe(c)]
@@ -217,32 +218,33 @@ def headline(scene: SceneResult) -> str:
         what = {_swept(c) for c in nothing}
         word = what.pop() if len(what) == 1 else "force or gravity"
         parts.append(f"no safe {word} direction ({', '.join(c.id for c in nothing)})")
+    said: dict[str, list[str]] = {}  # figures by the check they come from, in order
     margins = [
-        c.details["design_margin_deg"]
+        (float(c.details["design_margin_deg"]), c)
         for c in checks
-        if isinstance(c.details.get("design_margin_deg"), (int, float))
-        and math.isfinite(c.details["design_margin_deg"])
-        and not _nothing_safe(c)
+        if margin_text(c) is not None and not _nothing_safe(c)
     ]
     if margins and not nothing:
-        parts.append(f"design margin {format_angle(min(margins))}")
+        value, source = min(margins, key=lambda x: x[0])
+        said.setdefault(source.id, []).append(f"design margin {format_angle(value)}")
     shares = [(share[1], share[0], c) for c in checks if (share := _share(c)) is not None]
     if shares and not nothing:
         high, low, source = min(shares, key=lambda x: x[:2])  # the smallest, and who says so
-        parts.append(
-            f"{format_share_bounds(low, high)} of {_swept(source)} directions safe ({source.id})"
+        said.setdefault(source.id, []).append(
+            f"{format_share_bounds(low, high)} of {_swept(source)} directions safe"
         )
+    parts += [f"{check}: {', '.join(figures)}" for check, figures in said.items()]
     if not parts:
         ranged = [c for c in checks if c.safe_ranges_deg is not None]
         if ranged:
             narrowest = min(ranged, key=lambda c: _range_width(c.safe_ranges_deg or ()))
-            parts.append(f"safe {format_ranges(narrowest.safe_ranges_deg)}")
+            parts.append(f"{narrowest.id}: safe {format_ranges(narrowest.safe_ranges_deg)}")
     skipped = sum(1 for c in scene.checks if c.status is Status.SKIPPED)
     if skipped:
         parts.append(f"{skipped} n/a")
     if scene.notes:
         parts.append(f"{len(scene.notes)} note{'s' if len(scene.notes) > 1 else ''}")
-    return ", ".join(parts)
+    return "; ".join(parts)
 
 
 @dataclass(frozen=True)
@@ -336,7 +338,7 @@ def short_summary(scenes: Sequence[SceneResult]) -> list[tuple[str, str, str]]:
                 text = f"{check.id}: {why[0].text}{more}"
                 out.append((word, location(scene.path, why[0].line), text))
         for warning in scene.warnings:
-            out.append(("warn", location(scene.path, warning.line), warning.message))
+            out.append(("warn", location(scene.path, warning.line), f"scene: {warning.message}"))
     return out
 
 
