@@ -12,6 +12,7 @@ it out. On a terminal prose wraps at the width but numbers never break; anywhere
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Sequence
 from typing import Any, TextIO
 
@@ -44,7 +45,8 @@ def make_console(color: str = "auto", file: TextIO | None = None, stderr: bool =
     non-empty NO_COLOR turns off every ANSI style, not only colours (plain logs in CI).
 
     The stream is wrapped in :class:`SafeStream` (no character can crash the report). When
-    it is not a terminal nothing wraps, whatever COLUMNS says.
+    it is not a terminal, lines wrap at an exported ``COLUMNS`` (a pipe to a pager, a CI log
+    of a fixed width) and nothing wraps without it (every line whole for grep).
     """
     kwargs: dict[str, Any] = {"markup": False, "highlight": False, "emoji": False}
     if color == "always":
@@ -60,8 +62,34 @@ def make_console(color: str = "auto", file: TextIO | None = None, stderr: bool =
         stream = file if isinstance(file, SafeStream) else SafeStream(file)
     console = Console(file=stream, **kwargs)  # type: ignore[arg-type]
     if not console.is_terminal:
-        console = Console(file=stream, width=UNWRAPPED, soft_wrap=True, **kwargs)  # type: ignore[arg-type]
+        columns = _columns()
+        if columns is None:
+            console = Console(file=stream, width=UNWRAPPED, soft_wrap=True, **kwargs)  # type: ignore[arg-type]
+        else:
+            # Rich pads wrapped cells to the width: lines in a pipe end without the padding.
+            trimmed = _Trimmed(lambda: stream.stream)
+            console = Console(file=trimmed, width=columns, **kwargs)  # type: ignore[arg-type]
     return console
+
+
+class _Trimmed(SafeStream):
+    """A safe stream whose lines end without trailing blanks (rich pads a wrapped grid's
+    cells to the full width; a pipe or a file should not carry them)."""
+
+    _END = re.compile(r"[ \t]+(?=\n)")
+
+    def write(self, text: str) -> int:
+        """Write ``text`` with the blanks before each line end taken off."""
+        super().write(self._END.sub("", text))
+        return len(text)
+
+
+def _columns() -> int | None:
+    """The width an exported ``COLUMNS`` asks for (at least 40), or None without one."""
+    text = os.environ.get("COLUMNS", "").strip()
+    if not text.isdigit() or int(text) <= 0:
+        return None
+    return max(int(text), 40)
 
 
 def _indented(console: Console, text: Text, indent: int) -> None:

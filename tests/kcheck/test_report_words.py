@@ -106,3 +106,19 @@ def test_html_alone_claims_no_picture_files(tmp_path: Path) -> None:
     kept = run("check", str(FIXTURES / "planar-block"), "--html", str(page), "--plots", str(plots))
     (said,) = re.findall(r"(\d+) picture files written", kept.stdout)
     assert int(said) == len(list(plots.iterdir())) > 0
+
+
+def test_markdown_carries_the_numbers_of_failing_cases_and_folds_passing_scenes() -> None:
+    out = run(
+        "check", str(FIXTURES / "thesis-appendix-a"), str(FIXTURES / "planar-block"),
+        "--format", "markdown",
+    ).stdout  # fmt: skip
+    numbers = out.split("### Numbers", 1)[1].split("<details>", 1)[0]
+    assert "**analytical-2d** ❌ fail: no safe direction" in numbers
+    assert "  - retract x3: loses contact, y1 N = -0.0866 N" in numbers  # as the JSON has it
+    assert "**maxwell** ⚠️ warn" in numbers and "retract y1: poor, cos θ = 0.555" in numbers
+    assert "planar-block" not in numbers
+    folded = out.split("<details><summary>1 passing scene: key numbers</summary>", 1)[1]
+    folded = folded.split("</details>", 1)[0]
+    assert "planar-block/block.kcheck.yaml` planar rectangular block — analytical-2d: design " \
+        "margin 28.80°" in folded  # fmt: skip
