@@ -27,6 +27,7 @@ __all__ = [
     "clean",
     "format_number",
     "format_share",
+    "format_percent",
     "format_share_bounds",
     "format_length",
     "format_vector",
@@ -128,6 +129,17 @@ def format_share(fraction: float, decimals: int = 2) -> str:
         return f"{percent:.1e}%" if percent < 50 else f"{100 - 1e-10:.10f}%"
     places = max(decimals, 1 - math.floor(math.log10(gap)))
     return f"{percent:.{places}f}%"
+
+
+def format_percent(fraction: float) -> str:
+    """A ratio (1 = 100 %) as a whole percentage, ``37%``; below 1 % with two significant
+    digits, ``0.36%`` (a ratio never reads ``0%`` unless it is zero)."""
+    percent = 100.0 * fraction
+    if not math.isfinite(percent):
+        return "–"
+    if percent == 0 or abs(percent) >= 0.995:
+        return f"{percent:.0f}%"
+    return f"{percent:.2g}%"
 
 
 def format_share_bounds(low: float, high: float, decimals: int = 2) -> str:

@@ -279,14 +279,21 @@ def _normals_reversed(
         closes = analysis.every_case_closes
     if not closes:
         return []
-    field: FieldPath = ("supports",) if scene.supports[0].geometry is None else ("couplings",)
+    explicit = scene.supports[0].geometry is None
+    field: FieldPath = ("supports",) if explicit else ("couplings",)
+    # `ball_on` is a coupling shorthand's: explicit supports have no balls to move.
+    hint = (
+        "reverse the normals (each points from its support into the body)"
+        if explicit
+        else "reverse the normals, or put the balls on the other side (`ball_on`)"
+    )
     return [
         Finding(
             "every case opens, but with every support normal reversed every case closes: "
             "the support normals may be reversed (they point from the support into the body)",
             code="normals-reversed",
             field=field,
-            hint="reverse the normals, or put the balls on the other side (`ball_on`)",
+            hint=hint,
         )
     ]
 

@@ -240,6 +240,7 @@ def run(args: argparse.Namespace) -> int:
         to_file=args.output is not None,
         fail_on=config["fail_on"],
         checks={lc.spec.name: lc.check.summary for lc in checks},
+        pictures_kept=args.plots is not None,
     )
     streams: list[tuple[str, Reporter, TextIO]] = []
     try:

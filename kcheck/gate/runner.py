@@ -240,6 +240,7 @@ def check_scene(
 
     results = []
     written: list[str] = []
+    drawn: list[tuple[LoadedCheck, Inputs, CheckResult]] = []
     notes = scene.notes
     for lc, options, severity, reason, needs_mass, crash in plan:
         if crash is not None:
@@ -263,14 +264,18 @@ def check_scene(
             findings=_locate(scene, result.findings),
         )
         results.append(result)
-        if settings.plots is not None and result.status in (Status.PASS, Status.FAIL):
-            files, note = _plot(lc, inputs, result, settings)
+        drawn.append((lc, inputs, result))
+    warnings = _locate(scene, scene_warnings(scene, mass, results))
+    status = scene_status(results, warnings)
+    # Pictures after every check, so that each title carries the scene's verdict too.
+    for lc, inputs, result in drawn if settings.plots is not None else ():
+        if result.status in (Status.PASS, Status.FAIL):
+            files, note = _plot(lc, inputs, result, settings, (status, results, warnings))
             notes = notes if note is None else (*notes, note)
             written.extend(str(f) for f in files)
-    warnings = _locate(scene, scene_warnings(scene, mass, results))
     return SceneResult(
         path=str(path),
-        status=scene_status(results, warnings),
+        status=status,
         name=scene.name,
         kind=scene.kind,
         mass_properties=mass,
@@ -319,14 +324,20 @@ def _budget_error(path: Path, outcome: Any, settings: Settings) -> SceneResult:
 
 
 def _plot(
-    lc: LoadedCheck, inputs: Inputs, result: CheckResult, settings: Settings
+    lc: LoadedCheck,
+    inputs: Inputs,
+    result: CheckResult,
+    settings: Settings,
+    scene: tuple[Status, Sequence[CheckResult], Sequence[Finding]],
 ) -> tuple[Sequence[Path], str | None]:
-    """A check's pictures, or none and a note saying why: a picture never stops a batch."""
-    from kcheck.pictures.plotting import formats
+    """A check's pictures, or none and a note saying why: a picture never stops a batch.
+    ``scene``: the scene's verdict, every check's result and the scene's warnings, which the
+    pictures' titles state beside the check's own verdict."""
+    from kcheck.pictures.plotting import formats, scene_verdict
 
     assert settings.plots is not None
     try:
-        with formats(settings.plot_formats):
+        with formats(settings.plot_formats), scene_verdict(*scene):
             return lc.check.plot(inputs, result, settings.plots), None
     except ModuleNotFoundError as exc:
         if (exc.name or "").split(".")[0] not in PLOT_EXTRA:

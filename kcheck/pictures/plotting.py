@@ -12,8 +12,11 @@ import re
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from contextvars import ContextVar
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
+
+from kcheck.result import CheckResult, Finding, Status
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -22,8 +25,11 @@ __all__ = [
     "PLOT_FORMATS",
     "OUTCOME_COLOURS",
     "VERDICT_COLOURS",
+    "SceneVerdict",
     "figure",
     "formats",
+    "scene_verdict",
+    "current_scene",
     "save",
     "slug",
     "outcome_colour",
@@ -51,6 +57,38 @@ UNKNOWN_OUTCOME = "#8c564b"
 VERDICT_COLOURS = {"pass": "#1a7f37", "warn": "#9a6700", "fail": "#cf222e", "error": "#8250df"}
 
 _formats: ContextVar[tuple[str, ...]] = ContextVar("kcheck_plot_formats", default=("png",))
+_scene: ContextVar[SceneVerdict | None] = ContextVar("kcheck_scene_verdict", default=None)
+
+
+@dataclass(frozen=True)
+class SceneVerdict:
+    """The scene a picture belongs to, as the runner found it: its verdict word, every check's
+    result and the scene's warnings (pictures' titles say the scene's verdict when worse)."""
+
+    word: str
+    checks: tuple[CheckResult, ...]
+    warnings: tuple[Finding, ...] = ()
+
+
+@contextmanager
+def scene_verdict(
+    status: Status | str, checks: Sequence[CheckResult], warnings: Sequence[Finding] = ()
+) -> Iterator[None]:
+    """Within the block, pictures know their scene's verdict (:func:`current_scene`)."""
+    word = Status(status).value
+    token = _scene.set(SceneVerdict(word, tuple(checks), tuple(warnings)))
+    try:
+        yield
+    finally:
+        _scene.reset(token)
+
+
+def current_scene() -> SceneVerdict | None:
+    """The scene verdict set by :func:`scene_verdict` (None outside one: a picture drawn on
+    its own, e.g. by a library caller)."""
+    return _scene.get()
+
+
 _pool: dict[tuple[float, float], Figure] = {}
 
 

@@ -43,14 +43,17 @@ FORMATS: dict[str, str] = {
 class ReportOptions:
     """What every reporter may honour: colour (``auto``/``always``/``never``, text only),
     verbosity (-1 quiet, 0 default, 1 verbose), whether the stream is a file, the lowest
-    severity that fails the run (``fail_on``: ``error`` or ``warning``), and the summary of
-    every installed check by id (rule descriptions in SARIF)."""
+    severity that fails the run (``fail_on``: ``error`` or ``warning``), the summary of
+    every installed check by id (rule descriptions in SARIF), and whether the pictures the
+    results name are kept (``pictures_kept``: false when they were drawn into a temporary
+    folder only to be inlined in an HTML page)."""
 
     color: str = "auto"
     verbosity: int = 0
     to_file: bool = False
     fail_on: str = "error"
     checks: Mapping[str, str] = field(default_factory=dict)
+    pictures_kept: bool = True
 
 
 class Reporter(Protocol):

@@ -12,6 +12,7 @@ it out. On a terminal prose wraps at the width but numbers never break; anywhere
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Sequence
 from typing import Any, TextIO
 
@@ -44,7 +45,8 @@ def make_console(color: str = "auto", file: TextIO | None = None, stderr: bool =
     non-empty NO_COLOR turns off every ANSI style, not only colours (plain logs in CI).
 
     The stream is wrapped in :class:`SafeStream` (no character can crash the report). When
-    it is not a terminal nothing wraps, whatever COLUMNS says.
+    it is not a terminal, lines wrap at an exported ``COLUMNS`` (a pipe to a pager, a CI log
+    of a fixed width) and nothing wraps without it (every line whole for grep).
     """
     kwargs: dict[str, Any] = {"markup": False, "highlight": False, "emoji": False}
     if color == "always":
@@ -60,8 +62,34 @@ def make_console(color: str = "auto", file: TextIO | None = None, stderr: bool =
         stream = file if isinstance(file, SafeStream) else SafeStream(file)
     console = Console(file=stream, **kwargs)  # type: ignore[arg-type]
     if not console.is_terminal:
-        console = Console(file=stream, width=UNWRAPPED, soft_wrap=True, **kwargs)  # type: ignore[arg-type]
+        columns = _columns()
+        if columns is None:
+            console = Console(file=stream, width=UNWRAPPED, soft_wrap=True, **kwargs)  # type: ignore[arg-type]
+        else:
+            # Rich pads wrapped cells to the width: lines in a pipe end without the padding.
+            trimmed = _Trimmed(lambda: stream.stream)
+            console = Console(file=trimmed, width=columns, **kwargs)  # type: ignore[arg-type]
     return console
+
+
+class _Trimmed(SafeStream):
+    """A safe stream whose lines end without trailing blanks (rich pads a wrapped grid's
+    cells to the full width; a pipe or a file should not carry them)."""
+
+    _END = re.compile(r"[ \t]+(?=\n)")
+
+    def write(self, text: str) -> int:
+        """Write ``text`` with the blanks before each line end taken off."""
+        super().write(self._END.sub("", text))
+        return len(text)
+
+
+def _columns() -> int | None:
+    """The width an exported ``COLUMNS`` asks for (at least 40), or None without one."""
+    text = os.environ.get("COLUMNS", "").strip()
+    if not text.isdigit() or int(text) <= 0:
+        return None
+    return max(int(text), 40)
 
 
 def _indented(console: Console, text: Text, indent: int) -> None:
@@ -170,10 +198,13 @@ def _errors(console: Console, scene: SceneResult) -> None:
             _hanging(console, 4, Text("→ ", style="cyan"), Text(e.hint, style="cyan"))
 
 
-def render_scene(console: Console, scene: SceneResult, verbosity: int = 0) -> bool | None:
+def render_scene(
+    console: Console, scene: SceneResult, verbosity: int = 0, pictures: bool = True
+) -> bool | None:
     """One scene: its verdict line; unless it passed (or with -v) the details. Returns
     whether the block ended with a blank line (details do; a one-line scene does not), or
-    None when nothing was printed (-q and a passing scene)."""
+    None when nothing was printed (-q and a passing scene). ``pictures``: whether to list the
+    scene's picture files (not when they were only drawn for an HTML page)."""
     word = views.scene_verdict(scene)
     if verbosity < 0 and word == "pass":
         return None
@@ -201,6 +232,12 @@ def render_scene(console: Console, scene: SceneResult, verbosity: int = 0) -> bo
         render_mass(console, scene.mass_properties, units=scene.units, notes=False)
     for note in scene.notes:
         _hanging(console, 2, Text("note: ", style="yellow"), Text(note))
+    if scene.warnings:
+        n = len(scene.warnings)
+        what = Text("scene", style="bold").append(
+            f"  {n} warning{'s' if n > 1 else ''} about the scene itself (not a check's)"
+        )
+        _hanging(console, 2, _word("warn").append(" "), what)
     for warning in scene.warnings:
         _reason(console, "warn", warning.message, warning.line, warning.hint)
     skipped = [c for c in scene.checks if c.status is Status.SKIPPED]
@@ -217,7 +254,7 @@ def render_scene(console: Console, scene: SceneResult, verbosity: int = 0) -> bo
                     _print_table(console, view, 4)
     if skipped and not verbose:
         console.print(f"  {len(skipped)} n/a: {', '.join(c.id for c in skipped)}", style="dim")
-    if verbose:
+    if verbose and pictures:
         for plot in scene.plots:
             console.print(f"  picture: {plot}", style="cyan")
     console.print()
@@ -269,10 +306,11 @@ class TextReporter:
 
     def scene(self, result: SceneResult) -> None:
         """Print one scene."""
-        blank = render_scene(self.console, result, self.verbosity)
+        blank = render_scene(self.console, result, self.verbosity, self.options.pictures_kept)
         self.blank = self.blank if blank is None else blank
 
     def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
         """Print the short summary and the counts."""
-        plots = sum(len(r.plots) for r in results)
+        # Pictures drawn only to be inlined in an HTML page are not "written" anywhere.
+        plots = sum(len(r.plots) for r in results) if self.options.pictures_kept else 0
         render_summary(self.console, results, elapsed_s, plots, self.blank)

@@ -34,6 +34,10 @@ __all__ = [
     "Reason",
     "verdict",
     "scene_verdict",
+    "worse",
+    "margin_text",
+    "status_text",
+    "scene_status_text",
     "counts",
     "run_line",
     "headline",
@@ -59,6 +63,11 @@ ANGLE_CONVENTION = (
 
 #: Verdict words in the order a summary counts them.
 VERDICTS = ("pass", "warn", "fail", "error")
+#: Every verdict word from best to worst. Issue 21's ``marginal`` (a passing check closer to
+#: its boundary than the scene allows) has its place here already: once :func:`verdict`
+#: returns it, picture titles (:func:`status_text`, :func:`scene_status_text`) say it with
+#: no other change.
+SEVERITY_ORDER = ("n/a", "pass", "marginal", "warn", "fail", "error")
 
 # Case outcomes that are good news: the case closes (analytical, graphical), the layout is
 # fine (maxwell), only ranges were asked for, or friction cannot hold the body (jamming).
@@ -72,6 +81,60 @@ def verdict(check: CheckResult) -> str:
     if check.status is Status.FAIL and check.severity == "warning":
         return "warn"
     return check.status.value
+
+
+def worse(a: str, b: str) -> bool:
+    """Whether verdict word ``a`` is worse than ``b`` (:data:`SEVERITY_ORDER`)."""
+    rank = {w: i for i, w in enumerate(SEVERITY_ORDER)}
+    return rank.get(a, len(rank)) > rank.get(b, len(rank))
+
+
+def margin_text(check: CheckResult) -> str | None:
+    """The check's design margin as a picture or summary says it: ``margin 7.59°`` (inside
+    its safe set) or ``margin -3.10°`` (outside); None when the check reports none, or when
+    nothing is safe (a margin then means nothing).
+
+    One definition across checks, summary and docs: the angle from the design direction to
+    the nearest edge of the set of directions the check calls safe, positive inside and
+    negative outside (``design_margin_deg``)."""
+    margin = check.details.get("design_margin_deg")
+    if not isinstance(margin, (int, float)) or not math.isfinite(margin) or _nothing_safe(check):
+        return None
+    return f"margin {format_angle(float(margin))}"
+
+
+def status_text(check: CheckResult, qualifier: str = "") -> str:
+    """A check's verdict for a picture's title, from the same result the text reports:
+    ``graphical-2d PASS (mass-free), margin 7.59°``; ``qualifier`` follows the word."""
+    text = f"{check.id} {verdict(check).upper()}{qualifier}"
+    margin = margin_text(check)
+    return text if margin is None else f"{text}, {margin}"
+
+
+def scene_status_text(
+    check: CheckResult,
+    scene_word: str,
+    checks: Sequence[CheckResult],
+    warnings: Sequence[Finding] = (),
+) -> str | None:
+    """Where the scene's verdict is worse than ``check``'s, that verdict and why, as the text
+    report says it beside the check: ``scene FAIL: analytical-2d FAIL — retract x3 → y1
+    loses contact (N = -0.0866 N), maxwell WARN``; None when the scene is no worse."""
+    own = verdict(check)
+    if not worse(scene_word, own):
+        return None
+    parts = []
+    for other in checks:
+        word = verdict(other)
+        if other is check or other.id == check.id or not worse(word, own):
+            continue
+        part = f"{other.id} {word.upper()}"
+        if word in ("fail", "error"):
+            part += f" — {reasons(other)[0].text.split('; ')[0]}"
+        parts.append(part)
+    if warnings:
+        parts.append(f"{len(warnings)} scene warning{'s' if len(warnings) > 1 else ''}")
+    return f"scene {scene_word.upper()}: {', '.join(parts)}"
 
 
 def scene_verdict(scene: SceneResult) -> str:
@@ -143,10 +206,11 @@ def _nothing_safe(check: CheckResult) -> bool:
 
 
 def headline(scene: SceneResult) -> str:
-    """The scene's key numbers on one line: the smallest design margin over the checks that
-    report one, the safe share of the sphere, or the narrowest safe range; n/a checks. Each
-    safe share and "no safe direction" names the check that says so and what it sweeps (force
-    or gravity directions)."""
+    """The scene's key numbers on one line, each figure after the check it comes from
+    (``analytical-3d: design margin 19.93°, 7.05% of force directions safe``): the smallest
+    design margin over the checks that report one (:func:`margin_text`'s definition), the
+    smallest safe share of the sphere, or the narrowest safe range; n/a checks. "No safe
+    direction" names the checks that say so and what they sweep (force or gravity)."""
     parts: list[str] = []
     checks = _checks(scene)
     nothing = [c for c in checks if _nothing_safe(c)]
@@ -154,32 +218,33 @@ def headline(scene: SceneResult) -> str:
         what = {_swept(c) for c in nothing}
         word = what.pop() if len(what) == 1 else "force or gravity"
         parts.append(f"no safe {word} direction ({', '.join(c.id for c in nothing)})")
+    said: dict[str, list[str]] = {}  # figures by the check they come from, in order
     margins = [
-        c.details["design_margin_deg"]
+        (float(c.details["design_margin_deg"]), c)
         for c in checks
-        if isinstance(c.details.get("design_margin_deg"), (int, float))
-        and math.isfinite(c.details["design_margin_deg"])
-        and not _nothing_safe(c)
+        if margin_text(c) is not None and not _nothing_safe(c)
     ]
     if margins and not nothing:
-        parts.append(f"design margin {format_angle(min(margins))}")
+        value, source = min(margins, key=lambda x: x[0])
+        said.setdefault(source.id, []).append(f"design margin {format_angle(value)}")
     shares = [(share[1], share[0], c) for c in checks if (share := _share(c)) is not None]
     if shares and not nothing:
         high, low, source = min(shares, key=lambda x: x[:2])  # the smallest, and who says so
-        parts.append(
-            f"{format_share_bounds(low, high)} of {_swept(source)} directions safe ({source.id})"
+        said.setdefault(source.id, []).append(
+            f"{format_share_bounds(low, high)} of {_swept(source)} directions safe"
         )
+    parts += [f"{check}: {', '.join(figures)}" for check, figures in said.items()]
     if not parts:
         ranged = [c for c in checks if c.safe_ranges_deg is not None]
         if ranged:
             narrowest = min(ranged, key=lambda c: _range_width(c.safe_ranges_deg or ()))
-            parts.append(f"safe {format_ranges(narrowest.safe_ranges_deg)}")
+            parts.append(f"{narrowest.id}: safe {format_ranges(narrowest.safe_ranges_deg)}")
     skipped = sum(1 for c in scene.checks if c.status is Status.SKIPPED)
     if skipped:
         parts.append(f"{skipped} n/a")
     if scene.notes:
         parts.append(f"{len(scene.notes)} note{'s' if len(scene.notes) > 1 else ''}")
-    return ", ".join(parts)
+    return "; ".join(parts)
 
 
 @dataclass(frozen=True)
@@ -273,7 +338,7 @@ def short_summary(scenes: Sequence[SceneResult]) -> list[tuple[str, str, str]]:
                 text = f"{check.id}: {why[0].text}{more}"
                 out.append((word, location(scene.path, why[0].line), text))
         for warning in scene.warnings:
-            out.append(("warn", location(scene.path, warning.line), warning.message))
+            out.append(("warn", location(scene.path, warning.line), f"scene: {warning.message}"))
     return out
 
 

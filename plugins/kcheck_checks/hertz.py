@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from kcheck.fmt import format_number, format_vector
+from kcheck.fmt import format_number, format_percent, format_vector
 from kcheck.numerics.thresholds import CURVATURE_RTOL, LIFTED_RTOL, ZERO_GUARD
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult, Finding, Status
@@ -233,7 +233,7 @@ def _stress_findings(
             Finding(
                 f"{scene.supports[i].name}: peak pressure {_pressure(worst.max_pressure[i])} "
                 f"exceeds {weak.name}'s allowable {_pressure(weak.allowable_pressure)}{factor} "
-                f"({100 * utilisation[i]:.0f}%)",
+                f"({format_percent(utilisation[i])})",
                 "contact-stress",
                 _support_field(scene, i),
                 # p0 ~ (P / R^2)^(1/3): radii u^(3/2) times larger or a force u^3 times smaller
@@ -312,7 +312,7 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
     i = int(np.argmax(utilisation))
     parts = [
         f"peak contact pressure {_pressure(worst.max_pressure[i])} at {scene.supports[i].name} "
-        f"({100 * utilisation[i]:.0f}% of {_pressure(allowable[i])} allowed)"
+        f"({format_percent(utilisation[i])} of {_pressure(allowable[i])} allowed)"
     ]
     if size > 0.1:
         parts.append(large)

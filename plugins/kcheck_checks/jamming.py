@@ -176,7 +176,11 @@ def jamming_result(
                 + ", ".join(f"retract {r.retracted} ({r.outcome})" for r in held_at_design)
             )
         else:
-            parts.append("friction cannot hold the body at the design direction in any case")
+            # Good news said as good news: "friction cannot hold the body" read as a failure.
+            parts.append(
+                "jam-free at the design direction: friction holds the body back in no "
+                "retracted case"
+            )
         if angle is not None and not jam_free:
             ok = False  # every angle of the plane can be held: no margin to speak of
         elif angle is not None and jam_free != FULL:

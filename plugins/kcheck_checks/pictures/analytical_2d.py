@@ -22,9 +22,8 @@ from kcheck.analysis.cases import Analysis
 from kcheck.fmt import format_angle, format_number, format_point, format_ranges
 from kcheck.mechanics.dynamics import Case
 from kcheck.mechanics.outcomes import outcomes
-from kcheck.pictures.plotting import VERDICT_COLOURS, outcome_colour, sweep_note
+from kcheck.pictures.plotting import outcome_colour, sweep_note
 from kcheck.plugin import Check, Inputs
-from kcheck.report.views import verdict
 from kcheck.result import CaseResult, CheckResult
 from kcheck.scene import Scene
 
@@ -59,13 +58,18 @@ def plot_analytical_2d(inputs: Inputs, result: CheckResult, directory: Path) -> 
     analysis = analyse(scene, inputs.mass)
     if analysis.arcs is None:
         return ()
+    from kcheck_checks.pictures.titles import verdict_colour, verdict_title
+
     n = len(analysis.cases)
-    height = 2.45 * n + 2.3
+    status = verdict_title(result)
+    extra = 0.2 * status.count("\n")  # a line for the scene's verdict when it is worse
+    height = 2.45 * n + 2.3 + extra
     # Fixed margins (inches) instead of a layout engine: the same layout every time, at a
     # third of the drawing cost.
     fig = figure(figsize=(9.5, height), layout=None)
     fig.subplots_adjust(
-        left=0.85 / 9.5, right=1 - 0.85 / 9.5, top=1 - 0.95 / height, bottom=1.25 / height,
+        left=0.85 / 9.5, right=1 - 0.85 / 9.5, top=1 - (0.95 + extra) / height,
+        bottom=1.25 / height,
         hspace=0.42,
     )  # fmt: skip
     axes = fig.subplots(n + 1, 1, sharex=True, height_ratios=[1.0] * n + [0.24])
@@ -74,10 +78,9 @@ def plot_analytical_2d(inputs: Inputs, result: CheckResult, directory: Path) -> 
         states |= _case_panel(ax, scene, analysis, case, case_result)
     _combined_strip(axes[-1], scene, analysis, result)
     _legend(fig, analysis, states)
-    word = verdict(result)
     fig.suptitle(
-        f"{scene.name} — analytical-2d {word.upper()}\n{_summary(scene, result)}",
-        fontsize=11, color=VERDICT_COLOURS.get(word, "black"), y=1 - 0.12 / height, va="top",
+        f"{scene.name} — {status}\n{_summary(scene, result)}",
+        fontsize=11, color=verdict_colour(result), y=1 - 0.12 / height, va="top",
     )  # fmt: skip
     return save(fig, directory, f"{slug(scene.name)}-analytical-2d")
 
@@ -90,9 +93,8 @@ def _summary(scene: Scene, result: CheckResult) -> str:
         if bad:
             what = ", ".join(f"{c.retracted} {c.outcome.replace('_', ' ')}" for c in bad)
             text += f"; at the design angle {format_angle(design, 1)}: {what}"
-        elif result.details.get("design_margin_deg") is not None:
-            margin = result.details["design_margin_deg"]
-            text += f"; design {format_angle(design, 1)}, margin {format_angle(margin, 1)}"
+        else:
+            text += f"; design {format_angle(design, 1)}"
     return text
 
 

@@ -6,10 +6,10 @@ from __future__ import annotations
 
 from typing import Any
 
-from kcheck.pictures.plotting import VERDICT_COLOURS, figure, outcome_colour
-from kcheck.report.views import verdict
+from kcheck.pictures.plotting import figure, outcome_colour
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
+from kcheck_checks.pictures.titles import verdict_colour, verdict_title
 
 __all__ = ["forces_panel"]
 
@@ -57,10 +57,8 @@ def forces_panel(scene: Scene, result: CheckResult) -> Any:
         if load is not None and load.magnitude > 0 and load.direction is not None
         else "under gravity"
     )
-    word = verdict(result)
     ax.set_title(
-        f"{scene.name} — analytical-3d {word.upper()}: normal forces of the remaining supports "
-        f"{at}",
-        pad=22, color=VERDICT_COLOURS.get(word, "black"),
+        f"{scene.name} — {verdict_title(result)}\nnormal forces of the remaining supports {at}",
+        pad=22, color=verdict_colour(result),
     )  # fmt: skip
     return fig

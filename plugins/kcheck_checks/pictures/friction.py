@@ -88,6 +88,7 @@ def _band_picture(
     directory: Path,
 ) -> Sequence[Path]:
     from kcheck.pictures.plotting import figure, save, slug
+    from kcheck_checks.pictures.titles import verdict_colour, verdict_title
 
     mus, pattern, low, high = friction_axis(scene, kind, 121)
     bands = _bands([safe_at(scene_at(scene, pattern * m)) for m in mus])
@@ -131,7 +132,8 @@ def _band_picture(
     ax.set_ylabel("force angle (°)")
     ax.grid(alpha=0.3)
     ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
-    ax.set_title(f"{scene.name}: {check}, {what} against μ", fontsize=10)
+    ax.set_title(f"{scene.name}: {what} against μ\n{verdict_title(result)}", fontsize=10,
+                 color=verdict_colour(result))  # fmt: skip
     return save(fig, directory, f"{slug(scene.name)}-{check}-friction")
 
 
@@ -145,6 +147,7 @@ def _spatial_picture(inputs: Inputs, result: CheckResult, directory: Path) -> Se
     from kcheck.analysis import analyse
     from kcheck.analysis.sphere_map import sphere_map
     from kcheck.pictures.plotting import figure, save, slug
+    from kcheck_checks.pictures.titles import verdict_colour, verdict_title
 
     scene, mass = inputs.scene, inputs.mass
     assert mass is not None
@@ -193,7 +196,8 @@ def _spatial_picture(inputs: Inputs, result: CheckResult, directory: Path) -> Se
     bottom.set_xlim(mus[0], mus[-1])
     bottom.legend(loc="best", fontsize=8)
     top.legend(loc="upper right", fontsize=8)
-    top.set_title(f"{scene.name}: analytical-3d, safe directions against μ", fontsize=10)
+    top.set_title(f"{scene.name}: safe directions against μ\n{verdict_title(result)}",
+                  fontsize=10, color=verdict_colour(result))  # fmt: skip
     return save(fig, directory, f"{slug(scene.name)}-analytical-3d-friction")
 
 

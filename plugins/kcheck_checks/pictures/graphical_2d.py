@@ -44,10 +44,15 @@ def plot_graphical(inputs: Inputs, result: CheckResult, directory: Path) -> Sequ
     if built is None:
         return ()
     from kcheck.pictures.plotting import figure, save, slug
+    from kcheck_checks.pictures.titles import verdict_title
 
-    # Fixed margins (inches) instead of a layout engine: a third of the drawing cost.
-    fig = figure(figsize=(11.0, 7.0), layout=None)
-    fig.subplots_adjust(left=0.75 / 11, right=0.99, top=1 - 0.72 / 7, bottom=0.9 / 7, wspace=0.08)
+    # Fixed margins (inches) instead of a layout engine: a third of the drawing cost; a line
+    # more for the scene's verdict when it is worse.
+    top = 0.72 + 0.2 * verdict_title(result).count("\n")
+    fig = figure(figsize=(11.0, 7.0 + top - 0.72), layout=None)
+    fig.subplots_adjust(
+        left=0.75 / 11, right=0.99, top=1 - top / (7.0 + top - 0.72), bottom=0.9 / 7, wspace=0.08
+    )
     ax, side = fig.subplots(1, 2, width_ratios=[2.5, 1.0])
     draw_construction(ax, inputs.scene, built, result)
     side.axis("off")
@@ -356,15 +361,14 @@ def draw_construction(ax: Axes, scene: Scene, built: Construction, result: Check
 
 
 def _title(ax: Axes, scene: Scene, result: CheckResult, triangle: bool) -> None:
-    from kcheck.pictures.plotting import VERDICT_COLOURS, sweep_note
-    from kcheck.report.views import verdict
+    from kcheck.pictures.plotting import sweep_note
+    from kcheck_checks.pictures.titles import verdict_colour, verdict_title
 
-    word = verdict(result)
-    title = f"{scene.name} — graphical 2D (Koster): {word.upper()} ({MASS_FREE})"
+    title = f"{scene.name} — Koster's construction\n{verdict_title(result, f' ({MASS_FREE})')}"
     title += f"\nsafe force directions: {format_ranges(result.safe_ranges_deg, 1)}"
     if triangle:
         title += "\nevery pole needs one sense: a torque, or an arm outside the pole triangle"
-    ax.set_title(title, fontsize=10.5, color=VERDICT_COLOURS.get(word, "black"), loc="left")
+    ax.set_title(title, fontsize=10.5, color=verdict_colour(result), loc="left")
     ax.text(
         0.0, -0.1, sweep_note(scene.sweep.normal, scene.sweep.e1), transform=ax.transAxes,
         fontsize=7.5, color="0.35", va="top",

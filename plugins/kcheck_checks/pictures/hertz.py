@@ -14,6 +14,7 @@ from kcheck.pictures.plotting import figure, save, slug
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
+from kcheck_checks.pictures.titles import verdict_colour, verdict_title
 
 __all__ = ["plot_hertz"]
 
@@ -33,8 +34,10 @@ def plot_hertz(scene: Scene, result: CheckResult, directory: Path) -> list[Path]
         axes[2].remove()
         polar = fig.add_subplot(1, panels, 3, projection="polar")
         _stiffness_panel(polar, np.array(compliance), scene, result.details["error_point"])
-    verdict = "passes" if result.status.value == "pass" else "fails"
-    fig.suptitle(f"{scene.name}: hertz {verdict} — {result.message.split(';')[0]}", fontsize=10)
+    fig.suptitle(
+        f"{scene.name} — {verdict_title(result)}\n{result.message.split(';')[0]}",
+        fontsize=10, color=verdict_colour(result),
+    )  # fmt: skip
     return list(save(fig, directory, f"{slug(scene.name)}-hertz"))
 
 

@@ -18,6 +18,7 @@ from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
 from kcheck_checks.pictures.sphere import lambert_forward, lambert_inverse, ring
+from kcheck_checks.pictures.titles import verdict_colour, verdict_title
 
 __all__ = ["plot_jamming", "circle_panel", "sphere_panel"]
 
@@ -118,10 +119,10 @@ def circle_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
     fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8, frameon=False)
     what = "load" if analysis.swept == "load" else "gravity"
     fig.suptitle(
-        f"{scene.name}: {what} angles (° from +x, ccw) where friction can hold the body, per "
-        "retracted support; arrow: design direction",
-        fontsize=11,
-    )
+        f"{scene.name} — {verdict_title(result)}\n{what} angles (° from +x, ccw) where friction "
+        "can hold the body, per retracted support; arrow: design direction",
+        fontsize=11, color=verdict_colour(result),
+    )  # fmt: skip
 
 
 def _reds(n: int) -> list[Any]:
@@ -231,10 +232,11 @@ def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
         assert high is not None  # given with the lower bound
         share = f": {format_share_bounds(low, high, 1)} of the sphere is jam-free"
     fig.suptitle(
-        f"{scene.name}: {what} directions where friction can hold the body{share}\n"
-        "equal-area (Lambert azimuthal) views; white: no retracted case can be held",
-        fontsize=11,
-    )
+        f"{scene.name} — {verdict_title(result)}\n{what} directions where friction can hold "
+        f"the body{share}\nequal-area (Lambert azimuthal) views; white: no retracted case can "
+        "be held",
+        fontsize=11, color=verdict_colour(result),
+    )  # fmt: skip
 
 
 def draw(check: Check, inputs: Inputs, result: CheckResult, directory: Path) -> list[Path]:

@@ -18,12 +18,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from kcheck.analysis.cases import Analysis
-from kcheck.pictures.plotting import VERDICT_COLOURS, figure, outcome_colour, save, slug
+from kcheck.pictures.plotting import figure, outcome_colour, save, slug
 from kcheck.plugin import Check, Inputs
 from kcheck.report.tables import motion_text
-from kcheck.report.views import verdict
 from kcheck.result import CaseResult, CheckResult
 from kcheck.scene import Scene
+from kcheck_checks.pictures.titles import verdict_colour, verdict_title
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -380,11 +380,14 @@ def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
     # lines, and every row gets the room for them.
     long = any(len(t) > TITLE_CHARACTERS * drawn / 3.8 for t, _ in titles)
     extra = 0.17 if long else 0.0
-    height = rows * (pair + 0.45 + extra) + 0.95 + extra
+    status = verdict_title(result)
+    lines = status.count("\n")
+    head = 1.15 + 0.22 * lines  # room for the title and the caption, inches
+    height = rows * (pair + 0.45 + extra) + head + extra
     fig = figure(figsize=(cols * width, height), layout=None)
     outer = fig.add_gridspec(
         rows, cols, left=0.05, right=0.99, bottom=0.35 / height,
-        top=1 - (0.95 + extra) / height, hspace=(0.4 + extra) / pair, wspace=0.2,
+        top=1 - (head + extra) / height, hspace=(0.4 + extra) / pair, wspace=0.2,
     )  # fmt: skip
     for i, name in enumerate(d.names):
         inner = outer[divmod(i, cols)].subgridspec(
@@ -412,18 +415,17 @@ def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
         if long:
             title = title.replace(" — ", "\n", 1)
         plan.set_title(title, fontsize=9.5, color=colour, loc="left")
-    word = verdict(result)
     fig.suptitle(
-        f"{scene.name} — analytical-3d {word.upper()}: free motion when each support is "
-        f"retracted ({scene.units})",
-        fontsize=12, color=VERDICT_COLOURS.get(word, "black"), y=1 - 0.25 / height,
+        f"{scene.name} — {status}", fontsize=12, color=verdict_colour(result),
+        y=1 - 0.12 / height, va="top",
     )  # fmt: skip
     fig.text(
-        0.5, 1 - 0.62 / height,
-        "each: plan (x–y, from +z) over elevation (x–z, from −y); blue: supports pushing "
+        0.5, 1 - (0.4 + 0.22 * lines) / height,
+        f"free motion when each support is retracted ({scene.units}); each: plan (x–y, from +z)"
+        " over elevation (x–z, from −y);\nblue: supports pushing "
         "along their normals; red ×: the retracted one; purple: screw axis and rotation sense "
         "(⊙ towards you, ⊗ away); orange: load, preloads; brown: gravity",
-        ha="center", fontsize=8.5, color="0.25",
+        ha="center", va="top", fontsize=8.5, color="0.25",
     )  # fmt: skip
     return fig
 

@@ -15,12 +15,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from kcheck.analysis.cases import Analysis
-from kcheck.fmt import format_direction, format_share
+from kcheck.fmt import format_angle, format_direction, format_share
 from kcheck.mechanics.arcs import cap_margin_matrix
-from kcheck.pictures.plotting import VERDICT_COLOURS, figure
-from kcheck.report.views import verdict
+from kcheck.pictures.plotting import figure
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
+from kcheck_checks.pictures.titles import verdict_colour, verdict_title
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -179,15 +179,35 @@ def _marks(ax: Axes, smap: SphereMap, centre: np.ndarray, what: str) -> list[Any
          {"mfc": "#ff7f0e", "mec": "black", "mew": 0.8, "ms": 12}, f"design {what}"),
     )  # fmt: skip
     for d, margin, marker, kw, name in marks:
-        if d is None or margin is None:
+        if d is None:
             continue
-        label = f"{name} {format_direction(d, 2)}: margin {margin * DEG:.1f}°"
-        if d @ centre > 0:
-            ax.plot(*lambert_forward(d, centre), marker, zorder=8, **kw)
-        else:
-            label += " (other hemisphere)"
+        label = f"{name} {format_direction(d, 2)}"
+        if margin is not None:
+            label += f"\nmargin {format_angle(margin * DEG)}"
+        at = on_map(d, centre)
+        # Always drawn, passing or failing: a direction on the other hemisphere sits on the
+        # rim where it lies beyond, the angle from the centre beside it.
+        ax.plot(*at, marker, zorder=8, clip_on=False, **kw)
+        if d @ centre <= 0:
+            away = format_angle(float(np.degrees(np.arccos(np.clip(d @ centre, -1, 1)))), 0)
+            label += f"\n{away} from the centre: drawn on the rim"
+            ax.annotate(
+                f"{name.split()[0]} ({away} away)", at, xytext=(0, -14),
+                textcoords="offset points", ha="center", va="top", fontsize=8, zorder=8,
+                annotation_clip=False,
+            )  # fmt: skip
         handles.append(Line2D([], [], marker=marker, ls="none", label=label, **kw))
     return handles
+
+
+def on_map(d: np.ndarray, centre: np.ndarray) -> tuple[float, float]:
+    """Where a direction is drawn on the hemisphere map about ``centre``: its Lambert
+    position, or, on the other hemisphere, the point of the rim in its azimuth."""
+    x, y = lambert_forward(d, centre)
+    r = float(np.hypot(x, y))
+    if d @ centre > 0 or r == 0:
+        return x, y
+    return x * EDGE / r, y * EDGE / r
 
 
 def _case_boundaries(
@@ -235,9 +255,7 @@ def sphere_figure(scene: Scene, analysis: Analysis, smap: SphereMap, result: Che
     overall = np.where(inside, om.min(axis=0), np.nan)
     safe = np.nan_to_num(overall, nan=-1.0) > 0
     marks = [
-        lambert_forward(d, centre)
-        for d in (smap.design, smap.robust)
-        if d is not None and d @ centre > 0
+        on_map(np.asarray(d, float), centre) for d in (smap.design, smap.robust) if d is not None
     ]
     lo, hi = _zoom(ox, oy, safe, marks)
 
@@ -317,7 +335,6 @@ def sphere_figure(scene: Scene, analysis: Analysis, smap: SphereMap, result: Che
     legend.legend(handles=handles, loc="upper left", fontsize=8, frameon=False, title=note,
                   title_fontsize=8, alignment="left")  # fmt: skip
 
-    word = verdict(result)
     frac = smap.fraction
     share = "none"
     if frac.fraction > 0:
@@ -325,9 +342,9 @@ def sphere_figure(scene: Scene, analysis: Analysis, smap: SphereMap, result: Che
         if frac.error >= 5e-5:  # shown only where it shows at two decimals (exact: rounding)
             share += f" ± {100 * frac.error:.2f}%"
     fig.suptitle(
-        f"{scene.name} — analytical-3d {word.upper()}\n{what} directions safe for every "
+        f"{scene.name} — {verdict_title(result)}\n{what} directions safe for every "
         f"retracted support: {share} of the sphere",
-        fontsize=12, color=VERDICT_COLOURS.get(word, "black"), y=0.985,
+        fontsize=12, color=verdict_colour(result), y=0.985,
     )  # fmt: skip
     ax.set_title(
         f"equal-area (Lambert azimuthal) map centred on the {about} direction "
