@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import dataclasses
+import os
 import sys
 import time
 from collections.abc import Iterator, Sequence
@@ -230,10 +231,12 @@ def run(args: argparse.Namespace) -> int:
 
     paths = [Path(p) for p in config["paths"]] or [Path(".")]
     files, missing = discover(paths)
-    if args.changed_only or args.since:
+    if args.pre_commit:
+        files, missing = _hook_files(files, missing, args.paths)
+    elif args.changed_only or args.since:
         from kcheck.gate.vcs import changed_scenes
 
-        files = changed_scenes(files, args.since or "HEAD")
+        files = changed_scenes(files, args.since or "HEAD", since=args.since is not None)
     options = ReportOptions(
         color=args.color,
         verbosity=1 if args.verbose else -1 if args.quiet else 0,
@@ -298,6 +301,26 @@ def run(args: argparse.Namespace) -> int:
     if Status.FAIL in states or (config["fail_on"] == "warning" and Status.WARN in states):
         return ExitCode.CHECKS_FAILED
     return ExitCode.OK
+
+
+def _hook_files(
+    everything: list[Path], missing: list[SceneResult], given: Sequence[Path]
+) -> tuple[list[Path], list[SceneResult]]:
+    """The pre-commit hook's scenes: those a change against HEAD affects (among the
+    configured paths), and those of the files pre-commit passed (``--all-files``, ``--files``)."""
+    from kcheck.gate.runner import discover
+    from kcheck.gate.vcs import changed_scenes
+
+    # `pre-commit run --from-ref A --to-ref B` (CI) says so in the environment: then the
+    # change is the branch's, against the merge-base, as for --since.
+    from_ref = os.environ.get("PRE_COMMIT_FROM_REF")
+    affected = set(changed_scenes(everything, from_ref or "HEAD", since=bool(from_ref)))
+    named, named_missing = discover(given) if given else ([], [])
+    wanted = affected | set(named)
+    files = [f for f in everything if f in wanted]
+    files += [f for f in named if f not in set(everything)]
+    seen = {m.path for m in missing}
+    return files, missing + [m for m in named_missing if m.path not in seen]
 
 
 def _refuse_shared_outputs(

@@ -141,13 +141,22 @@ def add_gate_options(parser: argparse.ArgumentParser) -> None:
     gate.add_argument(
         "--changed-only",
         action="store_true",
-        help="check only scenes changed in git (working tree and index against HEAD, and "
-        "untracked), and scenes whose mesh changed",
+        help="check only the scenes a change in git affects (working tree and index against "
+        "HEAD, and untracked files): changed scenes, scenes naming a changed, deleted or "
+        "renamed mesh, and every scene when the configuration changed",
     )
     gate.add_argument(
         "--since",
         metavar="REF",
-        help="like --changed-only, against a git revision (e.g. origin/main)",
+        help="like --changed-only, against the merge-base of a git revision and HEAD, as a "
+        "pull request is compared (e.g. origin/main)",
+    )
+    gate.add_argument(
+        "--pre-commit",
+        action="store_true",
+        help="what the pre-commit hook runs: the files given, and every scene that a change "
+        "against HEAD affects (as --changed-only), so that a commit passes only when the "
+        "full run would",
     )
 
 
@@ -189,7 +198,7 @@ def effective_config(args: argparse.Namespace) -> Config:
         "allow_outside_paths": True if getattr(args, "allow_outside_paths", False) else None,
     }
     paths = getattr(args, "paths", None)
-    if paths:
+    if paths and not getattr(args, "pre_commit", False):  # the hook's files come on top
         cli["paths"] = tuple(str(p) for p in paths)
     effective = config.with_overrides(cli)
     _known_format(effective, "--format")

@@ -169,7 +169,9 @@ def scenes_using(meshes: Iterable[Path], root: Path) -> dict[Path, list[Path]]:
     scene that resolves, relative to the scene's folder, to the same file).
 
     Scene files are first filtered by the mesh's file name in their text, so only a few
-    are parsed. Unreadable or invalid scenes are left out here: checking them reports them.
+    are parsed. A scene that names the mesh in its text but cannot be parsed is counted as a
+    user (checking it reports why it cannot be read, as the full run would); a mesh need not
+    exist (a deleted or renamed mesh still has the scenes that name it).
     """
     from kcheck.scene.yamlio import load_yaml
 
@@ -192,7 +194,10 @@ def scenes_using(meshes: Iterable[Path], root: Path) -> dict[Path, list[Path]]:
             continue
         try:
             data, _ = load_yaml(scene)
-        except Exception:  # a broken scene cannot be told apart; checking it reports it
+        except Exception:  # a broken scene that may name the mesh: checking it reports it
+            for name, mesh in ((m.name, m) for m in wanted.values()):
+                if name in text and scene not in found[mesh]:
+                    found[mesh].append(scene)
             continue
         for value in _strings(data):
             if not any(value.endswith(n) for n in names):
