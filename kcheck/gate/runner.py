@@ -232,11 +232,11 @@ def check_scene(
     except MemoryError:
         raise  # a budget, not a bug: the batch reports it (run_batch)
     except Exception as exc:  # a bug must not take the batch down or print a traceback
-        return _error(
-            path,
+        message = (
             f"{path}: internal error while reading the scene "
-            f"({type(exc).__name__}: {exc}); please report it",
+            f"({type(exc).__name__}: {exc}); please report it"
         )
+        return _error(path, message, (Finding(message, code=BUDGET_CODES["crashed"]),))
 
     results = []
     written: list[str] = []
@@ -289,8 +289,26 @@ def check_scene(
     )
 
 
+#: Codes of the error results of a scene whose worker ran out of a budget, died or crashed:
+#: the rule ids the CI formats report them under (:mod:`kcheck.report.issues`), apart from
+#: ``input-error``.
+BUDGET_CODES = {
+    "time": "budget-exceeded/time",
+    "memory": "budget-exceeded/memory",
+    "died": "worker-died",
+    "crashed": "internal-error",
+}
+
+
 def _budget_error(path: Path, outcome: Any, settings: Settings) -> SceneResult:
-    """The error result of a scene whose worker ran out of a budget or died."""
+    """The error result of a scene whose worker ran out of a budget or died, under its own
+    code (:data:`BUDGET_CODES`), not an input error's."""
+    message = _budget_message(path, outcome, settings)
+    return _error(path, message, (Finding(message, code=BUDGET_CODES.get(outcome.kind)),))
+
+
+def _budget_message(path: Path, outcome: Any, settings: Settings) -> str:
+    """What happened to a scene whose worker ran out of a budget or died."""
     memory = (
         "the memory available"
         if settings.memory_bytes is None
@@ -309,13 +327,13 @@ def _budget_error(path: Path, outcome: Any, settings: Settings) -> SceneResult:
             "--memory-limit (configuration `memory_limit`)"
         )
     elif outcome.kind == "crashed":
-        return _error(path, f"{path}: internal error ({outcome.detail}); please report it")
+        return f"{path}: internal error ({outcome.detail}); please report it"
     else:
         text = f"stopped: {outcome.detail}"
         if settings.memory_bytes is not None:
             text += f", most likely past {memory}"
         text += "; the batch went on without it"
-    return _error(path, f"{path}: checking this scene {text}")
+    return f"{path}: checking this scene {text}"
 
 
 def _plot(
