@@ -16,6 +16,7 @@ from kcheck.cli.common import ExitCode, fail
 from kcheck.cli.config import add_gate_options
 
 if TYPE_CHECKING:
+    from kcheck.gate.paths import Excluder
     from kcheck.report import Reporter
     from kcheck.result import SceneResult
 
@@ -230,9 +231,10 @@ def run(args: argparse.Namespace) -> int:
     page = PAGE_FORMAT in {config["format"], *(name for name, _ in targets)}
 
     paths = [Path(p) for p in config["paths"]] or [Path(".")]
-    files, missing = discover(paths)
+    exclude = _excluder(config)
+    files, missing = discover(paths, exclude)
     if args.pre_commit:
-        files, missing = _hook_files(files, missing, args.paths)
+        files, missing = _hook_files(files, missing, args.paths, exclude)
     elif args.changed_only or args.since:
         from kcheck.gate.vcs import changed_scenes
 
@@ -303,11 +305,19 @@ def run(args: argparse.Namespace) -> int:
     return ExitCode.OK
 
 
+def _excluder(config: Any) -> Excluder:
+    from kcheck.gate.paths import Excluder
+
+    patterns = (*config["exclude"], *config["extend_exclude"])
+    return Excluder(patterns, config.root, gitignore=config["respect_gitignore"])
+
+
 def _hook_files(
-    everything: list[Path], missing: list[SceneResult], given: Sequence[Path]
+    everything: list[Path], missing: list[SceneResult], given: Sequence[Path], exclude: Excluder
 ) -> tuple[list[Path], list[SceneResult]]:
     """The pre-commit hook's scenes: those a change against HEAD affects (among the
-    configured paths), and those of the files pre-commit passed (``--all-files``, ``--files``)."""
+    configured paths), and those of the files pre-commit passed (``--all-files``, ``--files``)
+    unless excluded (as ruff's ``--force-exclude``: the full run would not check them)."""
     from kcheck.gate.runner import discover
     from kcheck.gate.vcs import changed_scenes
 
@@ -315,7 +325,8 @@ def _hook_files(
     # change is the branch's, against the merge-base, as for --since.
     from_ref = os.environ.get("PRE_COMMIT_FROM_REF")
     affected = set(changed_scenes(everything, from_ref or "HEAD", since=bool(from_ref)))
-    named, named_missing = discover(given) if given else ([], [])
+    given = [p for p in given if not exclude.forced(p)]
+    named, named_missing = discover(given, exclude) if given else ([], [])
     wanted = affected | set(named)
     files = [f for f in everything if f in wanted]
     files += [f for f in named if f not in set(everything)]

@@ -135,8 +135,9 @@ def add_gate_options(parser: argparse.ArgumentParser) -> None:
         "--cache-dir",
         type=Path,
         metavar="DIR",
-        help="mass-property cache folder (default: .kcheck_cache beside the configuration "
-        "file, else the user cache folder)",
+        help="mass-property cache folder (default: $KCHECK_CACHE_DIR, else the user cache "
+        "folder found by platformdirs: ~/.cache/kcheck on Linux, honouring XDG_CACHE_HOME; "
+        "kcheck config shows it)",
     )
     gate.add_argument(
         "--changed-only",
@@ -286,10 +287,6 @@ def cache_folder(config: Config) -> Path | None:
         return None
     if config["cache_dir"] is not None:
         return Path(config["cache_dir"])
-    if config.file is not None:
-        from kcheck.gate.cache import CACHE_FOLDER
-
-        return config.root / CACHE_FOLDER
     return user_cache_dir()
 
 

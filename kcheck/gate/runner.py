@@ -21,7 +21,7 @@ from pydantic import ValidationError
 
 from kcheck.analysis.sanity import scene_warnings
 from kcheck.errors import SceneError
-from kcheck.gate.paths import discover_paths
+from kcheck.gate.paths import Excluder, discover_paths
 from kcheck.plugin import Inputs, LoadedCheck, Options
 from kcheck.result import CheckResult, Finding, SceneResult, Severity, Status
 from kcheck.scene import Scene, describe_pydantic, load_scene
@@ -66,15 +66,18 @@ class Settings:
     plot_formats: tuple[str, ...] = ("png",)
 
 
-def discover(paths: Iterable[Path | str]) -> tuple[list[Path], list[SceneResult]]:
+def discover(
+    paths: Iterable[Path | str], exclude: Excluder | None = None
+) -> tuple[list[Path], list[SceneResult]]:
     """Scene files under the given files and folders (folders recursively, in sorted order),
     each once, and an error result for every path that cannot be used: missing, a dangling
     symlink or a symlink loop, an unreadable folder, a folder without scenes, a path too long.
     Mesh files among ``paths`` are replaced by the scenes that use them, searched for in the
-    mesh's repository (:func:`kcheck.gate.paths.scenes_using`)."""
+    mesh's repository (:func:`kcheck.gate.paths.scenes_using`). Folders are searched
+    passing over what ``exclude`` excludes (default: hidden folders and what git ignores)."""
     from kcheck.gate.paths import scenes_using, search_root
 
-    scenes, meshes, problems = discover_paths(paths)
+    scenes, meshes, problems = discover_paths(paths, exclude)
     for mesh in meshes:
         for users in scenes_using([mesh], search_root(mesh)).values():
             scenes.extend(users)
