@@ -8,7 +8,7 @@ import dataclasses
 import os
 import sys
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TextIO
 
@@ -282,9 +282,9 @@ def run(args: argparse.Namespace) -> int:
                 max_mesh_bytes=int(config["max_mesh_size"] * 2**20),
             )
             doing = "checking" + (", plotting" if plots is not None else "")
-            results, elapsed = _run(
-                tee, files, missing, run_batch(files, checks, settings), args, doing
-            )
+            ticks: list[Callable[[], None]] = []  # the progress line's, once it is shown
+            batch = run_batch(files, checks, settings, tick=lambda: _each(ticks))
+            results, elapsed = _run(tee, files, missing, batch, args, doing, ticks)
     finally:
         for _, _, stream in streams:
             if stream is not sys.stdout:
@@ -359,6 +359,11 @@ def _refuse_shared_outputs(
         seen[key] = label
 
 
+def _each(calls: Sequence[Callable[[], None]]) -> None:
+    for call in calls:
+        call()
+
+
 def _cores() -> int:
     from kcheck.gate.config import cpu_count
 
@@ -372,6 +377,7 @@ def _run(
     batch: Iterator[SceneResult],
     args: argparse.Namespace,
     doing: str,
+    ticks: list[Callable[[], None]],
 ) -> tuple[list[SceneResult], float]:
     """Feed every reporter each result as it arrives, with a progress line on stderr;
     return the (slimmed) results and the wall time."""
@@ -384,6 +390,7 @@ def _run(
         results.append(result)
         tee.scene(result)
     with ProgressLine(args.progress, len(files), doing) as progress:
+        ticks.append(progress.tick)
         progress.next(files[0] if files else None)
         for k, result in enumerate(batch):
             with progress.paused():

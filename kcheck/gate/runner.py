@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -358,7 +358,10 @@ def _plot(
 
 
 def run_batch(
-    files: Sequence[Path], checks: Sequence[LoadedCheck], settings: Settings
+    files: Sequence[Path],
+    checks: Sequence[LoadedCheck],
+    settings: Settings,
+    tick: Callable[[], None] | None = None,
 ) -> Iterator[SceneResult]:
     """Check scene files, yielding each result as soon as it and every earlier file are done,
     in the order of the files.
@@ -366,6 +369,7 @@ def run_batch(
     With ``settings.jobs`` > 0 (and on Linux) scenes run in that many worker processes, each
     scene within the time and memory budget of ``settings``; a scene that exceeds one is an
     error result naming the budget, and the batch goes on. Otherwise they run here, in turn.
+    ``tick`` is called now and then while workers run (:func:`kcheck.gate.pool.run_in_workers`).
     """
     from kcheck.gate import pool
 
@@ -381,7 +385,7 @@ def run_batch(
         return check_scene(path, checks, settings=settings)
 
     budget = pool.Budget(settings.timeout_s, settings.memory_bytes)
-    outcomes = pool.run_in_workers(files, work, jobs=settings.jobs, budget=budget)
+    outcomes = pool.run_in_workers(files, work, jobs=settings.jobs, budget=budget, tick=tick)
     for path, outcome in zip(files, outcomes, strict=True):
         if isinstance(outcome, pool.BudgetExceeded):
             yield _budget_error(path, outcome, settings)
