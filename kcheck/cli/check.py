@@ -63,7 +63,8 @@ def add_parser(sub: Any) -> None:
         choices=tuple(FORMATS),
         help="report format on standard output or --output: text (for people), json, "
         "concise (path:line: check: message), github (workflow annotations), markdown "
-        "(pull-request comment), junit, sarif, html (one self-contained page) "
+        "(pull-request comment), junit, sarif, gitlab (GitLab Code Quality), html (one "
+        "self-contained page) "
         "(default: text)",
     )
     check.add_argument("--output", "-o", type=Path, help="write the report to this file")
@@ -85,6 +86,17 @@ def add_parser(sub: Any) -> None:
         "--allow-outside-paths",
         action="store_true",
         help="let scenes use meshes outside their own folder",
+    )
+    check.add_argument(
+        "--exit-zero",
+        action="store_true",
+        help="exit 0 even when checks failed (bad input or usage still exit 2)",
+    )
+    check.add_argument(
+        "--statistics",
+        action="store_true",
+        help="after the report, the number of issues per rule, most frequent first (on "
+        "standard error)",
     )
     add_gate_options(check)
     _add_report_options(check)
@@ -247,11 +259,20 @@ def run(args: argparse.Namespace) -> int:
         checks={lc.spec.name: lc.check.summary for lc in checks},
     )
     streams: list[tuple[str, Reporter, TextIO]] = []
+    # `FORMAT:-` writes that report to standard output, in the place of the main report
+    # (which then goes only to --output, if given).
+    to_stdout = [name for name, path in targets if str(path) == "-"]
     try:
-        main_stream = sys.stdout if args.output is None else _open(args.output)
-        label = "the report" if args.output is None else f"the report {args.output}"
-        streams.append((label, make_reporter(config["format"], main_stream, options), main_stream))
+        if args.output is not None or not to_stdout:
+            main_stream = sys.stdout if args.output is None else _open(args.output)
+            label = "the report" if args.output is None else f"the report {args.output}"
+            reporter = make_reporter(config["format"], main_stream, options)
+            streams.append((label, reporter, main_stream))
         for name, path in targets:
+            if str(path) == "-":
+                streams.append((f"the {name} report", make_reporter(name, sys.stdout, options),
+                                sys.stdout))  # fmt: skip
+                continue
             stream = _open(path)
             file_options = dataclasses.replace(options, to_file=True)
             streams.append(
@@ -292,17 +313,30 @@ def run(args: argparse.Namespace) -> int:
                     stream.close()
                 except OSError as exc:
                     tee.failures.append(f"cannot write {stream.name}: {describe_os_error(exc)}")
-    if not (config["format"] == "text" and args.output is None):
+    if to_stdout or not (config["format"] == "text" and args.output is None):
         _errors_to_stderr(results)
-        _summary_to_terminal(results, elapsed, args.output)
+        _summary_to_terminal(results, elapsed, args.output, bool(to_stdout))
     for message in tee.failures:
         print(f"kcheck: error: {message}", file=sys.stderr)
+    if args.statistics:
+        _statistics(results, config["fail_on"])
     states = {r.status for r in results}
     if Status.ERROR in states or tee.failures:
         return ExitCode.USAGE_OR_INPUT
     if Status.FAIL in states or (config["fail_on"] == "warning" and Status.WARN in states):
-        return ExitCode.CHECKS_FAILED
+        return ExitCode.OK if args.exit_zero else ExitCode.CHECKS_FAILED
     return ExitCode.OK
+
+
+def _statistics(results: Sequence[SceneResult], fail_on: str) -> None:
+    """``COUNT  RULE`` per rule, most frequent first, on stderr (ruff's --statistics)."""
+    from collections import Counter
+
+    from kcheck.report.issues import issues
+
+    counts = Counter(i.rule for r in results for i in issues(r, fail_on))
+    for rule, count in sorted(counts.items(), key=lambda kv: (-kv[1], kv[0])):
+        print(f"{count:>5}  {rule}", file=sys.stderr)
 
 
 def _excluder(config: Any) -> Excluder:
@@ -419,12 +453,16 @@ def _errors_to_stderr(results: list[SceneResult]) -> None:
             print(printable(f"kcheck: error: {r.error}", encoding), file=sys.stderr)
 
 
-def _summary_to_terminal(results: list[SceneResult], elapsed: float, output: Path | None) -> None:
-    """With --output the report is in a file; the terminal still gets the run's last line."""
+def _summary_to_terminal(
+    results: list[SceneResult], elapsed: float, output: Path | None, stdout_taken: bool = False
+) -> None:
+    """With --output the report is in a file; the terminal still gets the run's last line
+    (on stderr when a `FORMAT:-` report holds standard output)."""
     if output is None:
         return
     from kcheck.report import views
     from kcheck.report.safe import printable
 
+    stream = sys.stderr if stdout_taken else sys.stdout
     line = f"{views.run_line(results, elapsed)}; report written to {output}"
-    print(printable(line, getattr(sys.stdout, "encoding", None) or "utf-8"))
+    print(printable(line, getattr(stream, "encoding", None) or "utf-8"), file=stream)

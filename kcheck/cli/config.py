@@ -104,7 +104,8 @@ def add_gate_options(parser: argparse.ArgumentParser) -> None:
         "--output-format",
         action="append",
         metavar="FORMAT:FILE",
-        help="also write a report in FORMAT to FILE; repeatable, e.g. "
+        help="also write a report in FORMAT to FILE (- for standard output, in the place "
+        "of the --format report); repeatable, e.g. "
         "--output-format sarif:kcheck.sarif --output-format junit:kcheck.xml",
     )
     gate.add_argument(
@@ -295,7 +296,7 @@ def output_targets(config: Config) -> list[tuple[str, Path]]:
     from kcheck.gate.paths import check_output_file
     from kcheck.report import FORMATS
 
-    targets = []
+    targets: list[tuple[str, Path]] = []
     for item in config["output_format"]:
         name, sep, target = item.partition(":")
         where = (
@@ -311,6 +312,11 @@ def output_targets(config: Config) -> list[tuple[str, Path]]:
                 f"known: {', '.join(FORMATS)}"
             )
         path = Path(target)
+        if target == "-":  # standard output, once
+            if any(str(p) == "-" for _, p in targets):
+                raise UsageError(f"{where}: only one report can go to standard output (-)")
+            targets.append((name, path))
+            continue
         check_output_file(path, f"--output-format {name}")
         targets.append((name, path))
     return targets

@@ -147,9 +147,7 @@ class SarifReporter(CollectingReporter):
     def _key(self, issue: Issue) -> str:
         """What identifies an issue across runs and machines: its path relative to
         ``%SRCROOT%`` (else as given), rule, and field (else message)."""
-        path = _relative(issue.path, self.root) or issue.path
-        what = issue.field if issue.field else issue.message
-        return f"{path}\0{issue.rule}\0{what}"
+        return issue_key(issue, self.root)
 
     def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
         """Write the log."""
@@ -207,6 +205,14 @@ class SarifReporter(CollectingReporter):
             ],
         }
         self.stream.write(json.dumps(log, indent=2) + "\n")
+
+
+def issue_key(issue: Issue, root: Path) -> str:
+    """What identifies an issue across runs and machines: its path relative to ``root``
+    (else as given), rule, and field (else message)."""
+    path = _relative(issue.path, root) or issue.path
+    what = issue.field if issue.field else issue.message
+    return f"{path}\0{issue.rule}\0{what}"
 
 
 def fingerprint(key: str, occurrence: int = 1) -> str:

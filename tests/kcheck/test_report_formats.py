@@ -78,7 +78,7 @@ def render(fmt: str, results=RESULTS, **options) -> str:
 
 
 def test_every_format_is_registered_and_lazy():
-    expected = {"text", "json", "concise", "github", "markdown", "junit", "sarif", "html"}
+    expected = {"text", "json", "concise", "github", "markdown", "junit", "sarif", "gitlab", "html"}
     assert set(FORMATS) == expected
     for name, target in FORMATS.items():
         assert target.startswith(f"kcheck.report.{name}:")
@@ -363,12 +363,14 @@ def test_sarif_of_a_clean_run_is_successful():
     )
 
 
-@pytest.mark.parametrize("fmt", ["json", "concise", "github", "markdown", "junit", "sarif"])
+@pytest.mark.parametrize(
+    "fmt", ["json", "concise", "github", "markdown", "junit", "sarif", "gitlab"]
+)
 def test_machine_formats_survive_an_ascii_stream(fmt):
     # Lone surrogates and non-ASCII text never make a report writer fail (issue 13).
     text = render(fmt)
     assert "\ud800" not in text
-    if fmt in ("json", "sarif", "junit"):
+    if fmt in ("json", "sarif", "junit", "gitlab"):
         text.encode("ascii")
 
 
