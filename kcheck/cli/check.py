@@ -5,9 +5,10 @@ from __future__ import annotations
 import argparse
 import contextlib
 import dataclasses
+import os
 import sys
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TextIO
 
@@ -15,6 +16,7 @@ from kcheck.cli.common import ExitCode, fail
 from kcheck.cli.config import add_gate_options
 
 if TYPE_CHECKING:
+    from kcheck.gate.paths import Excluder
     from kcheck.report import Reporter
     from kcheck.result import SceneResult
 
@@ -61,7 +63,8 @@ def add_parser(sub: Any) -> None:
         choices=tuple(FORMATS),
         help="report format on standard output or --output: text (for people), json, "
         "concise (path:line: check: message), github (workflow annotations), markdown "
-        "(pull-request comment), junit, sarif, html (one self-contained page) "
+        "(pull-request comment), junit, sarif, gitlab (GitLab Code Quality), html (one "
+        "self-contained page) "
         "(default: text)",
     )
     check.add_argument("--output", "-o", type=Path, help="write the report to this file")
@@ -83,6 +86,17 @@ def add_parser(sub: Any) -> None:
         "--allow-outside-paths",
         action="store_true",
         help="let scenes use meshes outside their own folder",
+    )
+    check.add_argument(
+        "--exit-zero",
+        action="store_true",
+        help="exit 0 even when checks failed (bad input or usage still exit 2)",
+    )
+    check.add_argument(
+        "--statistics",
+        action="store_true",
+        help="after the report, the number of issues per rule, most frequent first (on "
+        "standard error)",
     )
     add_gate_options(check)
     _add_report_options(check)
@@ -229,11 +243,14 @@ def run(args: argparse.Namespace) -> int:
     page = PAGE_FORMAT in {config["format"], *(name for name, _ in targets)}
 
     paths = [Path(p) for p in config["paths"]] or [Path(".")]
-    files, missing = discover(paths)
-    if args.changed_only or args.since:
+    exclude = _excluder(config)
+    files, missing = discover(paths, exclude)
+    if args.pre_commit:
+        files, missing = _hook_files(files, missing, args.paths, exclude)
+    elif args.changed_only or args.since:
         from kcheck.gate.vcs import changed_scenes
 
-        files = changed_scenes(files, args.since or "HEAD")
+        files = changed_scenes(files, args.since or "HEAD", since=args.since is not None)
     options = ReportOptions(
         color=args.color,
         verbosity=1 if args.verbose else -1 if args.quiet else 0,
@@ -243,11 +260,20 @@ def run(args: argparse.Namespace) -> int:
         pictures_kept=args.plots is not None,
     )
     streams: list[tuple[str, Reporter, TextIO]] = []
+    # `FORMAT:-` writes that report to standard output, in the place of the main report
+    # (which then goes only to --output, if given).
+    to_stdout = [name for name, path in targets if str(path) == "-"]
     try:
-        main_stream = sys.stdout if args.output is None else _open(args.output)
-        label = "the report" if args.output is None else f"the report {args.output}"
-        streams.append((label, make_reporter(config["format"], main_stream, options), main_stream))
+        if args.output is not None or not to_stdout:
+            main_stream = sys.stdout if args.output is None else _open(args.output)
+            label = "the report" if args.output is None else f"the report {args.output}"
+            reporter = make_reporter(config["format"], main_stream, options)
+            streams.append((label, reporter, main_stream))
         for name, path in targets:
+            if str(path) == "-":
+                streams.append((f"the {name} report", make_reporter(name, sys.stdout, options),
+                                sys.stdout))  # fmt: skip
+                continue
             stream = _open(path)
             file_options = dataclasses.replace(options, to_file=True)
             streams.append(
@@ -278,9 +304,9 @@ def run(args: argparse.Namespace) -> int:
                 max_mesh_bytes=int(config["max_mesh_size"] * 2**20),
             )
             doing = "checking" + (", plotting" if plots is not None else "")
-            results, elapsed = _run(
-                tee, files, missing, run_batch(files, checks, settings), args, doing
-            )
+            ticks: list[Callable[[], None]] = []  # the progress line's, once it is shown
+            batch = run_batch(files, checks, settings, tick=lambda: _each(ticks))
+            results, elapsed = _run(tee, files, missing, batch, args, doing, ticks)
     finally:
         for _, _, stream in streams:
             if stream is not sys.stdout:
@@ -288,17 +314,59 @@ def run(args: argparse.Namespace) -> int:
                     stream.close()
                 except OSError as exc:
                     tee.failures.append(f"cannot write {stream.name}: {describe_os_error(exc)}")
-    if not (config["format"] == "text" and args.output is None):
+    if to_stdout or not (config["format"] == "text" and args.output is None):
         _errors_to_stderr(results)
-        _summary_to_terminal(results, elapsed, args.output)
+        _summary_to_terminal(results, elapsed, args.output, bool(to_stdout))
     for message in tee.failures:
         print(f"kcheck: error: {message}", file=sys.stderr)
+    if args.statistics:
+        _statistics(results, config["fail_on"])
     states = {r.status for r in results}
     if Status.ERROR in states or tee.failures:
         return ExitCode.USAGE_OR_INPUT
     if Status.FAIL in states or (config["fail_on"] == "warning" and Status.WARN in states):
-        return ExitCode.CHECKS_FAILED
+        return ExitCode.OK if args.exit_zero else ExitCode.CHECKS_FAILED
     return ExitCode.OK
+
+
+def _statistics(results: Sequence[SceneResult], fail_on: str) -> None:
+    """``COUNT  RULE`` per rule, most frequent first, on stderr (ruff's --statistics)."""
+    from collections import Counter
+
+    from kcheck.report.issues import issues
+
+    counts = Counter(i.rule for r in results for i in issues(r, fail_on))
+    for rule, count in sorted(counts.items(), key=lambda kv: (-kv[1], kv[0])):
+        print(f"{count:>5}  {rule}", file=sys.stderr)
+
+
+def _excluder(config: Any) -> Excluder:
+    from kcheck.gate.paths import Excluder
+
+    patterns = (*config["exclude"], *config["extend_exclude"])
+    return Excluder(patterns, config.root, gitignore=config["respect_gitignore"])
+
+
+def _hook_files(
+    everything: list[Path], missing: list[SceneResult], given: Sequence[Path], exclude: Excluder
+) -> tuple[list[Path], list[SceneResult]]:
+    """The pre-commit hook's scenes: those a change against HEAD affects (among the
+    configured paths), and those of the files pre-commit passed (``--all-files``, ``--files``)
+    unless excluded (as ruff's ``--force-exclude``: the full run would not check them)."""
+    from kcheck.gate.runner import discover
+    from kcheck.gate.vcs import changed_scenes
+
+    # `pre-commit run --from-ref A --to-ref B` (CI) says so in the environment: then the
+    # change is the branch's, against the merge-base, as for --since.
+    from_ref = os.environ.get("PRE_COMMIT_FROM_REF")
+    affected = set(changed_scenes(everything, from_ref or "HEAD", since=bool(from_ref)))
+    given = [p for p in given if not exclude.forced(p)]
+    named, named_missing = discover(given, exclude) if given else ([], [])
+    wanted = affected | set(named)
+    files = [f for f in everything if f in wanted]
+    files += [f for f in named if f not in set(everything)]
+    seen = {m.path for m in missing}
+    return files, missing + [m for m in named_missing if m.path not in seen]
 
 
 def _refuse_shared_outputs(
@@ -326,6 +394,11 @@ def _refuse_shared_outputs(
         seen[key] = label
 
 
+def _each(calls: Sequence[Callable[[], None]]) -> None:
+    for call in calls:
+        call()
+
+
 def _cores() -> int:
     from kcheck.gate.config import cpu_count
 
@@ -339,6 +412,7 @@ def _run(
     batch: Iterator[SceneResult],
     args: argparse.Namespace,
     doing: str,
+    ticks: list[Callable[[], None]],
 ) -> tuple[list[SceneResult], float]:
     """Feed every reporter each result as it arrives, with a progress line on stderr;
     return the (slimmed) results and the wall time."""
@@ -351,6 +425,7 @@ def _run(
         results.append(result)
         tee.scene(result)
     with ProgressLine(args.progress, len(files), doing) as progress:
+        ticks.append(progress.tick)
         progress.next(files[0] if files else None)
         for k, result in enumerate(batch):
             with progress.paused():
@@ -379,12 +454,16 @@ def _errors_to_stderr(results: list[SceneResult]) -> None:
             print(printable(f"kcheck: error: {r.error}", encoding), file=sys.stderr)
 
 
-def _summary_to_terminal(results: list[SceneResult], elapsed: float, output: Path | None) -> None:
-    """With --output the report is in a file; the terminal still gets the run's last line."""
+def _summary_to_terminal(
+    results: list[SceneResult], elapsed: float, output: Path | None, stdout_taken: bool = False
+) -> None:
+    """With --output the report is in a file; the terminal still gets the run's last line
+    (on stderr when a `FORMAT:-` report holds standard output)."""
     if output is None:
         return
     from kcheck.report import views
     from kcheck.report.safe import printable
 
+    stream = sys.stderr if stdout_taken else sys.stdout
     line = f"{views.run_line(results, elapsed)}; report written to {output}"
-    print(printable(line, getattr(sys.stdout, "encoding", None) or "utf-8"))
+    print(printable(line, getattr(stream, "encoding", None) or "utf-8"), file=stream)

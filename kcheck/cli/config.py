@@ -104,7 +104,8 @@ def add_gate_options(parser: argparse.ArgumentParser) -> None:
         "--output-format",
         action="append",
         metavar="FORMAT:FILE",
-        help="also write a report in FORMAT to FILE; repeatable, e.g. "
+        help="also write a report in FORMAT to FILE (- for standard output, in the place "
+        "of the --format report); repeatable, e.g. "
         "--output-format sarif:kcheck.sarif --output-format junit:kcheck.xml",
     )
     gate.add_argument(
@@ -135,19 +136,29 @@ def add_gate_options(parser: argparse.ArgumentParser) -> None:
         "--cache-dir",
         type=Path,
         metavar="DIR",
-        help="mass-property cache folder (default: .kcheck_cache beside the configuration "
-        "file, else the user cache folder)",
+        help="mass-property cache folder (default: $KCHECK_CACHE_DIR, else the user cache "
+        "folder found by platformdirs: ~/.cache/kcheck on Linux, honouring XDG_CACHE_HOME; "
+        "kcheck config shows it)",
     )
     gate.add_argument(
         "--changed-only",
         action="store_true",
-        help="check only scenes changed in git (working tree and index against HEAD, and "
-        "untracked), and scenes whose mesh changed",
+        help="check only the scenes a change in git affects (working tree and index against "
+        "HEAD, and untracked files): changed scenes, scenes naming a changed, deleted or "
+        "renamed mesh, and every scene when the configuration changed",
     )
     gate.add_argument(
         "--since",
         metavar="REF",
-        help="like --changed-only, against a git revision (e.g. origin/main)",
+        help="like --changed-only, against the merge-base of a git revision and HEAD, as a "
+        "pull request is compared (e.g. origin/main)",
+    )
+    gate.add_argument(
+        "--pre-commit",
+        action="store_true",
+        help="what the pre-commit hook runs: the files given, and every scene that a change "
+        "against HEAD affects (as --changed-only), so that a commit passes only when the "
+        "full run would",
     )
 
 
@@ -189,7 +200,7 @@ def effective_config(args: argparse.Namespace) -> Config:
         "allow_outside_paths": True if getattr(args, "allow_outside_paths", False) else None,
     }
     paths = getattr(args, "paths", None)
-    if paths:
+    if paths and not getattr(args, "pre_commit", False):  # the hook's files come on top
         cli["paths"] = tuple(str(p) for p in paths)
     effective = config.with_overrides(cli)
     _known_format(effective, "--format")
@@ -277,10 +288,6 @@ def cache_folder(config: Config) -> Path | None:
         return None
     if config["cache_dir"] is not None:
         return Path(config["cache_dir"])
-    if config.file is not None:
-        from kcheck.gate.cache import CACHE_FOLDER
-
-        return config.root / CACHE_FOLDER
     return user_cache_dir()
 
 
@@ -289,7 +296,7 @@ def output_targets(config: Config) -> list[tuple[str, Path]]:
     from kcheck.gate.paths import check_output_file
     from kcheck.report import FORMATS
 
-    targets = []
+    targets: list[tuple[str, Path]] = []
     for item in config["output_format"]:
         name, sep, target = item.partition(":")
         where = (
@@ -305,6 +312,11 @@ def output_targets(config: Config) -> list[tuple[str, Path]]:
                 f"known: {', '.join(FORMATS)}"
             )
         path = Path(target)
+        if target == "-":  # standard output, once
+            if any(str(p) == "-" for _, p in targets):
+                raise UsageError(f"{where}: only one report can go to standard output (-)")
+            targets.append((name, path))
+            continue
         check_output_file(path, f"--output-format {name}")
         targets.append((name, path))
     return targets

@@ -151,8 +151,16 @@ KEYS: tuple[Key, ...] = (
     Key("jobs", _jobs, 0, "worker processes (0: one per core; 1: no parallelism)"),
     Key("format", _path, "text", "report format on standard output (or --output)"),
     Key("output_format", _output_formats, (), 'further reports, "FORMAT:FILE" each'),
+    Key(
+        "exclude",
+        _str_list,
+        (".*/", "__pycache__/", "node_modules/"),
+        "gitignore patterns of paths a folder search passes over (replaces the default)",
+    ),
+    Key("extend_exclude", _str_list, (), "further patterns, added to `exclude`"),
+    Key("respect_gitignore", _bool, True, "pass over files git ignores (.gitignore...)"),
     Key("cache", _bool, True, "cache mass properties of meshes"),
-    Key("cache_dir", _path, None, "cache folder (default: .kcheck_cache beside the config)"),
+    Key("cache_dir", _path, None, "cache folder (default: the user cache folder)"),
     Key("allow_outside_paths", _bool, False, "let scenes use meshes outside their folder"),
     Key("timeout", _positive("seconds"), 120.0, "time budget of one scene, s"),
     Key("memory_limit", memory_budget, 2048.0, "memory budget of one scene, MiB (≥ 512)"),
@@ -334,9 +342,13 @@ def cpu_count() -> int:
 
 
 def user_cache_dir() -> Path:
-    """``$KCHECK_CACHE_DIR``, else the user cache folder (XDG) ``kcheck``."""
+    """The default cache folder: ``$KCHECK_CACHE_DIR``, else the user cache folder of
+    ``kcheck`` as platformdirs finds it (``$XDG_CACHE_HOME/kcheck``, else
+    ``~/.cache/kcheck`` on Linux; ``~/Library/Caches/kcheck`` on macOS;
+    ``%LOCALAPPDATA%\\kcheck\\Cache`` on Windows)."""
     env = os.environ.get("KCHECK_CACHE_DIR")
     if env:
         return Path(env)
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "kcheck"
+    import platformdirs
+
+    return Path(platformdirs.user_cache_dir("kcheck", appauthor=False))

@@ -12,6 +12,7 @@ import os
 import stat
 from collections.abc import Iterable, Iterator
 from pathlib import Path
+from typing import Any
 
 from kcheck.errors import UsageError, describe_os_error
 
@@ -19,7 +20,9 @@ __all__ = [
     "MESH_SUFFIXES",
     "SCENE_SUFFIX",
     "SKIPPED_FOLDERS",
+    "DEFAULT_EXCLUDE",
     "DiscoveryError",
+    "Excluder",
     "walk_scenes",
     "discover_paths",
     "scenes_using",
@@ -68,6 +71,83 @@ def _stat(path: Path) -> os.stat_result:
 #: Folders never searched for scenes (given explicitly, they are): hidden ones (``.git``,
 #: ``.venv``, ``.kcheck_cache``...) and these.
 SKIPPED_FOLDERS = frozenset(("__pycache__", "node_modules"))
+#: The default of configuration ``exclude`` (gitignore patterns): the folders above.
+DEFAULT_EXCLUDE = (".*/", "__pycache__/", "node_modules/")
+
+
+class Excluder:
+    """Which paths a folder search passes over, as ruff does: ``exclude`` (which replaces
+    :data:`DEFAULT_EXCLUDE`) and ``extend-exclude`` patterns (gitignore syntax, relative to
+    ``root``, the configuration file's folder), and, with ``gitignore``, the files git
+    ignores (``git check-ignore`` inside a repository: tracked files are never ignored).
+    Paths given explicitly are checked whatever the patterns (except with ``force``)."""
+
+    def __init__(
+        self, patterns: Iterable[str] = DEFAULT_EXCLUDE, root: Path | None = None,
+        *, gitignore: bool = True,
+    ) -> None:  # fmt: skip
+        patterns = tuple(patterns)
+        self.hidden = ".*/" in patterns
+        self.names = frozenset(p[:-1] for p in patterns if p in DEFAULT_EXCLUDE[1:])
+        rest = [p for p in patterns if p not in DEFAULT_EXCLUDE]
+        self.root = Path(os.path.abspath(root or Path.cwd()))
+        self.gitignore = gitignore
+        self.spec: Any = None
+        if rest:  # pathspec (~20 ms to import) only for patterns of the user's own
+            import pathspec
+
+            self.spec = pathspec.GitIgnoreSpec.from_lines(rest)
+
+    def excluded(self, path: Path, is_dir: bool) -> bool:
+        """Whether a folder search passes over ``path`` (by the patterns, not git)."""
+        name = path.name
+        if is_dir and ((self.hidden and name.startswith(".")) or name in self.names):
+            return True
+        if self.spec is None:
+            return False
+        absolute = Path(os.path.abspath(path))
+        try:
+            relative = absolute.relative_to(self.root).as_posix()
+        except ValueError:
+            relative = name
+        return bool(self.spec.match_file(relative + ("/" if is_dir else "")))
+
+    def forced(self, path: Path) -> bool:
+        """Whether a path given explicitly is excluded (``--pre-commit``, as ruff's
+        ``--force-exclude``): the file or a folder above it, up to ``root``."""
+        absolute = Path(os.path.abspath(path))
+        if self.excluded(absolute, False):
+            return True
+        return any(
+            self.excluded(parent, True)
+            for parent in absolute.parents
+            if parent.is_relative_to(self.root) and parent != self.root
+        )
+
+    def git_ignored(self, folder: Path, found: list[Path]) -> set[Path]:
+        """The paths among ``found`` (under ``folder``) that git ignores; none outside a
+        repository, without git, or when git cannot tell (a path beyond a symbolic link)."""
+        if not self.gitignore or not found:
+            return set()
+        start = Path(os.path.abspath(folder))
+        if not any((p / ".git").exists() for p in (start, *start.parents)):
+            return set()
+        import subprocess
+
+        try:
+            proc = subprocess.run(
+                ["git", "check-ignore", "--stdin", "-z"],
+                input=b"".join(os.fsencode(os.path.abspath(p)) + b"\0" for p in found),
+                capture_output=True,
+                cwd=start,
+                check=False,
+            )
+        except OSError:
+            return set()
+        if proc.returncode not in (0, 1):
+            return set()
+        ignored = {os.fsdecode(n) for n in proc.stdout.split(b"\0") if n}
+        return {p for p in found if os.path.abspath(p) in ignored}
 
 
 def _scene_file(path: Path) -> None:
@@ -80,11 +160,15 @@ def _scene_file(path: Path) -> None:
         raise DiscoveryError(path, "not a regular file (a device, pipe or socket)")
 
 
-def walk_scenes(folder: Path, errors: list[DiscoveryError]) -> Iterator[Path]:
+def walk_scenes(
+    folder: Path, errors: list[DiscoveryError], exclude: Excluder | None = None
+) -> Iterator[Path]:
     """Scene files under a folder, depth first in sorted order; every folder that cannot be
     read and every scene-named entry that cannot be used is appended to ``errors``.
     Symbolic links to folders are followed once (a link back up is not walked again);
-    hidden folders and :data:`SKIPPED_FOLDERS` are not entered."""
+    folders and files ``exclude`` excludes (default: hidden folders and
+    :data:`SKIPPED_FOLDERS`) are passed over. (Git's ignores: :meth:`Excluder.git_ignored`.)"""
+    exclude = exclude or Excluder(gitignore=False)
     seen: set[tuple[int, int]] = set()
 
     def walk(current: Path) -> Iterator[Path]:
@@ -108,9 +192,9 @@ def walk_scenes(folder: Path, errors: list[DiscoveryError]) -> Iterator[Path]:
             except OSError:
                 is_dir = False
             if is_dir:
-                if not (entry.name.startswith(".") or entry.name in SKIPPED_FOLDERS):
+                if not exclude.excluded(path, True):
                     yield from walk(path)
-            elif entry.name.endswith(SCENE_SUFFIX):
+            elif entry.name.endswith(SCENE_SUFFIX) and not exclude.excluded(path, False):
                 try:
                     _scene_file(path)
                 except DiscoveryError as exc:
@@ -122,10 +206,12 @@ def walk_scenes(folder: Path, errors: list[DiscoveryError]) -> Iterator[Path]:
 
 
 def discover_paths(
-    paths: Iterable[Path | str],
+    paths: Iterable[Path | str], exclude: Excluder | None = None
 ) -> tuple[list[Path], list[Path], list[DiscoveryError]]:
-    """Scene files and mesh files named by ``paths`` (folders searched for scenes), and
-    every path that cannot be used. Files are returned in the order given, each once."""
+    """Scene files and mesh files named by ``paths`` (folders searched for scenes, passing
+    over what ``exclude`` excludes and git ignores), and every path that cannot be used.
+    Files are returned in the order given, each once."""
+    exclude = exclude or Excluder()
     scenes: list[Path] = []
     meshes: list[Path] = []
     errors: list[DiscoveryError] = []
@@ -138,7 +224,9 @@ def discover_paths(
             continue
         if stat.S_ISDIR(info.st_mode):
             before = len(errors)
-            found = list(walk_scenes(path, errors))
+            found = list(walk_scenes(path, errors, exclude))
+            ignored = exclude.git_ignored(path, found)
+            found = [f for f in found if f not in ignored]
             if not found and len(errors) == before:
                 errors.append(
                     DiscoveryError(path, f"no *{SCENE_SUFFIX} files found in this folder")
@@ -169,7 +257,9 @@ def scenes_using(meshes: Iterable[Path], root: Path) -> dict[Path, list[Path]]:
     scene that resolves, relative to the scene's folder, to the same file).
 
     Scene files are first filtered by the mesh's file name in their text, so only a few
-    are parsed. Unreadable or invalid scenes are left out here: checking them reports them.
+    are parsed. A scene that names the mesh in its text but cannot be parsed is counted as a
+    user (checking it reports why it cannot be read, as the full run would); a mesh need not
+    exist (a deleted or renamed mesh still has the scenes that name it).
     """
     from kcheck.scene.yamlio import load_yaml
 
@@ -192,7 +282,10 @@ def scenes_using(meshes: Iterable[Path], root: Path) -> dict[Path, list[Path]]:
             continue
         try:
             data, _ = load_yaml(scene)
-        except Exception:  # a broken scene cannot be told apart; checking it reports it
+        except Exception:  # a broken scene that may name the mesh: checking it reports it
+            for name, mesh in ((m.name, m) for m in wanted.values()):
+                if name in text and scene not in found[mesh]:
+                    found[mesh].append(scene)
             continue
         for value in _strings(data):
             if not any(value.endswith(n) for n in names):

@@ -229,13 +229,25 @@ class _Pool(Generic[T, R]):
             self.retire(worker, kill=True)
 
 
+#: How often ``tick`` is called while the parent waits for workers, s.
+TICK_S = 0.25
+
+
 def run_in_workers(
-    tasks: Sequence[T], work: Callable[[T], R], *, jobs: int, budget: Budget
+    tasks: Sequence[T],
+    work: Callable[[T], R],
+    *,
+    jobs: int,
+    budget: Budget,
+    tick: Callable[[], None] | None = None,
 ) -> Iterator[R | BudgetExceeded]:
     """Run ``work`` on every task in up to ``jobs`` worker processes; yield each result (or
     why it has none) in the order of ``tasks``, as soon as it and all before it are done.
 
     ``work`` must not raise (except ``MemoryError``, which becomes a budget result).
+    ``tick`` is called about every :data:`TICK_S` while the parent waits (a progress line's
+    clock): the parent runs no thread of its own, since workers are forked from it, and a
+    fork while another thread runs may deadlock the child (Python 3.12 warns of it).
     """
     pool: _Pool[T, R] = _Pool(work, budget)
     pending = list(enumerate(tasks))
@@ -280,6 +292,9 @@ def run_in_workers(
             busy = [w for w in pool.workers if w.index is not None]
             # At most an hour at a time: a deadline of 1e300 s overflows select's time_t.
             wait = min(min(w.deadline for w in busy) - time.monotonic(), MAX_WAIT_S)
+            if tick is not None:
+                tick()
+                wait = min(wait, TICK_S)
             ready, _, _ = select.select([w.results for w in busy], [], [], max(wait, 0))
             for worker in [w for w in busy if w.results in ready]:
                 try:

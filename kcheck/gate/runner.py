@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -21,7 +21,7 @@ from pydantic import ValidationError
 
 from kcheck.analysis.sanity import scene_warnings
 from kcheck.errors import SceneError
-from kcheck.gate.paths import discover_paths
+from kcheck.gate.paths import Excluder, discover_paths
 from kcheck.plugin import Inputs, LoadedCheck, Options
 from kcheck.result import CheckResult, Finding, SceneResult, Severity, Status
 from kcheck.scene import Scene, describe_pydantic, load_scene
@@ -66,15 +66,18 @@ class Settings:
     plot_formats: tuple[str, ...] = ("png",)
 
 
-def discover(paths: Iterable[Path | str]) -> tuple[list[Path], list[SceneResult]]:
+def discover(
+    paths: Iterable[Path | str], exclude: Excluder | None = None
+) -> tuple[list[Path], list[SceneResult]]:
     """Scene files under the given files and folders (folders recursively, in sorted order),
     each once, and an error result for every path that cannot be used: missing, a dangling
     symlink or a symlink loop, an unreadable folder, a folder without scenes, a path too long.
     Mesh files among ``paths`` are replaced by the scenes that use them, searched for in the
-    mesh's repository (:func:`kcheck.gate.paths.scenes_using`)."""
+    mesh's repository (:func:`kcheck.gate.paths.scenes_using`). Folders are searched
+    passing over what ``exclude`` excludes (default: hidden folders and what git ignores)."""
     from kcheck.gate.paths import scenes_using, search_root
 
-    scenes, meshes, problems = discover_paths(paths)
+    scenes, meshes, problems = discover_paths(paths, exclude)
     for mesh in meshes:
         for users in scenes_using([mesh], search_root(mesh)).values():
             scenes.extend(users)
@@ -232,11 +235,11 @@ def check_scene(
     except MemoryError:
         raise  # a budget, not a bug: the batch reports it (run_batch)
     except Exception as exc:  # a bug must not take the batch down or print a traceback
-        return _error(
-            path,
+        message = (
             f"{path}: internal error while reading the scene "
-            f"({type(exc).__name__}: {exc}); please report it",
+            f"({type(exc).__name__}: {exc}); please report it"
         )
+        return _error(path, message, (Finding(message, code=BUDGET_CODES["crashed"]),))
 
     results = []
     written: list[str] = []
@@ -294,8 +297,26 @@ def check_scene(
     )
 
 
+#: Codes of the error results of a scene whose worker ran out of a budget, died or crashed:
+#: the rule ids the CI formats report them under (:mod:`kcheck.report.issues`), apart from
+#: ``input-error``.
+BUDGET_CODES = {
+    "time": "budget-exceeded/time",
+    "memory": "budget-exceeded/memory",
+    "died": "worker-died",
+    "crashed": "internal-error",
+}
+
+
 def _budget_error(path: Path, outcome: Any, settings: Settings) -> SceneResult:
-    """The error result of a scene whose worker ran out of a budget or died."""
+    """The error result of a scene whose worker ran out of a budget or died, under its own
+    code (:data:`BUDGET_CODES`), not an input error's."""
+    message = _budget_message(path, outcome, settings)
+    return _error(path, message, (Finding(message, code=BUDGET_CODES.get(outcome.kind)),))
+
+
+def _budget_message(path: Path, outcome: Any, settings: Settings) -> str:
+    """What happened to a scene whose worker ran out of a budget or died."""
     memory = (
         "the memory available"
         if settings.memory_bytes is None
@@ -314,13 +335,13 @@ def _budget_error(path: Path, outcome: Any, settings: Settings) -> SceneResult:
             "--memory-limit (configuration `memory_limit`)"
         )
     elif outcome.kind == "crashed":
-        return _error(path, f"{path}: internal error ({outcome.detail}); please report it")
+        return f"{path}: internal error ({outcome.detail}); please report it"
     else:
         text = f"stopped: {outcome.detail}"
         if settings.memory_bytes is not None:
             text += f", most likely past {memory}"
         text += "; the batch went on without it"
-    return _error(path, f"{path}: checking this scene {text}")
+    return f"{path}: checking this scene {text}"
 
 
 def _plot(
@@ -348,7 +369,10 @@ def _plot(
 
 
 def run_batch(
-    files: Sequence[Path], checks: Sequence[LoadedCheck], settings: Settings
+    files: Sequence[Path],
+    checks: Sequence[LoadedCheck],
+    settings: Settings,
+    tick: Callable[[], None] | None = None,
 ) -> Iterator[SceneResult]:
     """Check scene files, yielding each result as soon as it and every earlier file are done,
     in the order of the files.
@@ -356,6 +380,7 @@ def run_batch(
     With ``settings.jobs`` > 0 (and on Linux) scenes run in that many worker processes, each
     scene within the time and memory budget of ``settings``; a scene that exceeds one is an
     error result naming the budget, and the batch goes on. Otherwise they run here, in turn.
+    ``tick`` is called now and then while workers run (:func:`kcheck.gate.pool.run_in_workers`).
     """
     from kcheck.gate import pool
 
@@ -371,7 +396,7 @@ def run_batch(
         return check_scene(path, checks, settings=settings)
 
     budget = pool.Budget(settings.timeout_s, settings.memory_bytes)
-    outcomes = pool.run_in_workers(files, work, jobs=settings.jobs, budget=budget)
+    outcomes = pool.run_in_workers(files, work, jobs=settings.jobs, budget=budget, tick=tick)
     for path, outcome in zip(files, outcomes, strict=True):
         if isinstance(outcome, pool.BudgetExceeded):
             yield _budget_error(path, outcome, settings)

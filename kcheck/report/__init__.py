@@ -35,6 +35,7 @@ FORMATS: dict[str, str] = {
     "markdown": "kcheck.report.markdown:MarkdownReporter",
     "junit": "kcheck.report.junit:JunitReporter",
     "sarif": "kcheck.report.sarif:SarifReporter",
+    "gitlab": "kcheck.report.gitlab:GitlabReporter",
     "html": "kcheck.report.html:HtmlReporter",
 }
 

@@ -2,9 +2,12 @@
 annotations, SARIF, Markdown) reports, one line or record each.
 
 An issue is a check's failure (one per finding), a check that crashed, an input error of the
-scene, or a sanity warning of the scene. Its ``rule`` is stable across runs (SARIF ``ruleId``,
-annotation title): ``<check>/<finding code>`` (``analytical-2d/jams``), the check id for a
-finding without a code, ``<check>/crashed``, ``input-error``, ``scene-warning/<code>``.
+scene, a scene past its time or memory budget, or a sanity warning of the scene. Its ``rule``
+is stable across runs (SARIF ``ruleId``, annotation title): ``<check>/<finding code>``
+(``analytical-2d/jams``), the check id for a finding without a code (or whose code is the
+check id), ``<check>/crashed``, ``input-error``, ``budget-exceeded/time``,
+``budget-exceeded/memory``, ``worker-died``, ``internal-error``, ``scene-warning/<code>``
+(:data:`KCHECK_RULES` describes kcheck's own).
 """
 
 from __future__ import annotations
@@ -31,6 +34,43 @@ __all__ = [
 ]
 
 INPUT_ERROR = "input-error"
+
+#: kcheck's own rules (not a check's): id -> (short description, full description). A scene
+#: error whose finding carries one of these ids as its code is reported under it.
+KCHECK_RULES: dict[str, tuple[str, str]] = {
+    INPUT_ERROR: (
+        "The scene file is not valid input.",
+        "The scene file, or a mesh or path it names, cannot be used: the message gives the "
+        "file, the field and the line. The scene's checks did not run; the run exits 2.",
+    ),
+    "budget-exceeded/time": (
+        "Checking the scene ran past its time budget.",
+        "The scene's worker ran past the time budget of one scene (--timeout, configuration "
+        "`timeout`) and was stopped; the batch went on without it and the run exits 2. The "
+        "scene itself may be valid: raise the budget if it is meant to take this long.",
+    ),
+    "budget-exceeded/memory": (
+        "Checking the scene ran out of its memory budget.",
+        "The scene's worker ran out of the memory budget of one scene (--memory-limit, "
+        "configuration `memory_limit`); the batch went on without it and the run exits 2. The "
+        "scene itself may be valid: raise the budget if it is meant to be this large.",
+    ),
+    "worker-died": (
+        "The worker process checking the scene ended.",
+        "The worker process checking the scene ended without a result (killed by a signal, "
+        "most often past its memory budget); the batch went on and the run exits 2.",
+    ),
+    "internal-error": (
+        "kcheck failed while checking the scene (a bug).",
+        "kcheck raised an unexpected exception while reading or checking the scene: a bug, "
+        "please report it with the scene. The run exits 2.",
+    ),
+    "scene-warning": (
+        "A sanity warning about the scene.",
+        "A sanity warning about the scene (a units slip, a reversed normal, an implausible "
+        'mass): shown, and failing the run only with --strict (fail_on = "warning").',
+    ),
+}
 
 Level = Literal["error", "warning"]
 
@@ -99,7 +139,7 @@ def issues(scene: SceneResult, fail_on: str = "error") -> Iterator[Issue]:
                 e.column,
                 level="error",
                 kind="error",
-                rule=INPUT_ERROR,
+                rule=e.code if e.code in KCHECK_RULES else INPUT_ERROR,
                 check=None,
                 message=e.message,
                 hint=e.hint,
@@ -126,7 +166,7 @@ def issues(scene: SceneResult, fail_on: str = "error") -> Iterator[Issue]:
                     f.column,
                     level=check.severity,
                     kind="failure",
-                    rule=f"{check.id}/{f.code}" if f.code else check.id,
+                    rule=f"{check.id}/{f.code}" if f.code and f.code != check.id else check.id,
                     check=check.id,
                     message=f.message,
                     hint=f.hint,

@@ -17,7 +17,7 @@ from datetime import datetime, timezone
 from typing import TextIO
 
 from kcheck.report import ReportOptions
-from kcheck.report.issues import clean_text, issues
+from kcheck.report.issues import INPUT_ERROR, clean_text, issues
 from kcheck.result import SceneResult, Status
 
 __all__ = ["JunitReporter"]
@@ -59,8 +59,9 @@ class JunitReporter:
             first = found[0] if found else None
             if first is not None and first.line is not None:
                 tc.set("line", str(first.line))
+            kind = first.rule if first is not None else INPUT_ERROR  # or a budget's rule
             err = ET.SubElement(
-                tc, "error", message=clean_text(result.error or "input error"), type="input-error"
+                tc, "error", message=clean_text(result.error or "input error"), type=kind
             )
             err.text = _text(lines)
             tally["errors"] += 1

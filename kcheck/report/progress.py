@@ -67,7 +67,9 @@ class ProgressLine:
                 transient=True,
                 redirect_stdout=False,
                 redirect_stderr=False,
-                refresh_per_second=4,
+                # No refresh thread: the batch forks workers, and a fork while a thread runs
+                # may deadlock the child (Python 3.12 warns); the batch calls tick() instead.
+                auto_refresh=False,
             )
             self.live.start()
         return self
@@ -76,6 +78,11 @@ class ProgressLine:
         if self.live is not None:
             self.live.stop()
             self.live = None
+
+    def tick(self) -> None:
+        """Redraw the line (its clock runs): called by the batch while it waits."""
+        if self.live is not None:
+            self.live.refresh()
 
     def next(self, path: Path | str | None) -> None:
         """The scene now being checked (None: the last one is done)."""

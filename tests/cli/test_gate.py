@@ -215,7 +215,11 @@ def test_a_scene_past_its_time_budget_is_an_error_and_the_batch_goes_on(
 
     _patch_maxwell(monkeypatch, lambda: time.sleep(30))
     started = time.monotonic()
-    code, doc = cli_json(*_batch(write_scene), "--timeout", "1", "--jobs", "2")
+    concise = write_scene("", "report.txt")
+    code, doc = cli_json(
+        *_batch(write_scene), "--timeout", "1", "--jobs", "2",
+        f"--output-format=concise:{concise}",
+    )  # fmt: skip
     assert time.monotonic() - started < 15
     assert code == 2
     assert _statuses(doc) == [
@@ -226,14 +230,25 @@ def test_a_scene_past_its_time_budget_is_an_error_and_the_batch_goes_on(
     ]
     assert "exceeded its time budget of 1 s" in doc["scenes"][1]["error"]
     assert "--timeout" in doc["scenes"][1]["error"]
+    # a rule of its own, not an input error's
+    (line,) = [x for x in concise.read_text().splitlines() if "b.kcheck.yaml" in x]
+    assert ": budget-exceeded/time: " in line and "input-error" not in line
 
 
 def test_a_scene_past_its_memory_budget_is_an_error(cli_json, write_scene, monkeypatch):
     _patch_maxwell(monkeypatch, lambda: bytearray(3 * 2**30))
-    code, doc = cli_json(*_batch(write_scene), "--memory-limit", "1500", "--jobs", "1")
+    sarif = write_scene("", "report.sarif")
+    code, doc = cli_json(
+        *_batch(write_scene), "--memory-limit", "1500", "--jobs", "1",
+        f"--output-format=sarif:{sarif}",
+    )  # fmt: skip
     assert code == 2
     assert [s for _, s in _statuses(doc)] == ["pass", "error", "pass", "pass"]
     assert "exceeded its memory budget of 1500 MiB" in doc["scenes"][1]["error"]
+    (result,) = json.loads(sarif.read_text())["runs"][0]["results"]
+    assert result["ruleId"] == "budget-exceeded/memory"
+    (rule,) = json.loads(sarif.read_text())["runs"][0]["tool"]["driver"]["rules"]
+    assert "--memory-limit" in rule["fullDescription"]["text"]
 
 
 def test_a_worker_that_dies_is_replaced(cli_json, write_scene, monkeypatch):

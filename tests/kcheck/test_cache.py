@@ -125,14 +125,17 @@ def test_explicit_mass_and_no_folder_bypass_the_cache(scene, computed, tmp_path)
     assert len(computed) == 2 and not (tmp_path / "cache").exists()
 
 
-def test_cli_cache_beside_the_configuration_and_no_cache(cli, tmp_path, monkeypatch):
+def test_cli_cache_in_the_user_cache_folder_and_no_cache(cli, tmp_path, monkeypatch):
+    # One default, with or without a configuration file: the user cache folder (platformdirs;
+    # XDG_CACHE_HOME on Linux), never a folder beside the configuration (issue 23).
     project = tmp_path / "project"
     shutil.copytree(FIXTURES / "planar-block", project / "block")
     (project / "kcheck.toml").write_text("jobs = 1\n")
     monkeypatch.chdir(project)
     monkeypatch.delenv("KCHECK_CACHE_DIR")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
     assert cli("check", "--no-cache")[0] == 0
-    assert not (project / ".kcheck_cache").exists()
+    assert not (tmp_path / "xdg").exists()
     assert cli("check")[0] == 0
-    entries = list((project / ".kcheck_cache" / "mass").rglob("*.json"))
-    assert len(entries) == 1
+    entries = list((tmp_path / "xdg" / "kcheck" / "mass").rglob("*.json"))
+    assert len(entries) == 1 and not (project / ".kcheck_cache").exists()

@@ -56,3 +56,51 @@ def test_one_worker_runs_everything_in_turn():
     tasks = [("sleep", 0.0)] * 4
     out = list(run_in_workers(tasks, work, jobs=1, budget=Budget(10, None)))
     assert len({r.split(" in ")[1] for r in out}) == 1
+
+
+FORK_PROBE = """
+import json, os, sys, warnings
+warnings.simplefilter("error", DeprecationWarning)
+threads = []
+real_fork = os.fork
+
+def fork():
+    if os.getpid() == parent:  # the parent, at each worker's fork: its OS threads
+        threads.append(len(os.listdir("/proc/self/task")))
+    return real_fork()
+
+parent = os.getpid()
+os.fork = fork
+from kcheck.cli import main
+code = main(["check", *sys.argv[1:], "--jobs", "2", "--progress", "always", "--format", "json",
+             "--output", os.devnull])
+print(json.dumps({"code": code, "threads": threads}))
+"""
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self/task"), reason="counts threads in /proc")
+def test_no_fork_while_a_thread_runs(tmp_path):
+    """Workers are forked from a process running one thread only, even with the progress line
+    shown (its clock is redrawn by the batch's wait, not by a thread): Python 3.12 warns of a
+    fork in a multi-threaded process (a DeprecationWarning, here an error), and on every
+    version such a fork may deadlock the child. The count is taken from /proc, so it holds on
+    Python 3.11 too, where no warning exists."""
+    import json
+    import subprocess
+    import sys
+
+    from tests.conftest import FIXTURES
+
+    scenes = [str(FIXTURES / "planar-block"), str(FIXTURES / "kelvin")]
+    proc = subprocess.run(
+        [sys.executable, "-W", "error::DeprecationWarning", "-c", FORK_PROBE, *scenes],
+        capture_output=True, text=True, timeout=300,
+        # kcheck's own default of one BLAS thread (a user who sets OPENBLAS_NUM_THREADS above
+        # 1 gets OpenBLAS's threads in the parent too: docs/ci.md says so)
+        env={k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS")},
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert "DeprecationWarning" not in proc.stderr
+    result = json.loads(proc.stdout.splitlines()[-1])
+    assert result["code"] in (0, 1)
+    assert len(result["threads"]) == 2 and set(result["threads"]) == {1}, result

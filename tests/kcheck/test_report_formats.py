@@ -6,6 +6,7 @@ check, a warning, a skipped check, hostile text), so every path of every reporte
 
 from __future__ import annotations
 
+import dataclasses
 import io
 import json
 import re
@@ -77,7 +78,7 @@ def render(fmt: str, results=RESULTS, **options) -> str:
 
 
 def test_every_format_is_registered_and_lazy():
-    expected = {"text", "json", "concise", "github", "markdown", "junit", "sarif", "html"}
+    expected = {"text", "json", "concise", "github", "markdown", "junit", "sarif", "gitlab", "html"}
     assert set(FORMATS) == expected
     for name, target in FORMATS.items():
         assert target.startswith(f"kcheck.report.{name}:")
@@ -264,14 +265,94 @@ def test_sarif_valid_and_located():
     rule_text = {r["id"]: r["shortDescription"]["text"] for r in run["tool"]["driver"]["rules"]}
     assert rule_text["analytical-2d/jams"] == "planar dynamics — jams."
     # Fingerprints hash file, rule and field, not the line: an edit above keeps the alert.
-    import dataclasses
-
     from kcheck.report.issues import issues
-    from kcheck.report.sarif import _fingerprint
+    from kcheck.report.sarif import SarifReporter
 
+    reporter = SarifReporter(io.StringIO(), ReportOptions())
     first = next(issues(FAIL))
-    assert _fingerprint(first) == _fingerprint(dataclasses.replace(first, line=30))
-    assert _fingerprint(first) != _fingerprint(dataclasses.replace(first, field="supports[1]"))
+    key = reporter._key(first)
+    assert key == reporter._key(dataclasses.replace(first, line=30))
+    assert key != reporter._key(dataclasses.replace(first, field="supports[1]"))
+
+
+def sarif_run(results=RESULTS, **options) -> dict:
+    doc = json.loads(render("sarif", results=results, **options))
+    validate_sarif(doc)
+    (run,) = doc["runs"]
+    return run
+
+
+def test_sarif_uris_are_relative_to_srcroot(tmp_path, monkeypatch):
+    (tmp_path / ".git").mkdir()
+    (tmp_path / "sub").mkdir()
+    monkeypatch.chdir(tmp_path / "sub")  # a subfolder of the repository
+    outside = dataclasses.replace(
+        PASS,
+        status=Status.ERROR,
+        path="/elsewhere/x.kcheck.yaml",
+        error="gone",
+        errors=(Finding("gone"),),
+        checks=(),
+    )
+    run = sarif_run(results=(FAIL, outside))
+    root = run["originalUriBaseIds"]["%SRCROOT%"]["uri"]
+    assert root == tmp_path.as_uri() + "/"
+    where = [r["locations"][0]["physicalLocation"]["artifactLocation"] for r in run["results"]]
+    assert where[0] == {"uri": "sub/parts/coupling.kcheck.yaml", "uriBaseId": "%SRCROOT%"}
+    assert where[-1] == {"uri": "file:///elsewhere/x.kcheck.yaml"}  # outside: absolute
+
+
+def test_sarif_fingerprints_unique_and_the_same_on_another_machine(tmp_path, monkeypatch):
+    twice = dataclasses.replace(
+        FAIL,
+        checks=(
+            CheckResult("analytical-2d", Status.FAIL, "two", findings=(
+                Finding("retract y1 → jams at μ = 0.6", code="jams", field=("supports", 0)),
+                Finding("retract y1 → jams at μ = 0.9", code="jams", field=("supports", 0)),
+                Finding("no field", code="margin"), Finding("no field", code="margin"),
+            )),
+        ),
+    )  # fmt: skip
+    prints = []
+    for machine in ("a", "b"):  # the same repository checked out in two places
+        (tmp_path / machine / ".git").mkdir(parents=True)
+        monkeypatch.chdir(tmp_path / machine)
+        run = sarif_run(results=(twice, BROKEN, FAIL))
+        prints.append([r["partialFingerprints"]["kcheckFinding/v2"] for r in run["results"]])
+    assert prints[0] == prints[1]
+    assert len(set(prints[0])) == len(prints[0]) == len(run["results"])
+    # and on a second run: the same
+    assert [r["partialFingerprints"] for r in sarif_run(results=(twice, BROKEN, FAIL))[
+        "results"]] == [r["partialFingerprints"] for r in run["results"]]  # fmt: skip
+
+
+def test_sarif_level_follows_severity_and_strict():
+    levels = {r["ruleId"]: r["level"] for r in sarif_run()["results"]}
+    assert levels["maxwell"] == "warning" and levels["scene-warning/units-slip"] == "warning"
+    strict = {r["ruleId"]: r["level"] for r in sarif_run(fail_on="warning")["results"]}
+    assert strict["maxwell"] == "error" and strict["scene-warning/units-slip"] == "error"
+    assert strict["analytical-2d/jams"] == levels["analytical-2d/jams"] == "error"
+
+
+def test_sarif_rules_are_described_and_linked(monkeypatch):
+    import kcheck.report.sarif as sarif
+
+    same = dataclasses.replace(PASS, status=Status.FAIL, checks=(
+        CheckResult("maxwell", Status.FAIL, "cos", severity="warning",
+                    findings=(Finding("cos θ = 0.5 at y1", code="maxwell"),)),
+    ))  # fmt: skip
+    run = sarif_run(results=(*RESULTS, same))
+    rules = {r["id"]: r for r in run["tool"]["driver"]["rules"]}
+    assert "maxwell/maxwell" not in rules and "maxwell" in rules
+    for rule in rules.values():
+        assert rule["fullDescription"]["text"] and rule["help"]["text"]
+    assert "exits 2" in rules["input-error"]["fullDescription"]["text"]
+    monkeypatch.setattr(sarif, "docs_url", lambda: "https://example.org/kcheck/docs/")
+    rules = {r["id"]: r for r in sarif_run()["tool"]["driver"]["rules"]}
+    assert rules["analytical-2d/jams"]["helpUri"] == (
+        "https://example.org/kcheck/docs/checks.md#analytical-2d"
+    )
+    assert rules["input-error"]["helpUri"] == "https://example.org/kcheck/docs/ci.md#rules"
 
 
 def test_sarif_of_a_clean_run_is_successful():
@@ -282,12 +363,14 @@ def test_sarif_of_a_clean_run_is_successful():
     )
 
 
-@pytest.mark.parametrize("fmt", ["json", "concise", "github", "markdown", "junit", "sarif"])
+@pytest.mark.parametrize(
+    "fmt", ["json", "concise", "github", "markdown", "junit", "sarif", "gitlab"]
+)
 def test_machine_formats_survive_an_ascii_stream(fmt):
     # Lone surrogates and non-ASCII text never make a report writer fail (issue 13).
     text = render(fmt)
     assert "\ud800" not in text
-    if fmt in ("json", "sarif", "junit"):
+    if fmt in ("json", "sarif", "junit", "gitlab"):
         text.encode("ascii")
 
 
