@@ -277,7 +277,7 @@ def _box(value: Any) -> np.ndarray | None:
     return box
 
 
-def _from_payload(payload: dict[str, Any]) -> MassProperties | None:
+def _from_payload(payload: Any) -> MassProperties | None:
     """The mass properties of an entry's payload; None unless it holds exactly the fields of
     this format, each of its type and physical."""
     import numpy as np
