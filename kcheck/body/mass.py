@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from kcheck.body.meshio import (
+    MAX_COORDINATE_M,
     MERGE_RTOL,
     load_mesh,
     not_watertight,
@@ -35,8 +36,10 @@ if TYPE_CHECKING:
 
 __all__ = [
     "MERGE_RTOL",
+    "body_limits_problem",
     "body_mass_properties",
     "combine",
+    "inertia_problem",
     "load_mesh",
     "mesh_mass_properties",
     "part_mass_properties",
@@ -219,6 +222,9 @@ def mesh_mass_properties(
             f"(volume {volume:.3g} m^3, density {density:g} kg/m^3: are the units right?)",
             field=field,
         )
+    problem = inertia_problem(inertia)  # the range explicit principal moments must lie in
+    if problem is not None:
+        raise MeshError(path, f"the mesh gives {problem} (are the units right?)", field=field)
     return MassProperties(
         float(props.mass),
         com,
@@ -253,7 +259,44 @@ def part_mass_properties(part: Part, max_mesh_bytes: int | None = None) -> MassP
     if part.rotation is None and part.translation == (0.0, 0.0, 0.0):
         return props
     rotation = np.eye(3) if part.rotation is None else np.asarray(part.rotation, dtype=float)
-    return transformed(props, rotation, np.asarray(part.translation, dtype=float))
+    placed = transformed(props, rotation, np.asarray(part.translation, dtype=float))
+    assert placed.bounds is not None
+    largest = float(np.abs(placed.bounds).max())
+    if not largest <= MAX_COORDINATE_M:  # the mesh's own coordinates were checked on reading
+        raise MeshError(
+            part.mesh,
+            f"placed by its transform, the mesh reaches {largest:.7g} m from the origin, "
+            f"beyond {MAX_COORDINATE_M:g} m (are `translate` and the units right?)",
+            field=field,
+        )
+    return placed
+
+
+def inertia_problem(inertia: np.ndarray) -> str | None:
+    """What is wrong with an inertia tensor's principal moments (kg m², their finite part: a
+    planar scene's lone I_zz has NaN elsewhere), against ``LIMITS["inertia"]``; None if
+    nothing."""
+    allowed = LIMITS["inertia"]
+    if np.all(np.isfinite(inertia)):
+        moments = np.linalg.eigvalsh((inertia + inertia.T) / 2)
+    else:
+        moments = np.array([inertia[2, 2]])  # a planar scene's I_zz alone
+    bad = [float(m) for m in moments if not allowed.contains(float(m))]
+    if not bad:
+        return None
+    return f"a principal moment of inertia of {bad[0]:.3g} kg m^2, outside {allowed.text()}"
+
+
+def body_limits_problem(props: MassProperties) -> str | None:
+    """What is wrong with a whole body's mass properties (meshes or explicit values, point
+    masses added) against the mass and principal-moment limits (``LIMITS``), which each of
+    its pieces already met; None if nothing. The runner reports it at ``body``."""
+    whole = "the body as a whole (its meshes or explicit values, and its point masses)"
+    allowed = LIMITS["mass"]
+    if not allowed.contains(props.mass):
+        return f"{whole} has a mass of {props.mass:.3g} kg, outside {allowed.text()}"
+    problem = inertia_problem(props.inertia)
+    return None if problem is None else f"{whole} has {problem}"
 
 
 def place(points: np.ndarray, part: Part) -> np.ndarray:

@@ -1,17 +1,27 @@
 """Cache of mesh mass properties, keyed by everything that determines them.
 
-The key is a SHA-256 over: each part's mesh content (SHA-256 of the file's bytes) and file
-name (it appears in notes), every other field of the part (density, and whatever else the
-scene gives: units, transform, repair...), every other field of the body (point masses...),
-the scene's length scale, the kcheck version, the trimesh version, and the source of the
-code that computes them (``kcheck/body/mass.py``, so a changed computation never reads an old
-answer, even between releases). A changed mesh gives
-a new key; nothing is ever looked up by file name or date.
+The key is a SHA-256 over: each part's mesh content (SHA-256 of the file's bytes), file name
+(it appears in notes) and field in the scene file (warnings point at it), every other field of
+the part (density, units, transform, repair...), every other field of the body (point
+masses...), the scene's length scale, the entry format, the kcheck, trimesh, numpy and scipy
+versions, and the source of the code that computes them (every module of ``kcheck/body/`` and
+the limits of ``kcheck/scene/limits.py``, so a changed computation or limit never reads an old
+answer, even between releases). A changed mesh gives a new key; nothing is ever looked up by
+file name or date.
 
-An entry is one JSON file, written atomically. It is trusted only if it parses, carries its
-own key, its checksum matches and its numbers are physical (finite, positive mass, symmetric
-inertia); otherwise it is recomputed and rewritten. Errors are never cached. The folder gets
-a ``CACHEDIR.TAG`` and a ``.gitignore`` (as ``.ruff_cache`` does).
+An entry holds **everything a result depends on**: mass, centre of mass, inertia, volume,
+notes, the meshes' bounding box (``bounds``) and each part's (``part_bounds``: the sanity
+warnings judge the body's size and a part in another unit by them), and the warnings of
+reading the meshes (``mesh-repaired``). A result from the cache is the result computed afresh,
+field for field (``tests/cli/test_same_answer.py`` runs every fixture and 200 generated scenes
+cold, warm and without the cache and compares the JSON).
+
+An entry is one JSON file, written atomically, carrying its format (:data:`FORMAT`). It is
+trusted only if its format is the current one, it parses, carries its own key, its checksum
+matches, it has exactly the fields of its format and its numbers are physical (finite, positive
+mass, symmetric inertia, ordered boxes); otherwise it is recomputed and rewritten: an entry of
+an older format is never half-read. Errors are never cached. The folder gets a
+``CACHEDIR.TAG`` and a ``.gitignore`` (as ``.ruff_cache`` does).
 """
 
 from __future__ import annotations
@@ -27,13 +37,17 @@ from kcheck import __version__
 from kcheck.numerics.thresholds import CACHED_SYMMETRY_RTOL
 
 if TYPE_CHECKING:
-    from kcheck.result import MassProperties
+    import numpy as np
+
+    from kcheck.result import Finding, MassProperties
     from kcheck.scene import Body
 
-__all__ = ["CACHE_FOLDER", "MassCache", "body_mass_properties_cached"]
+__all__ = ["CACHE_FOLDER", "FORMAT", "MassCache", "body_key", "body_mass_properties_cached"]
 
 CACHE_FOLDER = ".kcheck_cache"
-_FORMAT = 1
+#: Format of an entry; raised whenever what an entry holds changes (2: bounds, part bounds
+#: and mesh warnings added). An entry of another format is recomputed.
+FORMAT = 2
 _TAG = (
     "Signature: 8a477f597d28d172789f06886806bc55\n"
     "# This file is a cache directory tag created by kcheck.\n"
@@ -70,21 +84,28 @@ _CODE_FINGERPRINT: str | None = None
 
 
 def _code_fingerprint() -> str:
-    """kcheck and trimesh versions and the source of kcheck.body.mass (what computes the values)."""
+    """kcheck, trimesh, numpy and scipy versions and the source of what computes the values
+    (``kcheck/body/*.py``) and of the limits they are gated by (``kcheck/scene/limits.py``)."""
     global _CODE_FINGERPRINT
     if _CODE_FINGERPRINT is None:
         import importlib.util
 
         from kcheck.plugin.dist_info import version
 
-        spec = importlib.util.find_spec("kcheck.body.mass")
-        source = b""
-        if spec is not None and spec.origin is not None:
-            source = Path(spec.origin).read_bytes()
-        trimesh_version = version("trimesh") or "?"
-        _CODE_FINGERPRINT = hashlib.sha256(
-            f"{__version__}|{trimesh_version}|".encode() + source
-        ).hexdigest()
+        digest = hashlib.sha256(__version__.encode())
+        for dist in ("trimesh", "numpy", "scipy"):
+            digest.update(f"|{dist} {version(dist) or '?'}".encode())
+        sources: list[Path] = []
+        body = importlib.util.find_spec("kcheck.body")
+        if body is not None and body.submodule_search_locations:
+            for folder in body.submodule_search_locations:
+                sources.extend(sorted(Path(folder).glob("*.py")))
+        limits = importlib.util.find_spec("kcheck.scene.limits")
+        if limits is not None and limits.origin is not None:
+            sources.append(Path(limits.origin))
+        for source in sources:
+            digest.update(f"|{source.name}|".encode() + source.read_bytes())
+        _CODE_FINGERPRINT = digest.hexdigest()
     return _CODE_FINGERPRINT
 
 
@@ -97,7 +118,15 @@ def body_key(body: Body, scale: float) -> str:
             for f in dataclasses.fields(part)
             if f.name not in ("mesh", "field")
         }
-        parts.append({"sha256": _file_sha256(part.mesh), "name": part.mesh.name, "fields": fields})
+        parts.append(
+            {
+                "sha256": _file_sha256(part.mesh),
+                "name": part.mesh.name,
+                # Warnings of reading the mesh point at the part's field: it is in the key.
+                "field": _plain(part.field),
+                "fields": fields,
+            }
+        )
     # Everything else the body carries (point masses, ...), whatever the scene format adds.
     rest = {
         f.name: _plain(getattr(body, f.name))
@@ -105,7 +134,7 @@ def body_key(body: Body, scale: float) -> str:
         if f.name not in ("parts", "explicit")
     }
     material = {
-        "format": _FORMAT,
+        "format": FORMAT,
         "code": _code_fingerprint(),
         "scale": scale,
         "parts": parts,
@@ -131,11 +160,13 @@ class MassCache:
         """The entry for ``key``, or None when absent, unreadable, corrupt or implausible."""
         try:
             entry = json.loads(self._path(key).read_text(encoding="utf-8"))
+            if not isinstance(entry, dict) or entry.get("format") != FORMAT:
+                return None  # another format: recomputed, never half-read
             payload = entry["payload"]
             if entry["key"] != key or entry["checksum"] != _checksum(payload):
                 return None
             return _from_payload(payload)
-        except (OSError, ValueError, KeyError, TypeError):
+        except (OSError, ValueError, KeyError, TypeError, AttributeError, IndexError):
             return None
 
     def put(self, key: str, mass: MassProperties) -> None:
@@ -143,7 +174,7 @@ class MassCache:
         import tempfile
 
         payload = _to_payload(mass)
-        entry = {"key": key, "checksum": _checksum(payload), "payload": payload}
+        entry = {"format": FORMAT, "key": key, "checksum": _checksum(payload), "payload": payload}
         path = self._path(key)
         try:
             self._prepare()
@@ -175,19 +206,95 @@ def _to_payload(mass: MassProperties) -> dict[str, Any]:
         "source": mass.source,
         "volume": mass.volume,
         "notes": list(mass.notes),
+        "bounds": None if mass.bounds is None else mass.bounds.tolist(),
+        "part_bounds": [b.tolist() for b in mass.part_bounds],
+        "warnings": [_finding_payload(w) for w in mass.warnings],
     }
 
 
-def _from_payload(payload: dict[str, Any]) -> MassProperties | None:
+_PAYLOAD_KEYS = frozenset(
+    ("mass", "center_of_mass", "inertia", "source", "volume", "notes")
+    + ("bounds", "part_bounds", "warnings")
+)
+_FINDING_KEYS = ("message", "code", "field", "hint", "line", "column")
+
+
+def _finding_payload(finding: Finding) -> dict[str, Any]:
+    return {
+        "message": finding.message,
+        "code": finding.code,
+        "field": None if finding.field is None else list(finding.field),
+        "hint": finding.hint,
+        "line": finding.line,
+        "column": finding.column,
+    }
+
+
+def _text(value: Any, optional: bool = True) -> bool:
+    return isinstance(value, str) or (optional and value is None)
+
+
+def _integer(value: Any) -> bool:
+    return value is None or (isinstance(value, int) and not isinstance(value, bool))
+
+
+def _finding(value: Any) -> Finding | None:
+    """A finding from its payload, or None unless it is exactly one."""
+    from kcheck.result import Finding
+
+    if not isinstance(value, dict) or set(value) != set(_FINDING_KEYS):
+        return None
+    field = value["field"]
+    if field is not None and not (
+        isinstance(field, list)
+        and all(_text(p, False) or (_integer(p) and p is not None) for p in field)
+    ):
+        return None
+    if not (
+        _text(value["message"], False)
+        and _text(value["code"])
+        and _text(value["hint"])
+        and _integer(value["line"])
+        and _integer(value["column"])
+    ):
+        return None
+    return Finding(
+        value["message"],
+        value["code"],
+        None if field is None else tuple(field),
+        value["hint"],
+        value["line"],
+        value["column"],
+    )
+
+
+def _box(value: Any) -> np.ndarray | None:
+    """An axis-aligned box (rows min, max) from its payload, or None unless it is one."""
+    import numpy as np
+
+    box = np.asarray(value, dtype=float)
+    if box.shape != (2, 3) or not np.all(np.isfinite(box)) or not np.all(box[0] <= box[1]):
+        return None
+    return box
+
+
+def _from_payload(payload: Any) -> MassProperties | None:
+    """The mass properties of an entry's payload; None unless it holds exactly the fields of
+    this format, each of its type and physical."""
     import numpy as np
 
     from kcheck.result import MassProperties
 
+    if not isinstance(payload, dict) or set(payload) != _PAYLOAD_KEYS:
+        return None
     mass = float(payload["mass"])
     com = np.asarray(payload["center_of_mass"], dtype=float)
     inertia = np.asarray(payload["inertia"], dtype=float)
     volume = payload["volume"]
     notes = payload["notes"]
+    bounds = None if payload["bounds"] is None else _box(payload["bounds"])
+    part_bounds = [_box(b) for b in payload["part_bounds"]]
+    warnings = [_finding(w) for w in payload["warnings"]]
     plausible = (
         np.isfinite(mass)
         and mass > 0
@@ -200,11 +307,22 @@ def _from_payload(payload: dict[str, Any]) -> MassProperties | None:
         and (volume is None or (isinstance(volume, (int, float)) and volume > 0))
         and isinstance(notes, list)
         and all(isinstance(n, str) for n in notes)
+        and (payload["bounds"] is None or bounds is not None)
+        and all(b is not None for b in part_bounds)
+        and all(w is not None for w in warnings)
     )
     if not plausible:
         return None
     return MassProperties(
-        mass, com, inertia, "mesh", None if volume is None else float(volume), tuple(notes)
+        mass,
+        com,
+        inertia,
+        "mesh",
+        None if volume is None else float(volume),
+        tuple(notes),
+        bounds,
+        tuple(w for w in warnings if w is not None),
+        tuple(b for b in part_bounds if b is not None),
     )
 
 

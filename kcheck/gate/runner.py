@@ -227,9 +227,12 @@ def check_scene(
                 )
             except SceneError as exc:
                 where = exc.where or ("body",)
-                raise SceneError(
-                    scene.path, f"{exc.path}: {exc.message}", field=where, line=scene.line_of(where)
-                ) from exc
+                raise scene.error(where, f"{exc.path}: {exc.message}") from exc
+            from kcheck.body.mass import body_limits_problem
+
+            problem = body_limits_problem(mass)
+            if problem is not None:
+                raise scene.error(("body",), problem)
     except SceneError as exc:
         return _input_error(path, exc)
     except MemoryError:

@@ -143,15 +143,18 @@ def _polish(coefs: np.ndarray, x: np.ndarray, steps: int = 2) -> np.ndarray:
 
     der = derivative(coefs)
     for _ in range(steps):
-        vander = cheb.chebvander(np.nan_to_num(x), coefs.shape[1] - 1)  # (p, r, d + 1)
-        f = np.einsum("prd,pd->pr", vander, coefs)
-        g = np.einsum("prd,pd->pr", vander, der)
+        # A root far outside [-1, 1] (1e12, of a series whose high terms are negligible)
+        # overflows the full-degree Vandermonde matrix; it is dropped by the caller anyway,
+        # and a step that gives no finite, smaller residual is not taken.
         with np.errstate(all="ignore"):
+            vander = cheb.chebvander(np.nan_to_num(x), coefs.shape[1] - 1)  # (p, r, d + 1)
+            f = np.einsum("prd,pd->pr", vander, coefs)
+            g = np.einsum("prd,pd->pr", vander, der)
             step = np.where(g != 0, f / g, 0.0)
             new = x - step
             v2 = cheb.chebvander(np.nan_to_num(new), coefs.shape[1] - 1)
             f2 = np.einsum("prd,pd->pr", v2, coefs)
-        x = np.where(np.abs(f2) < np.abs(f), new, x)
+            x = np.where(np.abs(f2) < np.abs(f), new, x)
     return x
 
 

@@ -65,8 +65,13 @@ class BodyReader:
                 mesh = self.mesh_path((*pw, "mesh"), pm.mesh)
                 if mesh is not None and rho is not None:
                     parts.append(self.part(mesh, rho, pw, pm, pm.transform, pm.repair))
-        elif not has_explicit and model.center_of_mass is None:
-            p.add(where, "expected `mesh`, `parts`, or explicit mass properties")
+        else:
+            if not has_explicit and model.center_of_mass is None:
+                p.add(where, "expected `mesh`, `parts`, or explicit mass properties")
+            if model.material is not None or model.density is not None:
+                # Unused without a mesh, but held to the same rules as with one: a material
+                # must be in the table, and `material` and `density` are never both given.
+                self.density(where, model.material, model.density, True)
         if model.repair and model.mesh is None:
             p.add((*where, "repair"), "`repair` applies to `mesh`; with `parts`, set it per part")
         point_masses = []

@@ -82,11 +82,15 @@ def unit(vector: Sequence[float] | np.ndarray) -> np.ndarray:
     return v / norm
 
 
-def _perpendicular(v: np.ndarray, up: np.ndarray, what: str, where: str) -> np.ndarray:
-    """Unit component of ``v`` perpendicular to the unit vector ``up``."""
-    if abs(unit(v) @ up) > PARALLEL_COS:
-        raise CouplingError(f"{what} is parallel to `up`; it must not be", (where,))
-    return unit(v - (v @ up) * up)
+def _perpendicular(
+    v: np.ndarray, to: np.ndarray, what: str, where: tuple[str, ...], against: str = "`up`"
+) -> np.ndarray:
+    """Unit component of ``v`` perpendicular to the unit vector ``to`` (named ``against``);
+    a CouplingError at ``where`` (the field of ``v`` inside the coupling) if they are
+    parallel."""
+    if abs(unit(v) @ to) > PARALLEL_COS:
+        raise CouplingError(f"{what} is parallel to {against}; it must not be", where)
+    return unit(v - (v @ to) * to)
 
 
 def _default_reference(up: np.ndarray) -> np.ndarray:
@@ -125,7 +129,13 @@ def ball_vee(
     Contact 1's normal leans towards ``up × axis``, contact 2's away from it.
     """
     a = unit(axis)
-    u = _perpendicular(up, a, "the groove's `up`", "up")
+    u = _perpendicular(
+        up,
+        a,
+        "the groove's `up` (out of the groove, towards the ball)",
+        ("groove", "up"),
+        "the groove's `axis` (along it)",
+    )
     side = np.cross(u, a)
     h = math.radians(half_angle_deg)
     normals = [unit(math.cos(h) * u + sign * math.sin(h) * side) for sign in (1.0, -1.0)]
@@ -187,7 +197,7 @@ def ball_trihedral(
     ``up``, the first flank in the direction ``reference`` from the ball (seen along ``up``),
     the others 120 and 240 deg counter-clockwise about ``up``."""
     u = unit(up)
-    ref = _perpendicular(reference, u, "`reference`", "reference")
+    ref = _perpendicular(reference, u, "`reference`", ("reference",))
     ring = _ring(center, radius, u, half_angle_deg, ref)
     return [Contact(p, n, Surface(FLAT)) for p, n, _ in ring]
 
@@ -210,7 +220,7 @@ def ball_cone(
     if reference is None:
         ref = _default_reference(u)
     else:
-        ref = _perpendicular(reference, u, "`reference`", "reference")
+        ref = _perpendicular(reference, u, "`reference`", ("reference",))
     h = math.radians(half_angle_deg)
     out = []
     for point, normal, radial in _ring(center, radius, u, half_angle_deg, ref):

@@ -60,6 +60,10 @@ LIMITS: dict[str, Range] = {
     "half_angle": Range(0.0, 90.0, "deg", "half angle", open=True),
     "tolerance_length": Range(0.0, 1.0, "m", "± position"),
     "tolerance_angle": Range(0.0, 30.0, "deg", "± angle"),
+    # The supports' largest distance from their centroid (the length the algebra divides by):
+    # below a micrometre no coupling is meant, and at 1e-300 m its squares underflow. The
+    # upper end is never reached: coordinates lie within 1000 m.
+    "layout": Range(1e-6, 1e4, "m", "L"),
 }
 
 #: A direction's largest component must lie in [MIN_DIRECTION, MAX_DIRECTION] (its squared

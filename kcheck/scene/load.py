@@ -18,7 +18,7 @@ from pydantic import ValidationError
 from kcheck.numerics.thresholds import PARALLEL_SIN, ZERO_GUARD
 from kcheck.scene.body import BodyReader, rotation_matrix
 from kcheck.scene.coefficients import resolve_friction
-from kcheck.scene.limits import MIN_FORCE
+from kcheck.scene.limits import LIMITS, MIN_FORCE
 from kcheck.scene.models import BodyModel, LoadModel, SceneModel, SweepModel
 from kcheck.scene.shorthands import contact_count, expand_coupling
 from kcheck.scene.types import (
@@ -98,6 +98,8 @@ class _Builder:
         kind: Literal["planar", "spatial"] | None = None
         if not p.errors:
             kind = self.kind(supports, fields)
+        if kind is not None:
+            self.layout(supports)
         planar = kind == "planar"
         sweep = self.sweep(m.sweep, planar, given="sweep" in m.model_fields_set)
         gravity = np.zeros(3)
@@ -225,6 +227,26 @@ class _Builder:
             )
             ok = False
         return "planar" if ok else None
+
+    def layout(self, supports: tuple[Support, ...]) -> None:
+        """The supports' size (their largest distance from their centroid) within
+        ``LIMITS["layout"]``: the algebra divides lengths by it."""
+        positions = np.array([s.position for s in supports])
+        offsets = positions - positions.mean(axis=0)
+        big = float(np.abs(offsets).max())  # scaled first: the squares of 1e-300 underflow
+        size = big * float(np.linalg.norm(offsets / big, axis=1).max()) if big > 0 else 0.0
+        r = LIMITS["layout"]
+        if r.contains(size):
+            return
+        where: FieldPath = ("supports",) if self.m.supports else ("couplings",)
+        self.p.add(
+            where,
+            f"the supports lie within {size / self.scale:.3g} {self.m.units} ({size:.3g} m) of "
+            f"their centroid, less than the smallest layout kcheck checks, {r.low:g} m "
+            "(are the units right?)"
+            if size < r.low
+            else f"the supports lie {size:.3g} m from their centroid: {r.text()}",
+        )
 
     # --- forces and frames ----------------------------------------------------------------
 

@@ -30,15 +30,23 @@ __all__ = [
     "Tolerances",
     "Scene",
     "line_of",
+    "position_of",
 ]
 
 
 def line_of(lines: LineMap, path: FieldPath) -> int | None:
     """Line of a field, or of its nearest enclosing field, or None."""
+    return position_of(lines, {}, path)[0]
+
+
+def position_of(lines: LineMap, columns: LineMap, path: FieldPath) -> tuple[int | None, int | None]:
+    """Line and column of a field as written (its key, or its item in a list), or of its
+    nearest enclosing field written in the file (a required field that is missing: the
+    mapping it belongs in); (None, None) when nothing is known."""
     for n in range(len(path), -1, -1):
         if path[:n] in lines:
-            return lines[path[:n]]
-    return None
+            return lines[path[:n]], columns.get(path[:n])
+    return None, None
 
 
 @dataclass(frozen=True)
@@ -339,12 +347,7 @@ class Scene:
         return line_of(self.lines, path)
 
     def error(self, path: FieldPath, message: str) -> SceneError:
-        """A SceneError pointing at a field of this scene."""
-        column = self.columns.get(path) if path in self.lines else None
-        return SceneError(
-            self.path,
-            message,
-            field=path or None,
-            line=self.line_of(path),
-            column=column,
-        )
+        """A SceneError pointing at a field of this scene (its line and column, or those of
+        its nearest enclosing field written in the file)."""
+        line, column = position_of(self.lines, self.columns, path)
+        return SceneError(self.path, message, field=path or None, line=line, column=column)

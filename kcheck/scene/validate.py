@@ -18,7 +18,7 @@ from pydantic_core import ErrorDetails
 from kcheck.errors import FieldPath, SceneError, SceneErrors
 from kcheck.scene.limits import LIMITS, MAX_DIRECTION, MIN_DIRECTION, Range
 from kcheck.scene.models import COUPLING_TYPES
-from kcheck.scene.types import line_of
+from kcheck.scene.types import position_of
 
 __all__ = [
     "Problems",
@@ -48,12 +48,10 @@ class Problems:
         self._seen: set[tuple[FieldPath, str]] = set()
 
     def error(self, where: FieldPath, message: str) -> SceneError:
-        """A SceneError at a field (its line, and its column when the field itself is in the
-        file)."""
-        column = self.columns.get(where) if where in self.lines else None
-        return SceneError(
-            self.path, message, field=where or None, line=line_of(self.lines, where), column=column
-        )
+        """A SceneError at a field: its line and column, or those of its nearest enclosing
+        field written in the file (a missing field: the mapping it belongs in)."""
+        line, column = position_of(self.lines, self.columns, where)
+        return SceneError(self.path, message, field=where or None, line=line, column=column)
 
     def add(self, where: FieldPath, message: str) -> None:
         """Record an error (once per field and message)."""

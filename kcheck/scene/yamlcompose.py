@@ -285,7 +285,8 @@ class Composer:
                 )
             self._count(1, mark)
             path = self._child_path(mark)
-            if self.stack and isinstance(self.stack[-1].value, list):
+            if not self.stack or isinstance(self.stack[-1].value, list):
+                # a list item, or the document itself: where it starts (its first key)
                 self.lines.setdefault(path, mark.line + 1)
                 self.columns.setdefault(path, mark.column + 1)
             container: dict | list = {} if isinstance(event, yaml.MappingStartEvent) else []

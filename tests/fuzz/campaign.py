@@ -34,6 +34,7 @@ from tests.fuzz.meshes import mesh_case
 from tests.fuzz.model import Case
 from tests.fuzz.mutate import extreme_case, fixture_copy, mutation_case, valid_case
 from tests.fuzz.scenes import fixtures
+from tests.fuzz.v2 import v2_case, v2_mutation_case
 
 __all__ = ["GENERATORS", "SHARES", "plan", "run_campaign", "main"]
 
@@ -45,9 +46,21 @@ GENERATORS: dict[str, Callable[[int, int], Case]] = {
     "mesh": mesh_case,
     "cli": cli_case,
     "valid": valid_case,
+    "v2": v2_case,
+    "v2mutation": v2_mutation_case,
 }
-#: Share of each kind in a campaign of N inputs.
-SHARES = {"mutation": 0.40, "extreme": 0.20, "yaml": 0.12, "fs": 0.08, "mesh": 0.10, "cli": 0.10}
+#: Share of each kind in a campaign of N inputs (``v2`` and ``v2mutation``: generated
+#: designs of today's format, valid and mutated, since issue 25).
+SHARES = {
+    "mutation": 0.32,
+    "extreme": 0.16,
+    "yaml": 0.10,
+    "fs": 0.07,
+    "mesh": 0.08,
+    "cli": 0.10,
+    "v2": 0.07,
+    "v2mutation": 0.10,
+}
 #: Extra reports written by some batches (all read back), cycling.
 EXTRA_REPORTS: tuple[dict[str, str], ...] = (
     {},
@@ -166,6 +179,7 @@ def summary(harness: Harness, seconds: float, seed: int) -> dict:
         "rejections naming the file": dict(s.named_file),
         "rejections with a line": dict(s.with_line),
         "rejections with a field": dict(s.with_field),
+        "errors at real fields": dict(s.real_fields),
         "peak memory of one kcheck run, MB": round(s.peak_mb, 1),
         "peak memory run": s.peak_what,
         "peak memory of the fuzzer itself, MB": round(

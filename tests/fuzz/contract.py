@@ -8,6 +8,7 @@ then be refused with a located message, and must never crash a check.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -17,8 +18,21 @@ from tests.fuzz.model import ANY, Claim, Expect
 __all__ = ["UNIT_SCALE", "MATERIALS", "judge_number_field", "fmt_path", "field_name", "kind_of"]
 
 UNIT_SCALE = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "in": 0.0254}
-#: Names the fixtures use (docs/scene-format.md lists the whole table).
-MATERIALS = ("aluminium", "steel")
+
+
+def _material_table() -> tuple[str, ...]:
+    """Every material name of the table in docs/scene-format.md ("Materials (kg/m³): ...")."""
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "scene-format.md").read_text()
+    text = " ".join(doc.split("Materials (kg/m³):", 1)[1].split("\n\n", 1)[0].split())
+    names = []
+    for item in text.rstrip(".").split(","):
+        names.extend(item.split()[0].split("/"))
+    return tuple(names)
+
+
+#: Every name of the material table: any other is an error at its `material`, with a mesh
+#: or without one.
+MATERIALS = _material_table()
 
 COORDINATE_FIELDS = {"position", "center_of_mass", "center", "point", "translate"}
 DIRECTION_FIELDS = {"normal", "axis", "up", "reference", "direction", "zero"}
@@ -116,6 +130,10 @@ def judge_number_field(data: dict, path: tuple[Any, ...]) -> Expect:
         return _claim(path, "an integer too large to be a physical quantity")
     where, name = field_name(path)
     kind = kind_of(path)
+    if path[:1] == ("tolerances",) and len(path) == 2:
+        return _judge_tolerance(data, path)
+    if name in ("min", "max", "static", "kinetic") and "friction" in path:
+        kind, name = "scalar", "friction"  # a coefficient of a range or a pair
     if kind == "inertia":
         return _judge_inertia(data, where)
     holder = _get(data, where)
@@ -171,6 +189,21 @@ def judge_number_field(data: dict, path: tuple[Any, ...]) -> Expect:
             return _claim(path, f"{name} within {low:g}…{high:g}")
         return ANY
     return ANY
+
+
+def _judge_tolerance(data: dict, path: tuple[Any, ...]) -> Expect:
+    """`tolerances.position` (a length in the scene's units, 0 to 1 m) or an angle (0 to 30
+    deg)."""
+    value = _get(data, path)
+    if not _is_number(value):
+        return ANY
+    if path[1] == "position":
+        units = data.get("units", "m")
+        scale = UNIT_SCALE.get(units, 1.0) if isinstance(units, str) else 1.0
+        verdict = _range_verdict(float(value) * scale, 0.0, 1.0, False)
+        return _claim(path, "a position tolerance of 0 to 1 m") if verdict == "bad" else ANY
+    verdict = _range_verdict(float(value), 0.0, 30.0, False)
+    return _claim(path, "an angle tolerance of 0 to 30 deg") if verdict == "bad" else ANY
 
 
 def _judge_inertia(data: dict, where: tuple[Any, ...]) -> Expect:

@@ -42,6 +42,10 @@ WHOLE_FILE = re.compile(
     r"expected a mapping of scene fields"
 )
 PROCESS_CLASSES = ("hang", "traceback", "broken-report", "memory", "stray-output", "wrong-exit")
+#: Every kcheck process runs with Python's warnings turned into errors: a warning kcheck let
+#: through would print on a user's stderr; here it is a crashed check or an internal error,
+#: and so found and located (issue 25).
+PYTHON_FLAGS = ("-W", "error")
 DROP_PRIVILEGE = (
     "setpriv",
     "--bounding-set=-dac_override,-dac_read_search",
@@ -96,6 +100,8 @@ class Stats:
     named_file: Counter = field(default_factory=Counter)
     with_line: Counter = field(default_factory=Counter)
     with_field: Counter = field(default_factory=Counter)
+    #: errors whose field was checked against the schema (along the scene's data)
+    real_fields: Counter = field(default_factory=Counter)
     processes: int = 0
     peak_mb: float = 0.0
     peak_what: str = ""
@@ -284,6 +290,7 @@ class Harness:
     def scene_argv(self, targets: list[str], jobs: int, extra: Sequence[str]) -> list[str]:
         return [
             self.python,
+            *PYTHON_FLAGS,
             "-m",
             "kcheck",
             "check",
@@ -408,6 +415,9 @@ class Harness:
             ]
             if stray:
                 found["stray-output"] = "\n".join(stray)[:600]
+            elif run.stderr.strip() and not any(s["status"] == "error" for s in doc["scenes"]):
+                # without an input error there is nothing to say there: stderr stays empty
+                found["stray-output"] = run.stderr.strip()[:600]
             want = _exit_code(doc["scenes"])
             if run.code is not None and run.code != want and "cannot write" not in run.stderr:
                 found["wrong-exit"] = f"exit {run.code}, expected {want}"
@@ -457,7 +467,7 @@ class Harness:
                     self.stats.input_time(seconds, case.ident)
                     if seconds > self.time_limit_s:
                         problems.append(Problem("slow", case.ident, f"{seconds:.1f} s"))
-                problems.extend(self._judge_scene(case, scenes[i], expect, count))
+                problems.extend(self._judge_scene(case, scenes[i], expect, count, folder))
         seen: set[str] = set()
         for i, s in enumerate(scenes):
             owner = next((c for c in cases if _norm(s["path"]).startswith(c.ident + "/")), None)
@@ -466,7 +476,9 @@ class Harness:
             if i in claimed:
                 continue
             if owner is not None and owner.other_results:
-                problems.extend(self._judge_scene(owner, s, Expect("any"), count=False))
+                problems.extend(
+                    self._judge_scene(owner, s, Expect("any"), count=False, folder=folder)
+                )
                 continue
             problems.append(Problem("extra-result", owner.ident if owner else "?", s["path"]))
         for case in cases:
@@ -478,7 +490,9 @@ class Harness:
         self._cleanup(folder)
         return problems, classes
 
-    def _judge_scene(self, case: Case, r: dict, expect: Expect, count: bool) -> list[Problem]:
+    def _judge_scene(
+        self, case: Case, r: dict, expect: Expect, count: bool, folder: Path | None = None
+    ) -> list[Problem]:
         out: list[Problem] = []
         p = case.ident
         status = r["status"]
@@ -504,6 +518,15 @@ class Harness:
                     f.get("field") is None and WHOLE_FILE.search(f["message"])
                 ):
                     out.append(Problem("unlocated", p, f"no line: {f}"[:400]))
+                elif f.get("field") is not None and not f.get("column"):
+                    out.append(Problem("unlocated", p, f"no column: {f}"[:400]))
+            data = _scene_data(folder, r["path"]) if folder is not None else None
+            for f in findings:
+                unreal = _unreal(f, data)
+                if unreal:
+                    out.append(Problem("unreal-field", p, f"{unreal}: {f}"[:400]))
+                elif count and data is not None and f.get("field") is not None:
+                    self.stats.real_fields[case.kind] += 1
             if expect.outcome in ("valid", "accepted"):
                 out.append(Problem("rejected-valid", p, error[:400]))
             elif (
@@ -558,7 +581,7 @@ class Harness:
         (folder / ".cache").mkdir(exist_ok=True)
         argv = [a.replace("{case}", str(folder)) for a in case.argv or ()]
         run = run_process(
-            [self.python, "-m", "kcheck", *argv],
+            [self.python, *PYTHON_FLAGS, "-m", "kcheck", *argv],
             folder,
             deadline_s=max(60.0, 2 * self.time_limit_s),
             unprivileged=case.unprivileged,
@@ -580,6 +603,33 @@ class Harness:
         self.problems.extend(problems)
         self._cleanup(folder)
         return problems
+
+
+def _scene_data(folder: Path, path: str) -> Any:
+    """A scene file's data as kcheck reads it, or None when it cannot be read."""
+    from kcheck.scene.yamlio import load_yaml
+
+    try:
+        return load_yaml(folder / path)[0]
+    except Exception:
+        return None
+
+
+def _unreal(finding: dict, data: Any) -> str | None:
+    """Why an error's field is not a real field of the scene format, or None (errors sit at
+    real fields: the field exists in the JSON Schema along the branch the data takes; an
+    unknown field is named itself, in a mapping that is real)."""
+    from tests.fuzz.schema import in_schema, parse_path
+
+    field = finding.get("field")
+    if field is None or data is None:
+        return None
+    path = parse_path(field)
+    if finding["message"].startswith("unknown field") and path[:1] != ("checks",):
+        if not in_schema(path[:-1], data):
+            return "its mapping is not a field of the scene format"
+        return "a known field called unknown" if in_schema(path, data) else None
+    return None if in_schema(path, data) else "not a field of the scene format"
 
 
 def judge_cli(case: Case, run: Run, time_limit_s: float = INPUT_TIME_LIMIT_S) -> list[Problem]:

@@ -181,6 +181,8 @@ def _change_units(data: dict, rng: random.Random) -> str | None:
             put(data, path, [x * factor for x in value])
         elif name in RADIUS_FIELDS and isinstance(value, (int, float)):
             put(data, path, value * factor)
+        elif path == ("tolerances", "position") and isinstance(value, (int, float)):
+            put(data, path, value * factor)  # a length too (a scalar, unlike a position)
     data["units"] = new
     return f"units {old} -> {new}, lengths converted"
 

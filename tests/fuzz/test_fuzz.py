@@ -1,7 +1,7 @@
-"""kcheck's promise under fuzzing (issue 13): 225 generated inputs of every kind in the normal
-run (a handful of kcheck processes: two mixed batches of about 120 scenes, a small one, every
-report format, plus some command lines; about 30 s), and with ``pytest --fuzz-long N`` a
-campaign of N inputs (docs/robustness.md).
+"""kcheck's promise under fuzzing (issues 13 and 25): 295 generated inputs of every kind in
+the normal run (a handful of kcheck processes: two mixed batches of about 150 scenes, a small
+one, every report format, plus some command lines; about 30 s), and with ``pytest --fuzz-long
+N`` a campaign of N inputs (docs/robustness.md). Every kcheck process runs with ``-W error``.
 
 The seed of the normal run is fixed (``--fuzz-seed`` changes it), so the suite is the same
 every time; every problem names its input (``kind-seed-index``), which
@@ -26,7 +26,16 @@ from tests.fuzz.scenes import fixtures
 
 SEED = 13
 #: Inputs of the normal run, per kind (scene kinds batched; cli one process each).
-NORMAL = {"mutation": 90, "extreme": 45, "yaml": 35, "fs": 20, "mesh": 25, "cli": 10}
+NORMAL = {
+    "mutation": 90,
+    "extreme": 45,
+    "yaml": 35,
+    "fs": 20,
+    "mesh": 25,
+    "cli": 10,
+    "v2": 25,
+    "v2mutation": 45,
+}
 #: Further reports of the normal run's batches (two large batches, then a small one of the
 #: inputs that need an unprivileged process): every format is written and read back. The
 #: HTML page draws every scene's pictures (about a second each), so only the small batch
@@ -147,7 +156,7 @@ def test_fuzzed_inputs_keep_the_promise(tmp_path, seed):
     scene, no stray output, bounded time and memory."""
     harness = Harness(tmp_path, baseline(), time_limit_s=SUITE_TIME_LIMIT_S)
     started = time.monotonic()
-    run_campaign(harness, seed, NORMAL, batch_size=120, log=lambda _: None, reports=REPORTS)
+    run_campaign(harness, seed, NORMAL, batch_size=150, log=lambda _: None, reports=REPORTS)
     numbers = summary(harness, time.monotonic() - started, seed)
     assert not harness.problems, _report(harness.problems)
     for kind, n in NORMAL.items():
@@ -155,6 +164,12 @@ def test_fuzzed_inputs_keep_the_promise(tmp_path, seed):
     # Both outcomes occur among the scene kinds: the inputs are not all trivially rejected.
     assert numbers["accepted"]["mutation"] > 10 and numbers["rejected"]["mutation"] > 50
     assert numbers["rejected"]["yaml"] > 25 and numbers["rejected"]["mesh"] > 15
+    # Generated designs of today's format are valid: every one gets a verdict; mutated, both.
+    assert numbers["accepted"]["v2"] == NORMAL["v2"]
+    assert numbers["accepted"]["v2mutation"] > 5 and numbers["rejected"]["v2mutation"] > 20
+    # Errors were checked to sit at real fields of the format (the harness's `unreal-field`).
+    real = numbers["errors at real fields"]
+    assert real.get("mutation", 0) > 30 and real.get("v2mutation", 0) > 20, real
 
 
 def test_a_batch_of_valid_rewrites_keeps_every_fixture_verdict(tmp_path, seed):
@@ -187,3 +202,78 @@ def test_every_kind_regenerates_identically():
     for kind, generate in GENERATORS.items():
         a, b = generate(7, 3), generate(7, 3)
         assert (a.what, a.files, a.targets, a.argv) == (b.what, b.files, b.targets, b.argv), kind
+
+
+# --- today's format (issue 25) ----------------------------------------------------------------
+
+
+def test_generated_designs_use_every_feature_of_the_format():
+    """200 designs hold every shorthand (on the body and on the base), explicit supports,
+    friction in every form and at every level, preloads, tolerances, meshes, parts in their
+    own units with every kind of transform, point masses, explicit mass properties (a planar
+    I_zz alone too), a sweep plane, torques and every length unit."""
+    from tests.fuzz.scenes import walk
+    from tests.fuzz.schema import in_schema
+    from tests.fuzz.v2 import v2_design
+
+    seen: set[str] = set()
+    for i in range(200):
+        data, files = v2_design(SEED, i)
+        for path, value in walk(data):
+            assert in_schema(path, data), path  # every field it writes is a real one
+            names = [p for p in path if isinstance(p, str)]
+            if path[-1:] == ("type",):
+                seen.add(value)
+            if path[-1:] == ("ball_on",):
+                seen.add(f"ball_on {value}")
+            if names[-1:] == ["friction"] or names[-2:-1] == ["friction"]:
+                where = names[0] if names[0] in ("supports", "couplings") else "scene"
+                form = (
+                    "number"
+                    if not isinstance(value, dict)
+                    else "pair"
+                    if "static" in value
+                    else "range"
+                )
+                if names[-1] == "friction":
+                    seen.add(f"friction {form} in {where}")
+                if names[-1] in ("static", "kinetic") and isinstance(value, dict):
+                    seen.add("a pair of ranges")
+            if path[-1:] == ("rotate",):
+                seen.add("rotate matrix" if isinstance(value, list) else "rotate axis-angle")
+            if path[-1:] in (("translate",), ("torque",), ("sweep",), ("point_masses",)):
+                seen.add(path[-1])
+            if path[-2:-1] == ("tolerances",):
+                seen.add(f"tolerances.{path[-1]}")
+        body = data["body"]
+        seen.add(f"units {data['units']}")
+        seen.update(
+            k for k in ("mesh", "parts", "mass", "preloads", "supports") if k in body or k in data
+        )
+        if isinstance(body.get("inertia"), (int, float)):
+            seen.add("I_zz alone")
+        if any("units" in p for p in body.get("parts", [])):
+            seen.add("a part in its own unit")
+        assert data["body"] and files or "mass" in body
+    wanted = {
+        "ball-vee", "ball-cylinders", "ball-sphere", "ball-trihedral", "ball-cone", "ball-flat",
+        "ball_on base", "ball_on body", "supports",
+        "friction number in scene", "friction range in scene", "friction pair in scene",
+        "friction number in supports", "friction range in couplings", "friction pair in couplings",
+        "a pair of ranges", "preloads", "tolerances.position", "tolerances.normal",
+        "tolerances.load_direction", "mesh", "parts", "rotate matrix", "rotate axis-angle",
+        "translate", "a part in its own unit", "point_masses", "mass", "I_zz alone", "sweep",
+        "torque", "units m", "units cm", "units mm", "units um", "units in",
+    }  # fmt: skip
+    assert wanted <= seen, sorted(wanted - seen)
+
+
+def test_an_error_at_a_field_the_format_has_not_is_caught():
+    from tests.fuzz.harness import _unreal
+
+    vee = {"couplings": [{"type": "ball-vee", "groove": {"up": [0, 0, 1]}}]}
+    assert _unreal({"field": "couplings[0].up", "message": "parallel"}, vee)
+    assert _unreal({"field": "couplings[0].groove.up", "message": "parallel"}, vee) is None
+    assert _unreal({"field": "couplings[0].up", "message": "unknown field"}, vee) is None
+    assert _unreal({"field": "couplings[0].groove", "message": "unknown field"}, vee)
+    assert _unreal({"field": "checks.maxwell.nope", "message": "unknown field"}, vee) is None

@@ -3,6 +3,7 @@ tampered or implausible entry is recomputed, never trusted."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import shutil
 from pathlib import Path
@@ -11,7 +12,7 @@ import numpy as np
 import pytest
 
 import kcheck.body.mass
-from kcheck.gate.cache import MassCache, body_key, body_mass_properties_cached
+from kcheck.gate.cache import FORMAT, MassCache, body_key, body_mass_properties_cached
 from kcheck.scene import load_scene
 from tests.conftest import FIXTURES
 
@@ -39,9 +40,17 @@ def computed(monkeypatch: pytest.MonkeyPatch) -> list[int]:
 
 
 def _same(a, b) -> None:
-    assert a.mass == b.mass and a.volume == b.volume and a.notes == b.notes
-    assert np.array_equal(a.center_of_mass, b.center_of_mass)
-    assert np.array_equal(a.inertia, b.inertia)
+    """Every field of two mass properties identical (bit for bit)."""
+    assert dataclasses.fields(a) == dataclasses.fields(b)
+    for f in dataclasses.fields(a):
+        x, y = getattr(a, f.name), getattr(b, f.name)
+        if f.name == "part_bounds":
+            assert len(x) == len(y)
+            assert all(np.array_equal(p, q) for p, q in zip(x, y, strict=True))
+        elif isinstance(x, np.ndarray) or isinstance(y, np.ndarray):
+            assert np.array_equal(x, y), f.name
+        else:
+            assert x == y, f.name
 
 
 def test_second_run_is_a_hit_with_identical_values(scene, computed, tmp_path):
@@ -139,3 +148,156 @@ def test_cli_cache_in_the_user_cache_folder_and_no_cache(cli, tmp_path, monkeypa
     assert cli("check")[0] == 0
     entries = list((tmp_path / "xdg" / "kcheck" / "mass").rglob("*.json"))
     assert len(entries) == 1 and not (project / ".kcheck_cache").exists()
+
+
+# --- issue 25: a result from the cache is the result computed afresh ---------------------------
+
+
+def _copy(tmp_path: Path, name: str) -> Path:
+    shutil.copytree(FIXTURES / name, tmp_path / name)
+    return tmp_path / name
+
+
+def _plate_in_cm(tmp_path: Path) -> Path:
+    """The tool changer with its plate declared in cm (a unit mix-up: the plate comes out
+    ten times too large, and the balls 13.6 times smaller than it)."""
+    scene = _copy(tmp_path, "tool-changer") / "tool.kcheck.yaml"
+    text = scene.read_text()
+    old = "{mesh: plate.stl, material: aluminium,"
+    assert old in text
+    scene.write_text(text.replace(old, old + " units: cm,"))
+    return scene
+
+
+def _repaired(tmp_path: Path) -> Path:
+    """A 100 mm cube with one face missing, read with `repair: true` (a warning)."""
+    import trimesh
+
+    mesh = trimesh.creation.box(extents=(100, 100, 100))
+    keep = [i for i, n in enumerate(mesh.face_normals) if not np.allclose(n, [1, 0, 0])]
+    trimesh.Trimesh(mesh.vertices, mesh.faces[keep], process=False).export(tmp_path / "open.stl")
+    scene = tmp_path / "open.kcheck.yaml"
+    scene.write_text(
+        "version: 1\nunits: mm\nbody: {mesh: open.stl, material: aluminium, repair: true}\n"
+        "supports:\n"
+        "  - {name: a, position: [-50, 0, 0], normal: [1, 0, 0]}\n"
+        "  - {name: b, position: [50, -50, 0], normal: [0, 1, 0]}\n"
+        "  - {name: c, position: [-50, -50, 0], normal: [0, 1, 0]}\n"
+        "load: {magnitude: 1, angle: 225}\n"
+    )
+    return scene
+
+
+@pytest.mark.parametrize(
+    "make", [_plate_in_cm, _repaired], ids=["parts-units-transform", "repaired"]
+)
+def test_a_hit_is_the_computation_field_for_field(make, computed, tmp_path):
+    """Bounds, each part's bounds, the mesh's warnings and notes come back from the cache
+    exactly as computed: the sanity warnings judge by them (issue 25: the cache lost the
+    boxes, and the tool changer with its plate in cm warned only on the first run)."""
+    scene = load_scene(make(tmp_path))
+    folder = tmp_path / "cache"
+    fresh = body_mass_properties_cached(scene.body, scene.scale, None)
+    cold = body_mass_properties_cached(scene.body, scene.scale, folder)
+    warm = body_mass_properties_cached(scene.body, scene.scale, folder)
+    assert len(computed) == 2  # the warm run read the entry
+    _same(fresh, cold)
+    _same(fresh, warm)
+    assert warm.bounds is not None and len(warm.part_bounds) == len(scene.body.parts)
+    if make is _repaired:
+        assert [w.code for w in warm.warnings] == ["mesh-repaired"]
+        assert warm.warnings[0].field == ("body", "mesh")
+
+
+def _format_1_entry(mass) -> dict:
+    """An entry as kcheck wrote it before the format was versioned (no bounds, no part
+    bounds, no warnings), with a valid checksum."""
+    from kcheck.gate.cache import _checksum
+
+    payload = {
+        "mass": mass.mass,
+        "center_of_mass": mass.center_of_mass.tolist(),
+        "inertia": mass.inertia.tolist(),
+        "source": "mesh",
+        "volume": mass.volume,
+        "notes": list(mass.notes),
+    }
+    return {"checksum": _checksum(payload), "payload": payload}
+
+
+def _without_part_bounds(entry: dict) -> dict:
+    """Today's format with a field missing, and a checksum that matches what is left."""
+    from kcheck.gate.cache import _checksum
+
+    payload = {k: v for k, v in entry["payload"].items() if k != "part_bounds"}
+    return {**entry, "payload": payload, "checksum": _checksum(payload)}
+
+
+@pytest.mark.parametrize(
+    "rewrite",
+    [
+        lambda entry, key, old: {"key": key, **old},  # format 1 under today's key
+        lambda entry, key, old: {**entry, "format": 1},  # today's payload claimed format 1
+        lambda entry, key, old: {k: v for k, v in entry.items() if k != "format"},
+        lambda entry, key, old: _without_part_bounds(entry),
+    ],
+    ids=["format-1", "claims-format-1", "no-format", "field-missing"],
+)
+def test_an_entry_of_another_format_is_recomputed_never_half_read(rewrite, computed, tmp_path):
+    scene = load_scene(_plate_in_cm(tmp_path))
+    folder = tmp_path / "cache"
+    reference = body_mass_properties_cached(scene.body, scene.scale, folder)
+    key = body_key(scene.body, scene.scale)
+    path = folder / "mass" / key[:2] / f"{key}.json"
+    entry = json.loads(path.read_text())
+    assert entry["format"] == FORMAT == 2
+    path.write_text(json.dumps(rewrite(entry, key, _format_1_entry(reference))))
+    assert MassCache(folder).get(key) is None
+    again = body_mass_properties_cached(scene.body, scene.scale, folder)
+    assert len(computed) == 2  # recomputed, not read
+    _same(reference, again)
+    assert json.loads(path.read_text())["format"] == FORMAT  # rewritten in today's format
+
+
+def test_the_key_covers_units_transforms_field_mesh_bytes_and_version(
+    computed, tmp_path, monkeypatch
+):
+    import kcheck.gate.cache as cache
+
+    scene = load_scene(_copy(tmp_path, "tool-changer") / "tool.kcheck.yaml")
+    body = scene.body
+    key = body_key(body, scene.scale)
+    plate, balls = body.parts
+
+    def with_plate(**changes):
+        return dataclasses.replace(body, parts=(dataclasses.replace(plate, **changes), balls))
+
+    assert body_key(with_plate(scale=0.01, units="cm"), scene.scale) != key
+    assert body_key(with_plate(rotation=None), scene.scale) != key
+    assert body_key(with_plate(translation=(0.0, 0.0, 0.001)), scene.scale) != key
+    assert body_key(with_plate(field=("body", "parts", 1)), scene.scale) != key
+    assert body_key(body, scene.scale) == key  # and the same body, the same key
+    with plate.mesh.open("ab") as fh:  # one byte more in the mesh file
+        fh.write(b"\0")
+    changed = body_key(body, scene.scale)
+    assert changed != key
+    monkeypatch.setattr(cache, "__version__", "99.0")
+    monkeypatch.setattr(cache, "_CODE_FINGERPRINT", None)
+    assert body_key(body, scene.scale) != changed
+
+
+def test_cli_cold_warm_and_without_the_cache_give_one_verdict(cli, tmp_path):
+    """The tool changer with its plate in cm: the same warning and, with --strict, the same
+    exit code on the first run, the second and without the cache (it was 1, 0, 1)."""
+    scene = _plate_in_cm(tmp_path)
+    folder = tmp_path / "cache"
+    runs = [("--cache-dir", str(folder)), ("--cache-dir", str(folder)), ("--no-cache",)]
+    codes, warnings = [], []
+    for extra in runs:
+        code, out, _ = cli("check", "--format", "json", "--strict", *extra, str(scene))
+        codes.append(code)
+        warnings.append([w["message"] for w in json.loads(out)["scenes"][0]["warnings"]])
+    assert list((folder / "mass").rglob("*.json"))  # the second run read an entry
+    assert codes == [1, 1, 1]
+    assert warnings[0] == warnings[1] == warnings[2]
+    assert any("(balls.stl) is 13.6 times smaller" in w for w in warnings[0]), warnings[0]

@@ -189,8 +189,8 @@ def test_loader_expands_in_si_with_names_and_provenance(write_scene):
         (
             "axis: [0, 1, 0], up: [0, 0, 1]",
             "axis: [0, 0, 2], up: [0, 0, 1]",
-            "couplings[0].up",
-            "parallel",
+            "couplings[0].groove.up",  # it was couplings[0].up, a field a ball-vee has not
+            "parallel to the groove's `axis`",
         ),
         (
             "half_angle: 45}, friction",

@@ -174,3 +174,34 @@ def test_extreme_magnitudes_never_crash(
     )
     for result in run_all(changed).values():
         assert result.status in (Status.PASS, Status.FAIL)
+
+
+#: One envelope series of analytical-3d's friction range on a generated scene (tests/fuzz
+#: v2-1-35: a ball cone, a ball on two spheres and a flat support, in µm, friction 0.14–0.24):
+#: negligible past its linear term, so its one root lies at -9.4e11, far outside [-1, 1].
+FAR_ROOT_SERIES = [
+    1.0015610632297246e-08, 1.062442165905252e-20, 3.447638913847274e-21,
+    8.747035590369937e-21, -1.745705240637134e-21, 6.337124641115452e-21,
+    6.934497952462824e-22, 1.7184680719525236e-23, 2.7430381711927926e-33,
+    9.11628414322754e-35, 1.2423678662393543e-33, 5.156647276330155e-35,
+    1.5613845553915354e-34, 5.189596886034049e-36, 4.395128998460706e-38,
+    1.2647383120376513e-50, -4.3791346701866575e-51, 6.337219715742942e-51,
+    -3.306357554490936e-51, -5.076686407436986e-53, 1.864229213664743e-67,
+    1.8927761071866046e-67, -1.5280276031033024e-67, -4.8602500413773195e-68,
+    3.3323353143762114e-68, -8.35544114113672e-84, 3.65755965210328e-99, 0.0, 0.0,
+]  # fmt: skip
+
+
+def test_a_root_far_outside_the_interval_is_dropped_without_a_warning():
+    # Polishing the root at -9.4e11 evaluated the full degree-28 Vandermonde matrix there,
+    # T_28(-9.4e11) ~ 1e336: "RuntimeWarning: overflow encountered in multiply" on stderr
+    # (a crashed check under -W error). The series is 1e-8 plus terms below 1e-20 on [-1, 1]:
+    # positive, no root there.
+    from kcheck.numerics import chebyshev
+
+    coefs = np.array([FAR_ROOT_SERIES])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        found = chebyshev.real_roots(coefs)
+        assert np.isnan(found).all()
+        assert chebyshev.positive(coefs).all()

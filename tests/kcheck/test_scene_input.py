@@ -450,6 +450,7 @@ DOC_ROWS = {
     "half_angle": "| `half_angle`",
     "tolerance_length": "| tolerance of positions",
     "tolerance_angle": "| tolerance of angles",
+    "layout": "| layout",
 }
 
 

@@ -534,4 +534,4 @@ def test_bad_mesh_is_an_input_error_for_graphical_alone(
     only = [lc for lc in load_checks() if lc.spec.name == "graphical-2d"]
     result = check_scene(path, only)
     assert result.status is Status.ERROR and result.checks == ()
-    assert f"{path}:3: field `body.mesh`:" in result.error and "inverted" in result.error
+    assert f"{path}:3:8: field `body.mesh`:" in result.error and "inverted" in result.error

@@ -42,10 +42,10 @@ DIAGNOSTIC = ("ill_conditioned", "undetermined")
 @pytest.fixture(autouse=True)
 def _beyond_physical_ranges(monkeypatch: pytest.MonkeyPatch) -> None:
     """These tests probe the numerics far beyond the loader's physical ranges (masses to
-    1e15 kg and down to a 100 um block's 3e-10 kg, layouts to 10 km): widen the ranges
-    they need."""
+    1e15 kg and down to a 100 um block's 3e-10 kg and 1e-19 kg m², layouts to 10 km): widen
+    the ranges they need."""
     monkeypatch.setitem(LIMITS, "mass", Range(1e-12, 1e20, "kg", "mass"))
-    monkeypatch.setitem(LIMITS, "inertia", Range(1e-18, 1e20, "kg m^2", "principal moment"))
+    monkeypatch.setitem(LIMITS, "inertia", Range(1e-30, 1e20, "kg m^2", "principal moment"))
     monkeypatch.setitem(LIMITS, "coordinate", Range(-1e5, 1e5, "m", "each coordinate"))
 
 
