@@ -633,7 +633,8 @@ for name in ("body as a whole heavy",):  # point masses need their points
 
 #: Places that make an input error but that no scene file can reach; each with why.
 UNREACHABLE = {
-    ("body/meshio.py", "({exc.strerror or exc})"): "the loader refuses a missing mesh first "
+    ("body/meshio.py", "cannot read the mesh ({describe_os_error(exc)})"): "the loader refuses "
+    "a missing mesh first "
     "(body.mesh_path); reached only when the file goes away between loading and reading",
     ("body/meshio.py", "not a regular file"): "likewise for a file replaced by a pipe",
     ("body/meshio.py", "STEP files need the optional"): "the test environment has the step extra",
