@@ -184,6 +184,7 @@ def test_since_needs_a_common_ancestor(tmp_path, monkeypatch, cli):
     assert code == 2 and out == "" and "`main` and HEAD have no common ancestor" in err
 
 
+@pytest.mark.slow
 def test_the_pre_commit_hook_gives_the_full_verdict(tmp_path):
     """pre-commit itself, on the staged change (``pre-commit run``) and on the branch
     (``pre-commit run --from-ref main --to-ref HEAD``, as CI runs it): the hook's JSON report

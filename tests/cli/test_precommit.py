@@ -45,6 +45,7 @@ def snapshot(dest: Path) -> Path:
     return dest
 
 
+@pytest.mark.slow
 def test_hook_on_a_throwaway_repository(tmp_path):
     kcheck_repo = snapshot(tmp_path / "kcheck")
     repo = make_repository(tmp_path)

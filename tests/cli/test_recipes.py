@@ -20,7 +20,10 @@ import yaml
 from tests.cli.test_end_to_end import make_repository
 from tests.conftest import ROOT
 
-pytestmark = pytest.mark.skipif(shutil.which("git") is None, reason="needs git")
+pytestmark = [
+    pytest.mark.skipif(shutil.which("git") is None, reason="needs git"),
+    pytest.mark.slow,
+]
 
 
 def recipes() -> dict[str, dict]:

@@ -35,6 +35,8 @@ import pytest
 
 from tests.conftest import FIXTURES, PLANAR_SCENE
 
+pytestmark = pytest.mark.slow
+
 GENERATED_REWRITES = 150
 GENERATED_DESIGNS = 50
 SEED = 25

@@ -125,6 +125,7 @@ def test_bad_input_is_exit_2(cli, write_scene, tmp_path):
     assert code == 2 and "missing.kcheck.yaml" in err
 
 
+@pytest.mark.slow
 def test_suggestion_over_the_scene_friction_range(cli, fixture_copy):
     """`suggest` reads the scene's friction range (no option needed): the best candidate's
     margin is exact over the whole range — the margin analytical-3d reports for the written

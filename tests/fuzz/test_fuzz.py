@@ -150,6 +150,7 @@ def test_peak_memory_is_the_commands_own(tmp_path):
 # --- the promise ----------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_fuzzed_inputs_keep_the_promise(tmp_path, seed):
     """Every kind of input, mixed batches of valid and invalid scenes, every command line:
     exit codes, located messages, no traceback, no check crash, no internal error, no lost

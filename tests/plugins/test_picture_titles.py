@@ -79,6 +79,7 @@ def drawn(tmp_path_factory: pytest.TempPathFactory) -> list[tuple[dict[str, Any]
     return out
 
 
+@pytest.mark.slow
 def test_every_fixture_is_drawn(drawn: list[tuple[dict[str, Any], str, str]]) -> None:
     drawn_scenes = {scene["path"] for scene, _, _ in drawn}
     assert len(drawn_scenes) == len(FIXTURES)
