@@ -77,6 +77,9 @@ class Finding:
     hint: str | None = None
     line: int | None = None
     column: int | None = None
+    #: Why this failure does not fail the run (an inline suppression's reason, a per-path
+    #: ignore, the baseline); None for a failure that counts.
+    suppressed: str | None = None
 
     def to_json(self) -> dict[str, Any]:
         """JSON form: ``field`` rendered like ``supports[2].normal``; None fields omitted."""
@@ -85,7 +88,7 @@ class Finding:
             out["code"] = self.code
         if self.field is not None:
             out["field"] = format_path(self.field)
-        for name in ("hint", "line", "column"):
+        for name in ("hint", "line", "column", "suppressed"):
             value = getattr(self, name)
             if value is not None:
                 out[name] = value
@@ -200,11 +203,15 @@ class CheckResult:
     details: Mapping[str, Any] = field(default_factory=dict)
     findings: tuple[Finding, ...] = ()
     severity: Severity = "error"
+    #: Failures accepted by a suppression (each finding's ``suppressed`` says why): reported,
+    #: not failing the run.
+    suppressed: tuple[Finding, ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "details", _frozen(self.details))
         object.__setattr__(self, "cases", tuple(self.cases))
         object.__setattr__(self, "findings", tuple(self.findings))
+        object.__setattr__(self, "suppressed", tuple(self.suppressed))
 
     def to_json(self) -> dict[str, Any]:
         """JSON form; fields the check has no use for are omitted."""
@@ -217,6 +224,8 @@ class CheckResult:
         }
         if self.findings:
             out["findings"] = [f.to_json() for f in self.findings]
+        if self.suppressed:
+            out["suppressed"] = [f.to_json() for f in self.suppressed]
         if self.error_estimate is not None:
             out["error_estimate"] = to_json_value(self.error_estimate)
         if self.safe_ranges_deg is not None:

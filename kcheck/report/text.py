@@ -181,6 +181,14 @@ def _check_line(console: Console, scene: SceneResult, check: CheckResult) -> Non
     if word in ("fail", "warn", "error") and check.findings:
         for reason in views.reasons(check):
             _reason(console, word, reason.text, reason.line, reason.hint)
+    for f in check.suppressed:
+        where = f"  (line {f.line})" if f.line is not None else ""
+        _hanging(
+            console,
+            8,
+            Text("suppressed ", style="dim"),
+            Text(f"{f.message}{where} — {f.suppressed}", style="dim"),
+        )
     for other in views.disagreements(scene, check):
         _hanging(console, 8, Text("but ", style="bold yellow"), Text(other))
 
