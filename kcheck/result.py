@@ -95,6 +95,17 @@ class Finding:
         return out
 
 
+#: How a suppression that is not in the scene (``Finding.suppressed``) begins: a per-path
+#: ignore of the configuration, or the baseline file.
+PER_PATH_REASON = "per-path-ignores: "
+BASELINE_REASON = "in the baseline "
+
+
+def is_external(reason: str) -> bool:
+    """Whether a suppression's reason comes from outside the scene (SARIF ``external``)."""
+    return reason.startswith((PER_PATH_REASON, BASELINE_REASON))
+
+
 Ranges = tuple[tuple[float, float], ...]
 
 

@@ -27,7 +27,14 @@ from pathlib import Path
 from typing import Any
 
 from kcheck.errors import format_path
-from kcheck.result import CheckResult, Finding, SceneResult, Status
+from kcheck.result import (
+    BASELINE_REASON,
+    PER_PATH_REASON,
+    CheckResult,
+    Finding,
+    SceneResult,
+    Status,
+)
 
 __all__ = [
     "Suppression",
@@ -295,11 +302,11 @@ def apply(
             if why is None:
                 for pattern, code in path_codes:
                     if covers(code, rule, check.id):
-                        why = f"per-path-ignores: {pattern!r} ignores {code}"
+                        why = f"{PER_PATH_REASON}{pattern!r} ignores {code}"
                         break
             if why is None and baseline is not None:
                 if baseline.take(baseline_key(key_path, rule, _what(f))):
-                    why = f"in the baseline {baseline.source}"
+                    why = f"{BASELINE_REASON}{baseline.source}"
             if why is None:
                 kept.append(f)
             else:
