@@ -115,9 +115,9 @@ def add_parser(sub: Any) -> None:
         "--stdin-filename",
         type=Path,
         metavar="PATH",
-        help="with `-`: the scene read from standard input is taken to be at PATH (meshes "
-        "relative to its folder; per-path ignores and the baseline match it); default: the "
-        "working directory, reported as `-`",
+        help="with the path - (a scene on standard input): take the scene to be at PATH "
+        "(meshes relative to its folder; per-path ignores and the baseline match it); "
+        "default: the working directory, the scene reported as -",
     )
     add_gate_options(check)
     _add_report_options(check)
