@@ -392,10 +392,13 @@ def _acceptance(
     """What accepts failures (inline suppressions, per-path ignores, the baseline): a
     function from a scene's result to its result with accepted failures set aside."""
     from kcheck.gate.suppress import Baseline, PathIgnores
-    from kcheck.report.sarif import source_root
 
     baseline = None
+    root = None  # the repository root, for the baseline's keys
     if args.baseline is not None and args.write_baseline is None:
+        from kcheck.report.sarif import source_root  # only then (its imports cost)
+
+        root = source_root()
         try:
             baseline = Baseline.read(args.baseline)
         except ValueError as exc:
@@ -403,7 +406,6 @@ def _acceptance(
 
             raise UsageError(f"--baseline {args.baseline}: {exc}") from exc
     ignores = PathIgnores(config["per_path_ignores"], config.root)
-    root = source_root()
 
     def accept(result: SceneResult, stdin: tuple[Path, str] | None) -> SceneResult:
         from kcheck.gate.suppress import SuppressionError, apply, inline_suppressions
