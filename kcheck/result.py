@@ -77,6 +77,9 @@ class Finding:
     hint: str | None = None
     line: int | None = None
     column: int | None = None
+    #: Why this failure does not fail the run (an inline suppression's reason, a per-path
+    #: ignore, the baseline); None for a failure that counts.
+    suppressed: str | None = None
 
     def to_json(self) -> dict[str, Any]:
         """JSON form: ``field`` rendered like ``supports[2].normal``; None fields omitted."""
@@ -85,11 +88,22 @@ class Finding:
             out["code"] = self.code
         if self.field is not None:
             out["field"] = format_path(self.field)
-        for name in ("hint", "line", "column"):
+        for name in ("hint", "line", "column", "suppressed"):
             value = getattr(self, name)
             if value is not None:
                 out[name] = value
         return out
+
+
+#: How a suppression that is not in the scene (``Finding.suppressed``) begins: a per-path
+#: ignore of the configuration, or the baseline file.
+PER_PATH_REASON = "per-path-ignores: "
+BASELINE_REASON = "in the baseline "
+
+
+def is_external(reason: str) -> bool:
+    """Whether a suppression's reason comes from outside the scene (SARIF ``external``)."""
+    return reason.startswith((PER_PATH_REASON, BASELINE_REASON))
 
 
 Ranges = tuple[tuple[float, float], ...]
@@ -200,11 +214,15 @@ class CheckResult:
     details: Mapping[str, Any] = field(default_factory=dict)
     findings: tuple[Finding, ...] = ()
     severity: Severity = "error"
+    #: Failures accepted by a suppression (each finding's ``suppressed`` says why): reported,
+    #: not failing the run.
+    suppressed: tuple[Finding, ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "details", _frozen(self.details))
         object.__setattr__(self, "cases", tuple(self.cases))
         object.__setattr__(self, "findings", tuple(self.findings))
+        object.__setattr__(self, "suppressed", tuple(self.suppressed))
 
     def to_json(self) -> dict[str, Any]:
         """JSON form; fields the check has no use for are omitted."""
@@ -217,6 +235,8 @@ class CheckResult:
         }
         if self.findings:
             out["findings"] = [f.to_json() for f in self.findings]
+        if self.suppressed:
+            out["suppressed"] = [f.to_json() for f in self.suppressed]
         if self.error_estimate is not None:
             out["error_estimate"] = to_json_value(self.error_estimate)
         if self.safe_ranges_deg is not None:

@@ -98,6 +98,27 @@ def add_parser(sub: Any) -> None:
         help="after the report, the number of issues per rule, most frequent first (on "
         "standard error)",
     )
+    check.add_argument(
+        "--baseline",
+        type=Path,
+        metavar="FILE",
+        help="accept the failures recorded in FILE (written by --write-baseline); only new "
+        "failures fail the run",
+    )
+    check.add_argument(
+        "--write-baseline",
+        type=Path,
+        metavar="FILE",
+        help="record the run's failures in FILE (exit 0 unless bad input)",
+    )
+    check.add_argument(
+        "--stdin-filename",
+        type=Path,
+        metavar="PATH",
+        help="with the path - (a scene on standard input): take the scene to be at PATH "
+        "(meshes relative to its folder; per-path ignores and the baseline match it); "
+        "default: the working directory, the scene reported as -",
+    )
     add_gate_options(check)
     _add_report_options(check)
     check.set_defaults(handler=run)
@@ -217,6 +238,15 @@ def _pictures(
 
 def run(args: argparse.Namespace) -> int:
     """Check every scene, stream the reports, choose the exit code."""
+    temporary: list[Path] = []  # the scene read from standard input, removed at the end
+    try:
+        return _check(args, temporary)
+    finally:
+        for path in temporary:
+            path.unlink(missing_ok=True)
+
+
+def _check(args: argparse.Namespace, temporary: list[Path]) -> int:
     from kcheck.cli.config import cache_folder, effective_config, output_targets, plan_checks
     from kcheck.gate.paths import check_output_dir, check_output_file
     from kcheck.gate.runner import Settings, discover, run_batch
@@ -244,8 +274,22 @@ def run(args: argparse.Namespace) -> int:
 
     paths = [Path(p) for p in config["paths"]] or [Path(".")]
     exclude = _excluder(config)
-    files, missing = discover(paths, exclude)
-    if args.pre_commit:
+    accept = _acceptance(args, config)
+    stdin: tuple[Path, str] | None = None
+    if any(str(p) == "-" for p in args.paths or ()):
+        if len(args.paths) != 1:
+            return fail("`-` (a scene on standard input) cannot be given with other paths")
+        stdin = _stdin_scene(args.stdin_filename)
+        temporary.append(stdin[0])
+        files = [stdin[0]]
+        missing: list[SceneResult] = []
+    else:
+        if args.stdin_filename is not None:
+            return fail("--stdin-filename: only with `-` (a scene on standard input)")
+        files, missing = discover(paths, exclude)
+    if stdin is not None:
+        pass  # the one scene, whatever --changed-only or the hook would say
+    elif args.pre_commit:
         files, missing = _hook_files(files, missing, args.paths, exclude)
     elif args.changed_only or args.since:
         from kcheck.gate.vcs import changed_scenes
@@ -306,6 +350,7 @@ def run(args: argparse.Namespace) -> int:
             doing = "checking" + (", plotting" if plots is not None else "")
             ticks: list[Callable[[], None]] = []  # the progress line's, once it is shown
             batch = run_batch(files, checks, settings, tick=lambda: _each(ticks))
+            batch = (accept(r, stdin) for r in batch)
             results, elapsed = _run(tee, files, missing, batch, args, doing, ticks)
     finally:
         for _, _, stream in streams:
@@ -322,11 +367,100 @@ def run(args: argparse.Namespace) -> int:
     if args.statistics:
         _statistics(results, config["fail_on"])
     states = {r.status for r in results}
+    if args.write_baseline is not None:
+        from kcheck.gate.suppress import write_baseline
+        from kcheck.report.sarif import source_root
+
+        try:
+            count = write_baseline(args.write_baseline, results, source_root())
+        except OSError as exc:
+            from kcheck.errors import describe_os_error
+
+            return fail(f"--write-baseline {args.write_baseline}: {describe_os_error(exc)}")
+        print(f"kcheck: {count} failures recorded in {args.write_baseline}", file=sys.stderr)
+        return ExitCode.USAGE_OR_INPUT if Status.ERROR in states else ExitCode.OK
     if Status.ERROR in states or tee.failures:
         return ExitCode.USAGE_OR_INPUT
     if Status.FAIL in states or (config["fail_on"] == "warning" and Status.WARN in states):
         return ExitCode.OK if args.exit_zero else ExitCode.CHECKS_FAILED
     return ExitCode.OK
+
+
+def _acceptance(
+    args: argparse.Namespace, config: Any
+) -> Callable[[SceneResult, tuple[Path, str] | None], SceneResult]:
+    """What accepts failures (inline suppressions, per-path ignores, the baseline): a
+    function from a scene's result to its result with accepted failures set aside."""
+    from kcheck.gate.suppress import Baseline, PathIgnores
+
+    baseline = None
+    root = None  # the repository root, for the baseline's keys
+    if args.baseline is not None and args.write_baseline is None:
+        from kcheck.report.sarif import source_root  # only then (its imports cost)
+
+        root = source_root()
+        try:
+            baseline = Baseline.read(args.baseline)
+        except ValueError as exc:
+            from kcheck.errors import UsageError
+
+            raise UsageError(f"--baseline {args.baseline}: {exc}") from exc
+    ignores = PathIgnores(config["per_path_ignores"], config.root)
+
+    def accept(result: SceneResult, stdin: tuple[Path, str] | None) -> SceneResult:
+        from kcheck.gate.suppress import SuppressionError, apply, inline_suppressions
+        from kcheck.result import Finding, Status
+
+        source = Path(result.path)
+        if stdin is not None and result.path == str(stdin[0]):
+            result = _renamed(result, str(stdin[0]), stdin[1])
+        if not result.checks:
+            return result
+        try:
+            text = source.read_text(encoding="utf-8", errors="replace")
+        except OSError:
+            text = ""
+        try:
+            inline = inline_suppressions(text)
+        except SuppressionError as exc:
+            message = str(exc)
+            finding = Finding(message, line=exc.line, column=exc.column)
+            return dataclasses.replace(
+                result, status=Status.ERROR, checks=(), error=message, errors=(finding,)
+            )
+        return apply(result, inline, ignores, baseline, root)
+
+    return accept
+
+
+def _stdin_scene(name: Path | None) -> tuple[Path, str]:
+    """The scene on standard input, written to a temporary file beside where it is taken
+    to be (``--stdin-filename``, else the working directory), and its name in reports."""
+    import tempfile
+
+    from kcheck.errors import UsageError, describe_os_error
+
+    folder = name.parent if name is not None else Path(".")
+    data = sys.stdin.buffer.read()
+    try:
+        fd, temporary = tempfile.mkstemp(prefix=".kcheck-stdin-", suffix=".kcheck.yaml", dir=folder)
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+    except OSError as exc:
+        raise UsageError(
+            f"cannot hold the scene from standard input in {folder}: {describe_os_error(exc)}"
+        ) from exc
+    return Path(os.path.relpath(temporary)), str(name) if name is not None else "-"
+
+
+def _renamed(result: SceneResult, temporary: str, shown: str) -> SceneResult:
+    """A result of the standard input's scene under the name it is shown by."""
+
+    def fix(text: str | None) -> str | None:
+        return None if text is None else text.replace(temporary, shown)
+
+    errors = tuple(dataclasses.replace(e, message=fix(e.message) or "") for e in result.errors)
+    return dataclasses.replace(result, path=shown, error=fix(result.error), errors=errors)
 
 
 def _statistics(results: Sequence[SceneResult], fail_on: str) -> None:

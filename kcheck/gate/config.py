@@ -127,6 +127,24 @@ def _output_formats(value: Any) -> tuple[str, ...]:
     return items
 
 
+def _path_ignores(value: Any) -> dict[str, tuple[str, ...]]:
+    expected = (
+        'a table of gitignore patterns to lists of check ids or rules: {"legacy/**" = ["maxwell"]}'
+    )
+    if not isinstance(value, dict):
+        raise ValueError(expected)
+    out: dict[str, tuple[str, ...]] = {}
+    for pattern, codes in value.items():
+        if (
+            not pattern
+            or not isinstance(codes, list)
+            or not all(isinstance(c, str) and c for c in codes)
+        ):
+            raise ValueError(expected)
+        out[str(pattern)] = tuple(codes)
+    return out
+
+
 def _path(value: Any) -> str:
     if not isinstance(value, str) or not value:
         raise ValueError("a path")
@@ -158,6 +176,12 @@ KEYS: tuple[Key, ...] = (
         "gitignore patterns of paths a folder search passes over (replaces the default)",
     ),
     Key("extend_exclude", _str_list, (), "further patterns, added to `exclude`"),
+    Key(
+        "per_path_ignores",
+        _path_ignores,
+        {},
+        'check ids or rules accepted in scenes matching a pattern: {"legacy/**" = ["maxwell"]}',
+    ),
     Key("respect_gitignore", _bool, True, "pass over files git ignores (.gitignore...)"),
     Key("cache", _bool, True, "cache mass properties of meshes"),
     Key("cache_dir", _path, None, "cache folder (default: the user cache folder)"),

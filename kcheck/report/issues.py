@@ -92,6 +92,8 @@ class Issue:
     hint: str | None = None
     field: str | None = None
     counts: bool = True
+    #: Why a suppressed failure does not count (it then never counts); None otherwise.
+    suppressed: str | None = None
 
     @property
     def subject(self) -> str:
@@ -128,8 +130,9 @@ def _field(finding: Finding) -> str | None:
     return None if finding.field is None else format_path(finding.field)
 
 
-def issues(scene: SceneResult, fail_on: str = "error") -> Iterator[Issue]:
-    """Every issue of one scene, in report order (input errors, checks, scene warnings)."""
+def issues(scene: SceneResult, fail_on: str = "error", suppressed: bool = False) -> Iterator[Issue]:
+    """Every issue of one scene, in report order (input errors, checks, scene warnings);
+    with ``suppressed``, each check's suppressed failures too (after its others)."""
     path = scene.path
     if scene.status is Status.ERROR and not scene.checks:
         for e in scene.errors or (Finding(scene.error or "input error"),):
@@ -172,6 +175,22 @@ def issues(scene: SceneResult, fail_on: str = "error") -> Iterator[Issue]:
                     hint=f.hint,
                     field=_field(f),
                     counts=counts,
+                )
+        if suppressed:
+            for f in check.suppressed:
+                yield Issue(
+                    path,
+                    f.line,
+                    f.column,
+                    level=check.severity,
+                    kind="failure",
+                    rule=f"{check.id}/{f.code}" if f.code and f.code != check.id else check.id,
+                    check=check.id,
+                    message=f.message,
+                    hint=f.hint,
+                    field=_field(f),
+                    counts=False,
+                    suppressed=f.suppressed,
                 )
     for w in scene.warnings:
         yield Issue(

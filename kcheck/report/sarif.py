@@ -28,8 +28,8 @@ from typing import Any
 from urllib.parse import quote
 
 from kcheck import __version__
-from kcheck.report.issues import KCHECK_RULES, CollectingReporter, Issue, clean_text
-from kcheck.result import SceneResult
+from kcheck.report.issues import KCHECK_RULES, CollectingReporter, Issue, clean_text, issues
+from kcheck.result import SceneResult, is_external
 
 __all__ = ["SarifReporter", "SCHEMA_URI", "SRCROOT", "artifact_uri", "source_root", "docs_url"]
 
@@ -149,6 +149,10 @@ class SarifReporter(CollectingReporter):
         ``%SRCROOT%`` (else as given), rule, and field (else message)."""
         return issue_key(issue, self.root)
 
+    def scene(self, result: SceneResult) -> None:
+        """Keep the scene's issues, suppressed failures included (SARIF ``suppressions``)."""
+        self.issues.extend(issues(result, self.options.fail_on, suppressed=True))
+
     def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
         """Write the log."""
         self.root = source_root()
@@ -164,16 +168,22 @@ class SarifReporter(CollectingReporter):
             message = {"text": clean_text(f"{issue.text}")}
             key = self._key(issue)
             seen[key] = seen.get(key, 0) + 1
-            sarif_results.append(
-                {
-                    "ruleId": issue.rule,
-                    "ruleIndex": index[issue.rule],
-                    "level": "error" if issue.level == "error" or issue.counts else "warning",
-                    "message": message,
-                    "locations": [self._location(issue)],
-                    "partialFingerprints": {"kcheckFinding/v2": fingerprint(key, seen[key])},
-                }
-            )
+            entry: dict[str, Any] = {
+                "ruleId": issue.rule,
+                "ruleIndex": index[issue.rule],
+                "level": "error" if issue.level == "error" or issue.counts else "warning",
+                "message": message,
+                "locations": [self._location(issue)],
+                "partialFingerprints": {"kcheckFinding/v2": fingerprint(key, seen[key])},
+            }
+            if issue.suppressed is not None:
+                entry["suppressions"] = [
+                    {
+                        "kind": "external" if is_external(issue.suppressed) else "inSource",
+                        "justification": clean_text(issue.suppressed),
+                    }
+                ]
+            sarif_results.append(entry)
             if issue.kind == "error":
                 notifications.append(
                     {"level": "error", "message": message, "locations": [self._location(issue)]}

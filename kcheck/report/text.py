@@ -24,7 +24,7 @@ from rich.text import Text
 from kcheck.report import ReportOptions, tables, views
 from kcheck.report.safe import SafeStream
 from kcheck.report.safe import stdout as safe_stdout
-from kcheck.result import CheckResult, SceneResult, Status
+from kcheck.result import CheckResult, Finding, SceneResult, Status
 
 __all__ = ["TextReporter", "make_console", "render_scene", "render_summary", "render_mass"]
 
@@ -181,8 +181,22 @@ def _check_line(console: Console, scene: SceneResult, check: CheckResult) -> Non
     if word in ("fail", "warn", "error") and check.findings:
         for reason in views.reasons(check):
             _reason(console, word, reason.text, reason.line, reason.hint)
+    for f in check.suppressed:
+        _suppressed(console, 8, f)
     for other in views.disagreements(scene, check):
         _hanging(console, 8, Text("but ", style="bold yellow"), Text(other))
+
+
+def _suppressed(console: Console, indent: int, finding: Finding, check: str = "") -> None:
+    """A suppressed failure, with why it does not count."""
+    where = f"  (line {finding.line})" if finding.line is not None else ""
+    what = f"{check}: " if check else ""
+    _hanging(
+        console,
+        indent,
+        Text("suppressed ", style="dim"),
+        Text(f"{what}{finding.message}{where} — {finding.suppressed}", style="dim"),
+    )
 
 
 def _errors(console: Console, scene: SceneResult) -> None:
@@ -217,6 +231,9 @@ def render_scene(
     _hanging(console, 0, Text(f"{word.upper():<7}", style=STYLE.get(word, "bold")), head)
     verbose = verbosity > 0
     if word == "pass" and not verbose:
+        for check in scene.checks:
+            for f in check.suppressed:
+                _suppressed(console, 2, f, check.id)
         return False
     if scene.error or scene.errors:
         _errors(console, scene)
