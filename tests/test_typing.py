@@ -12,6 +12,7 @@ import pytest
 from tests.conftest import ROOT
 
 
+@pytest.mark.static
 def test_mypy():
     if importlib.util.find_spec("mypy") is None:
         pytest.skip("mypy is not installed (the `test` extra installs it)")
@@ -23,5 +24,6 @@ def test_mypy():
         timeout=900,
     )
     output = proc.stdout + proc.stderr
+    # mypy's exit code says it all (1: errors found, 2: a usage or configuration problem);
+    # its wording is its own.
     assert proc.returncode == 0, output
-    assert "Success: no issues found" in proc.stdout, output
