@@ -45,6 +45,10 @@ PNG_DPI = 110
 #: collections made SVGs of 300-500 kB, and the fixtures' HTML report 12.6 MB.
 SVG_RASTER_VERTICES = 400
 SVG_RASTER_DPI = 80
+#: Colours of an image embedded in an SVG (a palette PNG: a fifth of matplotlib's RGBA).
+SVG_IMAGE_COLOURS = 64
+#: The fonts an SVG's text asks for (the font pictures are drawn in, then common fallbacks).
+SVG_FONTS = "font-family: 'DejaVu Sans', Verdana, Arial, sans-serif"
 #: Colours of case outcomes, the same in every picture; any other outcome gets UNKNOWN.
 OUTCOME_COLOURS = {
     "closes": "#2ca02c",
@@ -166,10 +170,47 @@ def save(fig: Figure, directory: Path, stem: str) -> tuple[Path, ...]:
                 finally:
                     for artist in heavy:
                         artist.set_rasterized(False)
+                _lighten_svg(path)
             else:
                 fig.savefig(path, dpi=PNG_DPI)
         written.append(path)
     return tuple(written)
+
+
+_PATH_DATA = re.compile(r'\b(d|points)="([^"]*)"')
+_DECIMALS = re.compile(r"(-?\d+\.\d{2})\d+")
+_FONTS = re.compile(r"font-family: [^;\"]*")
+_PNG = re.compile(r"data:image/png;base64,\s*([A-Za-z0-9+/=\s]+)")
+
+
+def _lighten_svg(path: Path) -> None:
+    """Make a written SVG lighter without changing what it shows: path coordinates to 0.01 pt
+    (matplotlib writes 1e-6 pt), one short font list (matplotlib repeats its eleven fallbacks
+    on every text), and each embedded image as a 64-colour optimised PNG when
+    that is smaller. Text (every number a reader sees) is left as written."""
+    import base64
+    import io
+
+    from PIL import Image
+
+    text = path.read_text(encoding="utf-8")
+
+    def coordinates(match: re.Match[str]) -> str:
+        data = _DECIMALS.sub(r"\1", match.group(2))
+        return f'{match.group(1)}="{" ".join(data.split())}"'
+
+    def image(match: re.Match[str]) -> str:
+        raw = base64.b64decode(match.group(1))
+        with Image.open(io.BytesIO(raw)) as picture:
+            method = Image.Quantize.FASTOCTREE if picture.mode == "RGBA" else None
+            small = picture.quantize(colors=SVG_IMAGE_COLOURS, method=method)
+            out = io.BytesIO()
+            small.save(out, "PNG", optimize=True)
+        best = min(raw, out.getvalue(), key=len)
+        return "data:image/png;base64," + base64.b64encode(best).decode("ascii")
+
+    text = _FONTS.sub(SVG_FONTS, _PATH_DATA.sub(coordinates, text))
+    path.write_text(_PNG.sub(image, text), encoding="utf-8")
 
 
 def _count(vertices: Any) -> int:
