@@ -179,6 +179,9 @@ def save(fig: Figure, directory: Path, stem: str) -> tuple[Path, ...]:
 
 _PATH_DATA = re.compile(r'\b(d|points)="([^"]*)"')
 _DECIMALS = re.compile(r"(-?\d+\.\d{2})\d+")
+_REFERENCE = re.compile(r"(?:url\(#|href=\"#)([^\"\)]+)")
+_GROUP_ID = re.compile(r'<g id="([^"]+)">')
+_BETWEEN_TAGS = re.compile(r">[ \t]*\n\s*<")
 _FONTS = re.compile(r"font-family: [^;\"]*")
 _PNG = re.compile(r"data:image/png;base64,\s*([A-Za-z0-9+/=\s]+)")
 
@@ -186,8 +189,9 @@ _PNG = re.compile(r"data:image/png;base64,\s*([A-Za-z0-9+/=\s]+)")
 def _lighten_svg(path: Path) -> None:
     """Make a written SVG lighter without changing what it shows: path coordinates to 0.01 pt
     (matplotlib writes 1e-6 pt), one short font list (matplotlib repeats its eleven fallbacks
-    on every text), and each embedded image as a 64-colour optimised PNG when
-    that is smaller. Text (every number a reader sees) is left as written."""
+    on every text), no group ids nothing refers to, no indentation (line breaks between tags),
+    and each embedded image as a 64-colour optimised PNG when that is smaller. Text (every
+    number a reader sees) is left as written."""
     import base64
     import io
 
@@ -210,6 +214,10 @@ def _lighten_svg(path: Path) -> None:
         return "data:image/png;base64," + base64.b64encode(best).decode("ascii")
 
     text = _FONTS.sub(SVG_FONTS, _PATH_DATA.sub(coordinates, text))
+    # Group ids nothing refers to (matplotlib names every artist), and indentation.
+    used = set(_REFERENCE.findall(text))
+    text = _GROUP_ID.sub(lambda m: m.group(0) if m.group(1) in used else "<g>", text)
+    text = _BETWEEN_TAGS.sub("><", text)
     path.write_text(_PNG.sub(image, text), encoding="utf-8")
 
 
