@@ -26,7 +26,13 @@ def add_parser(sub: Any) -> None:
         "together), with lengths in the units asked for, so positions for a scene can be "
         "read off in the model's units.",
     )
-    mass.add_argument("meshes", nargs="+", type=Path, metavar="MESH", help="mesh files")
+    mass.add_argument(
+        "meshes",
+        nargs="+",
+        metavar="MESH[:MATERIAL]",
+        help="mesh files, each with its own material after a colon (plate.stl:aluminium "
+        "balls.stl:steel); a file without one takes --material or --density",
+    )
     mass.add_argument(
         "--units",
         choices=UNITS,
@@ -37,9 +43,13 @@ def add_parser(sub: Any) -> None:
         choices=UNITS,
         help="length unit of the answer (default: --units, or mm for STEP files)",
     )
-    group = mass.add_mutually_exclusive_group(required=True)
-    group.add_argument("--material", help="name from the built-in material table")
-    group.add_argument("--density", type=float, help="density in kg/m^3")
+    group = mass.add_mutually_exclusive_group()
+    group.add_argument(
+        "--material", help="name from the built-in material table, for files without their own"
+    )
+    group.add_argument(
+        "--density", type=float, help="density in kg/m^3, for files without their own material"
+    )
     mass.add_argument(
         "--format", choices=("text", "json"), default="text", help="output format (default: text)"
     )
@@ -78,6 +88,8 @@ def _text(console: Any, title: str, values: dict[str, Any], unit: str) -> None:
     from kcheck.fmt import format_number, format_vector
 
     console.print(title, style="bold")
+    if "material" in values:
+        console.print(f"  {values['material']}")
     if "bounds" in values:
         lo, hi = values["bounds"]
         spans = ", ".join(
@@ -102,62 +114,130 @@ def _text(console: Any, title: str, values: dict[str, Any], unit: str) -> None:
         console.print(f"  note: {note}", style="yellow")
 
 
+def split_material(arg: str) -> tuple[Path, str | None]:
+    """``plate.stl:aluminium`` as the path and its material; a name that is itself an
+    existing file, or whose last colon is followed by a path, has no material."""
+    if Path(arg).exists() or ":" not in arg:
+        return Path(arg), None
+    path, material = arg.rsplit(":", 1)
+    if not path or "/" in material or "\\" in material:
+        return Path(arg), None
+    return Path(path), material
+
+
+def _densities(
+    args: argparse.Namespace,
+) -> tuple[list[tuple[Path, str | None, float]], list[str]]:
+    """Each mesh with its material (None for --density) and density; the errors found."""
+    from kcheck.scene.materials import MATERIALS, density_of
+
+    known = ", ".join(sorted(MATERIALS))
+    errors: list[str] = []
+    default: float | None = None
+    if args.material is not None:
+        default = density_of(args.material)
+        if default is None:
+            errors.append(f"unknown material `{args.material}`; known: {known}")
+    elif args.density is not None:
+        default = args.density
+        if not 1.0 <= default <= 3e4:
+            errors.append("--density must lie between 1 and 30000 kg/m^3")
+    meshes: list[tuple[Path, str | None, float]] = []
+    for arg in args.meshes:
+        path, material = split_material(arg)
+        if material is None:
+            if args.material is None and args.density is None:
+                errors.append(
+                    f"{path}: no material; give --material or --density, or write {path}:MATERIAL"
+                )
+            elif default is not None:
+                meshes.append((path, args.material, default))
+            continue
+        density = density_of(material)
+        if density is None:
+            errors.append(f"{path}: unknown material `{material}`; known: {known}")
+            continue
+        meshes.append((path, material, density))
+    return meshes, errors
+
+
 def run(args: argparse.Namespace) -> int:
-    """Load each mesh, gate it, and print its mass properties and bounds."""
+    """Load each mesh, gate it, and print its mass properties and bounds; every file that
+    cannot be read or gated is reported (exit code 2), not only the first."""
     from kcheck.body.mass import combine, part_mass_properties
     from kcheck.errors import MeshError
     from kcheck.scene import Part
-    from kcheck.scene.materials import MATERIALS, density_of
     from kcheck.scene.units import LENGTH_TO_M
 
-    if args.material is not None:
-        density = density_of(args.material)
-        if density is None:
-            return fail(
-                f"unknown material `{args.material}`; known: {', '.join(sorted(MATERIALS))}"
-            )
-    else:
-        density = args.density
-        if not 1.0 <= density <= 3e4:
-            return fail("--density must lie between 1 and 30000 kg/m^3")
-    step = [m for m in args.meshes if m.suffix.lower() in (".step", ".stp")]
-    if args.units is None and len(step) < len(args.meshes):
+    meshes, errors = _densities(args)
+    if errors:
+        for message in errors[:-1]:
+            fail(message)
+        return fail(errors[-1])
+    step = {m for m, _, _ in meshes if m.suffix.lower() in (".step", ".stp")}
+    if args.units is None and len(step) < len(meshes):
         return fail("give --units: STL, OBJ and PLY files carry no length unit")
     report = args.report_units or args.units or "mm"
     unit_m = LENGTH_TO_M[report]
-    results = []
-    for mesh in args.meshes:
+    results: list[tuple[Path, str | None, float, MassProperties]] = []
+    for mesh, material, density in meshes:
         if not mesh.is_file():
-            return fail(f"{mesh}: no such file")
+            errors.append(f"{mesh}: no such file")
+            continue
         units = "m" if mesh in step else args.units
         part = Part(mesh.resolve(), density, (), LENGTH_TO_M[units], units)
         try:
-            results.append((mesh, part_mass_properties(part)))
+            results.append((mesh, material, density, part_mass_properties(part)))
         except MeshError as exc:
-            return fail(f"{exc.path}: {exc.message}")
-    entries = [(str(mesh), props) for mesh, props in results]
-    if len(results) > 1:
-        entries.append((f"all {len(results)} meshes together", combine([p for _, p in results])))
+            errors.append(f"{exc.path}: {exc.message}")
+    densities = {density for _, _, density, _ in results}
+    uniform = len({d for _, _, d in meshes}) == 1
+    entries: list[tuple[str, MassProperties, str | None, float | None]] = [
+        (str(mesh), props, material, density) for mesh, material, density, props in results
+    ]
+    if len(results) > 1 and not errors:
+        entries.append(
+            (
+                f"all {len(results)} meshes together",
+                combine([p for *_, p in results]),
+                None,
+                None,
+            )
+        )
     if args.format == "json":
         from kcheck.result import to_json_value
 
-        doc = {
+        doc: dict[str, Any] = {
             "units": {"length": report, "mass": "kg", "inertia": f"kg {report}^2"},
-            "density": density,
+            "density": next(iter(densities)) if uniform and densities else None,
             "meshes": [
-                {"mesh": name, **_in_units(props, unit_m), "notes": list(props.notes)}
-                for name, props in entries
+                {
+                    "mesh": name,
+                    **({} if density is None else {"material": material, "density": density}),
+                    **_in_units(props, unit_m),
+                    "notes": list(props.notes),
+                }
+                for name, props, material, density in entries
             ],
         }
+        if errors:
+            doc["errors"] = errors
         print(json.dumps(to_json_value(doc), indent=2))
-        return ExitCode.OK
-    from kcheck.report import make_console
+    else:
+        from kcheck.report import make_console
 
-    console = make_console(args.color)
-    console.print(
-        f"lengths in {report}, mass in kg, inertia in kg {report}^2; density {density:g} kg/m^3"
-        + (f"; files in {args.units}" if args.units else "")
-    )
-    for name, props in entries:
-        _text(console, name, {**_in_units(props, unit_m), "notes": props.notes}, report)
+        console = make_console(args.color)
+        head = f"lengths in {report}, mass in kg, inertia in kg {report}^2"
+        if uniform and meshes:
+            head += f"; density {meshes[0][2]:g} kg/m^3"
+        console.print(head + (f"; files in {args.units}" if args.units else ""))
+        for name, props, material, each in entries:
+            values = {**_in_units(props, unit_m), "notes": props.notes}
+            if not uniform and each is not None:
+                values["material"] = f"{material or 'density'} {each:g} kg/m^3"
+            _text(console, name, values, report)
+    if errors:
+        for message in errors[:-1]:
+            fail(message)
+        return fail(errors[-1])
     return ExitCode.OK

@@ -40,6 +40,15 @@ __all__ = [
 PLOT_FORMATS = ("png", "svg")
 #: Resolution of PNG pictures (dots per inch).
 PNG_DPI = 110
+#: In an SVG, a collection with more vertices than this (a shaded sphere map, contour fills, a
+#: meshed body) is embedded as an image at SVG_RASTER_DPI, the rest staying vector: such
+#: collections made SVGs of 300-500 kB, and the fixtures' HTML report 12.6 MB.
+SVG_RASTER_VERTICES = 400
+SVG_RASTER_DPI = 80
+#: Colours of an image embedded in an SVG (a palette PNG: a fifth of matplotlib's RGBA).
+SVG_IMAGE_COLOURS = 64
+#: The fonts an SVG's text asks for (the font pictures are drawn in, then common fallbacks).
+SVG_FONTS = "font-family: 'DejaVu Sans', Verdana, Arial, sans-serif"
 #: Colours of case outcomes, the same in every picture; any other outcome gets UNKNOWN.
 OUTCOME_COLOURS = {
     "closes": "#2ca02c",
@@ -154,12 +163,90 @@ def save(fig: Figure, directory: Path, stem: str) -> tuple[Path, ...]:
                 # Text as text (small, searchable); no date, so files do not change needlessly.
                 import matplotlib
 
-                with matplotlib.rc_context({"svg.fonttype": "none"}):
-                    fig.savefig(path, metadata={"Date": None})
+                heavy = _rasterize_heavy(fig)
+                try:
+                    with matplotlib.rc_context({"svg.fonttype": "none"}):
+                        fig.savefig(path, metadata={"Date": None}, dpi=SVG_RASTER_DPI)
+                finally:
+                    for artist in heavy:
+                        artist.set_rasterized(False)
+                _lighten_svg(path)
             else:
                 fig.savefig(path, dpi=PNG_DPI)
         written.append(path)
     return tuple(written)
+
+
+_PATH_DATA = re.compile(r'\b(d|points)="([^"]*)"')
+_DECIMALS = re.compile(r"(-?\d+\.\d{2})\d+")
+_REFERENCE = re.compile(r"(?:url\(#|href=\"#)([^\"\)]+)")
+_GROUP_ID = re.compile(r'<g id="([^"]+)">')
+_BETWEEN_TAGS = re.compile(r">[ \t]*\n\s*<")
+_FONTS = re.compile(r"font-family: [^;\"]*")
+_PNG = re.compile(r"data:image/png;base64,\s*([A-Za-z0-9+/=\s]+)")
+
+
+def _lighten_svg(path: Path) -> None:
+    """Make a written SVG lighter without changing what it shows: path coordinates to 0.01 pt
+    (matplotlib writes 1e-6 pt), one short font list (matplotlib repeats its eleven fallbacks
+    on every text), no group ids nothing refers to, no indentation (line breaks between tags),
+    and each embedded image as a 64-colour optimised PNG when that is smaller. Text (every
+    number a reader sees) is left as written."""
+    import base64
+    import io
+
+    from PIL import Image
+
+    text = path.read_text(encoding="utf-8")
+
+    def coordinates(match: re.Match[str]) -> str:
+        data = _DECIMALS.sub(r"\1", match.group(2))
+        return f'{match.group(1)}="{" ".join(data.split())}"'
+
+    def image(match: re.Match[str]) -> str:
+        raw = base64.b64decode(match.group(1))
+        with Image.open(io.BytesIO(raw)) as picture:
+            method = Image.Quantize.FASTOCTREE if picture.mode == "RGBA" else None
+            small = picture.quantize(colors=SVG_IMAGE_COLOURS, method=method)
+            out = io.BytesIO()
+            small.save(out, "PNG", optimize=True)
+        best = min(raw, out.getvalue(), key=len)
+        return "data:image/png;base64," + base64.b64encode(best).decode("ascii")
+
+    text = _FONTS.sub(SVG_FONTS, _PATH_DATA.sub(coordinates, text))
+    # Group ids nothing refers to (matplotlib names every artist), and indentation.
+    used = set(_REFERENCE.findall(text))
+    text = _GROUP_ID.sub(lambda m: m.group(0) if m.group(1) in used else "<g>", text)
+    text = _BETWEEN_TAGS.sub("><", text)
+    path.write_text(_PNG.sub(image, text), encoding="utf-8")
+
+
+def _count(vertices: Any) -> int:
+    return len(vertices)
+
+
+def _rasterize_heavy(fig: Figure) -> list[Any]:
+    """Mark the figure's heavy collections and patches (shaded maps, contour fills, meshes,
+    outlines of a meshed body: hundreds of vertices each) to be drawn as embedded images in
+    an SVG; titles, labels, lines and markers stay vector (text stays text). Returns the
+    artists marked, to unmark after saving."""
+    marked: list[Any] = []
+    for ax in fig.axes:
+        for artist in ax.collections:
+            if artist.get_rasterized():
+                continue
+            # A 3D collection's paths are projected only when drawn: a meshed body is heavy.
+            solid = type(artist).__name__ in ("Poly3DCollection", "QuadMesh")
+            vertices = sum(_count(path.vertices) for path in artist.get_paths())
+            if solid or vertices > SVG_RASTER_VERTICES:
+                artist.set_rasterized(True)
+                marked.append(artist)
+        for patch in ax.patches:
+            heavy = _count(patch.get_path().vertices) > SVG_RASTER_VERTICES
+            if heavy and not patch.get_rasterized():
+                patch.set_rasterized(True)
+                marked.append(patch)
+    return marked
 
 
 @contextmanager

@@ -94,3 +94,51 @@ def test_expand_to_an_unwritable_output_is_a_usage_error(cli):
         code, out, err = cli("expand", scene, "--output", target)
         assert code == 2 and out == "" and err.startswith("kcheck: error:") and target in err
         assert "Traceback" not in err
+
+
+def test_mass_with_a_material_per_file(cli, tmp_path):
+    plate = _plate(tmp_path / "plate.stl", (100.0, 100.0, 10.0))
+    balls = _plate(tmp_path / "balls.stl", (10.0, 10.0, 10.0))
+    code, out, err = cli(
+        "mass", f"{plate}:aluminium", f"{balls}:steel", "--units", "mm", "--format", "json"
+    )
+    assert code == 0, err
+    doc = json.loads(out)
+    plate_doc, balls_doc, together = doc["meshes"]
+    assert doc["density"] is None
+    assert plate_doc["mesh"] == str(plate) and plate_doc["material"] == "aluminium"
+    assert plate_doc["mass"] == pytest.approx(2700.0 * 1e-4)  # 100 × 100 × 10 mm
+    assert balls_doc["mesh"] == str(balls) and balls_doc["material"] == "steel"
+    assert balls_doc["mass"] == pytest.approx(7850.0 * 1e-6)  # 10 mm cube of steel
+    assert together["mass"] == pytest.approx(plate_doc["mass"] + balls_doc["mass"])
+    # a file without its own material takes --material
+    code, out, _ = cli(
+        "mass", str(plate), f"{balls}:steel", "--units", "mm", "--material", "aluminium"
+    )
+    assert code == 0
+    assert "aluminium 2700 kg/m^3" in out and "steel 7850 kg/m^3" in out
+    assert "density 2700 kg/m^3;" not in out.splitlines()[0]  # no one density for both
+    # ... or none at all: then every file must name its own
+    code, out, err = cli("mass", str(plate), f"{balls}:steel", "--units", "mm")
+    assert code == 2 and out == "" and f"{plate}: no material" in err
+    code, _, err = cli("mass", f"{plate}:cheese", "--units", "mm")
+    assert code == 2 and "unknown material `cheese`" in err and "aluminium" in err
+
+
+def test_mass_reports_every_non_watertight_file(cli, tmp_path):
+    good = _plate(tmp_path / "good.stl")
+    holes = []
+    for name in ("open1.stl", "open2.stl"):
+        box = trimesh.creation.box(extents=(10.0, 10.0, 10.0))
+        box.update_faces(list(range(2, len(box.faces))))  # two triangles off: a hole
+        box.export(tmp_path / name)
+        holes.append(tmp_path / name)
+    code, out, err = cli(
+        "mass", str(holes[0]), str(good), str(holes[1]), "--units", "mm", "--material", "steel"
+    )
+    assert code == 2
+    errors = [line for line in err.splitlines() if line.startswith("kcheck: error:")]
+    assert len(errors) == 2, err
+    assert "open1.stl" in errors[0] and "open2.stl" in errors[1]
+    assert "watertight" in err
+    assert str(good) in out and "together" not in out  # the good file is still reported

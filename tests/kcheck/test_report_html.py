@@ -181,3 +181,58 @@ def test_a_page_that_cannot_be_written_is_a_usage_error(cli, write_scene, tmp_pa
         code, _, err = cli("check", scene, "--select", "maxwell", "--html", "/dev/full")
         assert code == 2 and "--html /dev/full: no space left on the device" in err
     assert "Traceback" not in err
+
+
+_MEASURE = (
+    "<script>addEventListener('load', () => {"
+    "const e = document.scrollingElement;"
+    "document.body.setAttribute('data-widths', e.scrollWidth + ' ' + innerWidth);"
+    "});</script>"
+)
+
+
+@pytest.mark.parametrize("width", [420, 1280])
+def test_page_fits_the_screen(
+    page: tuple[Path, int, Path],
+    tmp_path: Path,
+    width: int,
+    record_property: Callable[..., None],
+) -> None:
+    """No sideways scrolling on a phone (420 px) or a laptop (1280 px): the document is no
+    wider than the window. The page forbids scripts, so a copy without its
+    Content-Security-Policy, with one script that writes the widths into the DOM, is loaded."""
+    html, _, _ = page
+    text = html.read_text(encoding="utf-8")
+    text = re.sub(r'<meta http-equiv="Content-Security-Policy"[^>]*>', "", text, count=1)
+    probe = tmp_path / f"report-{width}.html"
+    probe.write_text(text.replace("</body>", _MEASURE + "</body>"), encoding="utf-8")
+    # Headless Chromium's window is at least 500 px wide: the page is shown in a frame of the
+    # width asked for, and the frame's widths are copied out once everything has loaded.
+    frame = tmp_path / f"frame-{width}.html"
+    frame.write_text(
+        f'<!DOCTYPE html><body style="margin:0"><iframe src="{probe.name}" '
+        f'style="width:{width}px;height:1600px;border:0;display:block"></iframe><script>'
+        "addEventListener('load', () => document.body.setAttribute('data-widths', "
+        "frames[0].document.body.getAttribute('data-widths')));</script></body>",
+        encoding="utf-8",
+    )
+    shot = tmp_path / f"report-{width}.png"
+    args = [
+        _browser(),
+        *FLAGS,
+        "--allow-file-access-from-files",
+        f"--user-data-dir={tmp_path / 'profile'}",
+        f"--window-size={max(width, 500) + 20},1600",
+        f"--screenshot={shot}",
+        "--virtual-time-budget=5000",
+    ]
+    proc = subprocess.run(
+        [*args, "--dump-dom", frame.as_uri()], capture_output=True, text=True, timeout=120
+    )
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    record_property("screenshot", str(shot))
+    found = re.search(r'data-widths="(\d+) (\d+)"', proc.stdout)
+    assert found, proc.stdout[-500:]
+    scroll_width, inner_width = int(found.group(1)), int(found.group(2))
+    assert inner_width == width
+    assert scroll_width <= inner_width, f"{scroll_width} px of content in a {width} px window"

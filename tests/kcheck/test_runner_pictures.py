@@ -85,3 +85,39 @@ def test_names_the_font_lacks_or_too_long_to_fit_draw_without_warnings(tmp_path:
         warnings.simplefilter("error")
         files = save(fig, tmp_path, "crowded")
     assert [f.suffix for f in files] == [".png", ".svg"] and all(f.stat().st_size for f in files)
+
+
+def test_svg_keeps_text_vector_and_embeds_heavy_shading(tmp_path: Path) -> None:
+    """A shaded map (thousands of cells) goes into an SVG as one palette image; the title
+    with its verdict and every label stay text, and the file is a fraction of matplotlib's."""
+    import re
+
+    import numpy as np
+
+    from kcheck.pictures.plotting import figure, formats, save
+
+    def draw() -> object:
+        fig = figure((6.0, 4.0))
+        ax = fig.subplots()
+        x, y = np.meshgrid(np.linspace(0, 1, 120), np.linspace(0, 1, 120))
+        ax.contourf(x, y, np.sin(9 * x) * np.cos(7 * y), levels=20)
+        ax.plot(np.linspace(0, 1, 50), np.linspace(0, 1, 50) ** 2, color="k")
+        fig.suptitle("analytical-3d FAIL, margin -12.34°")
+        ax.set_xlabel("angle (°)")
+        return fig
+
+    with formats(["svg"]):
+        (light,) = save(draw(), tmp_path, "light")  # type: ignore[arg-type]
+    import matplotlib
+
+    heavy = tmp_path / "plain.svg"
+    with matplotlib.rc_context({"svg.fonttype": "none"}):  # text as text in both
+        draw().savefig(heavy)  # type: ignore[attr-defined]
+    text = light.read_text(encoding="utf-8")
+    assert text.count("<image") == 1 and "data:image/png;base64," in text
+    assert ">analytical-3d FAIL, margin -12.34°</text>" in text
+    assert ">angle (°)</text>" in text
+    paths = " ".join(re.findall(r' d="([^"]*)"', text))
+    assert paths and not re.search(r"\d\.\d{3}", paths)  # coordinates to 0.01 pt
+    assert "Bitstream Vera Sans" not in text
+    assert light.stat().st_size < heavy.stat().st_size / 5
