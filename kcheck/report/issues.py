@@ -18,7 +18,7 @@ from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal, TextIO
 
-from kcheck.result import Finding, SceneResult, Status
+from kcheck.result import CheckResult, Finding, SceneResult, Status
 
 if TYPE_CHECKING:
     from kcheck.report import ReportOptions
@@ -130,6 +130,26 @@ def _field(finding: Finding) -> str | None:
     return None if finding.field is None else format_path(finding.field)
 
 
+def _failure(
+    path: str, check: CheckResult, f: Finding, counts: bool, suppressed: str | None = None
+) -> Issue:
+    """A failing finding of a check as an issue (a suppressed one never counts)."""
+    return Issue(
+        path,
+        f.line,
+        f.column,
+        level=check.severity,
+        kind="failure",
+        rule=f"{check.id}/{f.code}" if f.code and f.code != check.id else check.id,
+        check=check.id,
+        message=f.message,
+        hint=f.hint,
+        field=_field(f),
+        counts=counts,
+        suppressed=suppressed,
+    )
+
+
 def issues(scene: SceneResult, fail_on: str = "error", suppressed: bool = False) -> Iterator[Issue]:
     """Every issue of one scene, in report order (input errors, checks, scene warnings);
     with ``suppressed``, each check's suppressed failures too (after its others)."""
@@ -163,35 +183,10 @@ def issues(scene: SceneResult, fail_on: str = "error", suppressed: bool = False)
         elif check.status is Status.FAIL:
             counts = counts_toward_exit(check.severity, fail_on)
             for f in check.findings or (Finding(check.message),):
-                yield Issue(
-                    path,
-                    f.line,
-                    f.column,
-                    level=check.severity,
-                    kind="failure",
-                    rule=f"{check.id}/{f.code}" if f.code and f.code != check.id else check.id,
-                    check=check.id,
-                    message=f.message,
-                    hint=f.hint,
-                    field=_field(f),
-                    counts=counts,
-                )
+                yield _failure(path, check, f, counts)
         if suppressed:
             for f in check.suppressed:
-                yield Issue(
-                    path,
-                    f.line,
-                    f.column,
-                    level=check.severity,
-                    kind="failure",
-                    rule=f"{check.id}/{f.code}" if f.code and f.code != check.id else check.id,
-                    check=check.id,
-                    message=f.message,
-                    hint=f.hint,
-                    field=_field(f),
-                    counts=False,
-                    suppressed=f.suppressed,
-                )
+                yield _failure(path, check, f, False, f.suppressed)
     for w in scene.warnings:
         yield Issue(
             path,
