@@ -48,7 +48,8 @@ SVG_RASTER_DPI = 80
 #: Colours of an image embedded in an SVG (a palette PNG: a fifth of matplotlib's RGBA).
 SVG_IMAGE_COLOURS = 64
 #: The fonts an SVG's text asks for (the font pictures are drawn in, then common fallbacks).
-SVG_FONTS = "font-family: 'DejaVu Sans', Verdana, Arial, sans-serif"
+SVG_FAMILIES = "'DejaVu Sans', Verdana, Arial, sans-serif"
+SVG_FONTS = f"font-family: {SVG_FAMILIES}"
 #: Colours of case outcomes, the same in every picture; any other outcome gets UNKNOWN.
 OUTCOME_COLOURS = {
     "closes": "#2ca02c",
@@ -183,6 +184,8 @@ _REFERENCE = re.compile(r"(?:url\(#|href=\"#)([^\"\)]+)")
 _GROUP_ID = re.compile(r'<g id="([^"]+)">')
 _BETWEEN_TAGS = re.compile(r">[ \t]*\n\s*<")
 _FONTS = re.compile(r"font-family: [^;\"]*")
+# matplotlib before 3.10 writes the CSS shorthand: `font: 10px 'DejaVu Sans', ...`.
+_FONT_SHORTHAND = re.compile(r"(font: [^;\"]*?\d+(?:\.\d+)?px) [^;\"]*")
 _PNG = re.compile(r"data:image/png;base64,\s*([A-Za-z0-9+/=\s]+)")
 
 
@@ -214,6 +217,7 @@ def _lighten_svg(path: Path) -> None:
         return "data:image/png;base64," + base64.b64encode(best).decode("ascii")
 
     text = _FONTS.sub(SVG_FONTS, _PATH_DATA.sub(coordinates, text))
+    text = _FONT_SHORTHAND.sub(lambda m: f"{m.group(1)} {SVG_FAMILIES}", text)
     # Group ids nothing refers to (matplotlib names every artist), and indentation.
     used = set(_REFERENCE.findall(text))
     text = _GROUP_ID.sub(lambda m: m.group(0) if m.group(1) in used else "<g>", text)
