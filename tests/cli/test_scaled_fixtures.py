@@ -24,6 +24,7 @@ import pytest
 import trimesh
 
 from tests.conftest import FIXTURES, ROOT
+from tests.fuzz.harness import stray_stderr_lines
 
 FACTORS = (1e-300, 1e-12, 1e-3, 1e3, 1e12, 1e300)
 #: Scales at which no fixture is within the documented limits.
@@ -99,15 +100,7 @@ def test_stderr_holds_only_kcheck_s_own_lines(run):
     proc, doc = run["proc"], run["doc"]
     assert doc is not None, proc.stderr[-3000:]
     assert "Traceback" not in proc.stderr + proc.stdout
-    said = json.dumps(doc["scenes"], ensure_ascii=False)
-    stray = [
-        line
-        for line in proc.stderr.splitlines()
-        if line.strip()
-        and not line.startswith("kcheck: error: ")
-        # a further line of a message that spans lines is one of the report's
-        and json.dumps(line, ensure_ascii=False)[1:-1] not in said
-    ]
+    stray = stray_stderr_lines(proc.stderr, doc)
     assert not stray, "\n".join(stray[:20])
     assert "Warning" not in proc.stderr
     assert proc.returncode == 2  # some scenes are input errors

@@ -404,15 +404,7 @@ class Harness:
             found["broken-report"] = f"exit {run.code}; stdout {run.stdout[-300:]!r}"
             found["broken-report"] += f"; stderr {run.stderr[-300:]!r}"
         if doc is not None:
-            # kcheck's own error lines; a line of a multi-line message is one of the JSON's.
-            said = json.dumps(doc["scenes"], ensure_ascii=False)
-            stray = [
-                line
-                for line in run.stderr.splitlines()
-                if line.strip()
-                and not line.startswith("kcheck: error: ")
-                and json.dumps(line, ensure_ascii=False)[1:-1] not in said
-            ]
+            stray = stray_stderr_lines(run.stderr, doc)
             if stray:
                 found["stray-output"] = "\n".join(stray)[:600]
             elif run.stderr.strip() and not any(s["status"] == "error" for s in doc["scenes"]):
@@ -701,6 +693,19 @@ def read_back(outputs: dict[str, str], folder: Path) -> list[Problem]:
         except (OSError, ValueError, AssertionError, ET.ParseError) as exc:
             out.append(Problem("broken-report", "", f"{rel} ({fmt}): {exc}"[:300]))
     return out
+
+
+def stray_stderr_lines(stderr: str, doc: dict) -> list[str]:
+    """Lines of stderr that are not kcheck's own: its `kcheck: error:` lines, and the further
+    lines of a message that spans lines (each is one of the JSON report's)."""
+    said = json.dumps(doc["scenes"], ensure_ascii=False)
+    return [
+        line
+        for line in stderr.splitlines()
+        if line.strip()
+        and not line.startswith("kcheck: error: ")
+        and json.dumps(line, ensure_ascii=False)[1:-1] not in said
+    ]
 
 
 def _exit_code(scenes: list[dict]) -> int:
