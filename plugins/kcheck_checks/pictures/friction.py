@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from kcheck.pictures import colours as palette
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
@@ -31,8 +32,8 @@ if TYPE_CHECKING:
 
 __all__ = ["plot_friction", "friction_axis", "scene_at"]
 
-SAFE = "#2ca02c"
-RANGE = "#1f77b4"
+SAFE = palette.SAFE
+RANGE = palette.FRICTION_RANGE
 ANGLES = 720  # angle bins of a band picture (0.5 deg)
 
 
@@ -100,7 +101,7 @@ def _band_picture(
         origin="lower",
         aspect="auto",
         extent=(mus[0] - step / 2, mus[-1] + step / 2, 0.0, 360.0),
-        cmap="Greens",
+        cmap=palette.SAFE_MAP,
         vmin=0.0,
         vmax=1.6,
         interpolation="nearest",
@@ -117,14 +118,14 @@ def _band_picture(
                     b,
                     facecolor="none",
                     hatch="///",
-                    edgecolor="black",
+                    edgecolor=palette.INK,
                     lw=0.8,
                     label=label,
                 )
                 label = None
     design = scene.design_angle_deg
     if design is not None:
-        ax.axhline(design, color="black", ls="--", lw=1.0, label=f"design {design:.1f}°")
+        ax.axhline(design, color=palette.DESIGN, ls="--", lw=1.0, label=f"design {design:.1f}°")
     ax.set_xlim(mus[0], mus[-1])
     ax.set_ylim(0.0, 360.0)
     ax.set_yticks(np.arange(0, 361, 45))
@@ -170,13 +171,13 @@ def _spatial_picture(inputs: Inputs, result: CheckResult, directory: Path) -> Se
             100.0 * over,
             low,
             high,
-            colors="black",
+            colors=palette.INK,
             linestyles="--",
             lw=1.2,
             label=f"safe over the whole range: {100.0 * over:.3g}%",
         )
-    bottom.plot(mus, margin, color="black", lw=1.5, label="design direction's margin")
-    bottom.axhline(0.0, color="#d62728", lw=0.8)
+    bottom.plot(mus, margin, color=palette.DESIGN, lw=1.5, label="design direction's margin")
+    bottom.axhline(0.0, color=palette.FAILING, lw=0.8)
     need = result.details.get("friction_range")
     for ax in (top, bottom):
         _range_marks(ax, (low, high), "kinetic μ")

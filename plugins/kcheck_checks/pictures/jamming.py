@@ -13,6 +13,7 @@ import numpy as np
 from kcheck.analysis.jamming_cases import JamAnalysis, JamMap, case_arcs
 from kcheck.fmt import format_angle, format_number, format_share_bounds
 from kcheck.mechanics.arcs import ArcSet
+from kcheck.pictures import colours as palette
 from kcheck.pictures.plotting import figure, save, slug
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult
@@ -23,10 +24,10 @@ from kcheck_checks.pictures.titles import verdict_colour, verdict_title
 __all__ = ["plot_jamming", "circle_panel", "sphere_panel"]
 
 COLOURS = {
-    "closing": "#cfe8cf",  # frictionless closing (the funnel)
-    "jams": "tab:red",
-    "holds": "tab:orange",
-    "lifts": "0.55",
+    "closing": palette.SAFE_PALE,  # frictionless closing (the funnel)
+    "jams": palette.JAMMING,
+    "holds": palette.JAMMING_PALE,
+    "lifts": palette.PULL,
 }
 
 
@@ -79,11 +80,11 @@ def circle_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
         if case.determined:
             arcs = case_arcs(case, e1, e2)
             _bars(ax, arcs.closing, 0.55, 0.45, color=COLOURS["closing"], edgecolor="none")
-            _bars(ax, arcs.jamming, 0.7, 0.3, color=COLOURS["jams"], edgecolor="black", lw=0.4)
-            _bars(ax, arcs.holding_open, 0.7, 0.3, color=COLOURS["holds"], edgecolor="black",
+            _bars(ax, arcs.jamming, 0.7, 0.3, color=COLOURS["jams"], edgecolor=palette.INK, lw=0.4)
+            _bars(ax, arcs.holding_open, 0.7, 0.3, color=COLOURS["holds"], edgecolor=palette.INK,
                   lw=0.4)  # fmt: skip
             if arcs.lifts_off:
-                _bars(ax, arcs.lifts_off, 0.7, 0.3, color="white", edgecolor=COLOURS["lifts"],
+                _bars(ax, arcs.lifts_off, 0.7, 0.3, color=palette.PAPER, edgecolor=COLOURS["lifts"],
                       hatch="////", lw=0.4)  # fmt: skip
             _end_labels(ax, [end for s, e in arcs.held for end in (s, e)])
             res = cases.get(name)
@@ -98,8 +99,10 @@ def circle_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
             title += ": undetermined"
         if analysis.design is not None:
             angle = float(np.arctan2(analysis.design @ e2, analysis.design @ e1))
-            ax.annotate("", xy=(angle, 1.0), xytext=(angle, 0.0),
-                        arrowprops={"arrowstyle": "-|>", "color": "black", "lw": 1.6})  # fmt: skip
+            ax.annotate(
+                "", xy=(angle, 1.0), xytext=(angle, 0.0),
+                arrowprops={"arrowstyle": "-|>", "color": palette.DESIGN, "lw": 1.8},
+            )  # fmt: skip
         ax.set_ylim(0, 1.2)
         ax.set_yticks([])
         ax.set_xticks(np.radians(np.arange(0, 360, 45)))
@@ -110,7 +113,7 @@ def circle_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
         _patch(COLOURS["jams"], "jams: friction holds a closing load"),
         _patch(COLOURS["holds"], "holds: friction holds an opening load"),
         _patch(
-            "white",
+            palette.PAPER,
             "Koster's jamming area a support would have to pull in",
             hatch="////",
             edge=COLOURS["lifts"],
@@ -129,12 +132,12 @@ def _reds(n: int) -> list[Any]:
     """White for no case, then darker reds for more cases."""
     import matplotlib
 
-    return ["white"] + [
-        tuple(c) for c in matplotlib.colormaps["Reds"](np.linspace(0.3, 0.95, n - 1))
+    return [palette.PAPER] + [
+        tuple(c) for c in matplotlib.colormaps[palette.JAMMING_MAP](np.linspace(0.3, 0.95, n - 1))
     ]
 
 
-def _patch(colour: str, label: str, hatch: str | None = None, edge: str = "black") -> Any:
+def _patch(colour: str, label: str, hatch: str | None = None, edge: str = palette.INK) -> Any:
     from matplotlib.patches import Patch
 
     return Patch(facecolor=colour, edgecolor=edge, hatch=hatch, label=label)
@@ -153,14 +156,14 @@ def _sweep_circle(ax: Any, plane: Any, c0: np.ndarray, first: bool) -> None:
     front = dirs @ c0 >= -1e-9
     xy = np.array([lambert_forward(d, c0) for d in dirs])
     xy[~front] = np.nan
-    ax.plot(xy[:, 0], xy[:, 1], "--", color="0.15", lw=1.0,
+    ax.plot(xy[:, 0], xy[:, 1], "--", color=palette.DARK, lw=1.0,
             label="sweep plane (angles of the ranges)" if first else None)  # fmt: skip
     for angle in range(0, 360, 45):
         i = 2 * angle
         if front[i]:
-            ax.plot(*xy[i], "o", color="0.15", ms=3)
+            ax.plot(*xy[i], "o", color=palette.DARK, ms=3)
             ax.annotate(format_angle(angle, 0), xy[i], xytext=(3, -9), textcoords="offset points",
-                        fontsize=7, color="0.15")  # fmt: skip
+                        fontsize=7, color=palette.DARK)  # fmt: skip
 
 
 def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckResult) -> None:
@@ -186,9 +189,11 @@ def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
             count += held
             grid = np.where(inside, held.reshape(x.shape).astype(float), np.nan)
             if np.nanmin(grid) < 0.5 < np.nanmax(grid):
-                ax.contour(x, y, grid, levels=[0.5], colors=[f"C{i}"], linewidths=0.9)
+                ax.contour(
+                    x, y, grid, levels=[0.5], colors=[palette.support_colour(i)], linewidths=0.9
+                )
             if k == 0:
-                ax.plot([], [], color=f"C{i}", lw=0.9,
+                ax.plot([], [], color=palette.support_colour(i), lw=0.9,
                         label=f"{analysis.statics.names[i]} can be held inside")  # fmt: skip
         shown = np.where(inside, count.reshape(x.shape), np.nan)
         filled = ax.contourf(x, y, shown, levels=levels, colors=_reds(len(levels) - 1))
@@ -196,18 +201,18 @@ def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
             r = 2 * np.sin(np.radians(angle) / 2)
             ax.add_patch(ring(r, solid=angle == 90))
             label = f"{angle}°" if sign > 0 else f"{180 - angle}°"
-            ax.text(0.71 * r, 0.71 * r, label, fontsize=7, color="0.35")
+            ax.text(0.71 * r, 0.71 * r, label, fontsize=7, color=palette.MUTED)
         for label, vec in (("+x", (1, 0, 0)), ("+y", (0, 1, 0)), ("+z", (0, 0, 1)),
                            ("−x", (-1, 0, 0)), ("−y", (0, -1, 0)), ("−z", (0, 0, -1))):  # fmt: skip
             v = np.array(vec, float)
             # Cosmetic: label the axes on the near hemisphere, its rim included despite rounding.
             if v @ c0 >= -1e-9:
                 px, py = lambert_forward(v, c0)
-                ax.plot(px, py, "+", color="0.25", ms=8)
-                ax.text(px, py, f" {label}", fontsize=9, color="0.25", va="bottom")
+                ax.plot(px, py, "+", color=palette.DARK, ms=8)
+                ax.text(px, py, f" {label}", fontsize=9, color=palette.DARK, va="bottom")
         _sweep_circle(ax, result.details.get("sweep_plane"), c0, first=k == 0)
         if analysis.design is not None and sign > 0:
-            ax.plot(0, 0, "*", mfc="tab:orange", mec="black", ms=16,
+            ax.plot(0, 0, "*", mfc=palette.DESIGN, mec=palette.PAPER, ms=16,
                     label="design direction" if k == 0 else None)  # fmt: skip
         ax.set_aspect("equal")
         ax.set_xlim(-edge * 1.05, edge * 1.05)

@@ -18,7 +18,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from kcheck.analysis.cases import Analysis
-from kcheck.pictures.plotting import figure, outcome_colour, save, slug
+from kcheck.pictures import colours as palette
+from kcheck.pictures.colours import outcome_colour
+from kcheck.pictures.plotting import figure, save, slug
 from kcheck.plugin import Check, Inputs
 from kcheck.report.tables import motion_text
 from kcheck.result import CaseResult, CheckResult
@@ -34,13 +36,13 @@ __all__ = ["plot_spatial", "scene_views", "clip_segment"]
 
 # Largest number of mesh triangles drawn (the body is a rasterised silhouette anyway).
 MAX_TRIANGLES = 6000
-SUPPORT = "#1f77b4"
-RETRACTED = "#d62728"
-LOAD = "#ff7f0e"
+SUPPORT = palette.SUPPORT
+RETRACTED = palette.RETRACTED
+LOAD = palette.DESIGN
 # Characters of a 9.5 pt panel title that fit a panel 3.8 inches wide.
 TITLE_CHARACTERS = 58
-GRAVITY = "#6b4226"
-MOTION = "#7b2cbf"
+GRAVITY = palette.GRAVITY
+MOTION = palette.MOTION
 
 
 @dataclass(frozen=True)
@@ -296,7 +298,7 @@ def _view(
         body = PolyCollection(
             # matplotlib's stubs say a sequence of polygons; it takes an (N, 3, 2) array too.
             d.triangles[:, :, k],  # type: ignore[arg-type]
-            facecolor="0.86",
+            facecolor=palette.BODY,
             edgecolor="none",
             zorder=0,
             rasterized=True,
@@ -309,7 +311,7 @@ def _view(
         angles="xy", scale_units="xy", scale=1, color=SUPPORT, width=0.006, zorder=4,
     )  # fmt: skip
     ax.plot(*d.points[keep][:, k].T, "o", color=SUPPORT, ms=3.5, zorder=5)
-    ax.plot(*d.points[retracted, k], "X", color=RETRACTED, ms=9, mec="white", zorder=6)
+    ax.plot(*d.points[retracted, k], "X", color=RETRACTED, ms=9, mec=palette.PAPER, zorder=6)
     ax.plot(
         *np.array([tails[retracted], d.points[retracted]])[:, k].T, ":", color=RETRACTED, lw=1.5
     )
@@ -352,7 +354,7 @@ def _view(
 def _panel_title(name: str, case: CaseResult | None, units: str) -> tuple[str, str]:
     """ "B.1 retracted: closes — pure rotation about (...)" and its colour."""
     if case is None:
-        return f"{name} retracted", "black"
+        return f"{name} retracted", palette.INK
     motion = motion_text(case.details, units)
     outcome = case.outcome.replace("_", " ")
     return f"{name} retracted: {outcome} — {motion}", outcome_colour(case.outcome)
@@ -425,7 +427,7 @@ def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
         " over elevation (x–z, from −y);\nblue: supports pushing "
         "along their normals; red ×: the retracted one; purple: screw axis and rotation sense "
         "(⊙ towards you, ⊗ away); orange: load, preloads; brown: gravity",
-        ha="center", va="top", fontsize=8.5, color="0.25",
+        ha="center", va="top", fontsize=8.5, color=palette.MUTED,
     )  # fmt: skip
     return fig
 
