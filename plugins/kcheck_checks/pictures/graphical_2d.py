@@ -128,7 +128,7 @@ def _outward(point: np.ndarray, centre: np.ndarray, half: float) -> dict[str, st
 
 
 def _supports(ax: Axes, scene: Scene, built: Construction, to_plot: Any, size: float) -> None:
-    """Normal lines and support arrows; each name beyond its arrow's tail, off the body."""
+    """Normal lines and support arrows (names: :func:`_support_names`, once the frame is set)."""
     for k, s in enumerate(scene.supports):
         p = to_plot(s.position[:2])
         n = built.normals[k]
@@ -138,13 +138,18 @@ def _supports(ax: Axes, scene: Scene, built: Construction, to_plot: Any, size: f
             "", xy=tuple(p), xytext=tuple(tail),
             arrowprops={"arrowstyle": "-|>", "color": palette.SUPPORT, "lw": 1.8}, zorder=5,
         )  # fmt: skip
-        at = tail - 0.06 * size * n
-        ax.text(
-            at[0], at[1], s.name, fontsize=10, weight="bold", zorder=7, bbox=LABEL_BOX,
-            ha="left" if n[0] < -0.4 else "right" if n[0] > 0.4 else "center",
-            va="bottom" if n[1] < -0.4 else "top" if n[1] > 0.4 else "center",
-        )  # fmt: skip
     ax.plot([], [], color=palette.SUPPORT, lw=1.8, label="support and normal (pushes the body)")
+
+
+def _support_names(ax: Axes, scene: Scene, built: Construction, to_plot: Any, size: float) -> None:
+    """Each support's name beside its point, across its arrow, inside the frame."""
+    from kcheck.pictures.labels import label_supports
+
+    points = np.array([to_plot(s.position[:2]) for s in scene.supports])
+    label_supports(
+        ax, points, -np.asarray(built.normals, float), [s.name for s in scene.supports], size,
+        fontsize=10, weight="bold", color=palette.SUPPORT,
+    )  # fmt: skip
 
 
 def _away(pp: np.ndarray, other: np.ndarray | None, default: tuple[float, float]) -> dict:
@@ -361,6 +366,7 @@ def draw_construction(ax: Axes, scene: Scene, built: Construction, result: Check
     ax.set_xlim(centre[0] - half, centre[0] + half)
     ax.set_ylim(centre[1] - half, centre[1] + half)
     ax.set_aspect("equal")
+    _support_names(ax, scene, built, to_plot, 2 * half)
     ax.set_xlabel(f"x ({scene.units})")
     ax.set_ylabel(f"y ({scene.units})")
     ax.grid(True, lw=0.3, alpha=0.5)
