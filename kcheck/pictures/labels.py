@@ -135,3 +135,17 @@ def _draw(ax: Axes, text: str, anchor: np.ndarray, u: np.ndarray, style: dict[st
         text, tuple(anchor), xytext=tuple(OFFSET_POINTS * u), textcoords="offset points",
         bbox=LABEL_BOX, zorder=7, annotation_clip=False, **_alignment(u), **style,
     )  # fmt: skip
+
+
+#: gid of the text a picture writes where it has nothing to show.
+EMPTY_GID = "empty-note"
+
+
+def say_why_empty(ax: Axes, text: str) -> Any:
+    """Write in the middle of ``ax`` why it shows nothing (issue 22: an empty picture says
+    why, in the picture); the text carries the gid :data:`EMPTY_GID`."""
+    return ax.text(
+        0.5, 0.5, text, transform=ax.transAxes, ha="center", va="center", fontsize=9,
+        color=palette.INK, wrap=True, zorder=20, gid=EMPTY_GID,
+        bbox={"boxstyle": "round,pad=0.4", "fc": palette.PAPER, "ec": palette.MUTED},
+    )  # fmt: skip

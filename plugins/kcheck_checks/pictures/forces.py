@@ -8,6 +8,7 @@ from typing import Any
 
 from kcheck.pictures import colours as palette
 from kcheck.pictures.colours import outcome_colour
+from kcheck.pictures.labels import EMPTY_GID
 from kcheck.pictures.plotting import figure
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
@@ -26,6 +27,11 @@ def forces_panel(scene: Scene, result: CheckResult) -> Any:
     drawn: set[str] = set()
     for g, case in enumerate(result.cases):
         forces = case.normal_forces or {}
+        if not forces:
+            ax.text(
+                g, 0.5, f"no forces:\n{case.outcome.replace('_', ' ')}", ha="center",
+                va="center", fontsize=8, transform=ax.get_xaxis_transform(), gid=EMPTY_GID,
+            )  # fmt: skip
         for k, name in enumerate(n for n in names if n in forces):
             x = g - 0.4 + width * (k + 0.5)
             value = forces[name]

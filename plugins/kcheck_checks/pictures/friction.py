@@ -22,7 +22,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from kcheck.fmt import format_number
 from kcheck.pictures import colours as palette
+from kcheck.pictures.labels import say_why_empty
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
@@ -107,6 +109,11 @@ def _band_picture(
         interpolation="nearest",
     )
     ax.plot([], [], color=SAFE, lw=6, alpha=0.6, label=what)
+    if not bands.any():
+        say_why_empty(
+            ax, f"no {what} at any {kind} μ from 0 to {format_number(mus[-1], 3)}:\n"
+            "every force angle fails at every coefficient drawn",
+        )  # fmt: skip
     _range_marks(ax, (low, high), f"{kind} μ")
     if high > low and result.safe_ranges_deg is not None:
         label: str | None = "safe over the whole range"
@@ -163,6 +170,15 @@ def _spatial_picture(inputs: Inputs, result: CheckResult, directory: Path) -> Se
     fig = figure(figsize=(7.5, 5.2))
     top, bottom = fig.subplots(2, 1, sharex=True)
     top.plot(mus, share, color=SAFE, lw=1.8)
+    if not np.nansum(share) > 0:
+        why = (
+            "no safe direction at any coefficient drawn"
+            if np.any(np.isfinite(share))
+            else "no sphere map at any coefficient drawn (the check made none)"
+        )
+        say_why_empty(top, f"{why} (kinetic μ 0 to {format_number(mus[-1], 3)})")
+    if not np.any(np.isfinite(margin)):
+        say_why_empty(bottom, "no design direction: no design margin to draw")
     top.fill_between(mus, 0.0, share, color=SAFE, alpha=0.25)
     top.set_ylabel("safe directions (% of sphere)")
     over = result.details.get("safe_solid_angle_fraction")

@@ -19,6 +19,7 @@ from kcheck.errors import KcheckError
 from kcheck.fmt import format_angle, format_point, format_ranges
 from kcheck.mechanics.arcs import FULL, TAU, ArcSet, complement, intersect, union
 from kcheck.pictures import colours as palette
+from kcheck.pictures.labels import say_why_empty
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
@@ -337,6 +338,8 @@ def draw_construction(ax: Axes, scene: Scene, built: Construction, result: Check
             hatch="\\\\", lw=0.8, label="jamming: friction holds the body", zorder=3)  # fmt: skip
     _wedges(ax, built, q, radius, built.combined, fc=to_rgba(palette.SAFE, 0.45), ec=palette.SAFE,
             lw=1.5, label="safe force directions (mass-free)", zorder=4)  # fmt: skip
+    if not built.combined:
+        say_why_empty(ax, "no safe force direction (mass-free):\nno green fan")
     for s, e in built.combined if built.combined != FULL else ():
         for a in (s, e):
             t = np.radians(_to_plot_angle(built, a))

@@ -14,6 +14,7 @@ from kcheck.analysis.jamming_cases import JamAnalysis, JamMap, case_arcs
 from kcheck.fmt import format_angle, format_number, format_share_bounds
 from kcheck.mechanics.arcs import ArcSet
 from kcheck.pictures import colours as palette
+from kcheck.pictures.labels import say_why_empty
 from kcheck.pictures.plotting import figure, save, slug
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult
@@ -43,7 +44,17 @@ def plot_jamming(
         return []
     stem = f"{slug(scene.name)}-jamming"
     if analysis.statics.dim == 2:
-        fig = figure(figsize=(13, 5.2))
+        # Fixed margins (inches) instead of a layout engine, which left the legend on the
+        # 270° labels and the title's third line on the panels' titles: room for the title's
+        # lines, two lines of panel title, the 90° label above and the 270° label and the
+        # legend below each circle.
+        lines = 2 + verdict_title(result).count("\n")
+        head, foot, circle = 0.2 + 0.23 * lines + 0.7, 0.75, 3.7
+        fig = figure(figsize=(13, circle + head + foot), layout=None)
+        fig.subplots_adjust(
+            left=0.03, right=0.97, top=1 - head / (circle + head + foot),
+            bottom=foot / (circle + head + foot), wspace=0.3,
+        )  # fmt: skip
         circle_panel(fig, scene, analysis, result)
     else:
         fig = figure(figsize=(12, 6.8))
@@ -87,6 +98,8 @@ def circle_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
                 _bars(ax, arcs.lifts_off, 0.7, 0.3, color=palette.PAPER, edgecolor=COLOURS["lifts"],
                       hatch="////", lw=0.4)  # fmt: skip
             _end_labels(ax, [end for s, e in arcs.held for end in (s, e)])
+            if not arcs.held and not arcs.closing:
+                say_why_empty(ax, "no load angle closes this case\nand friction holds none")
             res = cases.get(name)
             if res is not None:
                 title += f": {res.outcome}"
@@ -97,6 +110,7 @@ def circle_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
                     title += "\nnot held for any μ ≤ 100"
         else:
             title += ": undetermined"
+            say_why_empty(ax, "undetermined: the supports left\ndo not fix the body's motion")
         if analysis.design is not None:
             angle = float(np.arctan2(analysis.design @ e2, analysis.design @ e1))
             ax.annotate(
@@ -119,12 +133,13 @@ def circle_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
             edge=COLOURS["lifts"],
         ),  # fmt: skip
     ]
-    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8, frameon=False)
+    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8, frameon=False,
+               bbox_to_anchor=(0.5, 0.0))  # fmt: skip
     what = "load" if analysis.swept == "load" else "gravity"
     fig.suptitle(
         f"{scene.name} — {verdict_title(result)}\n{what} angles (° from +x, ccw) where friction "
         "can hold the body, per retracted support; arrow: design direction",
-        fontsize=11, color=verdict_colour(result),
+        fontsize=11, color=verdict_colour(result), y=1 - 0.1 / fig.get_figheight(), va="top",
     )  # fmt: skip
 
 
@@ -197,6 +212,8 @@ def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
                         label=f"{analysis.statics.names[i]} can be held inside")  # fmt: skip
         shown = np.where(inside, count.reshape(x.shape), np.nan)
         filled = ax.contourf(x, y, shown, levels=levels, colors=_reds(len(levels) - 1))
+        if not np.nanmax(shown) > 0:
+            say_why_empty(ax, "friction holds no retracted case\nanywhere on this hemisphere")
         for angle in (30, 60, 90):
             r = 2 * np.sin(np.radians(angle) / 2)
             ax.add_patch(ring(r, solid=angle == 90))
@@ -226,7 +243,7 @@ def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
     bar = fig.colorbar(filled, ax=list(axes), shrink=0.7, pad=0.02)
     bar.set_ticks(np.arange(len(analysis.cases) + 1))
     bar.set_label("retracted cases friction can hold (circumscribed pyramids)")
-    fig.legend(loc="lower center", ncol=4, fontsize=8, frameon=False)
+    fig.legend(loc="outside lower center", ncol=4, fontsize=8, frameon=False)
     what = "load" if analysis.swept == "load" else "gravity"
     details = result.details
     low = details.get("jam_free_solid_angle_fraction")

@@ -18,6 +18,7 @@ from kcheck.analysis.cases import Analysis
 from kcheck.fmt import format_angle, format_direction, format_share
 from kcheck.mechanics.arcs import cap_margin_matrix
 from kcheck.pictures import colours as palette
+from kcheck.pictures.labels import say_why_empty
 from kcheck.pictures.plotting import figure
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
@@ -300,6 +301,8 @@ def sphere_figure(scene: Scene, analysis: Analysis, smap: SphereMap, result: Che
         colors=[palette.NOTHING],
         zorder=1,
     )
+    if top <= 0:
+        say_why_empty(ax, f"no {what} direction is safe for every retraction:\nno green region")
     if top > 0:
         step = nice_step(top, 5)
         levels = np.arange(0.0, top + step, step)
