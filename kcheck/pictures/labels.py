@@ -65,7 +65,7 @@ def _sides(arrow: np.ndarray | None, radial: np.ndarray | None) -> list[np.ndarr
     return out
 
 
-def _alignment(u: np.ndarray) -> dict[str, str]:
+def _alignment(u: np.ndarray) -> dict[str, Any]:
     return {
         "ha": "left" if u[0] > 0.38 else "right" if u[0] < -0.38 else "center",
         "va": "bottom" if u[1] > 0.38 else "top" if u[1] < -0.38 else "center",

@@ -228,9 +228,8 @@ def test_the_design_direction_is_drawn_pass_or_fail(
 
 def test_an_empty_friction_picture_says_why(tmp_path: Path) -> None:
     """A friction picture where no angle is safe at any coefficient writes why in its axes."""
-    from matplotlib.figure import Figure
-
     from kcheck_checks.pictures.friction import _band_picture
+    from matplotlib.figure import Figure
 
     path = ROOT / "fixtures" / "thesis-appendix-a" / "block.kcheck.yaml"
     checks = [c for c in load_checks() if c.spec.name == "analytical-2d"]
