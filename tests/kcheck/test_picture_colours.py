@@ -118,10 +118,10 @@ def test_the_language_is_seven_distinct_colours() -> None:
 
 
 def test_the_legend_picture_renders_every_meaning(tmp_path: Path) -> None:
-    from kcheck.pictures.legend import draw_legend, write_legend
     from matplotlib.colors import to_rgba
 
     from kcheck.pictures import colours
+    from kcheck.pictures.legend import draw_legend, write_legend
 
     fig = draw_legend()
     fig.canvas.draw()
@@ -134,3 +134,14 @@ def test_the_legend_picture_renders_every_meaning(tmp_path: Path) -> None:
     paths = write_legend(tmp_path / "colour-legend.png")
     assert paths and paths[0].stat().st_size > 1000
     assert paths[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_the_docs_show_the_legend_and_name_every_colour() -> None:
+    """docs/report.md shows the legend picture and names each colour with its meaning."""
+    from kcheck.pictures import colours
+
+    report = (ROOT / "docs" / "report.md").read_text(encoding="utf-8")
+    assert "(img/colour-legend.png)" in report
+    assert (ROOT / "docs" / "img" / "colour-legend.png").stat().st_size > 1000
+    for _, name, _ in colours.LANGUAGE:
+        assert f"**{name}**" in report, name
