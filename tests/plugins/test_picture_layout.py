@@ -2,9 +2,8 @@
 the frame, legends and titles clear of the panels' titles and tick labels, the design
 direction drawn whether the check passes or fails, and empty pictures saying why.
 
-The bundled fixtures are checked with the checks whose pictures show supports or directions
-(analytical-3d, graphical-2d, jamming; the friction pictures, which repeat each check at 41
-to 121 coefficients, are left out here and drawn by tests/plugins/test_picture_titles.py).
+The bundled fixtures are checked with every check that draws (the friction pictures, which
+repeat each check at 41 to 121 coefficients, are drawn for two fixtures only).
 Each figure is drawn on the Agg canvas where it would be written, and measured in display
 coordinates (pixels).
 """
@@ -27,7 +26,7 @@ from kcheck.scene import load_scene  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 FIXTURES = sorted((ROOT / "fixtures").glob("*/*.kcheck.yaml"))
-DRAWN = ("analytical-3d", "graphical-2d", "jamming")
+DRAWN = ("analytical-2d", "analytical-3d", "graphical-2d", "hertz", "jamming")
 #: Largest gap between a support's point and its name's box, pixels at 100 dpi (the name is
 #: set 6 pt = 8.3 px away; 4 px for the box's padding and rounding).
 BESIDE_PX = 12.5
@@ -99,7 +98,7 @@ def _measure(fig: Any, name: str) -> dict[str, Any]:
     }
 
 
-def _run(path: Path, tmp: Path) -> tuple[Any, list[dict[str, Any]]]:
+def _run(path: Path, tmp: Path, friction: bool = False) -> tuple[Any, list[dict[str, Any]]]:
     from matplotlib.figure import Figure
 
     seen: list[dict[str, Any]] = []
@@ -110,7 +109,8 @@ def _run(path: Path, tmp: Path) -> tuple[Any, list[dict[str, Any]]]:
     checks = [c for c in load_checks() if c.spec.name in DRAWN]
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(Figure, "savefig", record)
-        mp.setattr("kcheck_checks.pictures.friction.plot_friction", lambda *a, **k: ())
+        if not friction:
+            mp.setattr("kcheck_checks.pictures.friction.plot_friction", lambda *a, **k: ())
         result = check_scene(path, checks, settings=Settings(plots=tmp))
     return result, seen
 
@@ -184,18 +184,39 @@ def test_legends_and_titles_clear_the_panels(
     """The figure's title and legends cover no panel title or tick label; all inside the
     figure."""
     for _, _, fig in drawn:
-        inside = fig["figure"]
-        for box in [*fig["legends"], *fig["titles"]] + (
-            [fig["suptitle"]] if fig["suptitle"] is not None else []
-        ):
-            assert inside.x0 - 1 <= box.x0 and box.x1 <= inside.x1 + 1, fig["name"]
-            assert inside.y0 - 1 <= box.y0 and box.y1 <= inside.y1 + 1, fig["name"]
-        for legend in fig["legends"]:
-            for other in [*fig["titles"], *fig["ticks"]]:
-                assert not legend.overlaps(other), (fig["name"], "legend", other)
-        if fig["suptitle"] is not None:
-            for other in [*fig["titles"], *fig["ticks"]]:
-                assert not fig["suptitle"].overlaps(other), (fig["name"], "suptitle")
+        _assert_clear(fig)
+
+
+@pytest.mark.slow
+def test_friction_pictures_are_clear_and_draw_the_design(tmp_path: Path) -> None:
+    """The pictures against friction of a failing planar scene and a passing spatial one."""
+    names = []
+    for fixture in ("thesis-appendix-a/block", "kelvin/coupling"):
+        path = ROOT / "fixtures" / f"{fixture}.kcheck.yaml"
+        _, seen = _run(path, tmp_path / fixture.split("/")[0], friction=True)
+        for fig in seen:
+            if fig["name"].endswith("-friction.png"):
+                names.append(fig["name"])
+                _assert_clear(fig)
+                assert fig["design_marks"] >= 1, fig["name"]
+    assert len(names) == 4  # analytical-2d, graphical-2d, jamming; analytical-3d
+
+
+def _assert_clear(fig: dict[str, Any]) -> None:
+    """The figure's title, legends and panel titles inside the figure; its title and legends
+    over no panel title or tick label (pixels, after drawing)."""
+    inside = fig["figure"]
+    for box in [*fig["legends"], *fig["titles"]] + (
+        [fig["suptitle"]] if fig["suptitle"] is not None else []
+    ):
+        assert inside.x0 - 1 <= box.x0 and box.x1 <= inside.x1 + 1, fig["name"]
+        assert inside.y0 - 1 <= box.y0 and box.y1 <= inside.y1 + 1, fig["name"]
+    for legend in fig["legends"]:
+        for other in [*fig["titles"], *fig["ticks"]]:
+            assert not legend.overlaps(other), (fig["name"], "legend", other)
+    if fig["suptitle"] is not None:
+        for other in [*fig["titles"], *fig["ticks"]]:
+            assert not fig["suptitle"].overlaps(other), (fig["name"], "suptitle")
 
 
 @pytest.mark.slow
@@ -216,8 +237,8 @@ def test_the_design_direction_is_drawn_pass_or_fail(
     assert {c.status.value for c in result.checks} >= {"fail"}
     statuses = set()
     for path, scene_result, fig in [*drawn, *((scene, result, f) for f in seen)]:
-        if fig["name"].endswith("-forces.png"):
-            continue
+        if fig["name"].endswith(("-forces.png", "-hertz.png")):
+            continue  # bars of forces and stresses: no direction drawn
         load = load_scene(path).load
         if load is None or load.direction is None or not load.magnitude > 0:
             continue  # no design direction to draw (a load swept over every angle)

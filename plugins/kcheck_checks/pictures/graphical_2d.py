@@ -119,15 +119,6 @@ def _wedges(
         first = False
 
 
-def _outward(point: np.ndarray, centre: np.ndarray, half: float) -> dict[str, str]:
-    """Text alignment that keeps a label on the inner side of the frame."""
-    d = (point - centre) / half
-    return {
-        "ha": "right" if d[0] > 0.35 else "left" if d[0] < -0.35 else "center",
-        "va": "top" if d[1] > 0.35 else "bottom" if d[1] < -0.35 else "center",
-    }
-
-
 def _supports(ax: Axes, scene: Scene, built: Construction, to_plot: Any, size: float) -> None:
     """Normal lines and support arrows (names: :func:`_support_names`, once the frame is set)."""
     for k, s in enumerate(scene.supports):
