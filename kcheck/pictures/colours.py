@@ -105,11 +105,13 @@ UNKNOWN_OUTCOME = "#8c564b"
 
 # --- Identity colours: telling supports (and the cases named after them) apart. They avoid
 # the language's hues, so that no support's curve reads as safe or failing. ---
-SUPPORT_CYCLE = ("#1f77b4", "#9467bd", "#8c564b", "#17becf", "#7f7f7f", "#637939")
+SUPPORT_CYCLE = ("#1f77b4", "#9467bd", "#8c564b", "#17becf", "#7f7f7f", "#aec7e8")
 
 # --- Other things drawn. ---
 #: A rotation sense a pole needs (Koster's construction).
 SENSE_COLOURS = {"ccw": "#1f77b4", "cw": "#9467bd", "translation": "#7f7f7f"}
+#: Planes of a direction plot (the stiffness at a point in the xy, xz and yz planes).
+PLANE_COLOURS = ("#1f77b4", "#9467bd", "#8c564b")
 #: Free motion: screw axis and rotation sense.
 MOTION = "#7b2cbf"
 #: Gravity's arrow.

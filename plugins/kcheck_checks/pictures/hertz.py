@@ -106,11 +106,13 @@ def _stiffness_panel(ax: Any, compliance: np.ndarray, scene: Scene, point: list[
     """Stiffness 1 / (e^T C e) of the error point along directions e in three planes."""
     t = np.linspace(0, 2 * np.pi, 361)
     planes = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)} if len(compliance) == 3 else {"xy": (0, 1)}
-    for (label, (i, j)), style in zip(planes.items(), ("-", "--", ":"), strict=False):
+    styles = zip(("-", "--", ":"), palette.PLANE_COLOURS, strict=True)
+    for (label, (i, j)), (style, colour) in zip(planes.items(), styles, strict=False):
         e = np.zeros((len(t), len(compliance)))
         e[:, i], e[:, j] = np.cos(t), np.sin(t)
         k = 1.0 / np.einsum("ni,ij,nj->n", e, compliance, e)
-        ax.plot(t, k / 1e6, style, lw=2, label=f"{label} plane (angle from {label[0]})")
+        name = f"{label} plane (angle from {label[0]})"
+        ax.plot(t, k / 1e6, style, color=colour, lw=2, label=name)
     shown = format_vector(np.asarray(point) / scene.scale)
     ax.set_title(f"stiffness at {shown} {scene.units}, N/µm", fontsize=9)
     ax.legend(fontsize=7, loc="lower left", bbox_to_anchor=(-0.1, -0.15))
