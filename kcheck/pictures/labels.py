@@ -3,9 +3,9 @@
 
 A name is anchored at its support's point and set a few points beside it: across the support's
 arrow, on the side away from the other supports; where that would leave the frame or cover a
-name already placed, the next side is tried. Supports that coincide in the view (the three
-contacts of a ball in a trihedral socket) share one label. Every label carries the gid
-``support-label:NAME[,NAME...]`` so that a test can find it.
+text already there (another name, a pole's, an angle), the next side is tried. Supports that
+coincide in the view (the three contacts of a ball in a trihedral socket) share one label.
+Every label carries the gid ``support-label:NAME[,NAME...]`` so that a test can find it.
 """
 
 from __future__ import annotations
@@ -89,7 +89,11 @@ def label_supports(
     frame = ax.get_window_extent(renderer)
     # Directions in display space (the view's aspect may not be equal).
     scale = np.abs(np.diag(ax.transData.get_matrix())[:2])
-    placed: list[Any] = []
+    # Names keep off the texts already in the panel (poles, angles, the load's name) and off
+    # each other.
+    placed: list[Any] = [
+        t.get_window_extent(renderer) for t in ax.texts if t.get_text() and t.get_visible()
+    ]
     labels: list[Annotation] = []
     centre = points.mean(axis=0)
     for group in _groups(points, SAME_PLACE * size):

@@ -54,7 +54,7 @@ def _measure(fig: Any, name: str) -> dict[str, Any]:
     design = to_rgba(palette.DESIGN)[:3]
     labels, titles, ticks, legends = [], [], [], []
     design_marks = 0
-    empty = []
+    empty, others = [], []
     for index, ax in enumerate(fig.axes):
         frame = ax.get_window_extent(renderer)
         for text in ax.texts:
@@ -64,6 +64,8 @@ def _measure(fig: Any, name: str) -> dict[str, Any]:
                 labels.append((gid[len(GID_PREFIX) :].split(","), text.xy, anchor,
                                text.get_window_extent(renderer), frame, index,
                                ax.transData.frozen()))  # fmt: skip
+            elif text.get_text() and text.get_visible():
+                others.append((index, text.get_window_extent(renderer), text.get_text()))
             if gid == EMPTY_GID:
                 empty.append(text.get_text())
             arrow = getattr(text, "arrow_patch", None)
@@ -87,6 +89,7 @@ def _measure(fig: Any, name: str) -> dict[str, Any]:
     return {
         "name": name,
         "labels": labels,
+        "others": others,
         "titles": titles,
         "ticks": ticks,
         "legends": legends,
@@ -169,12 +172,16 @@ def test_support_names_sit_beside_their_own_supports(
 def test_support_names_do_not_cover_each_other(
     drawn: list[tuple[Path, Any, dict[str, Any]]],
 ) -> None:
+    """...nor any other text in their panel (a pole's name, an angle, the load's name)."""
     for _, _, fig in drawn:
         boxes = [(names, box, ax) for names, _, _, box, _, ax, _ in fig["labels"]]
         for i, (a, box_a, ax_a) in enumerate(boxes):
             for b, box_b, ax_b in boxes[:i]:
-                if ax_a is ax_b:
+                if ax_a == ax_b:
                     assert not box_a.overlaps(box_b), (fig["name"], a, b)
+            for ax, box, text in fig["others"]:
+                if ax == ax_a:
+                    assert not box_a.overlaps(box), (fig["name"], a, text)
 
 
 @pytest.mark.slow
