@@ -2,9 +2,11 @@
 seat and the body's error motion under a disturbing load (docs/checks.md, `hertz`).
 
 Needs the contact geometry of every support (ball radius, the mating surface's radii), which
-the coupling shorthands (`couplings:`) give; explicit supports have none and the check is then
-skipped with that reason. Materials come from the check's options: a ball and a seat material
-for every coupling, overrides per coupling name, and custom materials.
+the coupling shorthands (`couplings:`) give and an explicit support gives in its `contact`
+field; without it the check is skipped with that reason. Materials come from the scene (each
+coupling's or contact's ball and seat material, the body's material for seats cut into it),
+then from the check's options (hertz_materials); a contact whose material is unknown is not
+checked, and says how to give it.
 """
 
 from __future__ import annotations
@@ -20,7 +22,13 @@ from kcheck.numerics.thresholds import CURVATURE_RTOL, LIFTED_RTOL, ZERO_GUARD
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Preload, Scene, Support
-from kcheck_checks.hertz_materials import Contacts, HertzOptions, contacts_of
+from kcheck_checks.hertz_materials import (
+    Contacts,
+    HertzOptions,
+    Unknown,
+    contacts_of,
+    unknown_hint,
+)
 
 if TYPE_CHECKING:  # the computation is imported when the check runs, not when it is found
     from kcheck.mechanics.hertz import HertzContact
@@ -64,15 +72,18 @@ class Hertz(Check):
 
     def skip_reason(self, scene: Scene) -> str | None:
         """Every support needs its contact geometry; ball-cone line contacts are not points."""
-        bare = [s.name for s in scene.supports if s.geometry is None]
+        bare = [s.name for s in scene.supports if s.contact_geometry is None]
         if bare:
             shown = ", ".join(bare[:4]) + (", ..." if len(bare) > 4 else "")
             return (
-                f"needs the contact geometry of every support; {shown} "
+                f"not checked: needs the contact geometry of every support; {shown} "
                 f"{'is an explicit support' if len(bare) == 1 else 'are explicit supports'} "
-                "(write the coupling with `couplings:` shorthands to give ball and groove radii)"
+                "with no `contact` (give each `contact: {ball_radius, seat_radii}`, or write "
+                "the coupling with `couplings:` shorthands)"
             )
-        lines = sorted({s.geometry.coupling for s in scene.supports if s.geometry.line_contact})  # type: ignore[union-attr]
+        lines = sorted(
+            {g.coupling for s in scene.supports if (g := s.contact_geometry) and g.line_contact}
+        )
         if lines:
             return (
                 f"coupling(s) {', '.join(lines)} are line contacts (ball in a cone); Hertz point "
@@ -103,7 +114,7 @@ class Hertz(Check):
 
 
 def _unknown_couplings(scene: Scene, options: HertzOptions) -> CheckResult | None:
-    known = {s.geometry.coupling for s in scene.supports if s.geometry is not None}
+    known = {g.coupling for s in scene.supports if (g := s.contact_geometry) is not None}
     unknown = sorted(set(options.couplings) - known)
     if not unknown:
         return None
@@ -122,12 +133,18 @@ def _unknown_couplings(scene: Scene, options: HertzOptions) -> CheckResult | Non
 def _contact_json(
     support: Support, contacts: Contacts, i: int, seated: HertzContact, worst: HertzContact
 ) -> dict[str, Any]:
-    assert support.geometry is not None
+    g = support.contact_geometry
+    assert g is not None
+    ball, seat = contacts.ball[i], contacts.seat[i]
     return {
         "support": support.name,
-        "coupling": support.geometry.coupling,
-        "ball_material": contacts.ball[i].name,
-        "seat_material": contacts.seat[i].name,
+        "coupling": g.coupling,
+        "ball_material": ball.name,
+        "ball_material_grade": ball.grade or ball.name,
+        "ball_material_from": contacts.ball_from[i],
+        "seat_material": seat.name,
+        "seat_material_grade": seat.grade or seat.name,
+        "seat_material_from": contacts.seat_from[i],
         "contact_modulus": float(contacts.modulus[i]),
         "curvature_sums": [float(contacts.sum_a[i]), float(contacts.sum_b[i])],
         # a circle has no major axis
@@ -228,11 +245,12 @@ def _stress_findings(
     out = []
     for i in map(int, np.flatnonzero(utilisation > 1.0)):
         weak = contacts.weaker(i)
+        assert weak.allowable_pressure is not None
         factor = f" / safety factor {sf:g}" if sf != 1 else ""
         out.append(
             Finding(
                 f"{scene.supports[i].name}: peak pressure {_pressure(worst.max_pressure[i])} "
-                f"exceeds {weak.name}'s allowable {_pressure(weak.allowable_pressure)}{factor} "
+                f"exceeds {weak.label}'s allowable {_pressure(weak.allowable_pressure)}{factor} "
                 f"({format_percent(utilisation[i])})",
                 "contact-stress",
                 _support_field(scene, i),
@@ -243,6 +261,86 @@ def _stress_findings(
             )
         )
     return out
+
+
+def _materials_text(scene: Scene, contacts: Contacts) -> str:
+    """The materials of every contact, in a designer's words: ``materials: 52100 balls on
+    aluminium (as 6061-t6) seats`` (one pair) or per group of couplings."""
+    groups: dict[tuple[str, str], list[str]] = {}
+    for i, s in enumerate(scene.supports):
+        g = s.contact_geometry
+        assert g is not None
+        names = groups.setdefault((contacts.ball[i].label, contacts.seat[i].label), [])
+        if g.coupling not in names:
+            names.append(g.coupling)
+    if len(groups) == 1:
+        (ball, seat), _ = next(iter(groups.items()))
+        return f"materials: {ball} balls on {seat} seats"
+    return "materials: " + ", ".join(
+        f"{ball} on {seat} ({', '.join(names)})" for (ball, seat), names in groups.items()
+    )
+
+
+def _lift_off_result(
+    check_id: str, scene: Scene, forces: _Forces, details: dict[str, Any]
+) -> CheckResult:
+    """A contact would have to pull under the seated load: the coupling does not seat, and the
+    solution's stresses (with a pulling contact) describe no real state; none are shown."""
+    names = [scene.supports[i].name for i in map(int, np.flatnonzero(forces.lifted))]
+    details["lifted"] = names
+    details["seated_forces"] = {
+        s.name: float(f) for s, f in zip(scene.supports, forces.seated, strict=True)
+    }
+    return CheckResult(
+        check_id,
+        Status.FAIL,
+        f"the body lifts off at {', '.join(names)} under the seated load: the coupling does "
+        "not seat, so no contact stress is reported",
+        details=details,
+        findings=tuple(f for f in _contact_findings(scene, forces) if f.code == "lifts-off"),
+    )
+
+
+def _unknown_materials_result(
+    check_id: str, scene: Scene, unknown: list[Unknown], details: dict[str, Any]
+) -> CheckResult:
+    """Some contact's material is not known: not checked, and how to give it (no default)."""
+    findings = []
+    seen: dict[tuple[str, str], None] = {}
+    for u in unknown:
+        g = scene.supports[u.index].contact_geometry
+        assert g is not None
+        key = (g.coupling, u.side)
+        if key in seen:
+            continue
+        seen[key] = None
+        what = f"material of {g.coupling}'s {u.side}"
+        text = (
+            f"not checked: {what} unknown"
+            if u.name is None
+            else (f"not checked: {what} ({u.name}) has no elastic constants")
+        )
+        findings.append(
+            Finding(
+                text, "material-unknown", _support_field(scene, u.index), unknown_hint(scene, u)
+            )
+        )
+    first = findings[0].message
+    more = (
+        f" (and {len(findings) - 1} more: "
+        + ", ".join(f"{c}'s {side}" for c, side in list(seen)[1:])
+        + ")"
+        if len(findings) > 1
+        else ""
+    )
+    details["unknown_materials"] = [{"coupling": c, "side": side} for c, side in seen]
+    return CheckResult(
+        check_id,
+        Status.SKIPPED,
+        f"{first}{more}; {findings[0].hint}",
+        details=details,
+        findings=tuple(findings),
+    )
 
 
 def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) -> CheckResult:
@@ -291,7 +389,11 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
             "forces are not determined; no contact stresses reported",
             details=details,
         )
+    if np.any(forces.lifted):
+        return _lift_off_result(check_id, scene, forces, details)
     contacts = contacts_of(scene, options)
+    if not isinstance(contacts, Contacts):
+        return _unknown_materials_result(check_id, scene, contacts, details)
     seated = hertz(forces.seated.clip(0.0), contacts.sum_a, contacts.sum_b, contacts.modulus)
     heavier = np.maximum(forces.seated, forces.disturbed).clip(0.0)
     worst = hertz(heavier, contacts.sum_a, contacts.sum_b, contacts.modulus)
@@ -302,6 +404,7 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
         for i, s in enumerate(scene.supports)
     ]
     details["max_utilisation"] = float(utilisation.max())
+    details["materials"] = _materials_text(scene, contacts)
     # Hertz theory assumes contacts small against the radii (half-space, small strains).
     size = float(np.max(worst.a * 2.0 * contacts.sum_b))
     large = f"contacts large against their radii (a/R up to {size:.2g}): Hertz is approximate"
@@ -316,12 +419,7 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
     ]
     if size > 0.1:
         parts.append(large)
-    if not {"ball_material", "seat_material", "couplings"} & options.model_fields_set:
-        # Nothing said which materials: name the assumption instead of hiding it.
-        parts.append(
-            f"materials assumed: {options.ball_material} balls and "
-            f"{options.seat_material} seats (set them under checks: hertz)"
-        )
+    parts.append(details["materials"])
     big_k = stiffness_matrix(seat, seated.stiffness)
     details["stiffness_matrix"] = big_k.tolist()
     compliance = None if np.any(forces.lifted) else point_compliance(seat, big_k, error_point)

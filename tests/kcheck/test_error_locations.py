@@ -298,6 +298,43 @@ case(
     "couplings[0]",
 )
 case("planar z differ", PLANAR, put("supports[0].position", [20, 0, 5]), "supports")
+# materials and explicit contact radii (issue 21 items 1, 13)
+case(
+    "unknown ball material",
+    SPATIAL,
+    put("couplings[1].ball_material", "mithril"),
+    "couplings[1].ball_material",
+)
+case(
+    "contact ball radius zero-ish",
+    PLANAR,
+    put("supports[0].contact", {"ball_radius": 1e-30}),
+    "supports[0].contact.ball_radius",
+)
+case(
+    "contact seat radius huge",
+    PLANAR,
+    put("supports[0].contact", {"ball_radius": 5, "seat_radii": [None, 1e30]}),
+    "supports[0].contact.seat_radii[1]",
+)
+case(
+    "contact seat radii without a direction",
+    PLANAR,
+    put("supports[0].contact", {"ball_radius": 5, "seat_radii": [None, 2]}),
+    "supports[0].contact.seat_direction",
+)
+case(
+    "contact seat direction zero",
+    PLANAR,
+    put("supports[0].contact", {"ball_radius": 5, "seat_direction": [0, 0, 0]}),
+    "supports[0].contact.seat_direction",
+)
+case(
+    "contact seat direction along the normal",
+    PLANAR,
+    put("supports[0].contact", {"ball_radius": 5, "seat_direction": [0, 2, 0]}),
+    "supports[0].contact.seat_direction",
+)
 case(
     "layout of a micrometre",
     PLANAR,
