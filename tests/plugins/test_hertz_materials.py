@@ -278,3 +278,40 @@ def test_check_run_directly_reports_unknown_materials(tmp_path):
         ("g1a", "ball"),
         ("g1a", "seat"),
     }
+
+
+def test_expanded_scene_checks_as_the_original(tmp_path):
+    from kcheck.cli.expand import expanded_text
+
+    path = _maxwell(
+        tmp_path, lambda t: t.replace("ball_on: base,", "ball_on: base, ball_material: 52100,")
+    )
+    expanded = path.with_name("expanded.kcheck.yaml")
+    expanded.write_text(expanded_text(path), encoding="utf-8")
+    original, again = _hertz(path), _hertz(expanded)
+    assert again.status is original.status is Status.FAIL
+    assert again.details["max_utilisation"] == pytest.approx(
+        original.details["max_utilisation"], rel=1e-9
+    )
+    assert again.details["materials"] == original.details["materials"]
+
+
+def test_the_picture_names_the_materials(tmp_path, monkeypatch):
+    pytest.importorskip("matplotlib")
+    import kcheck_checks.pictures.hertz as picture
+
+    titles = []
+
+    def keep(fig, directory, name):
+        titles.append(fig._suptitle.get_text())
+        return []
+
+    monkeypatch.setattr(picture, "save", keep)
+    path = _maxwell(tmp_path, lambda t: t + "checks: {hertz: {ball_material: 440c}}\n")
+    scene = load_scene(path)
+    from kcheck.body.mass import body_mass_properties
+
+    inputs = Inputs(scene, body_mass_properties(scene.body), HertzOptions(ball_material="440c"))
+    result = Hertz().run(inputs)
+    Hertz().plot(inputs, result, tmp_path / "plots")
+    assert "materials: 440c balls on aluminium (as 6061-t6) seats" in titles[0]
