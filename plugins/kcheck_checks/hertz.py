@@ -263,6 +263,33 @@ def _stress_findings(
     return out
 
 
+def _subsurface(contacts: Contacts, worst: HertzContact) -> list[dict[str, dict[str, Any]]]:
+    """Per contact and side (ball, seat): the largest shear and von Mises stresses below the
+    surface under the heavier load, their depths, and von Mises over the side's yield."""
+    from kcheck.mechanics.subsurface import subsurface_stress
+
+    n = len(contacts.ball)
+    sides = {"ball": contacts.ball, "seat": contacts.seat}
+    nu = np.array([m.poisson for ms in sides.values() for m in ms], float)
+    both = subsurface_stress(
+        np.tile(worst.a, 2), np.tile(worst.b, 2), np.tile(worst.max_pressure, 2), nu
+    )
+    out: list[dict[str, dict[str, Any]]] = [{} for _ in range(n)]
+    for k, (side, materials) in enumerate(sides.items()):
+        for i, m in enumerate(materials):
+            j = k * n + i
+            mises = float(both.von_mises[j])
+            out[i][side] = {
+                "max_shear": float(both.max_shear[j]),
+                "max_shear_depth": float(both.max_shear_depth[j]),
+                "von_mises": mises,
+                "von_mises_depth": float(both.von_mises_depth[j]),
+                "yield_strength": m.yield_strength,
+                "yield_utilisation": None if not m.yield_strength else mises / m.yield_strength,
+            }
+    return out
+
+
 def _materials_text(scene: Scene, contacts: Contacts) -> str:
     """The materials of every contact, in a designer's words: ``materials: 52100 balls on
     aluminium (as 6061-t6) seats`` (one pair) or per group of couplings."""
@@ -405,6 +432,16 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
     ]
     details["max_utilisation"] = float(utilisation.max())
     details["materials"] = _materials_text(scene, contacts)
+    below = _subsurface(contacts, worst)
+    for entry, sides in zip(details["contacts"], below, strict=True):
+        entry["subsurface"] = sides
+    used = [
+        side["yield_utilisation"]
+        for sides in below
+        for side in sides.values()
+        if side["yield_utilisation"] is not None
+    ]
+    details["max_yield_utilisation"] = max(used) if used else None
     # Hertz theory assumes contacts small against the radii (half-space, small strains).
     size = float(np.max(worst.a * 2.0 * contacts.sum_b))
     large = f"contacts large against their radii (a/R up to {size:.2g}): Hertz is approximate"

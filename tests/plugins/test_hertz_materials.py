@@ -78,6 +78,20 @@ def test_aluminium_grooves_fail_against_6061_t6(tmp_path):
     assert check.details["max_utilisation"] == pytest.approx(p0 / allowable, rel=1e-10)
     assert "materials: 52100 balls on aluminium (as 6061-t6) seats" in check.message
     assert "aluminium (as 6061-t6)'s allowable 442 MPa" in check.findings[0].message
+    # issue 28: the largest von Mises stress below the seat, on the axis of a circular contact
+    # (Johnson eq. 3.46, maximised here): sigma_z - sigma_r at its worst depth
+    from scipy.optimize import minimize_scalar
+
+    def mises(zeta, nu=0.33):
+        sz = -1.0 / (1.0 + zeta**2)
+        sr = -(1.0 + nu) * (1.0 - zeta * np.arctan(1.0 / zeta)) + 0.5 / (1.0 + zeta**2)
+        return abs(sz - sr)
+
+    best = minimize_scalar(lambda z: -mises(z), bounds=(0.1, 2), method="bounded")
+    seat = contact["subsurface"]["seat"]
+    assert seat["von_mises"] == pytest.approx(-best.fun * p0, rel=1e-6)
+    assert seat["yield_utilisation"] == pytest.approx(-best.fun * p0 / 276e6, rel=1e-6)
+    assert check.details["max_yield_utilisation"] == pytest.approx(seat["yield_utilisation"])
 
 
 def test_scene_fields_come_before_the_options(tmp_path):
