@@ -53,8 +53,12 @@ def _contact(g: Any, scale: float) -> dict[str, Any] | None:
 
     if g.line_contact:
         return None
-    seat = g.base if g.ball_on == "body" else g.body
+    seat, ball = (g.base, g.body) if g.ball_on == "body" else (g.body, g.base)
     out: dict[str, Any] = {"ball_radius": _in_units(g.ball_radius, scale), "ball_on": g.ball_on}
+    if ball.radii != (g.ball_radius, g.ball_radius):  # a canoe ball
+        out["ball_radii"] = [_in_units(r, scale) for r in ball.radii]
+        if ball.direction is not None:
+            out["ball_direction"] = [float(v) for v in ball.direction]
     if any(np.isfinite(seat.radii)):
         out["seat_radii"] = [None if np.isinf(r) else _in_units(r, scale) for r in seat.radii]
     if seat.direction is not None:

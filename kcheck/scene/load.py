@@ -227,12 +227,25 @@ class _Builder:
                 "expected the direction of the seat's first radius: its two radii differ",
             )
             ok = False
+        ball_radii = [float(r) * self.scale for r in c.ball_radii or (c.ball_radius,) * 2]
+        for j, r in enumerate(c.ball_radii or ()):
+            ok &= p.in_range((*where, "ball_radii", j), r, "radius", self.scale)
+        ball_direction = None
+        if c.ball_direction is not None:
+            ball_direction = p.direction((*where, "ball_direction"), c.ball_direction, "it")
+            ok &= ball_direction is not None
+        elif ball_radii[0] != ball_radii[1]:
+            p.add(
+                (*where, "ball_direction"),
+                "expected the direction of the ball's first radius: its two radii differ",
+            )
+            ok = False
         ball_material = self.material((*where, "ball_material"), c.ball_material)
         seat_material = self.material((*where, "seat_material"), c.seat_material)
         if not ok:
             return None
         r = float(c.ball_radius) * self.scale
-        ball = Surface((r, r))
+        ball = Surface((ball_radii[0], ball_radii[1]), ball_direction)
         seat = Surface((radii[0], radii[1]), direction)
         # The normal points into the body: a ball on the base sits below the contact point.
         sign = -1.0 if c.ball_on == "base" else 1.0

@@ -193,6 +193,12 @@ class ContactModel(_Model):
     ball-ended pin, a ball) on a seat (a flat face, a pin, a groove of radius)."""
 
     ball_radius: float = Field(gt=0, description="Scene units")
+    ball_radii: Annotated[list[float], Field(min_length=2, max_length=2)] | None = Field(
+        None, description="A canoe ball's two principal radii (default: ball_radius both ways)"
+    )
+    ball_direction: Vec3 | None = Field(
+        None, description="Along the first ball radius (needed when the two differ)"
+    )
     seat_radii: Annotated[list[float | None], Field(min_length=2, max_length=2)] | None = Field(
         None,
         description="The seat's two principal radii, scene units: positive convex (a pin), "
@@ -225,10 +231,19 @@ class SupportModel(_Model):
 
 
 class BallModel(_Model):
-    """A ball (or the spherical end of a pin): centre and radius in scene units."""
+    """A ball (or the spherical end of a pin): centre and radius in scene units; a canoe ball
+    also gives its contact surface's two principal radii."""
 
     center: Vec3
     radius: float = Field(gt=0)
+    surface_radii: Annotated[list[float], Field(min_length=2, max_length=2)] | None = Field(
+        None,
+        description="A canoe ball: the contact surface's principal radii, scene units "
+        "(default: `radius` both ways); `radius` still places the contacts",
+    )
+    surface_direction: Vec3 | None = Field(
+        None, description="Along the first surface radius (needed when the two differ)"
+    )
 
 
 class GrooveModel(_Model):
@@ -237,6 +252,12 @@ class GrooveModel(_Model):
     axis: Vec3 = Field(description="Along the groove; any length")
     up: Vec3 = Field(description="Out of the groove, towards the ball; any length")
     half_angle: float = bounded("half_angle", description="deg between each flank normal and up")
+    radius: float | None = Field(
+        None,
+        gt=0,
+        description="Flanks of this radius across the groove (a gothic arch or a conformal "
+        "groove; larger than the ball's), scene units; default flat flanks",
+    )
 
 
 class CylinderModel(_Model):
