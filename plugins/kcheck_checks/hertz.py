@@ -290,6 +290,86 @@ def _subsurface(contacts: Contacts, worst: HertzContact) -> list[dict[str, dict[
     return out
 
 
+def _thermal(
+    scene: Scene,
+    seat: Seat,
+    contacts: Contacts,
+    options: HertzOptions,
+    point: np.ndarray,
+    details: dict[str, Any],
+) -> str:
+    """The thermal pose shift at ``point`` and the thermal centre (details["thermal"]); the
+    message's words. Every expansion coefficient must be known: none is assumed."""
+    from kcheck.mechanics.thermal import thermal_approach, thermal_shift
+
+    d_t = options.temperature_change
+    body_name = options.body_material
+    if body_name is None and scene.body is not None and len(scene.body.materials) == 1:
+        body_name = scene.body.materials[0]
+    body = None if body_name is None else options.lookup(body_name)
+    base = None if options.base_material is None else options.lookup(options.base_material)
+    missing = []
+    if body is None or body.thermal_expansion is None:
+        missing.append(
+            "the body's expansion (set the body's `material` or `body_material` under checks: "
+            "hertz)"
+            if body is None
+            else f"{body.label}'s expansion coefficient"
+        )
+    if base is None or base.thermal_expansion is None:
+        missing.append(
+            "the base's expansion (set `base_material` under checks: hertz)"
+            if base is None
+            else f"{base.label}'s expansion coefficient"
+        )
+    balls = [m.thermal_expansion for m in contacts.ball]
+    if any(a is None for a in balls):
+        missing.append("a ball's expansion coefficient")
+    if missing:
+        details["thermal"] = {"temperature_change": d_t, "not_computed": missing}
+        return f"thermal shift not computed: {'; '.join(missing)} unknown"
+    assert body is not None and base is not None
+    assert body.thermal_expansion is not None and base.thermal_expansion is not None
+    geometry = [s.contact_geometry for s in scene.supports]
+    approach = thermal_approach(
+        np.array([s.position for s in scene.supports]),
+        np.array([s.normal for s in scene.supports]),
+        np.array([g.ball_center for g in geometry if g is not None]),
+        np.array([g.ball_radius for g in geometry if g is not None]),
+        np.array([g is not None and g.ball_on == "body" for g in geometry]),
+        seat.frame.origin,
+        body.thermal_expansion,
+        base.thermal_expansion,
+        np.array(balls, float),
+        d_t,
+    )
+    beta = (body.thermal_expansion - base.thermal_expansion) * d_t
+    found = thermal_shift(seat, approach, beta, point)
+    if found is None:  # the seated solve succeeded with the same matrix: not reached
+        return "thermal shift not computed: singular layout"
+    nw = seat.rotations
+    rotation = found.twist[:nw] if nw == 3 else np.array([0.0, 0.0, found.twist[0]])
+    details["thermal"] = {
+        "temperature_change": d_t,
+        "alpha_body": body.thermal_expansion,
+        "alpha_base": base.thermal_expansion,
+        "point": point.tolist(),
+        "shift": found.shift.tolist(),
+        "rotation": rotation.tolist(),
+        "centre": None if found.centre is None else found.centre.tolist(),
+    }
+    centre = (
+        "no thermal centre (body and base expand alike)"
+        if found.centre is None
+        else f"thermal centre {format_vector(found.centre / scene.scale)} {scene.units}"
+    )
+    return (
+        f"thermal shift ({d_t:+g} K) {format_number(float(np.linalg.norm(found.shift)) * 1e6, 3)}"
+        f" µm, {format_number(float(np.linalg.norm(rotation)) * 1e6, 3)} µrad at "
+        f"{format_vector(point / scene.scale)} {scene.units}; {centre}"
+    )
+
+
 def _materials_text(scene: Scene, contacts: Contacts) -> str:
     """The materials of every contact, in a designer's words: ``materials: 52100 balls on
     aluminium (as 6061-t6) seats`` (one pair) or per group of couplings."""
@@ -489,6 +569,8 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
             f"{format_number(float(np.linalg.norm(rotation) * 1e6), 3)} µrad "
             "under the disturbing load"
         )
+    if options.temperature_change:
+        parts.append(_thermal(scene, seat, contacts, options, error_point, details))
     # Forces err by about the solve's estimate; p0 ~ N^(1/3), so utilisation by a third of it.
     rel = float(np.max(forces.error / np.maximum(np.abs(forces.seated), ZERO_GUARD)))
     return CheckResult(

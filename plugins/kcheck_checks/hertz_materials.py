@@ -40,6 +40,9 @@ class MaterialModel(Options):
     youngs_modulus_gpa: float = Field(gt=0, description="Young's modulus, GPa")
     poisson: float = Field(ge=0, lt=0.5, description="Poisson's ratio")
     allowable_pressure_mpa: float = Field(gt=0, description="Allowable Hertz peak pressure, MPa")
+    thermal_expansion_per_k: float | None = Field(
+        None, description="Thermal expansion coefficient, 1/K (for the thermal pose shift)"
+    )
 
 
 class CouplingMaterials(Options):
@@ -76,6 +79,18 @@ class HertzOptions(Options):
         max_length=3,
         description="Where it acts, scene units (default: error_point)",
     )
+    temperature_change: float = Field(
+        0.0,
+        description="Uniform temperature change, K, for the thermal pose shift (0: none)",
+    )
+    base_material: MaterialName | None = Field(
+        None, description="The base's material, for its thermal expansion"
+    )
+    body_material: MaterialName | None = Field(
+        None,
+        description="The body's material for its thermal expansion (default: the body's "
+        "`material`)",
+    )
     error_point: Vec3 | None = Field(
         None,
         min_length=3,
@@ -86,7 +101,7 @@ class HertzOptions(Options):
 
     @model_validator(mode="after")
     def _known_materials(self) -> HertzOptions:
-        names = [self.ball_material, self.seat_material]
+        names = [self.ball_material, self.seat_material, self.base_material, self.body_material]
         names += [n for c in self.couplings.values() for n in (c.ball, c.seat)]
         unknown = sorted(
             {n for n in names if n is not None and n not in self.materials and material(n) is None}
@@ -109,6 +124,7 @@ class HertzOptions(Options):
                 m.youngs_modulus_gpa * 1e9,
                 m.poisson,
                 m.allowable_pressure_mpa * 1e6,
+                thermal_expansion=m.thermal_expansion_per_k,
                 basis="given in the check options",
                 source="scene file (checks: hertz: materials)",
             )
