@@ -12,7 +12,6 @@ coupling's lies over its trihedral socket, the one ball that cannot slide.
 from __future__ import annotations
 
 import numpy as np
-import pytest
 from kcheck_checks.hertz import Hertz
 from kcheck_checks.hertz_materials import HertzOptions
 
