@@ -249,8 +249,9 @@ def _stress_findings(
         factor = f" / safety factor {sf:g}" if sf != 1 else ""
         out.append(
             Finding(
-                f"{scene.supports[i].name}: peak pressure {_pressure(worst.max_pressure[i])} "
-                f"exceeds {weak.label}'s allowable {_pressure(weak.allowable_pressure)}{factor} "
+                f"{scene.supports[i].name} ({contacts.ball[i].label} ball on "
+                f"{contacts.seat[i].label} seat): peak pressure "
+                f"{_pressure(worst.max_pressure[i])} exceeds {weak.label}'s allowable {_pressure(weak.allowable_pressure)}{factor} "
                 f"({format_percent(utilisation[i])})",
                 "contact-stress",
                 _support_field(scene, i),

@@ -77,6 +77,9 @@ def test_aluminium_grooves_fail_against_6061_t6(tmp_path):
     assert contact["allowable_pressure"] == pytest.approx(allowable)
     assert check.details["max_utilisation"] == pytest.approx(p0 / allowable, rel=1e-10)
     assert "materials: 52100 balls on aluminium (as 6061-t6) seats" in check.message
+    assert check.findings[0].message.startswith(
+        "v1.1 (52100 ball on aluminium (as 6061-t6) seat): peak pressure"
+    )
     assert "aluminium (as 6061-t6)'s allowable 442 MPa" in check.findings[0].message
     # issue 28: the largest von Mises stress below the seat, on the axis of a circular contact
     # (Johnson eq. 3.46, maximised here): sigma_z - sigma_r at its worst depth
