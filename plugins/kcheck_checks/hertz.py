@@ -251,7 +251,8 @@ def _stress_findings(
             Finding(
                 f"{scene.supports[i].name} ({contacts.ball[i].label} ball on "
                 f"{contacts.seat[i].label} seat): peak pressure "
-                f"{_pressure(worst.max_pressure[i])} exceeds {weak.label}'s allowable {_pressure(weak.allowable_pressure)}{factor} "
+                f"{_pressure(worst.max_pressure[i])} exceeds {weak.label}'s allowable "
+                f"{_pressure(weak.allowable_pressure)}{factor} "
                 f"({format_percent(utilisation[i])})",
                 "contact-stress",
                 _support_field(scene, i),
