@@ -454,13 +454,14 @@ def _unknown_materials_result(
 
 def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) -> CheckResult:
     """The hertz check's result for a scene whose supports all carry contact geometry."""
-    from kcheck.mechanics.hertz import hertz
+    from kcheck.mechanics.hertz import contact_shear_modulus, hertz, tangential_stiffness
     from kcheck.mechanics.seat import (
         point_compliance,
         point_translation,
         seat_layout,
         seated_loads,
         stiffness_matrix,
+        tangential_stiffness_matrix,
         twist_from_approach,
     )
 
@@ -541,12 +542,26 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
     parts.append(details["materials"])
     big_k = stiffness_matrix(seat, seated.stiffness)
     details["stiffness_matrix"] = big_k.tolist()
+    shear = contact_shear_modulus(
+        np.array([m.youngs_modulus for m in contacts.ball], float),
+        np.array([m.poisson for m in contacts.ball], float),
+        np.array([m.youngs_modulus for m in contacts.seat], float),
+        np.array([m.poisson for m in contacts.seat], float),
+    )
+    k_t = tangential_stiffness(seated, shear)
+    for entry, k in zip(details["contacts"], k_t, strict=True):
+        entry["tangential_stiffness"] = float(k)
+    big_kt = big_k + tangential_stiffness_matrix(seat, positions, normals, k_t)
+    details["stiffness_matrix_with_tangential"] = big_kt.tolist()
     compliance = None if np.any(forces.lifted) else point_compliance(seat, big_k, error_point)
     if compliance is not None:
         axis_k = 1.0 / np.diag(compliance)
         details["error_point"] = error_point.tolist()
         details["point_stiffness"] = axis_k.tolist()
         details["point_compliance"] = compliance.tolist()
+        with_t = point_compliance(seat, big_kt, error_point)
+        if with_t is not None:
+            details["point_stiffness_with_tangential"] = (1.0 / np.diag(with_t)).tolist()
         parts.append(
             f"stiffness at {format_vector(error_point / scene.scale)} {scene.units}: "
             + "/".join(_stiffness_text(k) for k in axis_k)

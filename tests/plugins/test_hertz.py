@@ -335,3 +335,23 @@ def test_picture_when_no_contact_carries_load(tmp_path):
         warnings.simplefilter("error")
         files = Hertz().plot(inputs, result, tmp_path / "plots")
     assert files == []
+
+
+def test_three_vee_vertical_stiffness_with_mindlin_tangential_compliance(three_vee_scene):
+    # Johnson §7.2: no-slip tangential stiffness k_t = 8 G* a, 1/G* = 2 (2 - nu) / G for two
+    # equal materials; with k_n = 2 E* a, k_t / k_n = 2 (1 - nu) / (2 - nu) (Mindlin).
+    result = _run(three_vee_scene)
+    nu, e = 0.3, 210e9
+    g = e / (2 * (1 + nu))
+    a = result.details["contacts"][0]["semi_axes"][0]
+    k_n = 2 * contact_modulus(e, nu, e, nu) * a
+    k_t = 8 * a / (2 * (2 - nu) / g)
+    assert k_t / k_n == pytest.approx(2 * (1 - nu) / (2 - nu), rel=1e-12)
+    for c in result.details["contacts"]:
+        assert c["tangential_stiffness"] == pytest.approx(k_t, rel=1e-12)
+    # straight down the axis every contact moves by dz: cos(b) dz along its normal, sin(b) dz
+    # in its tangent plane, so k_z = 6 (k_n cos^2 b + k_t sin^2 b)
+    b = np.radians(BETA)
+    kz = result.details["point_stiffness_with_tangential"][2]
+    assert kz == pytest.approx(6 * (k_n * np.cos(b) ** 2 + k_t * np.sin(b) ** 2), rel=1e-10)
+    assert kz > result.details["point_stiffness"][2]
