@@ -253,6 +253,14 @@ def test_slocum_spreadsheet_example(tmp_path):
     sink = seated["approach"] / np.cos(np.radians(45.0))
     assert sink * 1e3 == pytest.approx(0.0307, abs=1e-4)
     assert sink * np.cos(np.radians(45.0)) ** 2 * 1e3 == pytest.approx(0.015, abs=5e-4)
+    # "largest stress ratio" 0.22: the largest subsurface shear, taken as 0.3 p0, over the
+    # Tresca shear yield 0.5 Y (Y = 1720 MPa): 0.3 p0 / (0.5 Y) = 0.217 rounds to it; kcheck's
+    # exact largest shear (0.31 p0 for a circle, nu = 0.29) gives 0.225
+    p0, shear_yield = worst["max_pressure_worst"], 0.5 * 1720e6
+    assert round(0.3 * p0 / shear_yield, 2) == 0.22
+    tau = worst["subsurface"]["seat"]["max_shear"]
+    assert tau / p0 == pytest.approx(0.31, abs=0.005)
+    assert tau / shear_yield == pytest.approx(0.225, abs=0.001)
 
 
 def test_hint_scales_the_radii_to_the_allowable(tmp_path):
