@@ -119,3 +119,22 @@ def test_a_nearly_circular_ellipse_meets_the_circle():
     assert near.max_shear == pytest.approx(float(circle.max_shear), rel=2e-3)
     assert near.von_mises == pytest.approx(float(circle.von_mises), rel=2e-3)
     assert near.max_shear_depth == pytest.approx(float(circle.max_shear_depth), rel=5e-3)
+
+
+@pytest.mark.parametrize("zeta", [0.02, 0.3, 1.0, 4.0])
+def test_ray_integrals_against_quadrature(zeta):
+    from scipy.integrate import quad
+
+    from kcheck.mechanics.subsurface import _ray_integrals
+
+    def q(s):
+        return np.sqrt(s * s + zeta * zeta)
+
+    kernels = [
+        lambda s: s * np.sqrt(1 - s * s) / (q(s) * (q(s) + zeta)),
+        lambda s: zeta * s * np.sqrt(1 - s * s) / q(s) ** 3,
+        lambda s: 3 * zeta * s**3 * np.sqrt(1 - s * s) / q(s) ** 5,
+        lambda s: 3 * zeta**3 * s * np.sqrt(1 - s * s) / q(s) ** 5,
+    ]
+    reference = [quad(k, 0, 1, epsabs=1e-13, epsrel=1e-12, limit=200)[0] for k in kernels]
+    np.testing.assert_allclose(_ray_integrals(np.array(zeta)), reference, rtol=1e-9, atol=1e-13)
