@@ -26,6 +26,7 @@ import math
 import sys
 
 __all__ = [
+    "THERMAL_CENTRE_DET",
     "EPS",
     "TINY",
     "ZERO_GUARD",
@@ -399,3 +400,10 @@ AGM_ULP_FRACTION: float = 1e-3
 #: A seated contact force at or below this fraction of the force scale is zero: the contact is
 #: lifted (nondimensional, the solve's rounding is about 1e-15 of the scale).
 LIFTED_RTOL: float = 1e-12
+
+
+#: A coupling has a thermal centre only when the map from a body point to its thermal pose
+#: shift, ``(alpha_body - alpha_base) dT I + [omega]x`` scaled to its largest entry, has a
+#: determinant above this (nondimensional): below it the body and the base expand alike (to
+#: about 1e-4 of the larger term in each direction) and the shift is a rigid motion.
+THERMAL_CENTRE_DET: float = 1e-12

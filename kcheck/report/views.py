@@ -24,6 +24,7 @@ from kcheck.fmt import (
     describe_sweep,
     format_angle,
     format_number,
+    format_percent,
     format_ranges,
     format_share_bounds,
 )
@@ -233,6 +234,11 @@ def headline(scene: SceneResult) -> str:
         said.setdefault(source.id, []).append(
             f"{format_share_bounds(low, high)} of {_swept(source)} directions safe"
         )
+    for c in checks:  # contact stress (`max_utilisation` with the `materials` it is of)
+        used, materials = c.details.get("max_utilisation"), c.details.get("materials")
+        if isinstance(used, (int, float)) and isinstance(materials, str):
+            figure = f"contact stress {format_percent(float(used))} of allowable ({materials})"
+            said.setdefault(c.id, []).append(figure)
     parts += [f"{check}: {', '.join(figures)}" for check, figures in said.items()]
     if not parts:
         ranged = [c for c in checks if c.safe_ranges_deg is not None]

@@ -35,8 +35,9 @@ def plot_hertz(scene: Scene, result: CheckResult, directory: Path) -> list[Path]
         axes[2].remove()
         polar = fig.add_subplot(1, panels, 3, projection="polar")
         _stiffness_panel(polar, np.array(compliance), scene, result.details["error_point"])
+    materials = result.details.get("materials", "")
     fig.suptitle(
-        f"{scene.name} — {verdict_title(result)}\n{result.message.split(';')[0]}",
+        f"{scene.name} — {verdict_title(result)}\n{result.message.split(';')[0]}\n{materials}",
         fontsize=10, color=verdict_colour(result),
     )  # fmt: skip
     return list(save(fig, directory, f"{slug(scene.name)}-hertz"))
