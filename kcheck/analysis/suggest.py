@@ -32,7 +32,12 @@ from kcheck.mechanics.arcs import cap_margin_matrix
 from kcheck.mechanics.deepest import most_robust_direction
 from kcheck.mechanics.dynamics import Problem, analyse_case, solve_affine
 from kcheck.mechanics.sphere import fibonacci_sphere
-from kcheck.numerics.thresholds import LEAST_FORCE_RTOL, SAME_POINT_RTOL
+from kcheck.numerics.thresholds import (
+    LEAST_FORCE_RTOL,
+    POLISH_FTOL,
+    POLISH_XTOL,
+    SAME_POINT_RTOL,
+)
 from kcheck.scene import Load, Scene
 
 if TYPE_CHECKING:
@@ -46,6 +51,7 @@ __all__ = [
     "caps_at",
     "point_margins",
     "search",
+    "polish_point",
     "limiting_friction_at",
     "with_load",
     "best_margin",
@@ -248,6 +254,7 @@ def search(
     frictions: Sequence[np.ndarray] | None = None,
     jobs: int = 1,
     progress: Callable[[int], None] | None = None,
+    polish: int = 3,
 ) -> Search:
     """Search ``count`` candidate points from ``sampler`` for the ``keep`` best candidates.
 
@@ -255,8 +262,9 @@ def search(
     times, points are added near the best five within a radius halving from twice the
     sampler's spacing; finally the ``refine`` best points get their direction refined
     (:func:`kcheck.mechanics.sphere.most_robust_direction`, exact margins) and the best ``keep`` the
-    limiting friction. ``jobs`` processes share the first pass; ``progress`` is called with the
-    number of points done.
+    limiting friction. The ``polish`` best of these get a continuous local search over the
+    point (:func:`polish_point`). ``jobs`` processes share the first pass; ``progress`` is
+    called with the number of points done.
     """
     problem = problem_for(scene, mass)
     caps = point_caps(problem, frictions)
@@ -283,12 +291,24 @@ def search(
         direction, margin = most_robust_direction(caps.a, c)
         refined.append((margin, j, direction))
     refined.sort(key=lambda t: -t[0])
-    chosen = set(_distinct(points, np.array([j for _, j, _ in refined]), keep, sampler.spacing))
-    best = []
-    for margin, j, direction in [r for r in refined if r[1] in chosen]:
-        friction = limiting_friction_at(scene, mass, points[j], direction) if margin > 0 else None
+    # a few more than kept: starts the search joins count once
+    chosen = _distinct(points, np.array([j for _, j, _ in refined]), keep + polish, sampler.spacing)
+    by_index = {j: (margin, direction) for margin, j, direction in refined}
+    # The sampled optimum is within a sampling step of the true one: a continuous search over
+    # the point (its direction exact at every step) closes that gap.
+    found: list[tuple[float, np.ndarray, np.ndarray, np.ndarray | None]] = []
+    for rank, j in enumerate(chosen):
         normal = None if normals is None else normals[j]
-        best.append(Candidate(points[j], direction, margin, friction, normal))
+        margin, direction = by_index[j]
+        start = (margin, points[j], direction, normal)
+        found.append(polish_point(caps, sampler, start) if rank < polish else start)
+    found.sort(key=lambda t: -t[0])
+    at = np.array([f[1] for f in found])
+    best = []
+    for k in _distinct(at, np.arange(len(found)), keep, sampler.spacing):
+        margin, point, direction, normal = found[k]
+        friction = limiting_friction_at(scene, mass, point, direction) if margin > 0 else None
+        best.append(Candidate(point, direction, margin, friction, normal))
     return Search(
         points,
         margins,
@@ -297,6 +317,45 @@ def search(
         float(np.sqrt(4 * np.pi / directions)),
         tuple(float(f) for f in np.unique(caps.friction)),
     )
+
+
+def polish_point(
+    caps: Caps,
+    sampler: Sampler,
+    start: tuple[float, np.ndarray, np.ndarray, np.ndarray | None],
+) -> tuple[float, np.ndarray, np.ndarray, np.ndarray | None]:
+    """Nelder–Mead over the point about ``start`` ``(margin, point, direction, normal)``: in
+    the surface's tangent plane (each step moved onto the mesh) or the box, the direction
+    exact at every point (:func:`kcheck.mechanics.sphere.most_robust_direction`), the
+    simplex first a sampling step wide. Returns the better of the start and the end."""
+    from scipy.optimize import minimize
+
+    step = sampler.spacing or 1e-3
+    chart = sampler.chart(start[1], 4.0 * step)
+    if chart.dims == 0:
+        return start
+
+    def margin_at(x: np.ndarray) -> float:
+        point, _ = chart.point(x)
+        return -most_robust_direction(caps.a, caps_at(caps, point[None])[0])[1]
+
+    simplex = np.vstack([np.zeros(chart.dims), step * np.eye(chart.dims)])
+    end = minimize(
+        margin_at,
+        np.zeros(chart.dims),
+        method="Nelder-Mead",
+        options={
+            "initial_simplex": simplex,
+            "xatol": POLISH_XTOL * step,
+            "fatol": POLISH_FTOL,
+            "maxfev": 400,
+        },
+    )
+    point, normal = chart.point(end.x)
+    direction, margin = most_robust_direction(caps.a, caps_at(caps, point[None])[0])
+    if margin <= start[0]:
+        return start
+    return margin, point, direction, start[3] if normal is None else normal
 
 
 def best_margin(

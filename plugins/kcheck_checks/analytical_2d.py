@@ -21,6 +21,7 @@ from kcheck_checks.wording import (
     case_findings,
     design_findings,
     empty_range_findings,
+    friction_way_out,
     merge_findings,
     verdict,
 )
@@ -64,7 +65,9 @@ def analytical_result(
             parts.append(f"safe force angles: {describe_ranges(combined)}")
         else:
             parts.append("no safe force angle")
-            findings = merge_findings(findings, empty_range_findings(scene, analysis.results))
+            findings = merge_findings(
+                findings, empty_range_findings(scene, analysis.results, analysis=analysis)
+            )
         design_deg = scene.design_angle_deg
         if design_deg is not None:
             findings.extend(
@@ -75,6 +78,8 @@ def analytical_result(
                     analysis.nearest_safe_deg,
                     describe_ranges(combined),
                     min_margin_deg,
+                    safe=ranges,
+                    by_friction=friction_way_out(analysis),
                 )
             )
             if combined and analysis.design_margin_deg is not None and not findings:

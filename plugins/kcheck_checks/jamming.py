@@ -44,6 +44,7 @@ from kcheck.numerics.thresholds import IN_SWEEP_PLANE, UNDETERMINED
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
+from kcheck_checks.wording import rounded_bound
 
 __all__ = ["Jamming", "JammingOptions", "jamming_result", "run_jamming"]
 
@@ -304,30 +305,37 @@ def _finding(
     names = statics.names
     others = ", ".join(names[j] for j in analysis.cases[r].keep)
     what = "load" if analysis.swept == "load" else "gravity"
-    where = ""
+    gravity_only = analysis.swept != "load"
+    # The set named is always the one friction holds the body at (the case's `held_deg`),
+    # said as such: "friction holds it for load angles ...".
+    holds = ""
     if arcs is not None and arcs.held == FULL:
-        where = f" for every {what} angle in the sweep plane"
+        holds = f"friction holds it for every {what} angle in the sweep plane"
     elif arcs is not None and arcs.held:
-        where = f" for {what} angles {_text(arcs.held)}"
+        holds = f"friction holds it for {what} angles {_text(arcs.held)}"
     if analysis.design is None:
         if arcs is None or not arcs.jamming:
             return None
-        message = f"retract {names[r]} → friction can hold the body{where}"
+        message = f"retract {names[r]} → {holds}"
         hint = f"keep the {what} direction out of {_text(arcs.held)}"
         return Finding(message, code="jams", field=scene.support_field(r), hint=hint)
     mu = float(statics.friction[analysis.cases[r].keep].max())
     force = "load" if analysis.swept == "load" else "weight"
-    held = f"although the {force} would {'close' if outcome == 'jams' else 'open'} it"
+    held = f"although the {force} would {'close' if outcome == 'jams' else 'open'} it there"
     # Holding is the start of motion: the static coefficient (the top of its range: the held
     # set only grows with friction).
     which = "μ" if all(s.coefficients.plain for s in scene.supports) else "static μ"
     message = (
         f"retract {names[r]} → friction can hold the body at the design direction, {held}"
-        f"{where} (equilibrium exists for μ ≥ {format_number(least, 3)}; the scene has "
-        f"{which} = {format_number(mu, 3)})"
+        f"{'; ' + holds if holds else ''} (equilibrium exists for μ ≥ "
+        f"{format_number(least, 3)}; the scene has {which} = {format_number(mu, 3)})"
     )
-    hint = f"lower the friction at {others} below {format_number(least, 3)}"
-    if arcs is not None and arcs.held != FULL:
+    # Rounded down, so that the friction named is below the least that holds.
+    below = "–" if least is None else format_number(rounded_bound(least, 3, up=False), 7)
+    hint = f"lower the friction at {others} below {below}"
+    if gravity_only:
+        pass  # nobody turns gravity: the friction is what the designer changes here
+    elif arcs is not None and arcs.held != FULL:
         hint += f", or turn the {what} out of {_text(arcs.held)}"
     elif statics.dim == 3 and not everywhere:
         hint += f", or turn the {what} away from the held directions (see the sphere map)"
