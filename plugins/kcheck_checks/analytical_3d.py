@@ -182,8 +182,13 @@ def _sphere_findings(
                 f"{min_margin_deg:g}°",
                 code="margin",
                 field=field,
-                hint=f"the most robust direction {format_vector(smap.robust, 3)} keeps "
-                f"{format_angle(smap.robust_margin * deg)}",
+                hint=f"turn the {what} to {format_vector(smap.robust, 3)}, the most robust "
+                f"direction: it keeps {format_angle(smap.robust_margin * deg)}"
+                if smap.robust_margin * deg >= min_margin_deg
+                else f"no {what} direction keeps {min_margin_deg:g}° (the most robust, "
+                f"{format_vector(smap.robust, 3)}, keeps "
+                f"{format_angle(smap.robust_margin * deg)}): move the force's point or the "
+                "supports (kcheck suggest searches the points)",
             )
         ]
     return []
