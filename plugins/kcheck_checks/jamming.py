@@ -316,7 +316,9 @@ def _finding(
     if analysis.design is None:
         if arcs is None or not arcs.jamming:
             return None
-        message = f"retract {names[r]} → {holds}"
+        message = f"retract {names[r]} → " + holds.replace(
+            "friction holds it", "friction can hold the body", 1
+        )
         hint = f"keep the {what} direction out of {_text(arcs.held)}"
         return Finding(message, code="jams", field=scene.support_field(r), hint=hint)
     mu = float(statics.friction[analysis.cases[r].keep].max())

@@ -154,7 +154,11 @@ def results(scenes) -> dict[Path, dict]:
 
     buffer = StringIO()
     with redirect_stdout(buffer):
-        main(["check", "--format", "json", "--jobs", "1", *map(str, scenes)])
+        # the checks that name angle sets and give kinematic advice
+        main(
+            ["check", "--format", "json", "--jobs", "1", "--select", ",".join(KINEMATIC)]
+            + list(map(str, scenes))
+        )
     doc = json.loads(buffer.getvalue())
     return {Path(s["path"]).resolve(): s for s in doc["scenes"]}
 
