@@ -24,6 +24,7 @@ from kcheck_checks.wording import (
     friction_way_out,
     merge_findings,
     verdict,
+    with_friction_way_out,
 )
 
 __all__ = ["Analytical2D", "AnalyticalOptions", "analytical_result", "design_findings"]
@@ -124,8 +125,15 @@ class Analytical2D(Check):
     def run(self, inputs: Inputs) -> CheckResult:
         """Analyse every retracted case and intersect the safe ranges."""
         assert inputs.mass is not None and isinstance(inputs.options, AnalyticalOptions)
-        analysis = analyse(inputs.scene, inputs.mass)
-        result = analytical_result(self.id, inputs.scene, analysis, inputs.options.min_margin_deg)
+        mass, least = inputs.mass, inputs.options.min_margin_deg
+        analysis = analyse(inputs.scene, mass)
+        result = analytical_result(self.id, inputs.scene, analysis, least)
+
+        def passes(scene: Scene) -> bool:
+            again = analytical_result(self.id, scene, analyse(scene, mass), least)
+            return again.status == Status.PASS
+
+        result = with_friction_way_out(result, inputs.scene, passes)
         return with_partial_ranges(result, analysis, inputs.scene)
 
 

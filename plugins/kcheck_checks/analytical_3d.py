@@ -33,6 +33,7 @@ from kcheck_checks.wording import (
     move_support_text,
     support_field,
     verdict,
+    with_friction_way_out,
 )
 
 __all__ = [
@@ -380,5 +381,12 @@ class Analytical3D(Check):
     def run(self, inputs: Inputs) -> CheckResult:
         """Analyse every retracted case and map the safe directions on the sphere."""
         assert inputs.mass is not None and isinstance(inputs.options, Analytical3DOptions)
-        analysis = analyse(inputs.scene, inputs.mass)
-        return spatial_result(self.id, inputs.scene, analysis, inputs.options)[0]
+        mass, options = inputs.mass, inputs.options
+        analysis = analyse(inputs.scene, mass)
+        result = spatial_result(self.id, inputs.scene, analysis, options)[0]
+
+        def passes(scene: Scene) -> bool:
+            again = spatial_result(self.id, scene, analyse(scene, mass), options)[0]
+            return again.status == Status.PASS
+
+        return with_friction_way_out(result, inputs.scene, passes)

@@ -37,14 +37,19 @@ from kcheck.analysis.jamming_cases import (
     needs_body,
     tidy,
 )
-from kcheck.fmt import format_angle, format_number, format_ranges, format_share_bounds
+from kcheck.fmt import (
+    format_angle,
+    format_number,
+    format_ranges,
+    format_share_bounds,
+    rounded_bound,
+)
 from kcheck.mechanics.arcs import FULL, TAU, ArcSet, complement, intersect, margin
 from kcheck.mechanics.statics import PYRAMID_EDGES
 from kcheck.numerics.thresholds import IN_SWEEP_PLANE, UNDETERMINED
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
-from kcheck_checks.wording import rounded_bound
 
 __all__ = ["Jamming", "JammingOptions", "jamming_result", "run_jamming"]
 

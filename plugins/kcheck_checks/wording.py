@@ -9,17 +9,18 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Sequence
+import re
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
 from kcheck.analysis.cases import Analysis
 from kcheck.errors import FieldPath
-from kcheck.fmt import format_angle, format_number, format_ranges
+from kcheck.fmt import format_angle, format_number, format_ranges, rounded_bound
 from kcheck.mechanics.arcs import ArcSet, intersect
 from kcheck.mechanics.friction import FrictionIntervals, describe_friction
 from kcheck.numerics.thresholds import FULL_TURN_SLACK_DEG
-from kcheck.result import CaseResult, Finding
+from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
 
 __all__ = [
@@ -30,7 +31,7 @@ __all__ = [
     "ranges_text",
     "mu_text",
     "case_findings",
-    "rounded_bound",
+    "with_friction_way_out",
     "friction_bound_text",
     "friction_way_out",
     "move_support_text",
@@ -134,15 +135,6 @@ def _why(result: CaseResult, intervals: FrictionIntervals | None) -> tuple[str, 
     return None
 
 
-def rounded_bound(value: float, digits: int, up: bool) -> float:
-    """``value`` to ``digits`` significant digits, strictly above (``up``) or below it by at
-    least a millionth: a bound a designer can type in and still be on the right side."""
-    scale = 10.0 ** (digits - 1 - math.floor(math.log10(abs(value))))
-    if up:
-        return (math.floor(value * scale * (1 + 1e-6)) + 1) / scale
-    return (math.ceil(value * scale * (1 - 1e-6)) - 1) / scale
-
-
 def friction_bound(
     intervals: Sequence[tuple[float, float]], mu: float
 ) -> tuple[float | None, float | None] | None:
@@ -210,12 +202,13 @@ def friction_way_out(analysis: Analysis) -> str | None:
     return None if text is None else f"every retraction {text}"
 
 
-def move_support_text(names: Sequence[str], what: str = "direction") -> str:
+def move_support_text(names: Sequence[str], what: str | None = "direction") -> str:
     """ "no direction reseats this case: move or turn support x1" (the supports named;
-    ``what``: what was tried and does not help)."""
+    ``what``: what was tried and does not help, None when nothing is claimed)."""
     which = " or ".join(names)
     noun = "support" if len(names) == 1 else "supports"
-    return f"no {what} reseats this case: move or turn {noun} {which}"
+    tried = "" if what is None else f"no {what} reseats this case: "
+    return f"{tried}move or turn {noun} {which}"
 
 
 def _lost_names(result: CaseResult) -> list[str]:
@@ -238,12 +231,19 @@ def way_out(scene: Scene, result: CaseResult, intervals: FrictionIntervals | Non
         return "; or ".join(ways)
     if result.outcome in ("undetermined", "ill_conditioned"):
         return None
+    # What was tried and does not help (friction only when its intervals were computed).
+    what: str | None
     if gravity_only:
-        what = "friction"  # nobody turns gravity: the tilt is not the designer's to change
+        # nobody turns gravity: the tilt is not the designer's to change
+        what = None if intervals is None else "friction"
+    elif result.safe_ranges_deg is None:  # the directions were not swept
+        what = None if intervals is None else "friction"
     elif scene.dim == 2:
         what = "direction"
     else:
-        what = "friction nor force angle in the sweep plane"
+        what = "force angle in the sweep plane"
+        if intervals is not None:
+            what = "friction nor " + what
     lost = _lost_names(result)
     text = move_support_text(lost or [result.retracted], what)
     if scene.dim == 2 and not gravity_only:
@@ -451,3 +451,40 @@ def _into_range(
     if by_friction is not None:
         ways.append(by_friction)
     return "; or ".join(ways) or None
+
+
+#: A hint that already names a number to change: a friction bound, force angles, a direction.
+NUMERIC_WAY_OUT = re.compile(r"μ [≤≥] \d|below \d|force angles \d|turn the force to")
+
+#: Findings about the whole safe set, which a friction search can answer for the whole check.
+CHECK_LEVEL = ("margin", "design-outside", "ranges-disjoint", "no-safe-direction")
+
+
+def with_friction_way_out(
+    result: CheckResult, scene: Scene, passes: Callable[[Scene], bool]
+) -> CheckResult:
+    """A failing result whose findings about the safe set name no number to change, with the
+    friction at which the whole check passes added to their hints ("the check passes for
+    μ ≤ 0.0812", :func:`kcheck.analysis.way_out.passing_friction`, judged by ``passes``)."""
+    wanting = [
+        i
+        for i, f in enumerate(result.findings)
+        if f.code in CHECK_LEVEL and not NUMERIC_WAY_OUT.search(f.hint or "")
+    ]
+    if result.status != Status.FAIL or not wanting:
+        return result
+    from kcheck.analysis.way_out import passing_friction
+
+    mu = passing_friction(scene, passes)
+    if mu is None:
+        return result
+    uniform = len({s.friction for s in scene.supports if s.friction > 0}) <= 1
+    tail = "" if uniform else " (the largest coefficient, the others in proportion)"
+    text = f"the check passes for μ ≤ {format_number(mu, 7)}{tail}"
+    findings = list(result.findings)
+    for i in wanting:
+        hint = findings[i].hint
+        findings[i] = dataclasses.replace(
+            findings[i], hint=text if not hint else f"{hint}; or {text}"
+        )
+    return dataclasses.replace(result, findings=tuple(findings))
