@@ -332,9 +332,14 @@ def _finding(
     # Holding is the start of motion: the static coefficient (the top of its range: the held
     # set only grows with friction).
     which = "μ" if all(s.coefficients.plain for s in scene.supports) else "static μ"
+    closes = ""  # where, without friction, the swept force closes the case (`closing_deg`)
+    if arcs is not None and arcs.closing == FULL:
+        closes = f"; without friction it closes for every {what} angle in the sweep plane"
+    elif arcs is not None and arcs.closing:
+        closes = f"; without friction it closes for {what} angles {_text(arcs.closing)}"
     message = (
         f"retract {names[r]} → friction can hold the body at the design direction, {held}"
-        f"{'; ' + holds if holds else ''} (equilibrium exists for μ ≥ "
+        f"{closes}{'; ' + holds if holds else ''} (equilibrium exists for μ ≥ "
         f"{format_number(least, 3)}; the scene has {which} = {format_number(mu, 3)})"
     )
     # Rounded down, so that the friction named is below the least that holds.

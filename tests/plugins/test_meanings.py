@@ -84,6 +84,10 @@ RULES = [
         rf"keep the (?:load|gravity) direction out of ({RANGES})",
         lambda k, t, m: _case(k, t)["held_deg"],
     ),
+    (
+        rf"without friction it closes for (?:load|gravity) angles ({RANGES})",
+        lambda k, t, m: _case(k, t)["closing_deg"],
+    ),
     (rf"closes for force angles ({RANGES})", lambda k, t, m: _case(k, t)["safe_ranges_deg"]),
     (
         rf"(?:safe ranges of|,|and) (\S+) \(({RANGES})\)",
