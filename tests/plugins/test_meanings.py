@@ -121,7 +121,8 @@ def _every_word(check: dict):
 def scenes(tmp_path_factory) -> list[Path]:
     """Every fixture, and the tests' scenes: the planar block at three design angles and two
     friction values, the new user's Kelvin clamp and the tilted Kelvin coupling at μ 0.3 and
-    0.8 (gravity-only), the thesis block 5.2 asked for 20° of tilt, the three-groove coupling
+    0.8 (gravity-only), the thesis block 5.2 asked for 20° of tilt (and made with wide
+    tolerances), the three-groove coupling
     pulled sideways."""
     from tests.couplings import tilted_kelvin, user_kelvin
 
@@ -141,7 +142,11 @@ def scenes(tmp_path_factory) -> list[Path]:
     demanding = folder / "demanding"  # gravity-only, asked for more tilt than it takes
     shutil.copytree(FIXTURES / "thesis-block-5-2", demanding)
     scene = demanding / "block.kcheck.yaml"
-    text = scene.read_text(encoding="utf-8").replace("min_margin_deg: 10", "min_margin_deg: 20")
+    text = scene.read_text(encoding="utf-8").replace(
+        "  analytical-3d: {min_margin_deg: 10}",
+        "  analytical-3d: {min_margin_deg: 20}\n  tolerances: {samples: 200}",
+    )
+    text += "tolerances: {position: 10, normal: 20}\n"
     scene.write_text(text, encoding="utf-8")
     out.append(scene)
     sideways = folder / "sideways"
@@ -167,7 +172,15 @@ def results(scenes) -> dict[Path, dict]:
     with redirect_stdout(buffer):
         # the checks that name angle sets and give kinematic advice
         main(
-            ["check", "--format", "json", "--jobs", "1", "--select", ",".join(KINEMATIC)]
+            [
+                "check",
+                "--format",
+                "json",
+                "--jobs",
+                "1",
+                "--select",
+                ",".join([*KINEMATIC, "tolerances"]),
+            ]
             + list(map(str, scenes))
         )
     doc = json.loads(buffer.getvalue())
@@ -331,11 +344,15 @@ def test_gravity_only_scenes_are_never_told_to_turn_gravity(results) -> None:
         for check in scene["checks"]:
             for text, _ in _every_word(check):
                 assert not re.search(
-                    r"turn the gravity|tilt the gravity|gravity to|most robust \(", text
+                    r"turn the gravity|tilt the gravity|gravity to|turn the load|most robust \(",
+                    text,
                 ), text
             for finding in check.get("findings", []):
                 assert not re.search(r"\([-\d.]+, [-\d.]+, [-\d.]+\)", finding.get("hint") or "")
     assert seen == len(GRAVITY_ONLY)
+    demanding = next(s for p, s in results.items() if p.parent.name == "demanding")
+    made = next(c for c in demanding["checks"] if c["id"] == "tolerances")
+    assert made["status"] == "fail" and "lower the friction" in made["findings"][0]["hint"]
     block = next(s for p, s in results.items() if p.parent.name == "thesis-block-5-2")
     spatial = next(c for c in block["checks"] if c["id"] == "analytical-3d")
     tilt = spatial["tolerated_tilt_deg"]
