@@ -54,6 +54,8 @@ __all__ = [
     "DEGENERATE_FACE_RTOL",
     "NO_VOLUME_RTOL",
     "SAME_POINT_RTOL",
+    "POLISH_XTOL",
+    "POLISH_FTOL",
     "FACET_TOL",
     "HULL_FACET_TOL",
     "FACET_DECIMALS",
@@ -223,6 +225,14 @@ NO_VOLUME_RTOL: float = 1e-9
 #: same point found twice (nondimensional): the same candidate reached twice agrees to
 #: rounding.
 SAME_POINT_RTOL: float = 1e-9
+
+#: The continuous search over the attachment point (kcheck suggest) stops when its simplex is
+#: this fraction of the sampling step (nondimensional; a 5 mm step: 5 µm) ...
+POLISH_XTOL: float = 1e-3
+
+#: ... and its margins agree to this (rad, 6e-4°): two orders below the 0.05° the search
+#: promises against an exhaustive reference (docs/suggest.md).
+POLISH_FTOL: float = 1e-5
 
 # --- cones and linear programmes ---------------------------------------------------------------
 

@@ -21,8 +21,10 @@ from kcheck_checks.wording import (
     case_findings,
     design_findings,
     empty_range_findings,
+    friction_way_out,
     merge_findings,
     verdict,
+    with_friction_way_out,
 )
 
 __all__ = ["Analytical2D", "AnalyticalOptions", "analytical_result", "design_findings"]
@@ -64,7 +66,9 @@ def analytical_result(
             parts.append(f"safe force angles: {describe_ranges(combined)}")
         else:
             parts.append("no safe force angle")
-            findings = merge_findings(findings, empty_range_findings(scene, analysis.results))
+            findings = merge_findings(
+                findings, empty_range_findings(scene, analysis.results, analysis=analysis)
+            )
         design_deg = scene.design_angle_deg
         if design_deg is not None:
             findings.extend(
@@ -75,6 +79,8 @@ def analytical_result(
                     analysis.nearest_safe_deg,
                     describe_ranges(combined),
                     min_margin_deg,
+                    safe=ranges,
+                    by_friction=friction_way_out(analysis),
                 )
             )
             if combined and analysis.design_margin_deg is not None and not findings:
@@ -119,8 +125,15 @@ class Analytical2D(Check):
     def run(self, inputs: Inputs) -> CheckResult:
         """Analyse every retracted case and intersect the safe ranges."""
         assert inputs.mass is not None and isinstance(inputs.options, AnalyticalOptions)
-        analysis = analyse(inputs.scene, inputs.mass)
-        result = analytical_result(self.id, inputs.scene, analysis, inputs.options.min_margin_deg)
+        mass, least = inputs.mass, inputs.options.min_margin_deg
+        analysis = analyse(inputs.scene, mass)
+        result = analytical_result(self.id, inputs.scene, analysis, least)
+
+        def passes(scene: Scene) -> bool:
+            again = analytical_result(self.id, scene, analyse(scene, mass), least)
+            return again.status == Status.PASS
+
+        result = with_friction_way_out(result, inputs.scene, passes)
         return with_partial_ranges(result, analysis, inputs.scene)
 
 

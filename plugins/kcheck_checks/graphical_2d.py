@@ -346,8 +346,12 @@ def _verdict(
                         f"retract {c.retracted} → {why}",
                         code=c.outcome.replace("_", "-"),
                         field=support_field(scene, c.retracted),
-                        hint=f"this retraction closes for {what} angles "
-                        f"{ranges_text(c.safe_ranges_deg)}",
+                        hint=f"closes for force angles {ranges_text(c.safe_ranges_deg)}"
+                        if what == "force"
+                        # nobody turns gravity: what is left to change is the seat
+                        else "lower the friction"
+                        if c.outcome == "jams"
+                        else f"move or turn support {c.retracted}",
                     )
                 )
         if combined:
@@ -365,6 +369,7 @@ def _verdict(
                 describe_ranges(combined),
                 min_margin_deg,
                 what=f"design {what} direction",
+                safe=ranges_deg(combined),
             )
             # The cases that do not close already say why the design direction is outside.
             findings.extend(f for f in found if f.code != "design-outside" or not findings)

@@ -37,7 +37,13 @@ from kcheck.analysis.jamming_cases import (
     needs_body,
     tidy,
 )
-from kcheck.fmt import format_angle, format_number, format_ranges, format_share_bounds
+from kcheck.fmt import (
+    format_angle,
+    format_number,
+    format_ranges,
+    format_share_bounds,
+    rounded_bound,
+)
 from kcheck.mechanics.arcs import FULL, TAU, ArcSet, complement, intersect, margin
 from kcheck.mechanics.statics import PYRAMID_EDGES
 from kcheck.numerics.thresholds import IN_SWEEP_PLANE, UNDETERMINED
@@ -304,30 +310,44 @@ def _finding(
     names = statics.names
     others = ", ".join(names[j] for j in analysis.cases[r].keep)
     what = "load" if analysis.swept == "load" else "gravity"
-    where = ""
+    gravity_only = analysis.swept != "load"
+    # The set named is always the one friction holds the body at (the case's `held_deg`),
+    # said as such: "friction holds it for load angles ...".
+    holds = ""
     if arcs is not None and arcs.held == FULL:
-        where = f" for every {what} angle in the sweep plane"
+        holds = f"friction holds it for every {what} angle in the sweep plane"
     elif arcs is not None and arcs.held:
-        where = f" for {what} angles {_text(arcs.held)}"
+        holds = f"friction holds it for {what} angles {_text(arcs.held)}"
     if analysis.design is None:
         if arcs is None or not arcs.jamming:
             return None
-        message = f"retract {names[r]} → friction can hold the body{where}"
+        message = f"retract {names[r]} → " + holds.replace(
+            "friction holds it", "friction can hold the body", 1
+        )
         hint = f"keep the {what} direction out of {_text(arcs.held)}"
         return Finding(message, code="jams", field=scene.support_field(r), hint=hint)
     mu = float(statics.friction[analysis.cases[r].keep].max())
     force = "load" if analysis.swept == "load" else "weight"
-    held = f"although the {force} would {'close' if outcome == 'jams' else 'open'} it"
+    held = f"although the {force} would {'close' if outcome == 'jams' else 'open'} it there"
     # Holding is the start of motion: the static coefficient (the top of its range: the held
     # set only grows with friction).
     which = "μ" if all(s.coefficients.plain for s in scene.supports) else "static μ"
+    closes = ""  # where, without friction, the swept force closes the case (`closing_deg`)
+    if arcs is not None and arcs.closing == FULL:
+        closes = f"; without friction it closes for every {what} angle in the sweep plane"
+    elif arcs is not None and arcs.closing:
+        closes = f"; without friction it closes for {what} angles {_text(arcs.closing)}"
     message = (
         f"retract {names[r]} → friction can hold the body at the design direction, {held}"
-        f"{where} (equilibrium exists for μ ≥ {format_number(least, 3)}; the scene has "
-        f"{which} = {format_number(mu, 3)})"
+        f"{closes}{'; ' + holds if holds else ''} (equilibrium exists for μ ≥ "
+        f"{format_number(least, 3)}; the scene has {which} = {format_number(mu, 3)})"
     )
-    hint = f"lower the friction at {others} below {format_number(least, 3)}"
-    if arcs is not None and arcs.held != FULL:
+    # Rounded down, so that the friction named is below the least that holds.
+    below = "–" if least is None else format_number(rounded_bound(least, 3, up=False), 7)
+    hint = f"lower the friction at {others} below {below}"
+    if gravity_only:
+        pass  # nobody turns gravity: the friction is what the designer changes here
+    elif arcs is not None and arcs.held != FULL:
         hint += f", or turn the {what} out of {_text(arcs.held)}"
     elif statics.dim == 3 and not everywhere:
         hint += f", or turn the {what} away from the held directions (see the sphere map)"

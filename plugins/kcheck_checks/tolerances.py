@@ -234,4 +234,6 @@ def _finding(
             f", below the required {100 * opts.min_pass_probability:g}%"
         )
     hint = "tighten the tolerances, or turn the load towards the most robust direction"
+    if scene.load is None or not scene.load.magnitude > 0:
+        hint = "tighten the tolerances, or lower the friction"  # nobody turns gravity
     return Finding(message, code="tolerance", field=("tolerances",), hint=hint)
