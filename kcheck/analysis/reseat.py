@@ -36,6 +36,7 @@ __all__ = [
     "first_motion",
     "seat_errors",
     "ball_radius",
+    "rotation_angle",
 ]
 
 #: First-motion classes, in analytical-2d/3d's words (``jams``: friction holds the body).
@@ -90,7 +91,6 @@ class Trace:
     slip: np.ndarray
     reference: np.ndarray
     displacement: np.ndarray
-    rotation: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -164,7 +164,9 @@ def scene_xml(
             f'<body name="support{i}" mocap="true" pos="{_fmt(s.position)}" '
             f'quat="{_fmt(_quat_z_to(n))}"><geom name="plane{i}" type="plane" size="0 0 1"/></body>'
         )
-        balls.append(f'<geom name="ball{i}" type="sphere" size="{r!r}" pos="{_fmt(s.position + r * n)}"/>')
+        balls.append(
+            f'<geom name="ball{i}" type="sphere" size="{r!r}" pos="{_fmt(s.position + r * n)}"/>'
+        )
         mu = float(friction[i])
         pairs.append(
             f'<pair geom1="ball{i}" geom2="plane{i}" condim="3" '
@@ -291,8 +293,6 @@ def simulate(
     start = len(rows) - 1
     run(n_phase, 0.0)
     end1 = len(rows) - 1
-    phase1_quat = data.xquat[body].copy()
-    del phase1_quat
     run(n_phase, n_phase * dt, support=backed)
 
     time = np.array([row[0] for row in rows])
@@ -309,8 +309,7 @@ def simulate(
     velocity[1:] = np.diff(contact, axis=0) / np.where(step > 0, step, np.inf)
     tangential = velocity - np.einsum("tij,ij->ti", velocity, normals)[..., None] * normals
     slip = np.linalg.norm(tangential, axis=2)
-    q = data.xquat[body]
-    rotation = 2 * math.acos(min(1.0, abs(float(q @ seated_quat))))
+    rotation = rotation_angle(seated_quat, data.xquat[body])
     trace = Trace(
         time=time,
         gaps=gaps,
@@ -318,7 +317,6 @@ def simulate(
         slip=slip,
         reference=com,
         displacement=displacement,
-        rotation=np.zeros(len(time)),
     )
     tol = settings.tolerance
     phase1 = slice(start, end1 + 1)
@@ -346,6 +344,16 @@ def simulate(
         ),
         steps=int(n_settle + 2 * n_phase),
     )
+
+
+def rotation_angle(q0: np.ndarray, q1: np.ndarray) -> float:
+    """Angle (rad) of the rotation from unit quaternion ``q0`` to ``q1`` (w, x, y, z), from the
+    vector part of ``conj(q0) q1`` (accurate for the µrad angles ``acos`` rounds to zero)."""
+    w0, v0 = q0[0], -np.asarray(q0[1:])
+    w1, v1 = q1[0], np.asarray(q1[1:])
+    w = w0 * w1 - float(v0 @ v1)
+    v = w0 * v1 + w1 * v0 + np.cross(v0, v1)
+    return 2 * math.atan2(float(np.linalg.norm(v)), abs(float(w)))
 
 
 def _settled_after(time: np.ndarray, error: np.ndarray, tol: float) -> float | None:
