@@ -37,18 +37,21 @@ __all__ = [
     "seat_errors",
     "ball_radius",
     "rotation_angle",
+    "inertia_missing",
 ]
 
 #: First-motion classes, in analytical-2d/3d's words (``jams``: friction holds the body).
 FIRST_MOTIONS = ("closes", "loses_contact", "opens", "opens_loses_contact", "jams")
 
-#: Share of the retraction distance the body must move in phase 1 not to count as held.
-HELD_SHARE = 0.01
+#: A body that needs more than this many times the free-fall time of its acceleration scale
+#: to move WINDOW_SHARE of the retraction distance is held (soft friction creeps slowly).
+JAM_FACTOR = 20.0
 #: Share of the retraction distance that ends the first-motion window.
 WINDOW_SHARE = 0.1
-#: A remaining contact is lost in the first motion when its gap exceeds this share of the
-#: body's largest contact-point motion (tipping opens it in proportion to the motion).
-LOST_SHARE = 0.05
+#: A remaining contact is lost in the first motion when it is open and carries less than
+#: this share of the normal force over the window's second half (by its force, not its gap:
+#: a kept contact's soft overlap changes with its force, by up to a few tenths of a µm).
+LOST_SHARE = 0.01
 #: Settle time as a share of one phase.
 SETTLE_SHARE = 0.2
 #: Return time of the support as a share of phase 2.
@@ -73,7 +76,7 @@ class ReseatSettings:
     time_step: float = 1e-4
     time_constant: float = 2e-3
     damping_ratio: float = 1.0
-    impedance: float = 0.9999
+    impedance: float = 0.99
     tolerance: float = 1e-6
 
 
@@ -110,8 +113,15 @@ class ReseatRun:
     losses: np.ndarray  # (k,) contact-loss events
     sticks: np.ndarray  # (k,) slide-to-stick events
     first: str
+    settle_speed: float = 0.0  # m/s, largest contact-point speed at the end of the settle
     steps: int = 0
     notes: tuple[str, ...] = field(default=())
+
+
+def inertia_missing(scene: Scene, mass: MassProperties) -> bool:
+    """Whether the inertia the simulation needs is unknown (Izz for a planar scene)."""
+    needed = mass.inertia[2, 2] if scene.kind == "planar" else mass.inertia
+    return not bool(np.all(np.isfinite(needed)))
 
 
 def ball_radius(scene: Scene) -> float:
@@ -143,9 +153,12 @@ def scene_xml(
     sphere-on-plane pair per support, friction ``friction`` (k,)."""
     r = ball_radius(scene)
     inertia = mass.inertia
-    full = [inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1], inertia[0, 2]]
-    full.append(inertia[1, 2])
     planar = scene.kind == "planar"
+    if planar:  # a hinge about z feels Izz alone (the scene may give no other component)
+        full = [inertia[2, 2]] * 3 + [0.0] * 3
+    else:
+        full = [inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1], inertia[0, 2]]
+        full.append(inertia[1, 2])
     if planar:
         joints = (
             '<joint name="x" type="slide" axis="1 0 0"/>'
@@ -279,13 +292,17 @@ def simulate(
 
     mujoco.mj_forward(model, data)
     data.xfrc_applied[body] = _wrench(scene, data.xipos[body], 1.0)
+    accel = float(np.linalg.norm(data.xfrc_applied[body][:3])) / mass.mass
+    accel += float(np.linalg.norm(scene.gravity[: scene.dim]))
     sample(-n_settle * dt)
     run(n_settle, -n_settle * dt)
     seated_centres = rows[-1][1].copy()
+    settle_speed = float(
+        np.max(np.linalg.norm(rows[-1][1] - rows[-2][1], axis=1)) / (rows[-1][0] - rows[-2][0])
+    )
     seated_gaps = rows[-1][2].copy()
     seated_com = rows[-1][4].copy()
     seated_quat = data.xquat[body].copy()
-    start = len(rows) - 1
     backed = seats[retracted] - settings.retraction * normals[retracted]
     data.mocap_pos[retracted] = backed
     mujoco.mj_forward(model, data)
@@ -340,9 +357,17 @@ def simulate(
         losses=losses,
         sticks=sticks,
         first=first_motion(
-            time[phase1], contact[phase1], gaps[phase1], normals, retracted, settings
+            time[phase1],
+            contact[phase1],
+            gaps[phase1],
+            forces[phase1],
+            normals,
+            retracted,
+            settings,
+            accel,
         ),
         steps=int(n_settle + 2 * n_phase),
+        settle_speed=settle_speed,
     )
 
 
@@ -397,26 +422,35 @@ def first_motion(
     time: np.ndarray,
     contact: np.ndarray,
     gaps: np.ndarray,
+    forces: np.ndarray,
     normals: np.ndarray,
     retracted: int,
     settings: ReseatSettings,
+    accel: float,
 ) -> str:
-    """The class of the body's first motion in phase 1, in analytical-2d/3d's words: over the
-    window until a contact point has moved WINDOW_SHARE of the retraction distance, does the
-    retracted contact point move towards its support (closes) or away (opens), does a
-    remaining contact open (loses contact), or does the body hardly move (jams)."""
-    moved = np.linalg.norm(contact - contact[0], axis=2)
-    largest = np.max(moved, axis=1)
-    if largest[-1] < HELD_SHARE * settings.retraction and largest.max() < (
-        HELD_SHARE * settings.retraction
-    ):
+    """The class of the body's first motion in phase 1, in analytical-2d/3d's words.
+
+    The window ends when a contact point has moved WINDOW_SHARE of the retraction distance.
+    If that takes longer than JAM_FACTOR times the time a free body would need under the
+    acceleration scale ``accel`` (m/s^2: loads over mass, plus gravity), friction holds it
+    (jams: soft friction only creeps). Otherwise: does the retracted contact point move
+    towards its support (closes) or away (opens), and does a remaining contact open by more
+    than LOST_SHARE of that motion (loses contact)."""
+    reach = WINDOW_SHARE * settings.retraction
+    limit = JAM_FACTOR * math.sqrt(2 * reach / max(accel, 1e-300))
+    moved = np.max(np.linalg.norm(contact - contact[0], axis=2), axis=1)
+    inside = np.nonzero((moved >= reach) & (time - time[0] <= limit))[0]
+    if len(inside) == 0:
         return "jams"
-    reach = np.nonzero(largest >= WINDOW_SHARE * settings.retraction)[0]
-    end = int(reach[0]) if len(reach) else len(time) - 1
+    end = int(inside[0])
     towards = -float((contact[end, retracted] - contact[0, retracted]) @ normals[retracted])
     others = np.delete(np.arange(gaps.shape[1]), retracted)
-    opened = float(np.max(gaps[: end + 1][:, others])) if len(others) else 0.0
-    lost = opened > LOST_SHARE * largest[end] + settings.tolerance
+    late = slice(max(1, end // 2), end + 1)
+    share = forces[late][:, others].mean(axis=0) / max(
+        float(forces[late].sum(axis=1).mean()), 1e-300
+    )
+    opened = gaps[end, others] > 0
+    lost = bool(np.any((share < LOST_SHARE) & opened))
     if towards > 0:
         return "loses_contact" if lost else "closes"
     return "opens_loses_contact" if lost else "opens"

@@ -16,7 +16,7 @@ import numpy as np
 from pydantic import Field
 
 from kcheck.analysis.cases import closing_force_reason
-from kcheck.analysis.reseat import ReseatRun, ReseatSettings, simulate
+from kcheck.analysis.reseat import ReseatRun, ReseatSettings, inertia_missing, simulate
 from kcheck.fmt import format_number
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
@@ -53,7 +53,7 @@ class ReseatOptions(Options):
         1.0, gt=0, le=10, description="Contact damping ratio (MuJoCo solref)"
     )
     contact_impedance: float = Field(
-        0.9999, ge=0.9, lt=1.0, description="Constraint impedance (MuJoCo solimp, 1 = hard)"
+        0.99, ge=0.9, lt=1.0, description="Constraint impedance (MuJoCo solimp, 1 = hard)"
     )
 
 
@@ -152,7 +152,7 @@ class Reseat(Check):
         """Simulate every case at the time step and at half of it."""
         assert inputs.mass is not None and isinstance(inputs.options, ReseatOptions)
         mass = inputs.mass
-        if not (np.all(np.isfinite(mass.inertia)) and mass.mass > 0):
+        if inertia_missing(inputs.scene, mass):
             return CheckResult(
                 self.id,
                 Status.SKIPPED,
