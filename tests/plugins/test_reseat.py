@@ -1,0 +1,201 @@
+"""The `reseat` check (MuJoCo): known answers, convergence, the picture, agreement of the
+first motion with analytical-2d/3d. Skipped, saying why, only where the `sim` extra is absent."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip(
+    "mujoco", reason="the reseat check needs the optional `sim` extra: pip install 'kcheck[sim]'"
+)
+
+from kcheck.analysis.reseat import ReseatSettings, rotation_angle, simulate  # noqa: E402
+from kcheck.body.mass import body_mass_properties  # noqa: E402
+from kcheck.scene import load_scene  # noqa: E402
+from tests.conftest import FIXTURES  # noqa: E402
+from tests.plugins.reseat_agreement import compare_scene, generated, reason  # noqa: E402
+
+#: Short phases keep each test to a few seconds; every case here settles within 0.1 s.
+SHORT = ReseatSettings(duration=0.2)
+DISAGREEMENTS = Path(__file__).parent / "data" / "reseat_disagreements.json"
+
+
+def _fixture_copy(tmp_path: Path, name: str, old: str, new: str) -> Path:
+    """A fixture folder copied with one line of its scene replaced."""
+    folder = shutil.copytree(FIXTURES / name, tmp_path / name)
+    scene = next(folder.glob("*.kcheck.yaml"))
+    text = scene.read_text(encoding="utf-8")
+    assert old in text
+    scene.write_text(text.replace(old, new), encoding="utf-8")
+    return scene
+
+
+def test_rotation_angle_of_small_turns() -> None:
+    """2 atan2(|v|, w) of the relative quaternion: a turn of 1e-7 rad about z is 1e-7 rad
+    (acos of the dot product would round it to zero)."""
+    theta = 1e-7
+    q0 = np.array([1.0, 0.0, 0.0, 0.0])
+    q1 = np.array([np.cos(theta / 2), 0.0, 0.0, np.sin(theta / 2)])
+    assert rotation_angle(q0, q1) == pytest.approx(theta, rel=1e-9)
+
+
+def test_frictionless_three_vee_reseats_within_a_micrometre(tmp_path: Path) -> None:
+    """Known answer: without friction an exactly constrained seat is unique (Maxwell), so
+    after every retraction and return the plate is back within 1 µm and 1 µrad."""
+    path = _fixture_copy(tmp_path, "maxwell-three-vee", "friction: 0.1", "friction: 0")
+    scene = load_scene(path)
+    assert scene.body is not None
+    mass = body_mass_properties(scene.body, scene.scale)
+    for r in range(len(scene.supports)):
+        run = simulate(scene, mass, r, np.zeros(len(scene.supports)), SHORT)
+        assert run.first == "closes"
+        assert run.closing_gap < 1e-6
+        assert run.seat_error < 1e-6, scene.supports[r].name
+        assert run.rotation < 1e-6
+        assert run.reseated_after is not None
+
+
+def test_friction_above_the_least_holding_friction_stops_off_seat(tmp_path: Path, cli_json) -> None:
+    """Appendix A block, y1 retracted: jamming's least holding friction is 0.124. At μ = 0.1
+    the block closes onto the backed-off support and reseats; at μ = 0.3 friction holds it:
+    it stops off its (retracted) seat by nearly the whole retraction, 100 µm."""
+    _, doc = cli_json(str(FIXTURES / "thesis-appendix-a"), "--select", "jamming")
+    (y1,) = [c for c in doc["scenes"][0]["checks"][0]["cases"] if c["retracted"] == "y1"]
+    least = y1["holding_friction"]
+    assert 0.1 < least < 0.3
+    scene = load_scene(FIXTURES / "thesis-appendix-a" / "block.kcheck.yaml")
+    assert scene.body is not None
+    mass = body_mass_properties(scene.body, scene.scale)
+    below = simulate(scene, mass, 0, np.full(3, 0.1), SHORT)
+    above = simulate(scene, mass, 0, np.full(3, 0.3), SHORT)
+    assert below.closing_gap < 1e-6 and below.seat_error < 1e-6
+    assert above.first == "jams"
+    assert above.closing_gap > 0.9e-4  # held: the gap stays nearly the retraction distance
+    assert above.seat_error < 1e-6  # the returning support comes back to it
+
+
+def test_appendix_a_closes_after_tipping(cli_json) -> None:
+    """The thesis's open question (Appendix A): x3 retracted, the block tips about y2 and
+    lifts off y1 (first motion `loses_contact`, as analytical-2d says), then comes back onto
+    y1 and x3 and reseats (docs/validation.md)."""
+    code, doc = cli_json(str(FIXTURES / "thesis-appendix-a"), "--select", "reseat,analytical-2d")
+    checks = {c["id"]: c for c in doc["scenes"][0]["checks"]}
+    reseat = checks["reseat"]
+    (x3,) = [c for c in reseat["cases"] if c["retracted"] == "x3"]
+    (ax3,) = [c for c in checks["analytical-2d"]["cases"] if c["retracted"] == "x3"]
+    assert ax3["outcome"] == x3["first_motion"] == "loses_contact"
+    assert x3["contact_losses"]["y1"] >= 1 and x3["largest_gap_um"]["y1"] > 1
+    assert x3["closing_gap_um"] < 1 and x3["seat_error_um"] < 1
+    assert reseat["status"] == "pass" and reseat["error_estimate"] >= 0
+
+
+def test_halving_the_time_step_changes_the_seat_error_less_than_the_estimate(
+    tmp_path: Path, cli_json
+) -> None:
+    """Convergence on the Appendix A fixture: the result at half the time step differs from
+    the default's by less than the default run's error_estimate (the difference of its own
+    two time steps), case by case."""
+    results = []
+    for step in ("1.0e-4", "5.0e-5"):
+        folder = tmp_path / step
+        folder.mkdir()
+        path = _fixture_copy(folder, "thesis-appendix-a", "version: 1", "version: 1")
+        with path.open("a", encoding="utf-8") as f:
+            f.write(f"checks:\n  reseat: {{time_step_s: {step}, duration_s: 0.2}}\n")
+        _, doc = cli_json(str(path), "--select", "reseat")
+        results.append(doc["scenes"][0]["checks"][0])
+    a, b = results
+    for x, y in zip(a["cases"], b["cases"], strict=True):
+        assert abs(x["seat_error_um"] - y["seat_error_um"]) <= a["error_estimate"] + 1e-9
+
+
+def test_picture_is_written(tmp_path: Path) -> None:
+    """--plots writes the gaps, forces and path picture of the worst case."""
+    from kcheck.cli import main
+
+    code = main(
+        ["check", str(FIXTURES / "thesis-appendix-a"), "--select", "reseat", "--plots",
+         str(tmp_path)]
+    )  # fmt: skip
+    assert code == 0
+    (png,) = tmp_path.glob("*-reseat.png")
+    assert png.stat().st_size > 10_000
+
+
+def test_bad_option_is_a_located_input_error(cli, write_scene) -> None:
+    """Options are validated like every check's: an unknown profile is exit 2, no traceback."""
+    path = write_scene(
+        """
+        version: 1
+        name: bad profile
+        body: {mass: 1, center_of_mass: [0, 0, 0], inertia: 0.001}
+        supports:
+          - {name: y1, position: [-0.02, -0.03, 0], normal: [0, 1, 0]}
+          - {name: y2, position: [0.02, -0.03, 0], normal: [0, 1, 0]}
+          - {name: x1, position: [-0.05, 0, 0], normal: [1, 0, 0]}
+        load: {magnitude: 1, angle: 225}
+        checks:
+          reseat: {profile: sine}
+        """
+    )
+    code, out, err = cli("check", str(path), "--select", "reseat")
+    assert code == 2
+    assert "Traceback" not in out + err
+    assert "profile" in out + err
+
+
+@pytest.mark.slow
+def test_first_motion_agrees_with_the_analytical_outcome(tmp_path: Path) -> None:
+    """On the fixtures with a design direction and 100 generated seated scenes (50 planar,
+    50 spatial), the simulation's first motion against analytical-2d/3d's outcome class.
+
+    Excluded from the share, and listed: Painlevé cases (the rigid equations have no unique
+    answer) and cases whose simulated seat is not at rest. Every disagreement is written with
+    its reason to tests/plugins/data/reseat_disagreements.json (compared, not rewritten,
+    unless KCHECK_RECORD_RESEAT=1). Measured share: see that file and docs/validation.md."""
+    import os
+
+    paths = [
+        FIXTURES / "planar-block" / "block.kcheck.yaml",
+        FIXTURES / "thesis-appendix-a" / "block.kcheck.yaml",
+        FIXTURES / "maxwell-three-vee" / "coupling.kcheck.yaml",
+        *generated(tmp_path, 100),
+    ]
+    rows = [c for p in paths for c in compare_scene(p)]
+    compared = [c for c in rows if c.analytical != "ambiguous" and c.settle_speed <= SEAT_AT_REST]
+    share = sum(c.agrees for c in compared) / len(compared)
+    listed = [
+        {
+            "scene": c.scene,
+            "retracted": c.retracted,
+            "analytical": c.analytical,
+            "simulated": c.simulated,
+            "reason": "the simulated seat is not at rest"
+            if c.settle_speed > SEAT_AT_REST
+            else reason(c),
+        }
+        for c in rows
+        if not c.agrees
+    ]
+    document = {"cases": len(rows), "compared": len(compared), "share": round(share, 4),
+                "disagreements": listed}  # fmt: skip
+    if os.environ.get("KCHECK_RECORD_RESEAT"):
+        DISAGREEMENTS.write_text(json.dumps(document, indent=1) + "\n", encoding="utf-8")
+    recorded = json.loads(DISAGREEMENTS.read_text(encoding="utf-8"))
+    assert share >= MEASURED_SHARE
+    assert {(d["scene"], d["retracted"]) for d in listed} <= {
+        (d["scene"], d["retracted"]) for d in recorded["disagreements"]
+    } | {(d["scene"], d["retracted"]) for d in listed if d["reason"] != "unexplained"}
+
+
+#: A seat whose contact points still move faster than this (m/s) after settling is not at
+#: rest: the comparison of first motions assumes a body at rest.
+SEAT_AT_REST = 1e-4
+#: The share measured on these scenes (the issue's target is 0.95: not reached, see
+#: docs/validation.md for where the rest disagree).
+MEASURED_SHARE = 0.8
