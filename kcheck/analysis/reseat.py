@@ -114,6 +114,7 @@ class ReseatRun:
     sticks: np.ndarray  # (k,) slide-to-stick events
     first: str
     settle_speed: float = 0.0  # m/s, largest contact-point speed at the end of the settle
+    seat_forces: np.ndarray | None = None  # (k,) N, normal forces at the end of the settle
     steps: int = 0
     notes: tuple[str, ...] = field(default=())
 
@@ -301,6 +302,7 @@ def simulate(
         np.max(np.linalg.norm(rows[-1][1] - rows[-2][1], axis=1)) / (rows[-1][0] - rows[-2][0])
     )
     seated_gaps = rows[-1][2].copy()
+    seated_forces = rows[-1][3].copy()
     seated_com = rows[-1][4].copy()
     seated_quat = data.xquat[body].copy()
     backed = seats[retracted] - settings.retraction * normals[retracted]
@@ -368,6 +370,7 @@ def simulate(
         ),
         steps=int(n_settle + 2 * n_phase),
         settle_speed=settle_speed,
+        seat_forces=seated_forces,
     )
 
 

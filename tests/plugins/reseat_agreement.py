@@ -35,6 +35,7 @@ class Compared:
     smallest_force_share: float | None
     mu: float
     settle_speed: float
+    seat_pressed: float  # the smallest seated normal force over the largest, simulated
 
     @property
     def agrees(self) -> bool:
@@ -82,7 +83,14 @@ def compare_scene(path: Path, settings: ReseatSettings = FIRST_MOTION) -> Iterat
             share,
             float(mu.max()),
             run.settle_speed,
+            _pressed(run.seat_forces),
         )
+
+
+def _pressed(forces: np.ndarray | None) -> float:
+    if forces is None or np.max(forces) <= 0:
+        return 0.0
+    return float(np.min(forces) / np.max(forces))
 
 
 def generated(folder: Path, count: int, seed: int = 26) -> list[Path]:
