@@ -54,9 +54,7 @@ def main() -> None:
         mass = body_mass_properties(scene.body, scene.scale)
         mu = scene.friction_range("kinetic")[1]
         one = cpu_time(lambda s=scene, m=mass, f=mu: simulate(s, m, 0, f, settings), 5)
-        base = cpu_time(
-            lambda s=scene, m=mass, a=analytical: a().run(Inputs(s, m, a.options())), 5
-        )
+        base = cpu_time(lambda s=scene, m=mass, a=analytical: a().run(Inputs(s, m, a.options())), 5)
         whole = cpu_time(lambda s=scene, m=mass: Reseat().run(Inputs(s, m, ReseatOptions())), 1)
         k = len(scene.supports)
         print(

@@ -23,6 +23,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from kcheck.numerics.thresholds import (
+    RESEAT_JAM_FACTOR,
+    RESEAT_LOST_SHARE,
+    RESEAT_STICK_SHARE,
+    RESEAT_WINDOW_SHARE,
+)
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 
@@ -43,15 +49,6 @@ __all__ = [
 #: First-motion classes, in analytical-2d/3d's words (``jams``: friction holds the body).
 FIRST_MOTIONS = ("closes", "loses_contact", "opens", "opens_loses_contact", "jams")
 
-#: A body that needs more than this many times the free-fall time of its acceleration scale
-#: to move WINDOW_SHARE of the retraction distance is held (soft friction creeps slowly).
-JAM_FACTOR = 20.0
-#: Share of the retraction distance that ends the first-motion window.
-WINDOW_SHARE = 0.1
-#: A remaining contact is lost in the first motion when it is open and carries less than
-#: this share of the normal force over the window's second half (by its force, not its gap:
-#: a kept contact's soft overlap changes with its force, by up to a few tenths of a µm).
-LOST_SHARE = 0.01
 #: Settle time as a share of one phase.
 SETTLE_SHARE = 0.2
 #: Return time of the support as a share of phase 2.
@@ -409,16 +406,12 @@ def _events(
     touching[0, retracted] = False
     lost = touching[:-1] & open_[1:]
     lost[0, retracted] = False
-    stick_speed = STICK_SHARE * settings.retraction / settings.duration
+    stick_speed = RESEAT_STICK_SHARE * settings.retraction / settings.duration
     rough = friction > 0
     sliding = (slip > stick_speed) & (forces > 0) & rough
     stuck = (slip <= stick_speed) & (forces > 0) & rough
     sticks = sliding[:-1] & stuck[1:]
     return lost.sum(axis=0), sticks.sum(axis=0)
-
-
-#: A pressed contact sticks when its slip speed is below this share of retraction / duration.
-STICK_SHARE = 1e-3
 
 
 def first_motion(
@@ -433,14 +426,15 @@ def first_motion(
 ) -> str:
     """The class of the body's first motion in phase 1, in analytical-2d/3d's words.
 
-    The window ends when a contact point has moved WINDOW_SHARE of the retraction distance.
-    If that takes longer than JAM_FACTOR times the time a free body would need under the
-    acceleration scale ``accel`` (m/s^2: loads over mass, plus gravity), friction holds it
-    (jams: soft friction only creeps). Otherwise: does the retracted contact point move
-    towards its support (closes) or away (opens), and does a remaining contact open by more
-    than LOST_SHARE of that motion (loses contact)."""
-    reach = WINDOW_SHARE * settings.retraction
-    limit = JAM_FACTOR * math.sqrt(2 * reach / max(accel, 1e-300))
+    The window ends when a contact point has moved RESEAT_WINDOW_SHARE of the retraction
+    distance. If that takes longer than RESEAT_JAM_FACTOR times the time a free body would
+    need under the acceleration scale ``accel`` (m/s^2: loads over mass, plus gravity),
+    friction holds it (jams: soft friction only creeps). Otherwise: does the retracted contact
+    point move towards its support (closes) or away (opens), and is a remaining contact open
+    while carrying less than RESEAT_LOST_SHARE of the normal force over the window's second
+    half (loses contact)."""
+    reach = RESEAT_WINDOW_SHARE * settings.retraction
+    limit = RESEAT_JAM_FACTOR * math.sqrt(2 * reach / max(accel, 1e-300))
     moved = np.max(np.linalg.norm(contact - contact[0], axis=2), axis=1)
     inside = np.nonzero((moved >= reach) & (time - time[0] <= limit))[0]
     if len(inside) == 0:
@@ -453,7 +447,7 @@ def first_motion(
         float(forces[late].sum(axis=1).mean()), 1e-300
     )
     opened = gaps[end, others] > 0
-    lost = bool(np.any((share < LOST_SHARE) & opened))
+    lost = bool(np.any((share < RESEAT_LOST_SHARE) & opened))
     if towards > 0:
         return "loses_contact" if lost else "closes"
     return "opens_loses_contact" if lost else "opens"
