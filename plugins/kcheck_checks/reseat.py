@@ -18,7 +18,7 @@ from pydantic import Field
 from kcheck.analysis.cases import closing_force_reason
 from kcheck.analysis.reseat import ReseatRun, ReseatSettings, inertia_missing, simulate
 from kcheck.fmt import format_number
-from kcheck.numerics.thresholds import RESEAT_ESTIMATE_FACTOR
+from kcheck.numerics.thresholds import RESEAT_ESTIMATE_FACTOR, RESEAT_SEAT_RESOLUTION
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
@@ -91,6 +91,14 @@ def _um(x: float) -> str:
     return format_number(x * 1e6)
 
 
+def _estimate(coarse: ReseatRun, fine: ReseatRun) -> float:
+    """Error estimate (m) of the fine run's seat error: twice its difference from the coarse
+    run's, at least the simulation's seat resolution."""
+    return max(
+        RESEAT_ESTIMATE_FACTOR * abs(fine.seat_error - coarse.seat_error), RESEAT_SEAT_RESOLUTION
+    )
+
+
 def _case(scene: Scene, run: ReseatRun, fine: ReseatRun, label: str, tol: float) -> CaseResult:
     """One case's result: the fine run's numbers, the coarse run's difference as estimate."""
     names = [s.name for s in scene.supports]
@@ -109,7 +117,7 @@ def _case(scene: Scene, run: ReseatRun, fine: ReseatRun, label: str, tol: float)
         },
         "contact_losses": {n: int(c) for n, c in zip(names, fine.losses, strict=True)},
         "stick_events": {n: int(c) for n, c in zip(names, fine.sticks, strict=True)},
-        "error_estimate_um": RESEAT_ESTIMATE_FACTOR * abs(fine.seat_error - run.seat_error) * 1e6,
+        "error_estimate_um": _estimate(run, fine) * 1e6,
     }
     if label:
         details["friction"] = label
@@ -172,8 +180,7 @@ class Reseat(Check):
                 cases.append(_case(scene, coarse, fine, label, settings.tolerance))
         found = [_finding(scene, c, settings.tolerance) for c in cases]
         failing = [f for f in found if f is not None]
-        estimate = RESEAT_ESTIMATE_FACTOR * max(abs(f.seat_error - c.seat_error) for c, f in runs)
-        estimate *= 1e6
+        estimate = 1e6 * max(_estimate(c, f) for c, f in runs)
         worst = max(f.seat_error for _, f in runs)
         parts = [
             f"{sum(c.outcome == 'reseats' for c in cases)} of {len(cases)} cases reseat "

@@ -23,6 +23,8 @@ __all__ = ["Compared", "compare_scene", "generated", "reason"]
 FIRST_MOTION = ReseatSettings(duration=0.05)
 #: A seated-case normal force within this share of the largest is "at the resolution limit".
 NEAR_ZERO = 0.05
+#: A remaining contact below this share of the largest normal force is lightly pressed.
+LIGHT = 0.2
 
 
 @dataclass(frozen=True)
@@ -51,8 +53,28 @@ def reason(c: Compared) -> str:
             "analytical jams within the kept contacts, but no equilibrium holds the body "
             "(jamming: moves): it moves by lifting off a contact the rigid model keeps"
         )
+    if c.held and c.simulated == "jams":
+        return (
+            "friction can hold the body as well (jamming: an equilibrium exists, the rigid "
+            "model's second consistent answer), and the simulation stays held"
+        )
+    if c.analytical == "jams" and c.held:
+        return (
+            "held by friction, but MuJoCo's soft friction creeps faster than the jam window "
+            "allows (20 free-body times for 10 % of the retraction)"
+        )
     if c.smallest_force_share is not None and c.smallest_force_share < NEAR_ZERO:
         return "at the resolution limit: a normal force within 5 % of zero"
+    if (
+        c.analytical == "closes"
+        and c.simulated == "loses_contact"
+        and c.smallest_force_share is not None
+        and c.smallest_force_share < LIGHT
+    ):
+        return (
+            "release transient: a lightly pressed contact (under 20 % of the largest normal "
+            "force) opens in the contact vibration the sudden retraction starts"
+        )
     return "unexplained"
 
 
