@@ -83,7 +83,8 @@ class Trace:
     settling); ``gaps`` (n, k) m, each support's gap from its settled value (positive: open);
     ``forces`` (n, k) N normal force; ``slip`` (n, k) m/s tangential speed of the body's
     contact point; ``reference`` (n, 3) m the centre of mass; ``displacement`` (n,) m the
-    largest contact-point displacement from the seat."""
+    largest contact-point displacement from the seat; ``contacts`` (n, k, 3) m the body's
+    contact points."""
 
     time: np.ndarray
     gaps: np.ndarray
@@ -91,6 +92,7 @@ class Trace:
     slip: np.ndarray
     reference: np.ndarray
     displacement: np.ndarray
+    contacts: np.ndarray  # (n, k, 3) m, the body's contact points
 
 
 @dataclass(frozen=True)
@@ -333,6 +335,7 @@ def simulate(
         slip=slip,
         reference=com,
         displacement=displacement,
+        contacts=contact,
     )
     tol = settings.tolerance
     phase1 = slice(start, end1 + 1)

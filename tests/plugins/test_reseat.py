@@ -142,16 +142,20 @@ def test_convergence_on_every_fixture(tmp_path: Path) -> None:
 
 
 def test_picture_is_written(tmp_path: Path) -> None:
-    """--plots writes the gaps, forces and path picture of the worst case."""
+    """--plots writes the gaps, forces and path picture of the worst case, and with SVG the
+    animation of the contact points."""
     from kcheck.cli import main
 
     code = main(
         ["check", str(FIXTURES / "thesis-appendix-a"), "--select", "reseat", "--plots",
-         str(tmp_path)]
+         str(tmp_path), "--plot-format", "png,svg"]
     )  # fmt: skip
     assert code == 0
     (png,) = tmp_path.glob("*-reseat.png")
     assert png.stat().st_size > 10_000
+    # The animation the HTML report inlines: one moving dot per support (two <animate> each).
+    motion = (tmp_path / "thesis-appendix-a-block-reseat-motion.svg").read_text(encoding="utf-8")
+    assert motion.count("<animate ") == 2 * 3
 
 
 def test_bad_option_is_a_located_input_error(cli, write_scene) -> None:

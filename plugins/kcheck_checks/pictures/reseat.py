@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from kcheck.analysis.reseat import simulate
-from kcheck.pictures.plotting import figure, save, slug
+from kcheck.pictures.plotting import current_formats, figure, save, slug
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult
 from kcheck_checks.pictures.titles import verdict_colour, verdict_title
@@ -64,7 +64,70 @@ def draw(check: Check, inputs: Inputs, result: CheckResult, directory: Path) -> 
         f"first motion {case.details['first_motion'].replace('_', ' ')}",
         fontsize=10, color=verdict_colour(result),
     )  # fmt: skip
-    return list(save(fig, directory, f"{slug(scene.name)}-reseat"))
+    paths = list(save(fig, directory, f"{slug(scene.name)}-reseat"))
+    if "svg" in current_formats():
+        motion = directory / f"{slug(scene.name)}-reseat-motion.svg"
+        motion.write_text(motion_svg(trace, scene.kind == "planar", names), encoding="utf-8")
+        paths.append(motion)
+    return paths
+
+
+#: Frames of the animation, and its loop time (s).
+FRAMES = 240
+LOOP_S = 8.0
+
+
+def motion_svg(trace: Any, planar: bool, names: Sequence[str]) -> str:
+    """An animated SVG (SMIL, no script: the HTML report inlines it) of the body's contact
+    points over the case, seen in the xy-plane (planar) or the plane of the largest motions,
+    displacements exaggerated so the largest is a fifth of the layout: the supports' seats as
+    crosses, the contact points as dots moving through settle, retraction and return."""
+    contacts = trace.contacts
+    start = int(np.searchsorted(trace.time, 0.0))
+    seat = contacts[start]
+    moved = contacts - seat
+    if planar:
+        axes = np.eye(3)[:2]
+    else:
+        flat = moved.reshape(-1, 3)
+        _, _, vt = np.linalg.svd(flat - flat.mean(axis=0), full_matrices=False)
+        axes = vt[:2]
+    layout = (seat - seat.mean(axis=0)) @ axes.T
+    size = float(np.max(np.abs(layout))) or 1.0
+    largest = float(np.max(np.linalg.norm(moved, axis=2))) or 1e-12
+    gain = 0.2 * size / largest
+    picks = np.linspace(0, len(trace.time) - 1, FRAMES).round().astype(int)
+    path = layout[None] + gain * (moved[picks] @ axes.T)
+
+    def px(xy: np.ndarray) -> tuple[float, float]:
+        return 200 + 150 * xy[0] / size, 200 - 150 * xy[1] / size
+
+    parts = [
+        '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 400 440" width="400" '
+        'height="440" font-family="sans-serif" font-size="11">',
+        '<rect width="400" height="440" fill="white"/>',
+    ]
+    for i, name in enumerate(names):
+        x, y = px(layout[i])
+        parts.append(
+            f'<path d="M{x - 5:.1f},{y:.1f}h10M{x:.1f},{y - 5:.1f}v10" stroke="black"/>'
+            f'<text x="{x + 7:.1f}" y="{y - 7:.1f}">{name}</text>'
+        )
+        xs = ";".join(f"{px(p)[0]:.2f}" for p in path[:, i])
+        ys = ";".join(f"{px(p)[1]:.2f}" for p in path[:, i])
+        parts.append(
+            f'<circle r="4" fill="#1f77b4"><animate attributeName="cx" '
+            f'values="{xs}" dur="{LOOP_S}s" repeatCount="indefinite"/><animate '
+            f'attributeName="cy" values="{ys}" dur="{LOOP_S}s" repeatCount="indefinite"/>'
+            "</circle>"
+        )
+    span = trace.time[-1] - trace.time[0]
+    parts.append(
+        '<text x="10" y="412">contact points (dots) and their seats (crosses)</text>'
+        f'<text x="10" y="428">displacements × {gain:.3g}; one loop = {span:.2f} s simulated'
+        "</text></svg>"
+    )
+    return "".join(parts)
 
 
 def _trajectory(ax: Any, reference: np.ndarray, time: np.ndarray, planar: bool) -> None:
