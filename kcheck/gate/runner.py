@@ -43,7 +43,8 @@ class Settings:
     ``severities`` overrides a check's default severity (from configuration or the command
     line); a scene's own ``checks: {id: {severity: ...}}`` wins over both.
     ``check_options`` are per-check option defaults (from configuration): a scene's own
-    options win key by key. ``selected`` names the checks to run (None: every check given);
+    options win key by key. ``selected`` names the checks to run (None: every check given
+    that runs by default, ``Check.default_selected``: not the opt-in `reseat`);
     options of the others are still validated, and are no error. ``cache_dir`` holds the
     mass-property cache (None: no cache). ``jobs`` is the number of worker processes (0: run
     in this process), each scene limited to ``timeout_s`` seconds and ``memory_bytes`` of
@@ -209,6 +210,8 @@ def check_scene(
         for lc in checks:
             defaults = settings.check_options.get(lc.spec.name, {})
             options, severity = _options(scene, lc, defaults)
+            if settings.selected is None and not lc.check.default_selected:
+                continue  # opt-in: runs only when selected
             if settings.selected is not None and lc.spec.name not in settings.selected:
                 continue  # its options are valid; it just does not run
             severity = severity or settings.severities.get(lc.spec.name) or lc.check.severity

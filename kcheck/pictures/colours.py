@@ -77,6 +77,8 @@ JAMMING_MAP = "Oranges"
 SAFE_MAP = "Greens"
 #: A margin from failing (red) through marginal (amber) to safe (green).
 MARGIN_MAP = "RdYlGn"
+#: Time along a simulated path (the reseat check), early dark to late light.
+TIME_MAP = "viridis"
 
 #: Verdict words' colours in titles (the text and HTML reports use the same hues, darker than
 #: the fills so that text on white stays legible).

@@ -31,6 +31,7 @@ __all__ = [
     "formats",
     "scene_verdict",
     "current_scene",
+    "current_formats",
     "save",
     "slug",
     "outcome_colour",
@@ -98,6 +99,11 @@ def formats(names: Sequence[str]) -> Iterator[None]:
         yield
     finally:
         _formats.reset(token)
+
+
+def current_formats() -> tuple[str, ...]:
+    """The picture formats requested for the pictures being drawn now."""
+    return _formats.get()
 
 
 def sweep_note(normal: object, zero: object) -> str:
