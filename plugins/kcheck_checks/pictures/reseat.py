@@ -46,8 +46,12 @@ def draw(check: Check, inputs: Inputs, result: CheckResult, directory: Path) -> 
     t = trace.time * 1e3
     for i, name in enumerate(names):
         style = "-" if i != run.retracted else "--"
-        axes[0].plot(t, trace.gaps[:, i] * 1e6, style, lw=1.2, label=name, color=colours.support_colour(i))
-        axes[1].plot(t, trace.forces[:, i], style, lw=1.2, label=name, color=colours.support_colour(i))
+        axes[0].plot(
+            t, trace.gaps[:, i] * 1e6, style, lw=1.2, label=name, color=colours.support_colour(i)
+        )
+        axes[1].plot(
+            t, trace.forces[:, i], style, lw=1.2, label=name, color=colours.support_colour(i)
+        )
     for ax in axes[:2]:
         ax.axvline(0, color=colours.FAINT, lw=0.8)
         ax.axvline(settings.duration * 1e3, color=colours.FAINT, lw=0.8)
