@@ -20,7 +20,7 @@ from typing import Any
 from pydantic import ValidationError
 
 from kcheck.analysis.sanity import scene_warnings
-from kcheck.errors import SceneError
+from kcheck.errors import SceneError, SceneErrors
 from kcheck.gate.paths import Excluder, discover_paths
 from kcheck.plugin import Inputs, LoadedCheck, Options
 from kcheck.result import CheckResult, Finding, SceneResult, Severity, Status
@@ -143,9 +143,12 @@ def _options(
     try:
         return lc.check.options.model_validate(raw), severity
     except ValidationError as exc:
-        err = exc.errors(include_url=False)[0]
-        where = ("checks", lc.spec.name, *err["loc"])
-        raise scene.error(where, describe_pydantic(err)) from None
+        raise SceneErrors(
+            [
+                scene.error(("checks", lc.spec.name, *err["loc"]), describe_pydantic(err))
+                for err in exc.errors(include_url=False)
+            ]
+        ) from None
 
 
 def _crashed(lc: LoadedCheck, exc: Exception) -> str:
@@ -198,21 +201,30 @@ def check_scene(
         )
         scene = load_scene(path, allow_outside=settings.allow_outside, limits=limits)
         known = {lc.spec.name for lc in checks}
+        wrong: list[SceneError] = []  # every check's options' errors, said together
         for check_id in scene.check_options:
             if check_id not in known:
-                raise scene.error(
-                    ("checks", check_id),
-                    f"options for unknown check `{check_id}`{did_you_mean(check_id, known)}; "
-                    f"installed: {', '.join(sorted(known))}",
+                wrong.append(
+                    scene.error(
+                        ("checks", check_id),
+                        f"options for unknown check `{check_id}`"
+                        f"{did_you_mean(check_id, known)}; installed: {', '.join(sorted(known))}",
+                    )
                 )
         plan = []
         for lc in checks:
             defaults = settings.check_options.get(lc.spec.name, {})
-            options, severity = _options(scene, lc, defaults)
+            try:
+                options, severity = _options(scene, lc, defaults)
+            except SceneError as exc:
+                wrong.extend(exc.all())
+                continue
             if settings.selected is not None and lc.spec.name not in settings.selected:
                 continue  # its options are valid; it just does not run
             severity = severity or settings.severities.get(lc.spec.name) or lc.check.severity
             plan.append((lc, options, severity, *_ask(lc, scene)))
+        if wrong:
+            raise SceneErrors(sorted(wrong, key=lambda e: (e.line or 0, e.column or 0)))
         mass = None
         if any(needs_mass for *_, needs_mass, _ in plan):
             if scene.body is None:

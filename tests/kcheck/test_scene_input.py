@@ -513,3 +513,19 @@ def test_limits_table_matches_the_code():
     assert f"| {DEFAULT_LIMITS.max_depth} levels |" in doc
     assert f"{DEFAULT_LIMITS.max_values:,}".replace(",", " ") in doc
     assert f"{DEFAULT_LIMITS.max_alias_values:,}".replace(",", " ") in doc
+
+
+def test_every_check_option_error_in_one_run(write_scene):
+    """Options of several checks, and a misspelt check id, are said together."""
+    text = PLANAR_SCENE + (
+        "checks:\n  analytical-2d: {min_margin_deg: abc, no_such_option: 1}\n  analytcal-2d: {}\n"
+    )
+    result = check_scene(write_scene(text), load_checks())
+    assert result.status is Status.ERROR
+    fields = {e.field for e in result.errors}
+    assert fields == {
+        ("checks", "analytical-2d", "min_margin_deg"),
+        ("checks", "analytical-2d", "no_such_option"),
+        ("checks", "analytcal-2d"),
+    }
+    assert all(e.line is not None for e in result.errors)
