@@ -245,6 +245,7 @@ def check_scene(
             problem = body_limits_problem(mass)
             if problem is not None:
                 raise scene.error(("body",), problem)
+        placement = _placement(scene, settings)
     except SceneError as exc:
         return _input_error(path, exc)
     except MemoryError:
@@ -283,7 +284,7 @@ def check_scene(
         )
         results.append(result)
         drawn.append((lc, inputs, result))
-    warnings = _locate(scene, scene_warnings(scene, mass, results))
+    warnings = _locate(scene, (*placement, *scene_warnings(scene, mass, results)))
     status = scene_status(results, warnings)
     # Pictures after every check, so that each title carries the scene's verdict too.
     for lc, inputs, result in drawn if settings.plots is not None else ():
@@ -310,6 +311,33 @@ def check_scene(
         if scene.kind == "planar" or scene.sweep.given
         else None,
     )
+
+
+def _placement(scene: Scene, settings: Settings) -> tuple[Finding, ...]:
+    """The supports against the body's mesh (:mod:`kcheck.analysis.placement`): raises the
+    errors (a support off the body, a normal pointing out of it) as input errors; returns the
+    warnings (where the mesh cannot tell)."""
+    if scene.body is None or not scene.body.parts:
+        return ()
+    from kcheck.analysis.placement import support_placement
+    from kcheck.body.surface import body_surface
+
+    try:
+        surface = body_surface(scene.body, settings.max_mesh_bytes)
+    except SceneError as exc:
+        where = exc.where or ("body",)
+        raise scene.error(where, f"{exc.path}: {exc.message}") from exc
+    if surface is None:
+        return ()
+    found = support_placement(scene, surface)
+    if found.errors:
+        raise SceneErrors(
+            [
+                scene.error(f.field or ("supports",), f.message + (f"; {f.hint}" if f.hint else ""))
+                for f in found.errors
+            ]
+        )
+    return found.warnings
 
 
 #: Codes of the error results of a scene whose worker ran out of a budget, died or crashed:
