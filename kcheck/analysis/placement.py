@@ -9,11 +9,16 @@ and its normal points from the base into the body. With a mesh, both can be chec
 * ``support-normal-outward`` (an error): a short step along the normal leaves the body and a
   step against it enters (the normal points out of the body); the message gives the
   surface's inward normal there.
-* ``support-unchecked`` (a warning): the mesh cannot tell: it is not closed (no inside), or
-  the body is too thin at the support for a step either way to land inside it.
+* ``support-unchecked`` (a warning): the mesh cannot tell: it is not closed (no inside, and
+  perhaps no face where the support is), or the body is too thin at the support for a step
+  either way to land inside it.
 
-Where every support's distance is explained by reading the mesh in another unit (a mesh in cm
-read as mm leaves every support inside the body), the errors say so.
+Where most supports are off the body and reading the mesh in another unit would put every one
+on its surface (spread over the body, not shrunk into a corner of it), the errors name that
+unit. Where every support is on the surface but crowded into a corner of the body (less than
+:data:`CORNER_SPAN` of it along every axis), and the mesh read in another unit would carry
+them all as well and be spanned by them, a ``mesh-units-suspect`` warning names the unit (a
+block whose mesh is in cm read as mm, with a corner at the origin).
 
 Planar scenes are checked in the plane of motion: the body's section at the supports' height
 (or at the mesh's mid-height when the supports lie outside it: in a planar scene the height of
@@ -120,39 +125,53 @@ def _evaluated(scene: Scene, surface: Surface) -> np.ndarray:
     return points
 
 
+def _fits(scene: Scene, surface: Surface, moved: np.ndarray, tol: float) -> bool:
+    """Whether supports moved to ``moved`` all lie on the surface, spread over the body
+    (shrunk towards an origin, any layout ends up near a surface)."""
+    if scene.kind == "planar":
+        moved = moved.copy()
+        moved[:, 2] = _section_height(scene, surface)
+    _, d, _ = _distances(scene, surface, moved)
+    return bool(np.all(d <= tol)) and _span(scene, moved, surface.bounds) >= CORNER_SPAN
+
+
 def _unit_slip(scene: Scene, surface: Surface, points: np.ndarray, tol: float) -> str | None:
-    """The mesh unit that puts every support on the surface, worded as a hint; None if no
-    unit does (or the body has several parts, each with its own unit)."""
-    if scene.body is None or len(scene.body.parts) != 1:
+    """The unit mix-ups that put every support on the surface, worded as a hint: the scene's
+    coordinates in another unit (when every mesh has a unit of its own), or a lone mesh in
+    another unit; None if none does."""
+    if scene.body is None or not scene.body.parts:
         return None
-    part = scene.body.parts[0]
-    t = np.asarray(part.translation, dtype=float)
-    for unit, metres in LENGTH_TO_M.items():
-        if unit == part.units:
-            continue
-        c = metres / part.scale  # the mesh would be c times as large
-        moved = (points - t) / c + t  # the supports against the mesh as read
-        if scene.kind == "planar":
-            moved[:, 2] = _section_height(scene, surface)
-        _, d, _ = _distances(scene, surface, moved)
-        if np.all(d <= tol):
-            text = (
-                f"the numbers fit a unit mix-up: read in {unit} instead of {part.units} "
-                f"(`units: {unit}` on the mesh), the mesh puts every support on its surface"
-            )
-            scene_unit = next(
-                (w for w, m in LENGTH_TO_M.items() if np.isclose(m / scene.scale, 1 / c)), None
-            )
-            if scene_unit is not None and part.units != scene.units:
-                text += f"; or the scene's coordinates are in {scene_unit} (`units: {scene_unit}`)"
-            return text
-    return None
+    parts = scene.body.parts
+    fits = []
+    if all(p.units != scene.units for p in parts):
+        for unit, metres in LENGTH_TO_M.items():
+            if unit != scene.units and _fits(scene, surface, points * metres / scene.scale, tol):
+                fits.append(f"the scene's coordinates in {unit} (`units: {unit}`)")
+                break
+    if len(parts) == 1:
+        part = parts[0]
+        t = np.asarray(part.translation, dtype=float)
+        for unit, metres in LENGTH_TO_M.items():
+            c = metres / part.scale  # the mesh would be c times as large
+            if unit != part.units and _fits(scene, surface, (points - t) / c + t, tol):
+                fits.append(f"the mesh read in {unit} (`units: {unit}` on it)")
+                break
+    if not fits:
+        return None
+    return (
+        f"the numbers fit a unit mix-up: with {' or with '.join(fits)}, every support lies on "
+        "the body's surface"
+    )
 
 
 def _coverage(scene: Scene, bounds: np.ndarray) -> float:
     """The largest fraction of the body's extent the supports span along an axis (x, y in a
     planar scene)."""
-    points = np.array([s.position for s in scene.supports], dtype=float)
+    return _span(scene, np.array([s.position for s in scene.supports], dtype=float), bounds)
+
+
+def _span(scene: Scene, points: np.ndarray, bounds: np.ndarray) -> float:
+    """The largest fraction of the body's extent the points span along an axis."""
     axes = 2 if scene.kind == "planar" else 3
     extent = np.ptp(bounds, axis=0)[:axes]
     span = np.ptp(points, axis=0)[:axes]
@@ -248,7 +267,16 @@ def _findings(scene: Scene, surface: Surface) -> Placement:
                 hint="a support is a contact point on the body: is it in the scene's units "
                 f"({scene.units}), and is the mesh in its own?",
             )
-            if ball and distance[i] <= 2 * s.geometry.ball_radius + tol:  # type: ignore[union-attr]
+            if not surface.closed:
+                warnings.append(
+                    Finding(
+                        f"{text}; the body's mesh is not closed, so it may lack the face the "
+                        "support touches",
+                        code="support-unchecked",
+                        field=field,
+                    )
+                )
+            elif ball and distance[i] <= 2 * s.geometry.ball_radius + tol:  # type: ignore[union-attr]
                 warnings.append(
                     Finding(
                         f"{text}; its ball is carried by the body but is not part of the mesh, "
@@ -301,7 +329,7 @@ def _findings(scene: Scene, surface: Surface) -> Placement:
                     field=normal_field,
                 )
             )
-    if off:
+    if 2 * len(off) > len(scene.supports):  # a unit slip moves most supports off the body
         slip = _unit_slip(scene, surface, _evaluated(scene, surface), tol)
         if slip is not None:
             errors = [
