@@ -143,11 +143,16 @@ def _unit_slip(scene: Scene, surface: Surface, points: np.ndarray, tol: float) -
         return None
     parts = scene.body.parts
     fits = []
-    if all(p.units != scene.units for p in parts):
-        for unit, metres in LENGTH_TO_M.items():
-            if unit != scene.units and _fits(scene, surface, points * metres / scene.scale, tol):
-                fits.append(f"the scene's coordinates in {unit} (`units: {unit}`)")
-                break
+    for unit, metres in LENGTH_TO_M.items():
+        if unit != scene.units and _fits(scene, surface, points * metres / scene.scale, tol):
+            # meshes without a unit of their own follow the scene's: they keep theirs
+            keep = (
+                f" and `units: {scene.units}` on the meshes"
+                if any(p.units == scene.units for p in parts)
+                else ""
+            )
+            fits.append(f"the scene's coordinates in {unit} (`units: {unit}`{keep})")
+            break
     if len(parts) == 1:
         part = parts[0]
         t = np.asarray(part.translation, dtype=float)
