@@ -23,9 +23,11 @@ block whose mesh is in cm read as mm, with a corner at the origin).
 Planar scenes are checked in the plane of motion: the body's section at the supports' height
 (or at the mesh's mid-height when the supports lie outside it: in a planar scene the height of
 the supports is not a position on the body). Coupling shorthands' contacts are checked like
-explicit supports: a ball carried by the body touches the base at a point of the ball, which
-must be part of the body's mesh for the check to pass; where it is not, the contact lies off
-the surface by up to the ball's diameter, and is reported as a warning instead.
+explicit supports: the contact lies on the body's ball (``ball_on: body``) or on the seat in
+the body (``ball_on: base``: a groove, pins, a vee block), which must be part of the body's
+mesh for the check to pass; a simplified mesh may leave them out, so a contact off the
+surface by up to the ball's diameter (plus the tolerance) is a ``support-unchecked`` warning
+instead of an error.
 """
 
 from __future__ import annotations
@@ -250,7 +252,9 @@ def _findings(scene: Scene, surface: Surface) -> Placement:
     off: list[int] = []
     for i, s in enumerate(scene.supports):
         field = (*s.field, "position") if s.geometry is None else s.field
-        ball = s.geometry is not None and s.geometry.ball_on == "body"
+        # a coupling's contact lies on a ball or a seat (pins, vee blocks) that a simplified
+        # mesh may leave out: off it by up to the ball's diameter
+        reach = 0.0 if s.geometry is None else 2 * s.geometry.ball_radius
         if distance[i] > tol:
             side = "inside" if inside[i] else "outside"
             where = (
@@ -281,14 +285,15 @@ def _findings(scene: Scene, surface: Surface) -> Placement:
                         field=field,
                     )
                 )
-            elif ball and distance[i] <= 2 * s.geometry.ball_radius + tol:  # type: ignore[union-attr]
+            elif distance[i] <= reach + tol:
+                side_of = "ball" if s.geometry.ball_on == "body" else "seat"  # type: ignore[union-attr]
                 warnings.append(
                     Finding(
-                        f"{text}; its ball is carried by the body but is not part of the mesh, "
-                        "so the contact could not be checked",
+                        f"{text}; within a ball's diameter of it, so the {side_of} it touches "
+                        "may just be missing from the mesh: the contact could not be checked",
                         code="support-unchecked",
                         field=field,
-                        hint="add the balls to the body's mesh to check the contacts",
+                        hint=f"model the coupling's {side_of}s in the body's mesh to check it",
                     )
                 )
             else:

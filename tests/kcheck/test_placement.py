@@ -278,3 +278,35 @@ def test_every_bundled_fixture_is_clean(fixture):
     assert surface is not None
     found = support_placement(scene, surface)
     assert not found.errors and not found.warnings
+
+
+COUPLINGS = """
+version: 1
+units: mm
+body: {mesh: plate.stl, material: aluminium}
+couplings:
+  - {name: t, type: ball-trihedral, ball: {center: [0, 50, 0], radius: 6}, up: [0, 0, 1],
+     half_angle: 54.7356, reference: [1, 0, 0]}
+  - {name: v, type: ball-vee, ball: {center: [-43.3, -25, 0], radius: 6},
+     groove: {axis: [-0.866, -0.5, 0], up: [0, 0, 1], half_angle: 45}}
+  - {name: f, type: ball-flat, ball: {center: [43.3, -25, 0], radius: 6}, normal: [0, 0, 1]}
+friction: 0.1
+gravity: [0, 0, -9.81]
+"""
+
+
+def test_balls_left_out_of_a_simplified_mesh_are_a_warning(tmp_path):
+    """A plate mesh without its balls (the balls on the body, their centres on its lower
+    face): the contacts lie up to a ball's diameter off the plate, so the mesh cannot tell.
+    30 mm off is past that: an error."""
+    plate = trimesh.creation.box(extents=(120, 120, 20))
+    plate.apply_translation((0, 0, 10))
+    plate.export(tmp_path / "plate.stl")
+    path = tmp_path / "c.kcheck.yaml"
+    path.write_text(textwrap.dedent(COUPLINGS).lstrip())
+    found = _placement(path)
+    assert not found.errors
+    assert found.warnings and {w.code for w in found.warnings} == {"support-unchecked"}
+    path.write_text(path.read_text().replace("[43.3, -25, 0]", "[43.3, -25, -30]"))
+    found = _placement(path)
+    assert {e.field for e in found.errors} == {("couplings", 2)}
