@@ -39,10 +39,10 @@ import numpy as np
 from kcheck.body.surface import (
     Surface,
     closest_on_segments,
-    closest_on_triangles,
+    closest_point,
     face_normals,
+    inside,
     section_segments,
-    winding_numbers,
 )
 from kcheck.fmt import format_length, format_vector
 from kcheck.result import Finding
@@ -63,8 +63,6 @@ PROBE_RTOL = 1e-3
 #: Supports spanning less than this fraction of the body along every axis crowd into a
 #: corner of it; with a mesh unit that would make them span it, a units slip is likelier.
 CORNER_SPAN = 0.2
-#: A winding number above this is inside the body (1 inside, 0 outside, ½ on the surface).
-INSIDE = 0.5
 
 
 @dataclass(frozen=True)
@@ -104,11 +102,9 @@ def _distances(scene: Scene, surface: Surface, points: np.ndarray) -> tuple[np.n
         perp = perp / np.where(length > 0, length, 1.0)
         size = float(np.linalg.norm(np.ptp(surface.bounds, axis=0)))
         step = PROBE_RTOL * size
-        inward = np.where(
-            (winding_numbers(surface.triangles, q + step * perp) > INSIDE)[:, None], perp, -perp
-        )
+        inward = np.where(inside(surface.triangles, q + step * perp)[:, None], perp, -perp)
         return q, d, inward
-    q, d, face = closest_on_triangles(surface.triangles, points)
+    q, d, face = closest_point(surface.triangles, points)
     return q, d, -face_normals(surface.triangles[face])
 
 
@@ -234,15 +230,17 @@ def _findings(scene: Scene, surface: Surface) -> Placement:
     points = _evaluated(scene, surface)
     normals = np.array([s.normal for s in scene.supports], dtype=float)
     _, distance, inward = _distances(scene, surface, points)
-    inside = (
-        winding_numbers(surface.triangles, points) > INSIDE
-        if surface.closed
-        else np.zeros(len(points), dtype=bool)
-    )
     step = np.maximum(2 * distance, PROBE_RTOL * size)
     step = np.where(np.isfinite(step), step, PROBE_RTOL * size)
-    ahead = winding_numbers(surface.triangles, points + step[:, None] * normals)
-    behind = winding_numbers(surface.triangles, points - step[:, None] * normals)
+    n = len(points)
+    if surface.closed:
+        probes = np.concatenate(
+            [points, points + step[:, None] * normals, points - step[:, None] * normals]
+        )
+        within = inside(surface.triangles, probes)
+    else:
+        within = np.zeros(3 * n, dtype=bool)
+    inner, enters_all, leaves_all = within[:n], within[n : 2 * n], within[2 * n :]
 
     def length(value: float) -> str:
         return format_length(value, scene.scale, scene.units)
@@ -256,7 +254,7 @@ def _findings(scene: Scene, surface: Surface) -> Placement:
         # mesh may leave out: off it by up to the ball's diameter
         reach = 0.0 if s.geometry is None else 2 * s.geometry.ball_radius
         if distance[i] > tol:
-            side = "inside" if inside[i] else "outside"
+            side = "inside" if inner[i] else "outside"
             where = (
                 "the body's section in the plane of motion"
                 if scene.kind == "planar"
@@ -310,7 +308,7 @@ def _findings(scene: Scene, surface: Surface) -> Placement:
                 )
             )
             continue
-        enters, leaves = ahead[i] > INSIDE, behind[i] > INSIDE
+        enters, leaves = bool(enters_all[i]), bool(leaves_all[i])
         if enters and not leaves:
             continue
         normal_field = (*s.field, "normal") if s.geometry is None else s.field

@@ -21,6 +21,8 @@ __all__ = [
     "Surface",
     "body_surface",
     "closest_on_triangles",
+    "closest_point",
+    "inside",
     "closest_on_segments",
     "section_segments",
     "winding_numbers",
@@ -62,6 +64,73 @@ def body_surface(body: Body, max_mesh_bytes: int | None = None) -> Surface | Non
                 closed = False  # wound inwards: inside and outside swapped
         triangles.append(np.asarray(mesh.triangles, dtype=float))
     return Surface(np.concatenate(triangles), closed)
+
+
+def _box_distance(lo: np.ndarray, hi: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """A lower bound of each triangle's distance (m) to a point: its bounding box's (rows of
+    ``lo`` and ``hi``)."""
+    return np.asarray(np.linalg.norm(np.maximum(np.maximum(lo - point, point - hi), 0), axis=1))
+
+
+def closest_point(triangles: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, ...]:
+    """:func:`closest_on_triangles`, measuring only the triangles whose bounding box is no
+    farther than the nearest vertex (the others cannot hold the closest point): for a large
+    mesh a few triangles per point instead of all."""
+    points = np.asarray(points, dtype=float)
+    vertices = triangles.reshape(-1, 3)
+    lo, hi = triangles.min(axis=1), triangles.max(axis=1)
+    q = np.zeros_like(points)
+    d = np.zeros(len(points))
+    f = np.zeros(len(points), dtype=int)
+    for i, p in enumerate(points):
+        nearest_vertex = float(np.sqrt(np.min(np.einsum("ij,ij->i", vertices - p, vertices - p))))
+        near = np.flatnonzero(_box_distance(lo, hi, p) <= nearest_vertex * (1 + 1e-9) + 1e-300)
+        qi, di, fi = closest_on_triangles(triangles[near], p[None])
+        q[i], d[i], f[i] = qi[0], di[0], near[fi[0]]
+    return q, d, f
+
+
+#: Ray directions of the inside test: generic (no axis, no diagonal of a box's faces), so that a
+#: ray from a point off the surface meets no edge or vertex; the majority of three decides.
+_RAYS = np.array([[0.5377, 0.3189, 0.7806], [-0.6431, 0.5207, 0.5615], [0.2113, -0.7904, 0.5748]])
+
+
+def inside(triangles: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Whether each point lies inside a closed surface: the parity of the triangles a ray
+    from it crosses (Möller–Trumbore), the majority of three rays; only the triangles whose
+    shadow along the ray covers the point are tested."""
+    points = np.asarray(points, dtype=float)
+    votes = np.zeros(len(points), dtype=int)
+    for ray in _RAYS:
+        d = ray / np.linalg.norm(ray)
+        e1 = np.cross(d, [1.0, 0.0, 0.0] if abs(d[0]) < 0.9 else [0.0, 1.0, 0.0])
+        e1 /= np.linalg.norm(e1)
+        e2 = np.cross(d, e1)
+        uv = np.stack([triangles @ e1, triangles @ e2], axis=-1)  # (F, 3, 2)
+        lo, hi = uv.min(axis=1), uv.max(axis=1)
+        for i, p in enumerate(points):
+            pu = np.array([p @ e1, p @ e2])
+            near = np.flatnonzero(np.all((lo <= pu) & (pu <= hi), axis=1))
+            if len(near) == 0:
+                continue
+            votes[i] += int(_crossings(triangles[near], p, d)) % 2
+    return np.asarray(votes >= 2)
+
+
+def _crossings(tri: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> int:
+    """How many triangles the ray ``origin + t direction`` (t > 0) crosses."""
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    e1, e2 = b - a, c - a
+    h = np.cross(direction, e2)
+    det = np.einsum("ij,ij->i", e1, h)
+    ok = np.abs(det) > 0
+    inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+    s = origin - a
+    u = inv * np.einsum("ij,ij->i", s, h)
+    q = np.cross(s, e1)
+    v = inv * (q @ direction)
+    t = inv * np.einsum("ij,ij->i", e2, q)
+    return int(np.count_nonzero(ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)))
 
 
 def _blocks(count: int) -> list[slice]:

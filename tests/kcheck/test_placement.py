@@ -21,6 +21,8 @@ from kcheck.body.surface import (
     body_surface,
     closest_on_segments,
     closest_on_triangles,
+    closest_point,
+    inside,
     section_segments,
     winding_numbers,
 )
@@ -62,6 +64,22 @@ def test_winding_numbers_of_a_box():
     points = np.array([[0, 0, 0], [0.9, 1.4, 1.9], [1.1, 0, 0], [0, 0, 2.5], [5, 5, 5]])
     w = winding_numbers(np.asarray(box.triangles), points)
     assert np.allclose(w, [1, 1, 0, 0, 0], atol=1e-9)
+
+
+def test_the_culled_queries_agree_with_the_brute_force_ones():
+    """closest_point (bounding-box culling) against closest_on_triangles over every face, and
+    inside (ray parity) against the winding number, on a sphere of 5,120 faces."""
+    sphere = trimesh.creation.icosphere(subdivisions=4, radius=1.0)
+    triangles = np.asarray(sphere.triangles)
+    rng = np.random.default_rng(3)
+    points = rng.normal(size=(40, 3))
+    points *= rng.uniform(0.5, 1.5, size=(40, 1)) / np.linalg.norm(points, axis=1, keepdims=True)
+    _, fast, _ = closest_point(triangles, points)
+    _, slow, _ = closest_on_triangles(triangles, points)
+    np.testing.assert_allclose(fast, slow, rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(
+        inside(triangles, points), winding_numbers(triangles, points) > 0.5
+    )
 
 
 def test_a_section_and_its_closest_points():
