@@ -10,8 +10,8 @@ and its normal points from the base into the body. With a mesh, both can be chec
   step against it enters (the normal points out of the body); the message gives the
   surface's inward normal there.
 * ``support-unchecked`` (a warning): the mesh cannot tell: it is not closed (no inside, and
-  perhaps no face where the support is), or the body is too thin at the support for a step
-  either way to land inside it.
+  perhaps no face where the support is), or a step either way lands on the same side (an edge,
+  a corner, a thin wall) and the normal points away from the nearest face's inward side.
 
 Where most supports are off the body and reading the mesh in another unit would put every one
 on its surface (spread over the body, not shrunk into a corner of it), the errors name that
@@ -311,6 +311,8 @@ def _findings(scene: Scene, surface: Surface) -> Placement:
         enters, leaves = bool(enters_all[i]), bool(leaves_all[i])
         if enters and not leaves:
             continue
+        if enters == leaves and float(normals[i] @ inward[i]) >= 0:
+            continue  # an edge or a corner (or a thin wall): the nearest face agrees
         normal_field = (*s.field, "normal") if s.geometry is None else s.field
         corrected = format_vector(inward[i], 3)
         if leaves and not enters:

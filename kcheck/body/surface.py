@@ -58,6 +58,13 @@ def body_surface(body: Body, max_mesh_bytes: int | None = None) -> Surface | Non
     closed = True
     for part in body.parts:
         mesh = placed_mesh(part, max_mesh_bytes)
+        if part.repair and not (mesh.is_watertight and mesh.is_winding_consistent):
+            import trimesh  # the repair mass properties apply (kcheck.body.mass)
+
+            with np.errstate(divide="ignore", invalid="ignore"):
+                trimesh.repair.fix_winding(mesh)
+                trimesh.repair.fill_holes(mesh)
+                trimesh.repair.fix_normals(mesh, multibody=True)
         closed = closed and bool(mesh.is_watertight and mesh.is_winding_consistent)
         with np.errstate(all="ignore"):
             if closed and float(mesh.volume) < 0:
