@@ -23,7 +23,7 @@ from kcheck.analysis.sanity import scene_warnings
 from kcheck.errors import SceneError, SceneErrors
 from kcheck.gate.paths import Excluder, discover_paths
 from kcheck.plugin import Inputs, LoadedCheck, Options
-from kcheck.result import CheckResult, Finding, SceneResult, Severity, Status
+from kcheck.result import CheckResult, Finding, MassProperties, SceneResult, Severity, Status
 from kcheck.scene import Scene, describe_pydantic, load_scene
 from kcheck.scene.yamlio import DEFAULT_LIMITS
 
@@ -187,7 +187,6 @@ def check_scene(
     settings: Settings | None = None,
 ) -> SceneResult:
     """Load one scene and run every check on it; bad input becomes an error result."""
-    from kcheck.gate.cache import body_mass_properties_cached
     from kcheck.gate.config import did_you_mean
 
     if settings is None:
@@ -225,27 +224,10 @@ def check_scene(
             plan.append((lc, options, severity, *_ask(lc, scene)))
         if wrong:
             raise SceneErrors(sorted(wrong, key=lambda e: (e.line or 0, e.column or 0)))
-        mass = None
-        if any(needs_mass for *_, needs_mass, _ in plan):
-            if scene.body is None:
-                raise scene.error(
-                    ("body",),
-                    "a check needs the body's mass properties; "
-                    "give `body` with a mesh or explicit mass properties",
-                )
-            try:
-                mass = body_mass_properties_cached(
-                    scene.body, scene.scale, settings.cache_dir, settings.max_mesh_bytes
-                )
-            except SceneError as exc:
-                where = exc.where or ("body",)
-                raise scene.error(where, f"{exc.path}: {exc.message}") from exc
-            from kcheck.body.mass import body_limits_problem
+        from kcheck.body.mass import shared_meshes
 
-            problem = body_limits_problem(mass)
-            if problem is not None:
-                raise scene.error(("body",), problem)
-        placement = _placement(scene, settings)
+        with shared_meshes():  # mass properties and the supports' check read each mesh once
+            mass, placement = _matter(scene, plan, settings)
     except SceneError as exc:
         return _input_error(path, exc)
     except MemoryError:
@@ -311,6 +293,37 @@ def check_scene(
         if scene.kind == "planar" or scene.sweep.given
         else None,
     )
+
+
+def _matter(
+    scene: Scene, plan: list[Any], settings: Settings
+) -> tuple[MassProperties | None, tuple[Finding, ...]]:
+    """The body's mass properties when a check needs them (through the cache), and the
+    supports checked against its mesh (:func:`_placement`)."""
+    from kcheck.gate.cache import body_mass_properties_cached
+
+    mass = None
+    if any(needs_mass for *_, needs_mass, _ in plan):
+        if scene.body is None:
+            raise scene.error(
+                ("body",),
+                "a check needs the body's mass properties; "
+                "give `body` with a mesh or explicit mass properties",
+            )
+        try:
+            mass = body_mass_properties_cached(
+                scene.body, scene.scale, settings.cache_dir, settings.max_mesh_bytes
+            )
+        except SceneError as exc:
+            where = exc.where or ("body",)
+            raise scene.error(where, f"{exc.path}: {exc.message}") from exc
+        from kcheck.body.mass import body_limits_problem
+
+        problem = body_limits_problem(mass)
+        if problem is not None:
+            raise scene.error(("body",), problem)
+    placement = _placement(scene, settings)
+    return mass, placement
 
 
 def _placement(scene: Scene, settings: Settings) -> tuple[Finding, ...]:
