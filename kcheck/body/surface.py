@@ -103,9 +103,10 @@ _RAYS = np.array([[0.5377, 0.3189, 0.7806], [-0.6431, 0.5207, 0.5615], [0.2113, 
 
 
 def inside(triangles: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """Whether each point lies inside a closed surface: the parity of the triangles a ray
-    from it crosses (Möller–Trumbore), the majority of three rays; only the triangles whose
-    shadow along the ray covers the point are tested."""
+    """Whether each point lies inside a closed outward-wound surface (or a union of such
+    parts, overlapping or not): the signed count of the triangles a ray from it crosses
+    (Möller–Trumbore), the majority of three rays; only the triangles whose shadow along the
+    ray covers the point are tested."""
     points = np.asarray(points, dtype=float)
     votes = np.zeros(len(points), dtype=int)
     for ray in _RAYS:
@@ -120,12 +121,14 @@ def inside(triangles: np.ndarray, points: np.ndarray) -> np.ndarray:
             near = np.flatnonzero(np.all((lo <= pu) & (pu <= hi), axis=1))
             if len(near) == 0:
                 continue
-            votes[i] += int(_crossings(triangles[near], p, d)) % 2
+            votes[i] += int(_crossings(triangles[near], p, d) > 0)
     return np.asarray(votes >= 2)
 
 
 def _crossings(tri: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> int:
-    """How many triangles the ray ``origin + t direction`` (t > 0) crosses."""
+    """The winding number along the ray ``origin + t direction`` (t > 0): the triangles it
+    leaves through less those it enters through (outward-wound closed parts: 1 inside one
+    part, 2 where two overlap, 0 outside)."""
     a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
     e1, e2 = b - a, c - a
     h = np.cross(direction, e2)
@@ -137,7 +140,8 @@ def _crossings(tri: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> in
     q = np.cross(s, e1)
     v = inv * (q @ direction)
     t = inv * np.einsum("ij,ij->i", e2, q)
-    return int(np.count_nonzero(ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)))
+    hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
+    return int(-np.sign(det[hit]).sum())  # det = -direction · (outward normal)
 
 
 def _blocks(count: int) -> list[slice]:
