@@ -14,7 +14,6 @@ from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
-from pydantic import ValidationError
 
 from kcheck.numerics.thresholds import PARALLEL_COS, PARALLEL_SIN, ZERO_GUARD
 from kcheck.scene.body import BodyReader, rotation_matrix
@@ -37,7 +36,7 @@ from kcheck.scene.types import (
     Tolerances,
 )
 from kcheck.scene.units import LENGTH_TO_M
-from kcheck.scene.validate import Problems, plain_value_problems, pydantic_problems
+from kcheck.scene.validate import Problems, consequence_of, plain_value_problems, salvage
 from kcheck.scene.yamlio import DEFAULT_LIMITS, FieldPath, YamlLimits, format_path, read_yaml
 
 __all__ = ["SCENE_GLOB", "load_scene", "rotation_matrix"]
@@ -57,14 +56,18 @@ def load_scene(
     if not isinstance(data, dict):
         raise problems.error((), f"expected a mapping of scene fields, got {type(data).__name__}")
     plain_value_problems(data, problems)
-    model: SceneModel | None = None
-    try:
-        model = SceneModel.model_validate(data)
-    except ValidationError as exc:
-        pydantic_problems(exc, SceneModel, problems)
-    problems.raise_if_any()
-    assert model is not None
+    # Values are checked on what is left of a file with wrong fields too (every mistake in
+    # one run); an error that only follows from leaving a field out is not one of them.
+    # Not when `units` is wrong: every length is read in it.
+    model, dropped = salvage(data, SceneModel, problems)
+    if model is None or ("units",) in dropped:
+        problems.raise_if_any()
+    assert isinstance(model, SceneModel)
+    said = len(problems.errors)
     scene = _Builder(path, model, problems, allow_outside, document).build()
+    problems.errors[said:] = [
+        e for e in problems.errors[said:] if not consequence_of(e.where, dropped)
+    ]
     problems.raise_if_any()
     assert scene is not None
     return scene
@@ -100,7 +103,7 @@ class _Builder:
         m, p = self.m, self.p
         supports, fields = self.supports()
         kind: Literal["planar", "spatial"] | None = None
-        if not p.errors:
+        if not (p.has(("supports",)) or p.has(("couplings",))):
             kind = self.kind(supports, fields)
         if kind is not None:
             self.layout(supports)

@@ -710,6 +710,20 @@ case(
     "checks.maxwell.min_cos",
 )
 case("unknown check", PLANAR, put("checks", {"maxwel": {}}), "checks.maxwel")
+# supports against the body's mesh (kcheck/analysis/placement.py)
+case(
+    "contact off the body",
+    SPATIAL,
+    put(f"{C}[2].ball.center", [43.3, -25, -500]),
+    f"{C}[2]",
+)
+case(
+    "mesh unreadable for the supports alone",
+    SPATIAL,
+    put("body.mesh", "garbage.obj"),
+    "body.mesh",
+    selected=frozenset({"maxwell"}),
+)
 for name in ("body as a whole heavy",):  # point masses need their points
     base, edit, field, settings = CORPUS[name]
     CORPUS[name] = (
