@@ -16,11 +16,13 @@ from kcheck.numerics.thresholds import UNCERTAIN_DEG
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CaseResult, CheckResult, Status
 from kcheck.scene import Scene
+from kcheck_checks.marginal import with_angle_margin
 from kcheck_checks.options import AnalyticalOptions
 from kcheck_checks.wording import (
     case_findings,
     design_findings,
     empty_range_findings,
+    load_field,
     merge_findings,
     verdict,
 )
@@ -29,7 +31,11 @@ __all__ = ["Analytical2D", "AnalyticalOptions", "analytical_result", "design_fin
 
 
 def analytical_result(
-    check_id: str, scene: Scene, analysis: Analysis, min_margin_deg: float
+    check_id: str,
+    scene: Scene,
+    analysis: Analysis,
+    min_margin_deg: float,
+    marginal_deg: float = 0.0,
 ) -> CheckResult:
     """Verdict of an analytical check from its analysis (planar sweep semantics)."""
     combined = analysis.combined
@@ -85,7 +91,7 @@ def analytical_result(
     elif not findings:
         parts.append("every retraction closes under the fixed forces (weight, preloads)")
     ok = not findings
-    return CheckResult(
+    result = CheckResult(
         check_id,
         Status.PASS if ok else Status.FAIL,
         verdict(parts, findings),
@@ -95,6 +101,8 @@ def analytical_result(
         details=details,
         findings=tuple(findings),
     )
+    field = load_field(scene) if scene.load is not None else None
+    return with_angle_margin(result, marginal_deg, field, gravity=scene.load is None)
 
 
 class Analytical2D(Check):
@@ -120,7 +128,10 @@ class Analytical2D(Check):
         """Analyse every retracted case and intersect the safe ranges."""
         assert inputs.mass is not None and isinstance(inputs.options, AnalyticalOptions)
         analysis = analyse(inputs.scene, inputs.mass)
-        result = analytical_result(self.id, inputs.scene, analysis, inputs.options.min_margin_deg)
+        opts = inputs.options
+        result = analytical_result(
+            self.id, inputs.scene, analysis, opts.min_margin_deg, opts.marginal_deg
+        )
         return with_partial_ranges(result, analysis, inputs.scene)
 
 

@@ -24,6 +24,7 @@ from kcheck.fmt import clean, format_angle, format_share, format_vector
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
+from kcheck_checks.marginal import with_angle_margin
 from kcheck_checks.options import AnalyticalOptions
 from kcheck_checks.wording import (
     case_findings,
@@ -282,6 +283,8 @@ def spatial_result(
         details=details,
         findings=tuple(findings),
     )
+    field = load_field(scene) if scene.load is not None else None
+    result = with_angle_margin(result, options.marginal_deg, field, gravity=what == "gravity")
     return result, smap, analysis
 
 

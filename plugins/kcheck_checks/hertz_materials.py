@@ -13,6 +13,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from kcheck.body.elastic import MATERIALS, Material, material
+from kcheck.numerics.margins import MARGINAL_UTILISATION
 from kcheck.plugin import Options
 from kcheck.scene import Scene
 
@@ -41,6 +42,13 @@ class HertzOptions(Options):
 
     safety_factor: float = Field(
         1.0, gt=0, description="Every peak pressure must stay below allowable / safety_factor"
+    )
+    marginal_utilisation: float = Field(
+        MARGINAL_UTILISATION,
+        gt=0,
+        le=1,
+        description="A pass whose largest utilisation (peak pressure over allowable / "
+        "safety_factor) is above this is marginal (1: no marginal band)",
     )
     ball_material: str = Field("52100", description="Material of every ball (see docs)")
     seat_material: str = Field("52100", description="Material of every seat (groove, flat, ...)")
