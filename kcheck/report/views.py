@@ -313,9 +313,9 @@ def _answers_ranges(check: CheckResult) -> bool:
 
 
 def disagreements(scene: SceneResult, check: CheckResult) -> list[str]:
-    """For a passing check that judges force directions, every other such check of the scene
-    that failed: ``analytical-2d: FAIL — <its first reason>``."""
-    if check.status is not Status.PASS or not _answers_ranges(check):
+    """For a passing (or marginal) check that judges force directions, every other such check
+    of the scene that failed: ``analytical-2d: FAIL — <its first reason>``."""
+    if check.status not in (Status.PASS, Status.MARGINAL) or not _answers_ranges(check):
         return []
     out = []
     for other in scene.checks:
