@@ -132,7 +132,20 @@ class Analytical2D(Check):
         result = analytical_result(
             self.id, inputs.scene, analysis, opts.min_margin_deg, opts.marginal_deg
         )
-        return with_partial_ranges(result, analysis, inputs.scene)
+        result = with_partial_ranges(result, analysis, inputs.scene)
+        if result.error_estimate is None and analysis.trustworthy and inputs.scene.load is None:
+            result = dataclasses.replace(result, error_estimate=_gravity_error_deg(analysis))
+        return result
+
+
+def _gravity_error_deg(analysis: Analysis) -> float | None:
+    """Under gravity alone (no load, so no swept range): the error (deg) of the closing
+    conditions' boundaries in the plane, as a gravity sweep would report its range ends; the
+    verdict at the fixed gravity direction holds when it lies farther than this from each."""
+    from kcheck.analysis.cases import sweep_ranges
+
+    e1, e2 = np.eye(2)
+    return sweep_ranges(analysis, e1, e2).error_deg
 
 
 # --- partial ranges (the thesis reports motion and contact separately) ------------------------
