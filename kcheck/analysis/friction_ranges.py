@@ -136,9 +136,8 @@ def bounded_intervals(rc: RangeCase, direction: np.ndarray | None) -> Bounded:
         for r, e in zip(row, _root_errors(p, float(err), row), strict=True):
             if r not in found or e > found[r][0]:
                 found[float(r)] = (float(e), condition)
-        for lo, hi in _near_misses(p, float(err)):
-            if not len(row) or not np.any((row >= lo) & (row <= hi)):
-                hidden.append((lo, hi, condition))
+        # A double root (found, or split into a complex pair) is a near miss too.
+        hidden += [(lo, hi, condition) for lo, hi in _near_misses(p, float(err))]
     edges = np.unique(np.concatenate([[-1.0, 1.0], list(found)]))
     mids = 0.5 * (edges[1:] + edges[:-1])
     ok = rc.closing_at(d, mids)[0]
@@ -157,7 +156,8 @@ def bounded_intervals(rc: RangeCase, direction: np.ndarray | None) -> Bounded:
     failing, unresolved = [], []
     for lo, hi in pieces:
         (elo, clo), (ehi, chi) = error(lo), error(hi)
-        if hi - lo > elo + ehi:
+        near = any(a <= hi + ehi and lo - elo <= b for a, b, _ in hidden)
+        if hi - lo > elo + ehi and not near:
             failing.append((lo, hi, elo, ehi))
         else:
             unresolved.append((lo, hi, elo, ehi, max(clo, chi)))
