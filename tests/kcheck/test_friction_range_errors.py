@@ -128,3 +128,61 @@ def test_wide_intervals_are_resolved_and_slivers_are_not():
     assert not thin.failing and thin.unresolved
     miss = bounded_intervals(_range_case(*_system(3e-9, -1, 1e4, 1)), None)
     assert not miss.failing and miss.unresolved
+
+
+# --- one coefficient: the ends of a case's friction intervals --------------------------------
+
+
+@pytest.mark.parametrize("fixture", ["planar-block", "thesis-appendix-a", "three-groove-beta-55"])
+def test_friction_interval_ends_within_their_bounds_of_50_digits(fixture):
+    """Each finite end of every case's friction intervals is a root of one of the case's
+    pencils ``det(K0 + μ F)`` (``K`` itself, or with a column replaced by the load): found
+    again here in 50 digits (mpmath.findroot from the reported end, on the same float
+    matrices), it lies within the reported error bound."""
+    from kcheck.analysis import analyse
+    from kcheck.body.mass import body_mass_properties
+    from kcheck.mechanics.friction import friction_intervals
+    from kcheck.scene import load_scene
+    from tests.conftest import FIXTURES
+
+    scene = load_scene(next((FIXTURES / fixture).glob("*.kcheck.yaml")))
+    analysis = analyse(scene, body_mass_properties(scene.body, scene.scale))
+    problem, design = analysis.problem, analysis.design
+    mpmath.mp.dps = 50
+    checked = 0
+    for case in analysis.cases:
+        if not case.determined or case.k0 is None:
+            continue
+        found = friction_intervals(problem, case, design)
+        assert len(found.errors) == len(found.intervals)
+        k0 = mpmath.matrix(case.k0.tolist())
+        big_f = mpmath.matrix(case.k_friction.tolist())
+        rhs = problem.wrench(design)
+        n = case.k0.shape[0]
+
+        def pencil(j: int, sign: int, k0=k0, big_f=big_f, rhs=rhs, n=n):
+            def det(mu):
+                m = k0 + sign * mu * big_f
+                if j > 0:
+                    for i in range(n):
+                        m[i, j - 1] = mpmath.mpf(float(rhs[i]))
+                return mpmath.det(m)
+
+            return det
+
+        for (lo, hi), (elo, ehi) in zip(found.intervals, found.errors, strict=True):
+            for end, err in ((lo, elo), (hi, ehi)):
+                if end <= 0 or not np.isfinite(end):
+                    continue
+                best = None
+                for j in range(n + 1):
+                    for sign in (1, -1):
+                        try:
+                            root = mpmath.findroot(pencil(j, sign), mpmath.mpf(end), tol=1e-40)
+                        except (ValueError, ZeroDivisionError):
+                            continue
+                        gap = abs(float(root) - end)
+                        best = gap if best is None else min(best, gap)
+                assert best is not None and best <= err, (fixture, case, end, best, err)
+                checked += 1
+    assert checked > 0
