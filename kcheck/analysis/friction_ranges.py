@@ -359,6 +359,22 @@ def analyse_range(
         else res
         for r, res in enumerate(results)
     ]
+    for r, held in enumerate(bounded):
+        if held is not None and closes[r] is None:
+            # Neither closing nor failing can be said: no trustworthy answer (issue 21).
+            where = ", ".join(
+                f"μ {info.mu(a):.6g}–{info.mu(b):.6g}" for a, b, *_ in held.unresolved
+            )
+            diagnostic = (
+                f"unresolved near {where}: the conditions come within their rounding error of "
+                "zero there (a degenerate case), so whether it closes for every coefficient "
+                "of the range cannot be decided in double precision"
+            )
+            results[r] = replace(
+                results[r],
+                outcome="ill_conditioned",
+                details={**results[r].details, "diagnostic": diagnostic},
+            )
     analysis = replace(top, results=tuple(results), friction=tuple(friction), friction_range=info)
     if not sweeping or analysis.plane is None:
         return analysis

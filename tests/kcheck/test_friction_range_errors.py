@@ -186,3 +186,30 @@ def test_friction_interval_ends_within_their_bounds_of_50_digits(fixture):
                 assert best is not None and best <= err, (fixture, case, end, best, err)
                 checked += 1
     assert checked > 0
+
+
+def test_an_unresolved_case_is_neither_closing_nor_failing(write_scene, cli_json, monkeypatch):
+    """Wiring: a case whose only failing sliver is unresolved gets no verdict of its own (no
+    trustworthy answer, the unresolved interval named), `closes_throughout` null."""
+    import kcheck.analysis.friction_ranges as ranges
+    from tests.conftest import PLANAR_SCENE
+
+    real = ranges.bounded_intervals
+
+    def with_a_sliver(rc, direction):
+        found = real(rc, direction)
+        if rc.index != 0:
+            return found
+        return ranges.Bounded((), ((0.4, 0.4 + 6e-9, 4e-9, 4e-9, 3e7),))
+
+    monkeypatch.setattr(ranges, "bounded_intervals", with_a_sliver)
+    scene = write_scene(PLANAR_SCENE.replace("friction: 0.1", "friction: {min: 0.05, max: 0.15}"))
+    _, doc = cli_json(str(scene), "--select", "analytical-2d", "--no-cache", "-j", "1")
+    (check,) = doc["scenes"][0]["checks"]
+    first = check["cases"][0]
+    assert first["outcome"] == "ill_conditioned" and "unresolved near μ 0.09" in first["diagnostic"]
+    assert first["friction_range"]["closes_throughout"] is None
+    (sliver,) = first["friction_range"]["unresolved"]
+    assert sliver["mu"][0] == pytest.approx(0.05 + 0.4 * 0.1) and sliver["condition"] == 3e7
+    assert check["friction_range"]["unresolved_cases"] == [first["retracted"]]
+    assert check["status"] == "fail" and "no trustworthy answer" in check["message"]
