@@ -98,8 +98,8 @@ def add_gate_options(parser: argparse.ArgumentParser) -> None:
     gate.add_argument(
         "--strict",
         action="store_true",
-        help="failed checks of severity warning, and scene warnings, fail the run too "
-        "(same as --fail-on warning)",
+        help="marginal results, failed checks of severity warning and scene warnings fail "
+        "the run too (same as --fail-on warning)",
     )
     gate.add_argument(
         "--output-format",

@@ -120,7 +120,8 @@ def _field(text: str | None) -> tuple[str, ...] | None:
 
 def scene_status(checks: Sequence[CheckResult], warnings: Sequence[Finding] = ()) -> Status:
     """``error`` if a check erred; ``fail`` if a check of severity ``error`` failed; ``warn``
-    if only checks of severity ``warning`` failed or the scene has warnings; else ``pass``."""
+    if only checks of severity ``warning`` failed or the scene has warnings; ``marginal`` if a
+    check is marginal and nothing is worse; else ``pass``."""
     if any(c.status is Status.ERROR for c in checks):
         return Status.ERROR
     failed = [c for c in checks if c.status is Status.FAIL]
@@ -128,6 +129,8 @@ def scene_status(checks: Sequence[CheckResult], warnings: Sequence[Finding] = ()
         return Status.FAIL
     if failed or warnings:
         return Status.WARN
+    if any(c.status is Status.MARGINAL for c in checks):
+        return Status.MARGINAL
     return Status.PASS
 
 
@@ -273,7 +276,7 @@ def check_scene(
     status = scene_status(results, warnings)
     # Pictures after every check, so that each title carries the scene's verdict too.
     for lc, inputs, result in drawn if settings.plots is not None else ():
-        if result.status in (Status.PASS, Status.FAIL):
+        if result.status in (Status.PASS, Status.MARGINAL, Status.FAIL):
             files, note = _plot(lc, inputs, result, settings, (status, results, warnings))
             notes = notes if note is None else (*notes, note)
             written.extend(str(f) for f in files)
