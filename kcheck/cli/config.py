@@ -214,6 +214,8 @@ class CheckPlan:
     selected: frozenset[str]
     severities: Mapping[str, Severity]
     options: Mapping[str, Mapping[str, Any]]
+    #: the checks ``select`` names (they run even when opt-in)
+    named: frozenset[str] = frozenset()
 
 
 def _check_list(config: Config, key: str, known: set[str]) -> tuple[str, ...] | None:
@@ -279,7 +281,8 @@ def plan_checks(config: Config, checks: Sequence[LoadedCheck]) -> CheckPlan:
                 f"{config.where(f'checks.{key}')}: {describe_pydantic(err)}"
             ) from None
         options[check_id] = table
-    return CheckPlan(selected, severities, options)
+    named = frozenset(select or ()) - set(ignore)
+    return CheckPlan(selected, severities, options, named)
 
 
 def cache_folder(config: Config) -> Path | None:

@@ -47,7 +47,9 @@ class Settings:
     options of the others are still validated, and are no error. ``cache_dir`` holds the
     mass-property cache (None: no cache). ``jobs`` is the number of worker processes (0: run
     in this process), each scene limited to ``timeout_s`` seconds and ``memory_bytes`` of
-    address space (None: no limit; limits need workers).
+    address space (None: no limit; limits need workers). ``named``: the checks asked for by
+    name (``select``), which run even when opt-in (``Check.default_selected`` False); an
+    opt-in check otherwise runs only where the scene's ``checks:`` or ``check_options`` name it.
     ``max_file_bytes`` is the largest scene file read (configuration ``max_file_size``),
     ``max_mesh_bytes`` the largest mesh file (``max_mesh_size``); None: the defaults.
     """
@@ -57,6 +59,7 @@ class Settings:
     severities: Mapping[str, Severity] = field(default_factory=dict)
     check_options: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
     selected: frozenset[str] | None = None
+    named: frozenset[str] = frozenset()
     cache_dir: Path | None = None
     jobs: int = 0
     timeout_s: float | None = None
@@ -128,6 +131,15 @@ def scene_status(checks: Sequence[CheckResult], warnings: Sequence[Finding] = ()
     if failed or warnings:
         return Status.WARN
     return Status.PASS
+
+
+def _opted_in(lc: LoadedCheck, scene: Scene, settings: Settings) -> bool:
+    """Whether a check runs on a scene as far as opting in goes: every default check; an
+    opt-in one when the scene, the configuration or ``select`` names it."""
+    name = lc.spec.name
+    if lc.check.default_selected:
+        return True
+    return name in scene.check_options or name in settings.check_options or name in settings.named
 
 
 def _options(
@@ -211,6 +223,8 @@ def check_scene(
             options, severity = _options(scene, lc, defaults)
             if settings.selected is not None and lc.spec.name not in settings.selected:
                 continue  # its options are valid; it just does not run
+            if not _opted_in(lc, scene, settings):
+                continue  # an opt-in check nobody asked for: not run, not listed
             severity = severity or settings.severities.get(lc.spec.name) or lc.check.severity
             plan.append((lc, options, severity, *_ask(lc, scene)))
         mass = None

@@ -9,7 +9,9 @@ translation (µm) and rotation (µrad) there, with Monte Carlo confidence bounds
 against an allowed pose error when one is given — without one it reports the numbers and says
 it did not judge them.
 
-Opt-in: it runs only on scenes whose ``checks:`` give ``pose-error:`` options.
+Opt-in (``default_selected = False``): it runs only on scenes whose ``checks:`` give
+``pose-error:`` options, when the configuration's ``[tool.kcheck.checks.pose-error]`` gives
+options, or when ``--select`` names it.
 """
 
 from __future__ import annotations
@@ -165,11 +167,10 @@ class PoseError(Check):
         "spatial scenes of six contacts whose `checks:` give `pose-error:` options (opt-in)"
     )
     options = PoseErrorOptions
+    default_selected = False  # opt-in: runs where a scene, the configuration or --select asks
 
     def skip_reason(self, scene: Scene) -> str | None:
-        """Opt-in, spatial, six contacts."""
-        if self.id not in scene.check_options:
-            return "not asked for: the scene's `checks:` give no `pose-error:` options (opt-in)"
+        """Spatial, six contacts."""
         if scene.dim != 3:
             return "pose error is modelled for spatial couplings only"
         if len(scene.supports) != 6:

@@ -17,6 +17,9 @@ References computed here, independently of the check's linear algebra:
 
 from __future__ import annotations
 
+import shutil
+from pathlib import Path
+
 import numpy as np
 import pytest
 from kcheck_checks.pose_error import PoseError, PoseErrorOptions, sensitivities
@@ -24,6 +27,7 @@ from scipy.optimize import least_squares
 from scipy.spatial.transform import Rotation
 from scipy.stats import norm
 
+from kcheck.gate.runner import Settings, check_scene
 from kcheck.mechanics.pose_error import (
     draw,
     mean_bounds,
@@ -31,8 +35,9 @@ from kcheck.mechanics.pose_error import (
     pose_map,
     quantile_bounds,
 )
-from kcheck.plugin import Inputs
+from kcheck.plugin import Inputs, load_checks
 from kcheck.result import Status
+from tests.conftest import FIXTURES
 from tests.couplings import ball_vee, coupling_scene, kelvin, three_vee
 
 R, BALL, HALF = 0.05, 6e-3, 45.0
@@ -240,11 +245,43 @@ def test_check_reports_and_judges(tmp_path):
     assert _run(scene, **base).details["translation_um"] == t
 
 
-def test_check_is_opt_in_and_says_what_is_missing(tmp_path):
-    scene = coupling_scene(tmp_path, kelvin(R, BALL, HALF))
-    assert "not asked for" in PoseError().skip_reason(scene)
+def _kelvin_fixture(folder: Path, checks: str = "") -> Path:
+    """fixtures/kelvin (real mesh) with a `checks:` block appended."""
+    source = FIXTURES / "kelvin"
+    shutil.copy(source / "top-plate.stl", folder / "top-plate.stl")
+    text = (source / "coupling.kcheck.yaml").read_text(encoding="utf-8") + checks
+    path = folder / "coupling.kcheck.yaml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def _ids(path: Path, settings: Settings | None = None) -> dict[str, Status]:
+    result = check_scene(path, load_checks(), settings=settings)
+    return {c.id: c.status for c in result.checks}
+
+
+def test_check_is_opt_in(tmp_path):
+    plain = _kelvin_fixture(tmp_path)
+    assert "pose-error" not in _ids(plain)  # not asked for: not run, not listed
+    assert _ids(plain, Settings(named=frozenset({"pose-error"})))["pose-error"] is Status.SKIPPED
+    configured = Settings(check_options={"pose-error": {"point": POINT_MM}})
+    assert _ids(plain, configured)["pose-error"] is Status.SKIPPED  # no tolerance given
+    asked = _kelvin_fixture(
+        tmp_path, "checks:\n  pose-error: {point: [0, 0, 50], ball_radius_um: 1, samples: 500}\n"
+    )
+    assert _ids(asked)["pose-error"] is Status.SKIPPED  # numbers, not judged
+    judged = _kelvin_fixture(
+        tmp_path,
+        "checks:\n  pose-error: {point: [0, 0, 50], ball_radius_um: 1, samples: 500, "
+        "allowed_translation_um: 100, allowed_rotation_urad: 1000}\n",
+    )
+    assert _ids(judged)["pose-error"] is Status.PASS
+
+
+def test_check_says_what_is_missing(tmp_path):
     scene = _scene(tmp_path, kelvin(R, BALL, HALF), ball_radius_um=1.0)
-    assert _run(scene, ball_radius_um=1.0).status is Status.SKIPPED  # no point
+    no_point = _run(scene, ball_radius_um=1.0)
+    assert no_point.status is Status.SKIPPED and "point" in no_point.message
     nothing = _run(scene, point=POINT_MM)
     assert nothing.status is Status.SKIPPED and "no tolerance" in nothing.message
     bad = _run(scene, point=POINT_MM, groups=[{"name": "x", "couplings": ["nope"]}])
