@@ -238,7 +238,7 @@ class PoseError(Check):
         separations = np.zeros((opts.samples, len(p)))
         for _, matrix, tol in sources:
             x = draw(rng, opts.samples, np.full(matrix.shape[1], tol), opts.distribution)
-            separations += x @ matrix.T
+            separations += np.einsum("sm,km->sk", x, matrix)
         from kcheck.mechanics.pose_error import pose_errors
 
         trans, rot = pose_errors(pose, separations)
