@@ -25,6 +25,7 @@ from kcheck.fmt import format_number
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
+from kcheck.scene.models import MaterialName
 from kcheck_checks.wording import verdict
 
 __all__ = ["PoseError", "PoseErrorOptions", "PoseGroup"]
@@ -67,6 +68,22 @@ class PoseErrorOptions(Options):
         0.0, ge=0, description="Seat rotation about its root (vee) or apex, per axis (µrad)"
     )
     groups: list[PoseGroup] = Field(default_factory=list, description="Correlated seat groups")
+    load_percent: float = Field(
+        0.0,
+        ge=0,
+        lt=100,
+        description="The load's magnitude, relative (%); the contacts' "
+        "Hertz compliance turns it into a pose change",
+    )
+    mass_percent: float = Field(
+        0.0, ge=0, lt=100, description="The body's mass (its weight), relative (%)"
+    )
+    ball_material: MaterialName | None = Field(
+        None, description="Every ball's material the scene gives none for (load and mass)"
+    )
+    seat_material: MaterialName | None = Field(
+        None, description="Every seat's material the scene gives none for (load and mass)"
+    )
     samples: int = Field(100_000, ge=100, le=10_000_000, description="Monte Carlo samples")
     seed: int = Field(0, ge=0, description="Seed of the random numbers (results repeat)")
     quantile: float = Field(0.95, gt=0.0, lt=1.0, description="Quantile reported and judged")
@@ -155,6 +172,58 @@ def sensitivities(scene: Scene, opts: PoseErrorOptions) -> list[tuple[str, np.nd
     return sources
 
 
+def load_sensitivities(
+    scene: Scene, mass: Any, opts: PoseErrorOptions
+) -> tuple[list[tuple[str, np.ndarray, float]], str | None]:
+    """The load's and the mass's sources: a relative change ``e`` of the load (of the weight)
+    changes the seated contact forces by ``e dN`` (statics), and each contact's Hertz approach
+    by ``e dN_i / k_i`` (its tangent stiffness at the seated force): the separations by
+    ``-e dN_i / k_i``. Returns the sources and why they cannot be given (None: they can)."""
+    if opts.load_percent <= 0 and opts.mass_percent <= 0:
+        return [], None
+    from kcheck.mechanics.hertz import hertz
+    from kcheck.mechanics.seat import contact_forces, external_wrench, seat_layout, seated_loads
+    from kcheck.numerics.thresholds import ZERO_GUARD
+    from kcheck_checks.hertz_materials import Contacts, HertzOptions, contacts_of
+
+    how = "(give `load_percent`/`mass_percent` only with them)"
+    if any(s.contact_geometry is None for s in scene.supports):
+        return [], f"load and mass need the contact geometry of every support {how}"
+    if any(g.line_contact for s in scene.supports if (g := s.contact_geometry) is not None):
+        return [], f"load and mass need point contacts (no ball-cone) {how}"
+    loads, torque, _ = seated_loads(scene, mass)
+    p = np.array([s.position for s in scene.supports], float)
+    n = np.array([s.normal for s in scene.supports], float)
+    scale = max([float(np.linalg.norm(x.force)) for x in loads] + [ZERO_GUARD])
+    seat = seat_layout(p, n, 3, scale)
+    seated = contact_forces(seat, external_wrench(seat, loads, torque)).value
+    if seated is None or not np.all(seated > 0):
+        return [], f"the body is not seated on every contact under its loads {how}"
+    named = {"ball_material": opts.ball_material, "seat_material": opts.seat_material}
+    materials = HertzOptions.model_validate({k: v for k, v in named.items() if v is not None})
+    contacts = contacts_of(scene, materials)
+    if not isinstance(contacts, Contacts):
+        return [], (
+            "the contacts' materials are not known (give `ball_material` and `seat_material` "
+            "under `checks: {pose-error: ...}`, or on the couplings)"
+        )
+    k = hertz(seated, contacts.sum_a, contacts.sum_b, contacts.modulus).stiffness
+    sources: list[tuple[str, np.ndarray, float]] = []
+    for name, percent, picked, moment in (
+        ("load", opts.load_percent, [x for x in loads if x.name == "load"], torque),
+        ("mass", opts.mass_percent, [x for x in loads if x.name == "weight"], np.zeros(3)),
+    ):
+        if percent <= 0:
+            continue
+        if not picked:
+            what = "load with a design direction" if name == "load" else "weight (body, gravity)"
+            return [], f"`{name}_percent` is given but the scene has no {what}"
+        change = contact_forces(seat, external_wrench(seat, picked, moment)).value
+        assert change is not None  # the same matrix as the seated solve
+        sources.append((name, (-change / k)[:, None], percent / 100.0))
+    return sources, None
+
+
 class PoseError(Check):
     """Monte Carlo of the seated pose error at a point from manufacturing tolerances."""
 
@@ -168,6 +237,10 @@ class PoseError(Check):
     )
     options = PoseErrorOptions
     default_selected = False  # opt-in: runs where a scene, the configuration or --select asks
+
+    def needs_mass_for(self, scene: Scene) -> bool:
+        """The weight and the centre of mass, when there is a body (for load and mass)."""
+        return scene.body is not None
 
     def skip_reason(self, scene: Scene) -> str | None:
         """Spatial, six contacts."""
@@ -226,6 +299,10 @@ class PoseError(Check):
                 ),
             )
         sources = sensitivities(scene, opts)
+        extra, why = load_sensitivities(scene, inputs.mass, opts)
+        if why is not None:
+            return CheckResult(self.id, Status.SKIPPED, f"not checked, because {why}")
+        sources += extra
         if not sources:
             return CheckResult(
                 self.id,

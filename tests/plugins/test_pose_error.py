@@ -22,7 +22,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from kcheck_checks.pose_error import PoseError, PoseErrorOptions, sensitivities
+from kcheck_checks.pose_error import (
+    PoseError,
+    PoseErrorOptions,
+    load_sensitivities,
+    sensitivities,
+)
 from scipy.optimize import least_squares
 from scipy.spatial.transform import Rotation
 from scipy.stats import norm
@@ -286,3 +291,45 @@ def test_check_says_what_is_missing(tmp_path):
     assert nothing.status is Status.SKIPPED and "no tolerance" in nothing.message
     bad = _run(scene, point=POINT_MM, groups=[{"name": "x", "couplings": ["nope"]}])
     assert bad.status is Status.SKIPPED and "nope" in bad.message
+
+
+def test_load_tolerance_sinks_a_three_vee_by_the_hertz_closed_form(tmp_path):
+    """A three-vee under a central vertical load F: each of the six contacts carries
+    N0 = F / (6 cos b); a ball on a flat has k = dN/d(approach) = 2 E* a with
+    a = (3 N0 r / (4 E*))^(1/3) (Johnson §4.2, circular contact); one per cent more load sinks
+    every contact by 0.01 N0 / k, the body straight down by that over cos b, without turning.
+    52100 on 52100: E = 210 GPa, nu = 0.30 (docs/materials.md)."""
+    force = 100.0
+    load = {"point": [0, 0, 0], "magnitude": force, "direction": [0, 0, -1]}
+    scene = coupling_scene(
+        tmp_path, three_vee(R, BALL, HALF), {"load": load, "checks": {"pose-error": {}}}
+    )
+    opts = PoseErrorOptions(load_percent=1.0, ball_material="52100", seat_material="52100")
+    sources, why = load_sensitivities(scene, None, opts)
+    assert why is None and [s[0] for s in sources] == ["load"]
+    _, matrix, tol = sources[0]
+    e_star = 210e9 / (2 * (1 - 0.30**2))
+    cos_b = np.cos(np.radians(HALF))
+    n0 = force / (6 * cos_b)
+    k = 2 * e_star * np.cbrt(3 * n0 * BALL / (4 * e_star))
+    p, n = _arrays(scene)
+    trans, rot = pose_errors(pose_map(p, n, np.array([0.01, 0.02, 0.03])), tol * matrix.T)
+    np.testing.assert_allclose(trans[0], [0, 0, -0.01 * n0 / (k * cos_b)], rtol=1e-9, atol=1e-18)
+    np.testing.assert_allclose(rot[0], 0.0, atol=1e-15)
+    result = _run(scene, point=[0, 0, 0], **opts.model_dump(exclude_defaults=True))
+    assert result.status is Status.SKIPPED and "load" in result.details["sources"]
+    # |translation| = |z| ~ |N(0, s^2)|: its mean is s sqrt(2 / pi) (within the CLT bounds)
+    s = 0.01 * n0 / (k * cos_b) / 1e-6
+    lo, hi = result.details["translation_um"]["mean_bounds"]
+    assert lo <= s * np.sqrt(2 / np.pi) <= hi
+
+
+def test_load_tolerance_needs_materials(tmp_path):
+    load = {"point": [0, 0, 0], "magnitude": 100.0, "direction": [0, 0, -1]}
+    scene = coupling_scene(tmp_path, three_vee(R, BALL, HALF), {"load": load})
+    result = _run(scene, point=[0, 0, 0], load_percent=1.0)
+    assert result.status is Status.SKIPPED and "material" in result.message
+    no_weight = _run(
+        scene, point=[0, 0, 0], mass_percent=1.0, ball_material="52100", seat_material="52100"
+    )
+    assert no_weight.status is Status.SKIPPED and "weight" in no_weight.message
