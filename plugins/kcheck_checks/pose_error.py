@@ -67,7 +67,8 @@ class PoseErrorOptions(Options):
     seat_angle_urad: float = Field(
         0.0, ge=0, description="Seat rotation about its root (vee) or apex, per axis (µrad)"
     )
-    groups: list[PoseGroup] = Field(default_factory=list, description="Correlated seat groups")
+    # pydantic copies mutable defaults per instance (and `kcheck plugins` shows this one)
+    groups: list[PoseGroup] = Field([], description="Correlated seat groups")
     load_percent: float = Field(
         0.0,
         ge=0,
@@ -233,7 +234,8 @@ class PoseError(Check):
         "(balls, seats, correlated groups): mean, spread and a quantile with Monte Carlo bounds"
     )
     applies_to = (
-        "spatial scenes of six contacts whose `checks:` give `pose-error:` options (opt-in)"
+        "spatial scenes of six contacts; opt-in: where the scene's `checks:` or the "
+        "configuration give `pose-error` options, or `--select` names it"
     )
     options = PoseErrorOptions
     default_selected = False  # opt-in: runs where a scene, the configuration or --select asks
