@@ -333,3 +333,19 @@ def test_load_tolerance_needs_materials(tmp_path):
         scene, point=[0, 0, 0], mass_percent=1.0, ball_material="52100", seat_material="52100"
     )
     assert no_weight.status is Status.SKIPPED and "weight" in no_weight.message
+
+
+def test_select_names_an_opt_in_check_on_the_command_line(tmp_path):
+    import json
+    import subprocess
+    import sys
+
+    plain = _kelvin_fixture(tmp_path)
+    args = [sys.executable, "-m", "kcheck", "check", str(plain), "--format", "json", "-j", "1"]
+
+    def ids(*extra: str) -> list[str]:
+        run = subprocess.run([*args, *extra], capture_output=True, text=True, timeout=120)
+        return [c["id"] for c in json.loads(run.stdout)["scenes"][0]["checks"]]
+
+    assert "pose-error" not in ids()
+    assert ids("--select", "pose-error") == ["pose-error"]
