@@ -41,6 +41,7 @@ __all__ = [
     "pose_map",
     "pose_errors",
     "draw",
+    "sobol_draws",
     "mean_bounds",
     "quantile_bounds",
 ]
@@ -135,6 +136,26 @@ def draw(rng: np.random.Generator, count: int, scale: np.ndarray, distribution: 
         return rng.standard_normal((count, len(s))) * s
     if distribution == "uniform":
         return rng.uniform(-1.0, 1.0, (count, len(s))) * s
+    raise ValueError(f"unknown distribution {distribution!r}")
+
+
+def sobol_draws(
+    seed: int, count: int, scale: np.ndarray, distribution: str
+) -> tuple[np.ndarray, int]:
+    """Quasi-random draws like :func:`draw` from one scrambled Sobol sequence over all
+    ``len(scale)`` dimensions (seeded): ``count`` rounded up to a power of two (Sobol's
+    balance), returned with the count used."""
+    from scipy.stats import norm, qmc
+
+    s = np.asarray(scale, float)
+    m = max(int(np.ceil(np.log2(max(count, 2)))), 1)
+    u = qmc.Sobol(len(s), scramble=True, seed=seed).random_base2(m)
+    if distribution == "normal":
+        # scrambled points are never exactly 0 or 1, but keep ppf finite regardless
+        tiny = np.finfo(float).tiny
+        return norm.ppf(np.clip(u, tiny, 1.0 - np.finfo(float).eps)) * s, len(u)
+    if distribution == "uniform":
+        return (2.0 * u - 1.0) * s, len(u)
     raise ValueError(f"unknown distribution {distribution!r}")
 
 

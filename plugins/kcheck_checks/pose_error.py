@@ -86,6 +86,11 @@ class PoseErrorOptions(Options):
         None, description="Every seat's material the scene gives none for (load and mass)"
     )
     samples: int = Field(100_000, ge=100, le=10_000_000, description="Monte Carlo samples")
+    sampler: Literal["random", "sobol"] = Field(
+        "random",
+        description="random: independent draws; sobol: scrambled Sobol points (samples rounded "
+        "up to a power of two; the bounds are those of independent draws)",
+    )
     seed: int = Field(0, ge=0, description="Seed of the random numbers (results repeat)")
     quantile: float = Field(0.95, gt=0.0, lt=1.0, description="Quantile reported and judged")
     confidence: float = Field(0.95, gt=0.5, lt=1.0, description="Confidence of the bounds")
@@ -257,7 +262,13 @@ class PoseError(Check):
 
     def run(self, inputs: Inputs) -> CheckResult:
         """Draw the errors, map them to the pose at the point, summarise with bounds."""
-        from kcheck.mechanics.pose_error import draw, mean_bounds, pose_map, quantile_bounds
+        from kcheck.mechanics.pose_error import (
+            draw,
+            mean_bounds,
+            pose_map,
+            quantile_bounds,
+            sobol_draws,
+        )
 
         scene, opts = inputs.scene, inputs.options
         assert isinstance(opts, PoseErrorOptions)
@@ -313,11 +324,13 @@ class PoseError(Check):
                 "`seat_position_um` or `groups` in `checks: {pose-error: ...}`)",
                 details={"condition": pose.condition},
             )
-        rng = np.random.default_rng(opts.seed)
-        separations = np.zeros((opts.samples, len(p)))
-        for _, matrix, tol in sources:
-            x = draw(rng, opts.samples, np.full(matrix.shape[1], tol), opts.distribution)
-            separations += np.einsum("sm,km->sk", x, matrix)
+        scale = np.concatenate([np.full(m.shape[1], tol) for _, m, tol in sources])
+        if opts.sampler == "sobol":
+            x, samples = sobol_draws(opts.seed, opts.samples, scale, opts.distribution)
+        else:
+            samples = opts.samples
+            x = draw(np.random.default_rng(opts.seed), samples, scale, opts.distribution)
+        separations = np.einsum("sm,km->sk", x, np.hstack([m for _, m, _ in sources]))
         from kcheck.mechanics.pose_error import pose_errors
 
         trans, rot = pose_errors(pose, separations)
@@ -341,7 +354,8 @@ class PoseError(Check):
         # Each source's share: the same map on its own (exact for independent sources).
         details: dict[str, Any] = {
             "point": [float(v) for v in opts.point],
-            "samples": opts.samples,
+            "samples": samples,
+            "sampler": opts.sampler,
             "seed": opts.seed,
             "distribution": opts.distribution,
             "quantile": opts.quantile,
@@ -364,7 +378,7 @@ class PoseError(Check):
             f"at {_point_text(opts.point, scene.units)}: translation {qname} quantile "
             f"{num(t['quantile'])} µm ({t_bounds}), mean {num(t['mean'])} ± {num(t['std'])} µm; "
             f"rotation {qname} quantile {num(r['quantile'])} µrad ({r_bounds}), mean "
-            f"{num(r['mean'])} ± {num(r['std'])} µrad ({opts.samples} samples, "
+            f"{num(r['mean'])} ± {num(r['std'])} µrad ({samples} samples, "
             f"{format_number(100 * opts.confidence)}% bounds)"
         ]
         # The numbers' error is the Monte Carlo's: the quantile bounds' half-width (µm).
