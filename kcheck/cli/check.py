@@ -341,6 +341,7 @@ def _check(args: argparse.Namespace, temporary: list[Path]) -> int:
                 severities=plan.severities,
                 check_options=plan.options,
                 selected=plan.selected,
+                named=plan.named,
                 cache_dir=cache_folder(config),
                 jobs=config["jobs"] or _cores(),
                 timeout_s=config["timeout"],
