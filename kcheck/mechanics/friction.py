@@ -203,8 +203,8 @@ def root_errors(a0: np.ndarray, a1: np.ndarray, roots: np.ndarray) -> np.ndarray
             rows = np.sum(np.log(np.sqrt(np.sum(m * m, axis=-1))), axis=-1)
             return sign * np.exp(logdet - rows)
 
-    slope = np.abs(normalised(roots + step) - normalised(roots - step)) / (2.0 * step)
-    with np.errstate(all="ignore"):
+    with np.errstate(all="ignore"):  # extreme scales overflow to a non-finite slope: no bound
+        slope = np.abs(normalised(roots + step) - normalised(roots - step)) / (2.0 * step)
         out = np.where(slope > 0, bound / slope, np.maximum(1.0, np.abs(roots)))
     return np.where(np.isfinite(roots), np.minimum(out, np.maximum(1.0, np.abs(roots))), np.nan)
 

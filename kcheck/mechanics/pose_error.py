@@ -32,6 +32,7 @@ import numpy as np
 from kcheck.mechanics.dynamics import ILL_CONDITIONED, solve_affine
 from kcheck.mechanics.kinematics import wrenches
 from kcheck.mechanics.seat import seat_layout
+from kcheck.numerics.thresholds import EPS, TINY
 
 __all__ = [
     "PoseMap",
@@ -152,8 +153,7 @@ def sobol_draws(
     u = qmc.Sobol(len(s), scramble=True, seed=seed).random_base2(m)
     if distribution == "normal":
         # scrambled points are never exactly 0 or 1, but keep ppf finite regardless
-        tiny = np.finfo(float).tiny
-        return norm.ppf(np.clip(u, tiny, 1.0 - np.finfo(float).eps)) * s, len(u)
+        return norm.ppf(np.clip(u, TINY, 1.0 - EPS)) * s, len(u)
     if distribution == "uniform":
         return (2.0 * u - 1.0) * s, len(u)
     raise ValueError(f"unknown distribution {distribution!r}")

@@ -237,8 +237,8 @@ SAME_POINT_RTOL: float = 1e-9
 #: this fraction of the sampling step (nondimensional; a 5 mm step: 5 µm) ...
 POLISH_XTOL: float = 1e-3
 
-#: ... and its margins agree to this (rad, 6e-4°): two orders below the 0.05° the search
-#: promises against an exhaustive reference (docs/suggest.md).
+#: ... and its margins agree to this (rad) (1e-5 rad is 6e-4°): two orders below the 0.05°
+#: the search promises against an exhaustive reference (docs/suggest.md).
 POLISH_FTOL: float = 1e-5
 
 # --- cones and linear programmes ---------------------------------------------------------------
