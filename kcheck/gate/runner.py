@@ -182,8 +182,11 @@ def check_scene(
     allow_outside: bool = False,
     plots: Path | None = None,
     settings: Settings | None = None,
+    load: Callable[[], Scene] | None = None,
 ) -> SceneResult:
-    """Load one scene and run every check on it; bad input becomes an error result."""
+    """Load one scene and run every check on it; bad input becomes an error result.
+    ``load`` builds the scene instead of reading ``path`` (a study's variant,
+    :mod:`kcheck.gate.study`); its errors are the scene's, as the file's would be."""
     from kcheck.gate.cache import body_mass_properties_cached
     from kcheck.gate.config import did_you_mean
 
@@ -196,7 +199,11 @@ def check_scene(
             if settings.max_file_bytes is None
             else dataclasses.replace(DEFAULT_LIMITS, max_bytes=settings.max_file_bytes)
         )
-        scene = load_scene(path, allow_outside=settings.allow_outside, limits=limits)
+        scene = (
+            load_scene(path, allow_outside=settings.allow_outside, limits=limits)
+            if load is None
+            else load()
+        )
         known = {lc.spec.name for lc in checks}
         for check_id in scene.check_options:
             if check_id not in known:
