@@ -105,7 +105,7 @@ def run(args: argparse.Namespace) -> int:
                 f"installed check; installed: {', '.join(sorted(known))}"
             )
     selected = None if study.checks is None else frozenset(study.checks)
-    settings = Settings(selected=selected, allow_outside=True)
+    settings = Settings(selected=selected, allow_outside=True, memo_mass=True)
     check_ids = [c.spec.name for c in checks if selected is None or c.spec.name in selected]
     client = None
     if args.dask_local is not None or args.scheduler is not None:

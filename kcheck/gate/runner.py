@@ -48,6 +48,7 @@ class Settings:
     mass-property cache (None: no cache). ``jobs`` is the number of worker processes (0: run
     in this process), each scene limited to ``timeout_s`` seconds and ``memory_bytes`` of
     address space (None: no limit; limits need workers).
+    ``memo_mass`` keeps mass properties in this process's memory (a study's variants).
     ``max_file_bytes`` is the largest scene file read (configuration ``max_file_size``),
     ``max_mesh_bytes`` the largest mesh file (``max_mesh_size``); None: the defaults.
     """
@@ -64,6 +65,7 @@ class Settings:
     max_file_bytes: int | None = None
     max_mesh_bytes: int | None = None
     plot_formats: tuple[str, ...] = ("png",)
+    memo_mass: bool = False
 
 
 def discover(
@@ -230,7 +232,11 @@ def check_scene(
                 )
             try:
                 mass = body_mass_properties_cached(
-                    scene.body, scene.scale, settings.cache_dir, settings.max_mesh_bytes
+                    scene.body,
+                    scene.scale,
+                    settings.cache_dir,
+                    settings.max_mesh_bytes,
+                    memo=settings.memo_mass,
                 )
             except SceneError as exc:
                 where = exc.where or ("body",)

@@ -272,7 +272,7 @@ def _dask_chunk(
     key = selected or ()
     if key not in _WORKER_CHECKS:
         _WORKER_CHECKS[key] = load_checks()
-    settings = Settings(selected=None if selected is None else frozenset(selected))
+    settings = Settings(selected=None if selected is None else frozenset(selected), memo_mass=True)
     return run_variants(study, _WORKER_CHECKS[key], settings, start, stop)
 
 
