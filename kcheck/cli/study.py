@@ -38,6 +38,13 @@ def add_parser(sub: Any) -> None:
     where.add_argument(
         "--scheduler", metavar="ADDRESS", help="an existing Dask scheduler (tcp://HOST:8786)"
     )
+    p.add_argument(
+        "--plots",
+        type=Path,
+        metavar="DIR",
+        help="write pictures there: each figure against each parameter, and the pass map of "
+        "the first two parameters (needs kcheck[plot])",
+    )
     p.add_argument("--limit-chunks", type=int, help=argparse.SUPPRESS)  # tests: stop early
     p.set_defaults(handler=run)
 
@@ -141,8 +148,18 @@ def run(args: argparse.Namespace) -> int:
             f"kcheck: stopped before the end; run again to resume ({n} variants)", file=sys.stderr
         )
         return ExitCode.USAGE_OR_INPUT
-    summary = engine.summarise(study, engine.read_table(output))
+    table = engine.read_table(output)
+    summary = engine.summarise(study, table)
     print(_summary_text(study, summary, output))
+    if args.plots is not None:
+        try:
+            from kcheck.pictures.study import draw_study
+        except ImportError as exc:
+            return fail(f"pictures need the plot extra: pip install 'kcheck[plot]' ({exc})")
+        title = args.study.name.removesuffix(".kcheck-study.yaml")
+        names = [p.name for p in study.parameters]
+        for path in draw_study(title, table, names, study.figures, args.plots):
+            print(f"picture: {path}")
     return ExitCode.OK
 
 

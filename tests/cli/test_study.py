@@ -86,6 +86,11 @@ def test_worked_example_traces_limiting_friction(cli, tmp_path):
         passed = np.array(table["status"])[beta == b] == "pass"
         np.testing.assert_array_equal(passed, mu[beta == b] < expected)
     assert "pass: 38/42" in stdout
+    # docs/study.md shows this run: its summary lines are what the command prints.
+    doc = (FIXTURES.parent / "docs" / "study.md").read_text(encoding="utf-8")
+    block = doc.split("$ kcheck study fixtures/three-vee-study.kcheck-study.yaml")[1]
+    shown = block.split("```")[0].strip().splitlines()[2:]
+    assert shown == stdout.strip().splitlines()[1:]
 
 
 def test_example_is_not_a_scene():
@@ -210,6 +215,49 @@ def test_dask_local_cluster_gives_the_same_table(cli, tmp_path):
     code, _, err = cli("study", str(study), "-o", str(b), "--dask-local", "2")
     assert code == 0, err
     assert engine.read_table(a) == engine.read_table(b)
+
+
+def test_pictures_are_drawn(cli, tmp_path):
+    pytest.importorskip("matplotlib")
+    study = _write(tmp_path, SMALL)
+    code, stdout, _ = cli(
+        "study", str(study), "-o", str(tmp_path / "a.csv"), "--plots", str(tmp_path / "pics")
+    )
+    assert code == 0
+    names = sorted(p.name for p in (tmp_path / "pics").iterdir())
+    assert "study-pass-map-beta-mu.png" in names
+    assert "study-analytical-3d-design-margin-deg.png" in names
+    assert all((tmp_path / "pics" / n).read_bytes()[:4] == b"\x89PNG" for n in names)
+
+
+def test_sigint_loses_no_written_row(tmp_path):
+    """A real interruption: SIGINT once two chunks are written; the re-run completes the
+    table, identical to an uninterrupted one."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    study = _write(
+        tmp_path, SMALL.replace("samples: 10", "samples: 40").replace("chunk: 3", "chunk: 1")
+    )
+    whole, part = tmp_path / "whole.csv", tmp_path / "part.csv"
+    cmd = [sys.executable, "-m", "kcheck", "study", str(study), "-o"]
+    parts = part.with_name(part.name + ".parts")
+    proc = subprocess.Popen([*cmd, str(part)], stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while len(list(parts.glob("chunk-*.csv"))) < 2 and proc.poll() is None:
+        assert time.monotonic() < deadline
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130 and "interrupted" in err, err
+    written = len(list(parts.glob("chunk-*.csv")))
+    assert 2 <= written < 40 and not part.exists()
+    assert not list(parts.glob("*.tmp"))
+    assert subprocess.run([*cmd, str(part)], capture_output=True).returncode == 0
+    assert subprocess.run([*cmd, str(whole)], capture_output=True).returncode == 0
+    assert engine.read_table(part) == engine.read_table(whole)
 
 
 def test_designs_are_reproducible_and_cover_the_cube():
