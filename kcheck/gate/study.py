@@ -94,9 +94,11 @@ def run_variants(
     start: int,
     stop: int,
     values: list[np.ndarray] | None = None,
+    offset: int = 0,
 ) -> list[dict[str, Any]]:
     """The rows of variants ``start`` to ``stop``: each checked as ``kcheck check`` checks a
-    scene (a variant the scene reader or a check refuses is a row with its error)."""
+    scene (a variant the scene reader or a check refuses is a row with its error).
+    ``values``: the parameters' columns from variant ``offset`` on (default: the study's)."""
     from kcheck.scene.load import scene_from_document
 
     columns_ = study.values() if values is None else values
@@ -105,7 +107,7 @@ def run_variants(
     ]
     rows = []
     for i in range(start, stop):
-        v = [col[i] for col in columns_]
+        v = [col[i - offset] for col in columns_]
         doc = variant_document(study, v)
 
         def load(doc: Any = doc) -> Any:
@@ -264,7 +266,11 @@ _WORKER_CHECKS: dict[tuple[str, ...], list[LoadedCheck]] = {}
 
 
 def _dask_chunk(
-    study: Study, selected: tuple[str, ...] | None, start: int, stop: int
+    study: Study,
+    selected: tuple[str, ...] | None,
+    start: int,
+    stop: int,
+    values: list[np.ndarray],
 ) -> list[dict[str, Any]]:
     """One chunk on a Dask worker: the checks are loaded there, once per worker."""
     from kcheck.plugin import load_checks
@@ -273,13 +279,20 @@ def _dask_chunk(
     if key not in _WORKER_CHECKS:
         _WORKER_CHECKS[key] = load_checks()
     settings = Settings(selected=None if selected is None else frozenset(selected), memo_mass=True)
-    return run_variants(study, _WORKER_CHECKS[key], settings, start, stop)
+    return run_variants(study, _WORKER_CHECKS[key], settings, start, stop, values, start)
 
 
 def dask_executor(study: Study, settings: Settings, client: Any, window: int) -> Executor:
     """Chunks on a Dask cluster (``client``: a ``distributed.Client``), at most ``window``
     in flight, results in chunk order."""
     selected = None if settings.selected is None else tuple(sorted(settings.selected))
+
+    values = study.values()
+
+    def submit(chunk: Chunk, study_future: Any) -> Any:
+        start, stop = chunk
+        mine = [col[start:stop] for col in values]  # each task carries its own values
+        return client.submit(_dask_chunk, study_future, selected, start, stop, mine, pure=False)
 
     def run(chunks: list[Chunk]) -> Iterator[list[dict[str, Any]]]:
         from collections import deque
@@ -288,14 +301,14 @@ def dask_executor(study: Study, settings: Settings, client: Any, window: int) ->
         queue: deque[Any] = deque()
         todo = iter(chunks)
         for chunk in todo:
-            queue.append(client.submit(_dask_chunk, study_future, selected, *chunk, pure=False))
+            queue.append(submit(chunk, study_future))
             if len(queue) >= window:
                 break
         while queue:
             yield queue.popleft().result()
             nxt = next(todo, None)
             if nxt is not None:
-                queue.append(client.submit(_dask_chunk, study_future, selected, *nxt, pure=False))
+                queue.append(submit(nxt, study_future))
 
     return run
 
