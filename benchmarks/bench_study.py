@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -70,8 +71,16 @@ def _tree_rss_mb(pid: int) -> float:
     return total / 1024
 
 
-def run(n: int, executor: list[str], chunk: int, folder: Path) -> tuple[float, list[float]]:
-    """Wall time of one study and the tree's RSS at each quarter of the variants."""
+def _children_cpu_s() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def run(n: int, executor: list[str], chunk: int, folder: Path) -> tuple[float, list[float], float]:
+    """Wall time of one study, the tree's memory at each quarter of the variants, and the
+    CPU seconds of kcheck and every worker it waited for (independent of the machine's
+    load, unlike the wall time)."""
+    cpu = _children_cpu_s()
     study = folder / f"bench-{n}.kcheck-study.yaml"
     study.write_text(STUDY.format(scene=SCENE, n=n, chunk=chunk), encoding="utf-8")
     out = folder / f"bench-{n}-{'-'.join(executor) or 'serial'}.parquet"
@@ -89,7 +98,7 @@ def run(n: int, executor: list[str], chunk: int, folder: Path) -> tuple[float, l
         peaks[quarter] = max(peaks[quarter], _tree_rss_mb(proc.pid))
         time.sleep(0.2)
     assert proc.returncode == 0, proc.returncode
-    return time.perf_counter() - start, peaks
+    return time.perf_counter() - start, peaks, _children_cpu_s() - cpu
 
 
 def main() -> None:
@@ -102,12 +111,18 @@ def main() -> None:
     print(f"load average before: {os.getloadavg()}")
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
-        wall, peaks = run(args.variants, ["-j", str(args.jobs)], args.chunk, folder)
+        wall, peaks, cpu = run(args.variants, ["-j", str(args.jobs)], args.chunk, folder)
         rate = args.variants / wall
         print(
             f"{args.variants} variants, -j {args.jobs}: {wall:.1f} s, {rate:.1f} variants/s, "
             f"{1000 * wall / args.variants:.2f} ms per variant; 100,000 would take "
             f"{100_000 / rate / 60:.1f} min at this rate"
+        )
+        per = cpu / args.variants
+        print(
+            f"CPU time {cpu:.1f} s = {1000 * per:.1f} ms per variant (start-up included): on "
+            f"{os.cpu_count()} idle cores 100,000 would take about "
+            f"{100_000 * per / (os.cpu_count() or 1) / 60:.1f} min"
         )
         print(
             "memory (PSS) of kcheck and its workers by quarter of the run (MB): "
@@ -116,7 +131,7 @@ def main() -> None:
         if args.dask:
             walls = {}
             for workers in (1, 2):
-                walls[workers], _ = run(
+                walls[workers], _, _ = run(
                     args.dask, ["--dask-local", str(workers)], args.chunk, folder
                 )
                 print(

@@ -45,6 +45,12 @@ def add_parser(sub: Any) -> None:
         help="write pictures there: each figure against each parameter, and the pass map of "
         "the first two parameters (needs kcheck[plot])",
     )
+    p.add_argument(
+        "--html",
+        type=Path,
+        metavar="FILE",
+        help="write the summary, best variant, sensitivity and pictures as an HTML page",
+    )
     p.add_argument("--limit-chunks", type=int, help=argparse.SUPPRESS)  # tests: stop early
     p.set_defaults(handler=run)
 
@@ -150,16 +156,27 @@ def run(args: argparse.Namespace) -> int:
         return ExitCode.USAGE_OR_INPUT
     table = engine.read_table(output)
     summary = engine.summarise(study, table)
-    print(_summary_text(study, summary, output))
+    text = _summary_text(study, summary, output)
+    print(text)
+    pictures: list[Path] = []
+    title = args.study.name.removesuffix(".kcheck-study.yaml")
     if args.plots is not None:
         try:
             from kcheck.pictures.study import draw_study
         except ImportError as exc:
             return fail(f"pictures need the plot extra: pip install 'kcheck[plot]' ({exc})")
-        title = args.study.name.removesuffix(".kcheck-study.yaml")
         names = [p.name for p in study.parameters]
-        for path in draw_study(title, table, names, study.figures, args.plots):
+        pictures = draw_study(title, table, names, study.figures, args.plots)
+        for path in pictures:
             print(f"picture: {path}")
+    if args.html is not None:
+        from kcheck.cli.common import write_text
+        from kcheck.report.study import render_study_page
+
+        page = render_study_page(
+            title, text.splitlines(), summary.best, summary.sensitivity, pictures
+        )
+        write_text(page, args.html, "--html")
     return ExitCode.OK
 
 

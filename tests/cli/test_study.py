@@ -220,10 +220,21 @@ def test_dask_local_cluster_gives_the_same_table(cli, tmp_path):
 def test_pictures_are_drawn(cli, tmp_path):
     pytest.importorskip("matplotlib")
     study = _write(tmp_path, SMALL)
+    page = tmp_path / "study.html"
     code, stdout, _ = cli(
-        "study", str(study), "-o", str(tmp_path / "a.csv"), "--plots", str(tmp_path / "pics")
+        "study",
+        str(study),
+        "-o",
+        str(tmp_path / "a.csv"),
+        "--plots",
+        str(tmp_path / "pics"),
+        "--html",
+        str(page),
     )
     assert code == 0
+    html = page.read_text(encoding="utf-8")
+    assert stdout.splitlines()[1] in html  # the pass line, as printed
+    assert html.count("data:image/png;base64,") == len(list((tmp_path / "pics").iterdir()))
     names = sorted(p.name for p in (tmp_path / "pics").iterdir())
     assert "study-pass-map-beta-mu.png" in names
     assert "study-analytical-3d-design-margin-deg.png" in names
