@@ -22,7 +22,11 @@ def add_parser(sub: Any) -> None:
         "check every variant as `kcheck check` does, write one row per variant to a Parquet "
         "or CSV table and print a summary. An interrupted study resumes from its written rows.",
     )
-    p.add_argument("study", type=Path, help="a study file (*.kcheck-study.yaml)")
+    p.add_argument(
+        "study",
+        type=Path,
+        help="a study file (*.kcheck-study.yaml), or a folder holding exactly one",
+    )
     p.add_argument(
         "-o",
         "--output",
@@ -55,6 +59,17 @@ def add_parser(sub: Any) -> None:
     p.set_defaults(handler=run)
 
 
+def _studies(folder: Path) -> list[Path]:
+    """Study files under a folder, in sorted order, passing over hidden folders."""
+    from kcheck.scene.study import STUDY_SUFFIX
+
+    return sorted(
+        p
+        for p in folder.rglob(f"*{STUDY_SUFFIX}")
+        if not any(part.startswith(".") for part in p.relative_to(folder).parts[:-1])
+    )
+
+
 def _output(args: argparse.Namespace) -> Path:
     if args.output is not None:
         return Path(args.output)
@@ -83,6 +98,15 @@ def run(args: argparse.Namespace) -> int:
     from kcheck.plugin import load_checks
     from kcheck.scene.study import load_study
 
+    if args.study.is_dir():
+        found = _studies(args.study)
+        if len(found) != 1:
+            listed = "".join(f"\n  {f}" for f in found)
+            return fail(
+                f"{args.study}: expected one study file (*.kcheck-study.yaml) in the folder, "
+                f"found {len(found)}{'; name one:' if found else ''}{listed}"
+            )
+        args.study = found[0]
     output = _output(args)
     if output.suffix not in (".parquet", ".csv"):
         return fail(f"--output {output}: expected a .parquet or .csv file")

@@ -291,3 +291,13 @@ def test_checks_are_known(cli, tmp_path):
     code, _, err = cli("study", str(study), "-o", str(tmp_path / "x.csv"))
     assert code == 2 and "analytical-4d" in err and ":8:" in err
     assert load_checks()  # the installed checks were listed
+
+
+def test_a_folder_names_its_one_study(cli, tmp_path):
+    (tmp_path / "one").mkdir()
+    study = _write(tmp_path / "one", SMALL)
+    code, stdout, _ = cli("study", str(tmp_path / "one"), "-o", str(tmp_path / "a.csv"))
+    assert code == 0 and "10 variants" in stdout
+    _write(tmp_path / "one", SMALL, "t.kcheck-study.yaml")
+    code, _, err = cli("study", str(tmp_path / "one"), "-o", str(tmp_path / "b.csv"))
+    assert code == 2 and "found 2" in err and str(study) in err
