@@ -175,7 +175,9 @@ def run(args: argparse.Namespace) -> int:
         print(file=sys.stderr)
     if not complete:
         print(
-            f"kcheck: stopped before the end; run again to resume ({n} variants)", file=sys.stderr
+            "kcheck: the table is incomplete (stopped, or a worker was killed); "
+            f"run again to resume ({n} variants)",
+            file=sys.stderr,
         )
         return ExitCode.USAGE_OR_INPUT
     table = engine.read_table(output)

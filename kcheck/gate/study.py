@@ -122,11 +122,14 @@ def run_variants(
 
 
 def fingerprint(study: Study, check_ids: Sequence[str]) -> str:
-    """What a table's rows depend on: the study and scene files' bytes and the checks run."""
+    """What a table's rows depend on: the study and scene files' bytes, the checks run, the
+    chunk size and kcheck's version."""
+    from kcheck import __version__
+
     h = hashlib.sha256()
     for path in (study.path, study.scene_path):
         h.update(path.read_bytes())
-    h.update(json.dumps([list(check_ids), study.chunk]).encode())
+    h.update(json.dumps([list(check_ids), study.chunk, __version__]).encode())
     return h.hexdigest()[:16]
 
 
@@ -205,14 +208,17 @@ def _cell(text: str) -> Any:
 
 
 Chunk = tuple[int, int]
-Executor = Callable[[list[Chunk]], Iterator[list[dict[str, Any]]]]
+#: Runs chunks, yielding each one's rows in chunk order (None: the chunk's worker died; the
+#: chunk is left unwritten, to be run again when the study resumes).
+Executor = Callable[[list[Chunk]], Iterator[list[dict[str, Any]] | None]]
 
 
 def local_executor(
     study: Study, checks: Sequence[LoadedCheck], settings: Settings, jobs: int
 ) -> Executor:
     """Chunks in this process (``jobs`` 0) or in ``jobs`` forked worker processes
-    (:mod:`kcheck.gate.pool`); a chunk whose worker died is rows with that error."""
+    (:mod:`kcheck.gate.pool`): a chunk whose worker crashed or ran out of a budget is rows
+    with that error; one whose worker was killed is left unwritten, for the resume."""
     from kcheck.gate import pool
 
     values = study.values()
@@ -220,7 +226,7 @@ def local_executor(
     def work(chunk: Chunk) -> list[dict[str, Any]]:
         return run_variants(study, checks, settings, *chunk, values=values)
 
-    def run(chunks: list[Chunk]) -> Iterator[list[dict[str, Any]]]:
+    def run(chunks: list[Chunk]) -> Iterator[list[dict[str, Any]] | None]:
         if jobs < 1 or not pool.available():
             yield from map(work, chunks)
             return
@@ -228,7 +234,9 @@ def local_executor(
         for chunk, out in zip(
             chunks, pool.run_in_workers(chunks, work, jobs=jobs, budget=budget), strict=True
         ):
-            if isinstance(out, pool.BudgetExceeded):
+            if isinstance(out, pool.BudgetExceeded) and out.kind == "died":
+                yield None  # killed from outside, not the variants' doing: retried on resume
+            elif isinstance(out, pool.BudgetExceeded):
                 yield _failed_chunk(
                     study,
                     checks,
@@ -294,7 +302,7 @@ def dask_executor(study: Study, settings: Settings, client: Any, window: int) ->
         mine = [col[start:stop] for col in values]  # each task carries its own values
         return client.submit(_dask_chunk, study_future, selected, start, stop, mine, pure=False)
 
-    def run(chunks: list[Chunk]) -> Iterator[list[dict[str, Any]]]:
+    def run(chunks: list[Chunk]) -> Iterator[list[dict[str, Any]] | None]:
         from collections import deque
 
         study_future = client.scatter(study, broadcast=True)
@@ -357,6 +365,8 @@ def run_study(
         todo = todo[:limit]
     done = n - sum(chunks[i][1] - chunks[i][0] for i in range(len(chunks)) if not part[i].exists())
     for i, rows in zip(todo, executor([chunks[i] for i in todo]), strict=False):
+        if rows is None:
+            continue
         _write_part(rows, cols, part[i])
         done += len(rows)
         if progress is not None:

@@ -170,6 +170,44 @@ def test_failing_variant_is_a_row_with_its_error(tmp_path):
     assert "boom" in rows[1]["error"] and rows[0]["error"] is None
 
 
+class _Dies(_Crashes):
+    """Kills its worker process (as a kill -9 from outside would) for friction above 0.2."""
+
+    def run(self, inputs):
+        if inputs.scene.supports[0].friction > 0.2:
+            import os
+
+            os._exit(9)
+        return CheckResult(self.id, Status.PASS, "ok")
+
+
+def test_killed_worker_loses_no_written_row(tmp_path):
+    """The chunk whose worker was killed is not written (nor made rows of errors): the other
+    chunks are, the study reports itself incomplete, and a re-run retries only that chunk."""
+    from importlib.metadata import EntryPoint
+
+    study = load_study(
+        _write(
+            tmp_path,
+            """\
+        version: 1
+        scene: SCENE
+        parameters: [{path: friction, values: [0.1, 0.15, 0.3, 0.12, 0.18]}]
+        figures: [crashes.limiting_friction]
+        chunk: 2
+        """,
+        )
+    )
+    spec = CheckSpec("test", "0", EntryPoint("crashes", "x:y", "kcheck.checks"))
+    checks = [LoadedCheck(spec, _Dies())]
+    out = tmp_path / "t.csv"
+    executor = engine.local_executor(study, checks, Settings(), jobs=1)
+    assert not engine.run_study(study, ["crashes"], out, executor)
+    written = sorted(p.name for p in (tmp_path / "t.csv.parts").glob("chunk-*"))
+    assert written == ["chunk-0000000.csv", "chunk-0000002.csv"]  # chunk 1 holds μ = 0.3
+    assert not out.exists()
+
+
 SMALL = """\
     version: 1
     scene: SCENE
