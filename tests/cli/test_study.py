@@ -339,3 +339,32 @@ def test_a_folder_names_its_one_study(cli, tmp_path):
     _write(tmp_path / "one", SMALL, "t.kcheck-study.yaml")
     code, _, err = cli("study", str(tmp_path / "one"), "-o", str(tmp_path / "b.csv"))
     assert code == 2 and "found 2" in err and str(study) in err
+
+
+def test_paths_names_wildcards_and_units(tmp_path):
+    """`*` sets every coupling, a name one support item, an index one coordinate; `unit: m`
+    is converted to the scene's mm and `rad` to degrees."""
+    study = load_study(
+        _write(
+            tmp_path,
+            """\
+        version: 1
+        scene: SCENE
+        parameters:
+          - {name: beta, path: couplings.*.groove.half_angle, values: [0.7], unit: rad}
+          - {name: x, path: couplings.v2.ball.center.0, values: [-0.04], unit: m}
+          - {name: z, path: load.point.2, values: [20]}
+        """,
+        )
+    )
+    values = [col[0] for col in study.values()]
+    assert values[0] == pytest.approx(np.degrees(0.7)) and values[1] == pytest.approx(-40.0)
+    from kcheck.scene.study import variant_document
+
+    doc = variant_document(study, values)
+    couplings = doc.data["couplings"]
+    assert [c["groove"]["half_angle"] for c in couplings] == [pytest.approx(np.degrees(0.7))] * 3
+    assert couplings[1]["ball"]["center"][0] == pytest.approx(-40.0)
+    assert couplings[0]["ball"]["center"][0] == 0  # the others unchanged
+    assert doc.data["load"]["point"] == [0, 0, 20]
+    assert study.scene.data["load"]["point"] == [0, 0, 16]  # the base scene is not changed
