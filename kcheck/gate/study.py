@@ -46,14 +46,19 @@ def columns(study: Study, check_ids: Sequence[str]) -> list[tuple[str, str]]:
 
 def _figure(result: SceneResult, name: str) -> float | None:
     """A figure of one check's result: ``CHECK.limiting_friction`` (the least over its
-    cases), or a number among its details (``CHECK.design_margin_deg``)."""
+    cases; None when a case does not close at the scene's μ), or a number among its details
+    (``CHECK.design_margin_deg``)."""
     check_id, key = name.split(".", 1)
     for c in result.checks:
         if c.id != check_id or c.status not in (Status.PASS, Status.FAIL):
             continue
         if key == "limiting_friction":
-            mus = [k.limiting_friction for k in c.cases if k.limiting_friction is not None]
-            return float(min(mus)) if mus else None
+            # A case that does not close at the scene's μ has none: then no μ closes every
+            # case, and the least over the others would mislead.
+            mus = [k.limiting_friction for k in c.cases]
+            if not mus or any(m is None for m in mus):
+                return None
+            return float(min(m for m in mus if m is not None))
         value = c.details.get(key)
         if isinstance(value, (int, float)) and not isinstance(value, bool):
             return float(value)
