@@ -51,6 +51,7 @@ class Settings:
     address space (None: no limit; limits need workers). ``named``: the checks asked for by
     name (``select``), which run even when opt-in (``Check.default_selected`` False); an
     opt-in check otherwise runs only where the scene's ``checks:`` or ``check_options`` name it.
+    ``memo_mass`` keeps mass properties in this process's memory (a study's variants).
     ``max_file_bytes`` is the largest scene file read (configuration ``max_file_size``),
     ``max_mesh_bytes`` the largest mesh file (``max_mesh_size``); None: the defaults.
     """
@@ -68,6 +69,7 @@ class Settings:
     max_file_bytes: int | None = None
     max_mesh_bytes: int | None = None
     plot_formats: tuple[str, ...] = ("png",)
+    memo_mass: bool = False
 
 
 def discover(
@@ -201,8 +203,11 @@ def check_scene(
     allow_outside: bool = False,
     plots: Path | None = None,
     settings: Settings | None = None,
+    load: Callable[[], Scene] | None = None,
 ) -> SceneResult:
-    """Load one scene and run every check on it; bad input becomes an error result."""
+    """Load one scene and run every check on it; bad input becomes an error result.
+    ``load`` builds the scene instead of reading ``path`` (a study's variant,
+    :mod:`kcheck.gate.study`); its errors are the scene's, as the file's would be."""
     from kcheck.gate.config import did_you_mean
 
     if settings is None:
@@ -214,7 +219,11 @@ def check_scene(
             if settings.max_file_bytes is None
             else dataclasses.replace(DEFAULT_LIMITS, max_bytes=settings.max_file_bytes)
         )
-        scene = load_scene(path, allow_outside=settings.allow_outside, limits=limits)
+        scene = (
+            load_scene(path, allow_outside=settings.allow_outside, limits=limits)
+            if load is None
+            else load()
+        )
         known = {lc.spec.name for lc in checks}
         wrong: list[SceneError] = []  # every check's options' errors, said together
         for check_id in scene.check_options:
@@ -339,7 +348,11 @@ def _matter(
             )
         try:
             mass = body_mass_properties_cached(
-                scene.body, scene.scale, settings.cache_dir, settings.max_mesh_bytes
+                scene.body,
+                scene.scale,
+                settings.cache_dir,
+                settings.max_mesh_bytes,
+                memo=settings.memo_mass,
             )
         except SceneError as exc:
             where = exc.where or ("body",)
