@@ -208,12 +208,14 @@ def _rings(scene: Scene) -> _Rings:
 
 
 def _mechanics(
-    force: np.ndarray, contacts: Contacts, rings: _Rings, peak: bool = False
+    force: np.ndarray, contacts: Contacts, rings: _Rings, peak: Sequence[np.ndarray] = ()
 ) -> HertzContact:
     """Every contact under normal forces (N): Hertz for points, the ring contact for
     ball-cone supports (``a`` half the arc a support stands for, ``b`` the half-width; the
-    stiffness the arc's). ``peak``: each ring's pressure at its peak line load
-    (:func:`~kcheck.mechanics.ring_contact.ring_peak_load`), for stresses."""
+    stiffness the arc's). ``peak``: load states (forces, N) whose largest ring peak line load
+    (:func:`~kcheck.mechanics.ring_contact.ring_peak_load`) sets each ring's pressure, for
+    stresses (each state's own distribution: supports' maxima from different states are no
+    state of the ring)."""
     from kcheck.mechanics.hertz import HertzContact, hertz
     from kcheck.mechanics.ring_contact import line_contact, ring_peak_load
 
@@ -229,10 +231,13 @@ def _mechanics(
         w = np.where(rings.line, force / np.where(rings.line, rings.arc, 1.0), 0.0)
         line = line_contact(w, np.where(rings.line, rings.ball_radius, 1.0), contacts.modulus)
         shown = line
-        if peak:
+        if len(peak):
             w_peak = w.copy()
             for group in rings.groups:
-                w_peak[group] = ring_peak_load(w[group]) if len(group) == 3 else w[group].max()
+                states = [np.clip(f[group], 0.0, None) / rings.arc[group] for f in peak]
+                w_peak[group] = max(
+                    float(ring_peak_load(s)) if len(group) == 3 else float(s.max()) for s in states
+                )
             shown = line_contact(w_peak, np.where(rings.line, rings.ball_radius, 1.0),
                                  contacts.modulus)  # fmt: skip
         m = rings.line
@@ -406,15 +411,17 @@ def _ring_details(
     scene: Scene,
     contacts: Contacts,
     rings: _Rings,
+    forces: _Forces,
     seated: HertzContact,
     worst: HertzContact,
     details: dict[str, Any],
 ) -> None:
     """details["rings"]: per ball-cone coupling the ring's line loads, half-width, peak
     pressure, its stiffness along and across the cone's axis and their uncertainty."""
-    from kcheck.mechanics.ring_contact import cone_stiffness, line_uncertainty
+    from kcheck.mechanics.ring_contact import cone_stiffness, line_uncertainty, ring_peak_load
 
     out = []
+    notes = details.setdefault("notes", [])
     for name, group in zip(rings.names, rings.groups, strict=True):
         i = int(group[0])
         arc, radius, ring = rings.arc[group], rings.ball_radius[i], rings.ring_radius[i]
@@ -422,6 +429,14 @@ def _ring_details(
         axial, radial = cone_stiffness(float(np.mean(k_line)), ring, float(rings.angle[i]))
         j = int(group[np.argmax(worst.max_pressure[group])])
         uncertainty = line_uncertainty(seated.b[group], radius)
+        states = [np.clip(f[group], 0.0, None) / arc for f in (forces.seated, forces.disturbed)]
+        if len(group) == 3 and any(2.0 * np.mean(w) - ring_peak_load(w) < 0 for w in states):
+            # the first harmonic dips below zero: part of the ring lifts
+            notes.append(
+                f"ring contact {name} is unloaded along part of its circle under the seated or "
+                "disturbed load: its peak line load (a first harmonic through three points) is "
+                "approximate"
+            )
         out.append(
             {
                 "coupling": name,
@@ -442,7 +457,7 @@ def _ring_details(
             }
         )
     details["rings"] = out
-    details.setdefault("notes", []).append(
+    notes.append(
         "ball-cone: a ring (line) contact; its stiffness assumes a datum about one ball radius "
         "deep in both bodies (docs/checks.md, hertz); its tangential stiffness is not modelled"
     )
@@ -674,7 +689,7 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
     rings = _rings(scene)
     seated = _mechanics(forces.seated.clip(0.0), contacts, rings)
     heavier = np.maximum(forces.seated, forces.disturbed).clip(0.0)
-    worst = _mechanics(heavier, contacts, rings, peak=True)
+    worst = _mechanics(heavier, contacts, rings, peak=(forces.seated, forces.disturbed))
     allowable = contacts.allowable / options.safety_factor
     utilisation = worst.max_pressure / allowable
     details["contacts"] = [
@@ -726,7 +741,7 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
     for entry, k, ring in zip(details["contacts"], k_t, rings.line, strict=True):
         entry["tangential_stiffness"] = None if ring else float(k)
     if np.any(rings.line):
-        _ring_details(scene, contacts, rings, seated, worst, details)
+        _ring_details(scene, contacts, rings, forces, seated, worst, details)
         parts.append(_ring_text(scene, details["rings"]))
     big_kt = big_k + tangential_stiffness_matrix(seat, positions, normals, k_t)
     details["stiffness_matrix_with_tangential"] = big_kt.tolist()

@@ -125,3 +125,19 @@ def test_sideways_load_raises_the_ring_s_peak(tmp_path):
     assert ring["max_pressure_worst"] == pytest.approx(
         2 * ring["peak_line_load_worst"] / (np.pi * b), rel=1e-9
     )
+
+
+def test_a_ring_loaded_to_one_side_warns_that_it_partly_lifts(tmp_path):
+    # Fx through the cone's ball stays with the cone: N_k = N0 + N1 cos theta_k with
+    # N0 = F / (3 cos h) and N1 = Fx / (1.5 sin h); at N1 = 1.5 N0 the three supports still
+    # press (N0 - N1/2 > 0) but the ring's first harmonic dips below zero (N0 - N1 < 0)
+    n0 = F / (3 * np.cos(H))
+    fx = 1.5 * n0 * 1.5 * np.sin(H)
+    options = f"disturbing_force: [{float(fx)!r}, 0, 0], disturbing_point: [0, 35, 0]"
+    check = _hertz(tmp_path, f"checks: {{hertz: {{{options}}}}}")
+    assert check.status is Status.PASS, check.message
+    (ring,) = check.details["rings"]
+    arc = 2 * np.pi * R * np.sin(H) / 3
+    # the peak of the disturbed state's own distribution, at support A.1 (theta = 0)
+    assert ring["peak_line_load_worst"] == pytest.approx((n0 + 1.5 * n0) / arc, rel=1e-6)
+    assert any("ring contact A is unloaded along part" in n for n in check.details["notes"])
