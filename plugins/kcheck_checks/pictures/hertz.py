@@ -4,6 +4,7 @@ matplotlib comes in through :mod:`kcheck.pictures.plotting`."""
 
 from __future__ import annotations
 
+from collections.abc import Set as AbstractSet
 from pathlib import Path
 from typing import Any
 
@@ -72,7 +73,9 @@ def _pressure_panel(ax: Any, contacts: list[dict[str, Any]], safety_factor: floa
         )
 
 
-def _ellipse_panel(ax: Any, contacts: list[dict[str, Any]], rings: set[str] = frozenset()) -> None:
+def _ellipse_panel(
+    ax: Any, contacts: list[dict[str, Any]], rings: AbstractSet[str] = frozenset()
+) -> None:
     """Each contact ellipse to scale (µm), major axis horizontal, side by side; a ring
     support (ball in a cone, ``rings``: their couplings) as a band of its width running off
     its slot (the circle is far longer than any ellipse)."""
