@@ -141,3 +141,34 @@ def test_a_ring_loaded_to_one_side_warns_that_it_partly_lifts(tmp_path):
     # the peak of the disturbed state's own distribution, at support A.1 (theta = 0)
     assert ring["peak_line_load_worst"] == pytest.approx((n0 + 1.5 * n0) / arc, rel=1e-6)
     assert any("ring contact A is unloaded along part" in n for n in check.details["notes"])
+
+
+def test_the_ring_s_stress_hint_lands_on_the_allowable(tmp_path):
+    # a 52100 ball in an aluminium cone under 1 kN: over the allowable. On a ring p0 ~
+    # sqrt(N) / R at a fixed cone angle (w ~ N / R, p0 ~ sqrt(w / R)), so the hint's ball,
+    # u times larger, lands on the allowable exactly
+    def scene(radius: float) -> str:
+        text = SCENE.replace(
+            "radius: 5}}, up: [0, 0, 1],\n     half_angle: 40, ball_material: 52100, "
+            "seat_material: 52100",
+            f"radius: {radius!r}}}}}, up: [0, 0, 1],\n     half_angle: 40, ball_material: 52100, "
+            "seat_material: 6061-t6",
+        )
+        return text.replace(
+            "force: [0, 0, -100]}}\n  - {{name: b", "force: [0, 0, -1000]}}\n  - {{name: b"
+        )
+
+    path = tmp_path / "cone.kcheck.yaml"
+    hertz = [lc for lc in load_checks() if lc.spec.name == "hertz"]
+    path.write_text(scene(5.0).format(checks=""), encoding="utf-8")
+    (check,) = check_scene(path, hertz).checks
+    assert check.status is Status.FAIL, check.message
+    # each of the ring's supports carries the ring's peak
+    findings = [f for f in check.findings if f.code == "contact-stress"]
+    assert len(findings) == 3
+    u = max(c["utilisation"] for c in check.details["contacts"] if c["coupling"] == "A")
+    assert all(f"a ball {u:.2g}x larger" in f.hint for f in findings)
+    path.write_text(scene(5.0 * u).format(checks=""), encoding="utf-8")
+    (check,) = check_scene(path, hertz).checks
+    scaled = max(c["utilisation"] for c in check.details["contacts"] if c["coupling"] == "A")
+    assert scaled == pytest.approx(1.0, rel=1e-9)
