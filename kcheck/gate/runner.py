@@ -44,11 +44,13 @@ class Settings:
     line); a scene's own ``checks: {id: {severity: ...}}`` wins over both.
     ``check_options`` are per-check option defaults (from configuration): a scene's own
     options win key by key. ``selected`` names the checks to run (None: every check given
-    that runs by default, ``Check.default_selected``: not the opt-in `reseat`);
+    that runs by default, ``Check.default_selected``, and the opt-in ones a scene names);
     options of the others are still validated, and are no error. ``cache_dir`` holds the
     mass-property cache (None: no cache). ``jobs`` is the number of worker processes (0: run
     in this process), each scene limited to ``timeout_s`` seconds and ``memory_bytes`` of
-    address space (None: no limit; limits need workers).
+    address space (None: no limit; limits need workers). ``named``: the checks asked for by
+    name (``select``), which run even when opt-in (``Check.default_selected`` False); an
+    opt-in check otherwise runs only where the scene's ``checks:`` or ``check_options`` name it.
     ``max_file_bytes`` is the largest scene file read (configuration ``max_file_size``),
     ``max_mesh_bytes`` the largest mesh file (``max_mesh_size``); None: the defaults.
     """
@@ -58,6 +60,7 @@ class Settings:
     severities: Mapping[str, Severity] = field(default_factory=dict)
     check_options: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
     selected: frozenset[str] | None = None
+    named: frozenset[str] = frozenset()
     cache_dir: Path | None = None
     jobs: int = 0
     timeout_s: float | None = None
@@ -120,7 +123,8 @@ def _field(text: str | None) -> tuple[str, ...] | None:
 
 def scene_status(checks: Sequence[CheckResult], warnings: Sequence[Finding] = ()) -> Status:
     """``error`` if a check erred; ``fail`` if a check of severity ``error`` failed; ``warn``
-    if only checks of severity ``warning`` failed or the scene has warnings; else ``pass``."""
+    if only checks of severity ``warning`` failed or the scene has warnings; ``marginal`` if a
+    check is marginal and nothing is worse; else ``pass``."""
     if any(c.status is Status.ERROR for c in checks):
         return Status.ERROR
     failed = [c for c in checks if c.status is Status.FAIL]
@@ -128,7 +132,18 @@ def scene_status(checks: Sequence[CheckResult], warnings: Sequence[Finding] = ()
         return Status.FAIL
     if failed or warnings:
         return Status.WARN
+    if any(c.status is Status.MARGINAL for c in checks):
+        return Status.MARGINAL
     return Status.PASS
+
+
+def _opted_in(lc: LoadedCheck, scene: Scene, settings: Settings) -> bool:
+    """Whether a check runs on a scene as far as opting in goes: every default check; an
+    opt-in one when the scene, the configuration or ``select`` names it."""
+    name = lc.spec.name
+    if lc.check.default_selected:
+        return True
+    return name in scene.check_options or name in settings.check_options or name in settings.named
 
 
 def _options(
@@ -219,10 +234,19 @@ def check_scene(
             except SceneError as exc:
                 wrong.extend(exc.all())
                 continue
-            if settings.selected is None and not lc.check.default_selected:
-                continue  # opt-in: runs only when selected
             if settings.selected is not None and lc.spec.name not in settings.selected:
                 continue  # its options are valid; it just does not run
+            if not _opted_in(lc, scene, settings):
+                continue  # an opt-in check nobody asked for: not run, not listed
+            missing = lc.check.missing_extra()
+            if missing is not None:  # an opt-in check the scene asks for, its extra absent
+                wrong.append(
+                    scene.error(
+                        ("checks", lc.spec.name),
+                        f"check `{lc.spec.name}` cannot run here: {missing}",
+                    )
+                )
+                continue
             severity = severity or settings.severities.get(lc.spec.name) or lc.check.severity
             plan.append((lc, options, severity, *_ask(lc, scene)))
         if wrong:
@@ -273,7 +297,7 @@ def check_scene(
     status = scene_status(results, warnings)
     # Pictures after every check, so that each title carries the scene's verdict too.
     for lc, inputs, result in drawn if settings.plots is not None else ():
-        if result.status in (Status.PASS, Status.FAIL):
+        if result.status in (Status.PASS, Status.MARGINAL, Status.FAIL):
             files, note = _plot(lc, inputs, result, settings, (status, results, warnings))
             notes = notes if note is None else (*notes, note)
             written.extend(str(f) for f in files)

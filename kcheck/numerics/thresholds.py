@@ -28,6 +28,7 @@ import sys
 __all__ = [
     "THERMAL_CENTRE_DET",
     "EPS",
+    "DET_ROUNDING",
     "TINY",
     "ZERO_GUARD",
     "LENTZ_RTOL",
@@ -402,6 +403,13 @@ GOLDEN_XTOL: float = 1e-12
 #: kcheck suggest's least closing load is bisected to this relative accuracy (nondimensional):
 #: an answer for a designer, and each step searches every candidate point.
 LEAST_FORCE_RTOL: float = 0.01
+
+#: Constant of the determinant's rounding bound (:func:`kcheck.mechanics.friction_range.
+#: determinant_error`, nondimensional): LU's backward error is ``γ |K|`` with ``γ`` a small
+#: multiple of ``n eps`` (the growth factor of partial pivoting, in practice a few); 4 covers
+#: it, and ``tests/kcheck/test_friction_range_errors.py`` checks the bound against 50-digit
+#: determinants of nearly singular systems.
+DET_ROUNDING: float = 4.0
 
 # --- Hertz contact -----------------------------------------------------------------------------
 

@@ -16,12 +16,14 @@ from kcheck.numerics.thresholds import UNCERTAIN_DEG
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CaseResult, CheckResult, Status
 from kcheck.scene import Scene
+from kcheck_checks.marginal import with_angle_margin
 from kcheck_checks.options import AnalyticalOptions
 from kcheck_checks.wording import (
     case_findings,
     design_findings,
     empty_range_findings,
     friction_way_out,
+    load_field,
     merge_findings,
     verdict,
     with_friction_way_out,
@@ -31,7 +33,11 @@ __all__ = ["Analytical2D", "AnalyticalOptions", "analytical_result", "design_fin
 
 
 def analytical_result(
-    check_id: str, scene: Scene, analysis: Analysis, min_margin_deg: float
+    check_id: str,
+    scene: Scene,
+    analysis: Analysis,
+    min_margin_deg: float,
+    marginal_deg: float = 0.0,
 ) -> CheckResult:
     """Verdict of an analytical check from its analysis (planar sweep semantics)."""
     combined = analysis.combined
@@ -91,7 +97,7 @@ def analytical_result(
     elif not findings:
         parts.append("every retraction closes under the fixed forces (weight, preloads)")
     ok = not findings
-    return CheckResult(
+    result = CheckResult(
         check_id,
         Status.PASS if ok else Status.FAIL,
         verdict(parts, findings),
@@ -101,6 +107,8 @@ def analytical_result(
         details=details,
         findings=tuple(findings),
     )
+    field = load_field(scene) if scene.load is not None else None
+    return with_angle_margin(result, marginal_deg, field, gravity=scene.load is None)
 
 
 class Analytical2D(Check):
@@ -125,16 +133,34 @@ class Analytical2D(Check):
     def run(self, inputs: Inputs) -> CheckResult:
         """Analyse every retracted case and intersect the safe ranges."""
         assert inputs.mass is not None and isinstance(inputs.options, AnalyticalOptions)
-        mass, least = inputs.mass, inputs.options.min_margin_deg
+        mass, opts = inputs.mass, inputs.options
         analysis = analyse(inputs.scene, mass)
-        result = analytical_result(self.id, inputs.scene, analysis, least)
+
+        def judged(scene: Scene, analysis: Analysis) -> CheckResult:
+            return analytical_result(
+                self.id, scene, analysis, opts.min_margin_deg, opts.marginal_deg
+            )
+
+        result = judged(inputs.scene, analysis)
 
         def passes(scene: Scene) -> bool:
-            again = analytical_result(self.id, scene, analyse(scene, mass), least)
-            return again.status == Status.PASS
+            return judged(scene, analyse(scene, mass)).status == Status.PASS
 
         result = with_friction_way_out(result, inputs.scene, passes)
-        return with_partial_ranges(result, analysis, inputs.scene)
+        result = with_partial_ranges(result, analysis, inputs.scene)
+        if result.error_estimate is None and analysis.trustworthy and inputs.scene.load is None:
+            result = dataclasses.replace(result, error_estimate=_gravity_error_deg(analysis))
+        return result
+
+
+def _gravity_error_deg(analysis: Analysis) -> float | None:
+    """Under gravity alone (no load, so no swept range): the error (deg) of the closing
+    conditions' boundaries in the plane, as a gravity sweep would report its range ends; the
+    verdict at the fixed gravity direction holds when it lies farther than this from each."""
+    from kcheck.analysis.cases import sweep_ranges
+
+    e1, e2 = np.eye(2)
+    return sweep_ranges(analysis, e1, e2).error_deg
 
 
 # --- partial ranges (the thesis reports motion and contact separately) ------------------------

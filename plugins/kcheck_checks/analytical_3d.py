@@ -24,6 +24,7 @@ from kcheck.fmt import clean, format_angle, format_share, format_vector
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
+from kcheck_checks.marginal import with_angle_margin
 from kcheck_checks.options import AnalyticalOptions
 from kcheck_checks.wording import (
     case_findings,
@@ -339,16 +340,22 @@ def spatial_result(
         details=details,
         findings=tuple(findings),
     )
+    field = load_field(scene) if scene.load is not None else None
+    result = with_angle_margin(result, options.marginal_deg, field, gravity=what == "gravity")
     return result, smap, analysis
 
 
-def _error_deg(analysis: Analysis, smap: SphereMap) -> float | None:
+def _error_deg(analysis: Analysis, smap: SphereMap) -> float:
     """The check's error estimate (deg): the sweep-plane range ends and the safe region's
-    boundary (its margins), whichever is worse; None when neither exists."""
+    boundary (its margins), whichever is worse; a map with no boundary (every direction safe,
+    or none) the largest cap its conditions' rounding could open (gravity alone: no sweep
+    plane, a full map)."""
     errors = [] if analysis.error_deg is None else [analysis.error_deg]
     if not smap.empty and (smap.region is None or not smap.region.full):
         errors.append(float(np.degrees(smap.boundary_error)))
-    return max(errors) if errors else None
+    else:
+        errors.append(float(np.degrees(smap.hidden_error)))
+    return max(errors)
 
 
 def _ranges(analysis: Analysis) -> tuple[tuple[float, float], ...]:

@@ -29,6 +29,7 @@ from kcheck_checks.hertz_materials import (
     contacts_of,
     unknown_hint,
 )
+from kcheck_checks.marginal import with_margin
 
 if TYPE_CHECKING:  # the computation is imported when the check runs, not when it is found
     from kcheck.mechanics.hertz import HertzContact
@@ -780,11 +781,25 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
         parts.append(_thermal(scene, seat, contacts, options, error_point, details))
     # Forces err by about the solve's estimate; p0 ~ N^(1/3), so utilisation by a third of it.
     rel = float(np.max(forces.error / np.maximum(np.abs(forces.seated), ZERO_GUARD)))
-    return CheckResult(
+    result = CheckResult(
         check_id,
         Status.PASS if not findings else Status.FAIL,
         "; ".join(parts),
         error_estimate=float(utilisation.max()) * rel / 3.0,
         details=details,
         findings=tuple(findings),
+    )
+    band = options.marginal_utilisation
+    return with_margin(
+        result,
+        "contact stress utilisation",
+        float(utilisation[i]),
+        band,
+        "at most",
+        f"{scene.supports[i].name} uses {format_percent(utilisation[i])} of its allowable "
+        f"contact pressure, above the {format_percent(band)} limit (wear, roughness, load "
+        "scatter)",
+        hint="larger balls or seat radii, a harder material, or less seating force (the "
+        "option `marginal_utilisation` sets the band)",
+        field=_support_field(scene, i),
     )

@@ -16,6 +16,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from kcheck.body.elastic import Material, elastic_names, material
+from kcheck.numerics.margins import MARGINAL_UTILISATION
 from kcheck.plugin import Options
 from kcheck.scene import Scene
 from kcheck.scene.models import MaterialName
@@ -57,6 +58,13 @@ class HertzOptions(Options):
 
     safety_factor: float = Field(
         1.0, gt=0, description="Every peak pressure must stay below allowable / safety_factor"
+    )
+    marginal_utilisation: float = Field(
+        MARGINAL_UTILISATION,
+        gt=0,
+        le=1,
+        description="A pass whose largest utilisation (peak pressure over allowable / "
+        "safety_factor) is above this is marginal (1: no marginal band)",
     )
     ball_material: MaterialName | None = Field(
         None, description="Material of every ball the scene gives none for (docs/materials.md)"

@@ -46,10 +46,12 @@ from kcheck.fmt import (
 )
 from kcheck.mechanics.arcs import FULL, TAU, ArcSet, complement, intersect, margin
 from kcheck.mechanics.statics import PYRAMID_EDGES
+from kcheck.numerics.margins import MARGINAL_FRICTION_RATIO
 from kcheck.numerics.thresholds import IN_SWEEP_PLANE, UNDETERMINED
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
+from kcheck_checks.marginal import with_margin
 
 __all__ = ["Jamming", "JammingOptions", "jamming_result", "run_jamming"]
 
@@ -65,6 +67,12 @@ class JammingOptions(Options):
     )
     sphere_points: int = Field(
         20000, ge=100, le=1_000_000, description="Fibonacci directions of the spatial map"
+    )
+    marginal_friction_ratio: float = Field(
+        MARGINAL_FRICTION_RATIO,
+        ge=1,
+        description="A pass whose least holding friction is below this multiple of the design "
+        "friction is marginal (1: no marginal band)",
     )
 
 
@@ -229,18 +237,59 @@ def jamming_result(
         share = format_share_bounds(smap.jam_free, smap.jam_free_upper, 1)
         parts.append(f"{what} directions free of jamming: {share} of the sphere")
         results = [_with_map_share(res, smap, i, analysis) for i, res in enumerate(results)]
-    return (
-        CheckResult(
-            check_id,
-            Status.PASS if ok else Status.FAIL,
-            "; ".join(parts),
-            error_estimate=error_deg if smap is None else max(error_deg, smap.error_deg),
-            safe_ranges_deg=ranges_deg(safe),
-            cases=tuple(results),
-            details=details,
-            findings=tuple(findings),
-        ),
-        smap,
+    result = CheckResult(
+        check_id,
+        Status.PASS if ok else Status.FAIL,
+        "; ".join(parts),
+        error_estimate=error_deg if smap is None else max(error_deg, smap.error_deg),
+        safe_ranges_deg=ranges_deg(safe),
+        cases=tuple(results),
+        details=details,
+        findings=tuple(findings),
+    )
+    return _friction_margin(result, analysis, results, least, options), smap
+
+
+def _friction_margin(
+    result: CheckResult,
+    analysis: JamAnalysis,
+    results: list[CaseResult],
+    least: list[float | None],
+    options: JammingOptions,
+) -> CheckResult:
+    """The marginal band of jamming: the least holding friction over every case at the design
+    direction against the design friction (the top of a static range), as a ratio."""
+    design_mu = float(analysis.statics.friction.max())
+    if (
+        analysis.design is None
+        or design_mu <= 0
+        or any(r.outcome == "undetermined" for r in results)
+    ):
+        return result
+    # None: no coefficient up to 100 holds the body (comfortable).
+    holding = [np.inf if mu is None else mu for mu in least]
+    r = int(np.argmin(holding))
+    ratio = float(holding[r]) / design_mu
+    mu_text = format_number(float(holding[r]), 3)
+    message = (
+        f"retract {results[r].retracted} → friction would hold the body from μ = {mu_text}, only "
+        f"{format_number(ratio, 3)}× the design μ = {format_number(design_mu, 3)}, less than "
+        f"the {options.marginal_friction_ratio:g}× minimum margin (friction scatter, wear)"
+    )
+    hint = (
+        f"keep μ below {format_number(float(holding[r]) / options.marginal_friction_ratio, 3)} "
+        "(lubricate, or harder and smoother seats), or turn the force away from the held "
+        "directions (the option `marginal_friction_ratio` sets the band)"
+    )
+    return with_margin(
+        result,
+        "least holding friction / design friction",
+        ratio,
+        options.marginal_friction_ratio,
+        "at least",
+        message,
+        hint=hint,
+        field=("friction",),
     )
 
 
