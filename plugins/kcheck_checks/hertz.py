@@ -779,13 +779,15 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
         )
     if options.temperature_change:
         parts.append(_thermal(scene, seat, contacts, options, error_point, details))
-    # Forces err by about the solve's estimate; p0 ~ N^(1/3), so utilisation by a third of it.
+    # Forces err by about the solve's estimate; p0 ~ N^(1/3) at a point, so utilisation by a
+    # third of it; ~ N^(1/2) on a ring, by half.
     rel = float(np.max(forces.error / np.maximum(np.abs(forces.seated), ZERO_GUARD)))
+    spread = np.where(rings.line, utilisation * rel / 2.0, utilisation * rel / 3.0)
     result = CheckResult(
         check_id,
         Status.PASS if not findings else Status.FAIL,
         "; ".join(parts),
-        error_estimate=float(utilisation.max()) * rel / 3.0,
+        error_estimate=float(np.max(spread)),
         details=details,
         findings=tuple(findings),
     )
