@@ -96,6 +96,8 @@ def test_cone_gets_stress_stiffness_and_error_motion(tmp_path):
         np.pi * ring_radius * k_line * np.sin(H) ** 2, rel=1e-9
     )
     assert 0 < ring["stiffness_uncertainty"] < 0.2
+    # the forces' rounding through p0 ~ N^(1/2): tiny, finite
+    assert check.error_estimate is not None and 0 <= check.error_estimate < 1e-9
 
 
 def test_cone_error_motion_is_its_ring_s_approach(tmp_path):
