@@ -210,7 +210,7 @@ def _summary_text(study: Any, s: Any, output: Path) -> str:
     out = [f"{s.variants} variants of {study.scene_path} written to {output}"]
     out.append(
         f"pass: {s.passed}/{s.variants} = {s.passed / max(s.variants, 1):.1%} "
-        f"(95% interval {s.low:.1%}–{s.high:.1%}); errors: {s.errors}"
+        f"(95% interval {s.low:.1%}–{s.high:.1%}); marginal: {s.marginal}; errors: {s.errors}"
     )
     if s.best is not None:
         values = ", ".join(

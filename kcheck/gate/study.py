@@ -391,6 +391,8 @@ class Summary:
     variants: int
     passed: int
     errors: int
+    #: Variants past their failure line but short of a minimum margin (not in ``passed``).
+    marginal: int
     low: float
     high: float
     best: dict[str, Any] | None
@@ -407,6 +409,7 @@ def summarise(study: Study, table: dict[str, list[Any]]) -> Summary:
     n = len(status)
     passed = sum(s == "pass" for s in status)
     errors = sum(s == "error" for s in status)
+    marginal = sum(s == "marginal" for s in status)
     low, high = clopper_pearson(passed, n, 0.95) if n else (math.nan, math.nan)
     best = best_by = None
     figures = [f for f in study.figures if f in table]
@@ -441,4 +444,4 @@ def summarise(study: Study, table: dict[str, list[Any]]) -> Summary:
             ranking.append((p.name, float(spearmanr(x[ok], y[ok])[0])))
         ranking.sort(key=lambda t: -abs(t[1]))
         sens[f] = ranking
-    return Summary(n, passed, errors, low, high, best, best_by, sens)
+    return Summary(n, passed, errors, marginal, low, high, best, best_by, sens)
