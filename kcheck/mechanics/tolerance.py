@@ -172,15 +172,50 @@ def _margins_chunk(
     return value.min(axis=-1)
 
 
-def sample_margins(problem: Problem, layouts: Perturbed, design: np.ndarray | None) -> np.ndarray:
+#: What forked workers read (set before the fork, so the layouts are not pickled).
+_SHARED: dict[str, object] = {}
+
+
+def _shared_chunk(start: int) -> np.ndarray:
+    """Margins of the batch starting at ``start`` of the layouts shared with the workers."""
+    problem, layouts, design, pivot = (
+        _SHARED[k] for k in ("problem", "layouts", "design", "pivot")
+    )
+    assert isinstance(layouts, Perturbed) and isinstance(problem, Problem)
+    part = slice(start, start + CHUNK)
+    batch = Perturbed(layouts.points[part], layouts.normals[part], layouts.friction[part])
+    return _margins_chunk(problem, batch, design, pivot)  # type: ignore[arg-type]
+
+
+def sample_margins(
+    problem: Problem, layouts: Perturbed, design: np.ndarray | None, workers: int = 1
+) -> np.ndarray:
     """Design margins (rad, (s,)) of sampled layouts, in batches of ``CHUNK``; ``pi`` /
     ``-pi`` for closing / not closing under the fixed wrench when there is no design
-    direction."""
+    direction. With ``workers`` > 1 (and fork, on Linux) the batches are solved in that many
+    forked processes: the batches are the same whatever the number of workers and each
+    sample's margin depends on its batch alone, so the margins are identical."""
+    import os
+    import sys
+
     count = len(layouts.points)
     out = np.empty(count)
     nominal, _, _ = free_twist_arrays(problem.points, problem.normals)
     pivot = np.argmax(np.abs(nominal), axis=-1)
-    for start in range(0, count, CHUNK):
+    starts = range(0, count, CHUNK)
+    if workers > 1 and len(starts) > 1 and hasattr(os, "fork") and sys.platform == "linux":
+        import multiprocessing
+
+        _SHARED.update(problem=problem, layouts=layouts, design=design, pivot=pivot)
+        try:
+            # Workers are forked when the pool is made, before its threads start.
+            with multiprocessing.get_context("fork").Pool(min(workers, len(starts))) as pool:
+                for start, margins in zip(starts, pool.imap(_shared_chunk, starts), strict=True):
+                    out[start : start + CHUNK] = margins
+        finally:
+            _SHARED.clear()
+        return out
+    for start in starts:
         part = slice(start, start + CHUNK)
         batch = Perturbed(layouts.points[part], layouts.normals[part], layouts.friction[part])
         out[part] = _margins_chunk(problem, batch, design, pivot)

@@ -55,6 +55,13 @@ class TolerancesOptions(Options):
         description="Draw each support's coefficient on its own (default: all move together "
         "along their ranges, as the analytical checks take them)",
     )
+    workers: int = Field(
+        1,
+        ge=1,
+        le=256,
+        description="Processes solving the samples (batches of 4096; the results are the "
+        "same for any number)",
+    )
     min_pass_probability: float | None = Field(
         None,
         gt=0.0,
@@ -139,7 +146,7 @@ class Tolerances(Check):
             rng=rng,
             independent=opts.independent_friction,
         )
-        margins = sample_margins(problem, layouts, design)
+        margins = sample_margins(problem, layouts, design, opts.workers)
         spread = float(np.radians(tol.load_direction_deg)) if design is not None else 0.0
         need = float(np.radians(opts.min_margin_deg))
         passes = (margins > 0) & (margins - spread >= need)

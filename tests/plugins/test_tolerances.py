@@ -192,3 +192,32 @@ def test_clopper_pearson_against_scipy(x, n):
     low, high = clopper_pearson(x, n, 0.95)
     assert low == pytest.approx(stats.beta.ppf(0.025, x, n - x + 1) if x else 0.0, abs=1e-12)
     assert high == pytest.approx(stats.beta.ppf(0.975, x + 1, n - x) if x < n else 1.0, abs=1e-12)
+
+
+def test_workers_give_the_same_margins(write_scene):
+    """Batches solved in 2 forked workers give the margins (and the check's details) of the
+    same seed solved in this process, number for number: the batches are fixed by CHUNK."""
+    from kcheck.mechanics.tolerance import CHUNK
+
+    wide = PLANAR_SCENE + "tolerances: {position: 10, normal: 20}\n"
+    scene = load_scene(write_scene(wide))
+    mass = body_mass_properties(scene.body, scene.scale)
+    problem = problem_for(scene, mass)
+    layouts = perturb(
+        problem,
+        position=1e-3,
+        normal=np.radians(5.0),
+        friction_low=problem.friction,
+        friction_high=problem.friction * 2.0,
+        count=2 * CHUNK + 17,  # three batches, the last one short
+        rng=np.random.default_rng(3),
+    )
+    design = scene.load.direction[: scene.dim]
+    one = sample_margins(problem, layouts, design)
+    two = sample_margins(problem, layouts, design, workers=2)
+    np.testing.assert_array_equal(one, two)
+    assert np.any(one > 0) and np.any(one <= 0)  # both kinds occur
+    opts = TolerancesOptions(samples=CHUNK + 100, seed=5)
+    serial = Tolerances().run(Inputs(scene, mass, opts))
+    parallel = Tolerances().run(Inputs(scene, mass, opts.model_copy(update={"workers": 2})))
+    assert serial.details == parallel.details and serial.status == parallel.status
