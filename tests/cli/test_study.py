@@ -70,7 +70,8 @@ def _write(tmp_path, text: str, name: str = "s.kcheck-study.yaml"):
 
 def test_worked_example_traces_limiting_friction(cli, tmp_path):
     """The bundled study's μ_lim(β) equals the independent statics above, and a variant
-    passes exactly when its μ is below μ_lim(β) (analytical-3d asks no margin here)."""
+    passes (or is marginal: it passes, near its failure line) exactly when its μ is below
+    μ_lim(β); marginal variants keep their figures."""
     out = tmp_path / "t.parquet"
     code, stdout, err = cli("study", str(EXAMPLE), "-o", str(out))
     assert code == 0, err
@@ -83,9 +84,12 @@ def test_worked_example_traces_limiting_friction(cli, tmp_path):
         expected = _mu_lim_statics(b)
         got = lim[(beta == b) & np.isfinite(lim)]
         assert got.size and np.allclose(got, expected, rtol=1e-7), (b, got, expected)
-        passed = np.array(table["status"])[beta == b] == "pass"
+        # marginal: a pass within analytical-3d's default band of its failure line
+        passed = np.isin(np.array(table["status"])[beta == b], ["pass", "marginal"])
         np.testing.assert_array_equal(passed, mu[beta == b] < expected)
     assert "pass: 38/42" in stdout
+    marginal = np.array(table["status"]) == "marginal"
+    assert marginal.any() and np.isfinite(lim[marginal]).all()
     # docs/study.md shows this run: its summary lines are what the command prints.
     doc = (FIXTURES.parent / "docs" / "study.md").read_text(encoding="utf-8")
     block = doc.split("$ kcheck study fixtures/three-vee-study.kcheck-study.yaml")[1]
