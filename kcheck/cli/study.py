@@ -25,14 +25,16 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "study",
         type=Path,
-        help="a study file (*.kcheck-study.yaml), or a folder holding exactly one",
+        help="a study file (*.kcheck-study.yaml), or a folder: every study file in it "
+        "(found as scenes are, honouring exclude and .gitignore), each run in turn",
     )
     p.add_argument(
         "-o",
         "--output",
         type=Path,
-        help="the table: .parquet (needs kcheck[study]) or .csv "
-        "(default: the study file's name with .parquet)",
+        help="the table: .parquet (needs kcheck[study]) or .csv, or a folder for "
+        "<study>.parquet (a folder of several studies: a folder) "
+        "(default: the study file's name with .parquet, beside it)",
     )
     where = p.add_mutually_exclusive_group()
     where.add_argument("-j", "--jobs", type=int, default=0, help="local worker processes")
@@ -59,22 +61,72 @@ def add_parser(sub: Any) -> None:
     p.set_defaults(handler=run)
 
 
-def _studies(folder: Path) -> list[Path]:
-    """Study files under a folder, in sorted order, passing over hidden folders."""
-    from kcheck.scene.study import STUDY_SUFFIX
+def _studies(folder: Path) -> tuple[list[Path], list[str]]:
+    """Study files under a folder, found as ``kcheck check`` finds scenes: sorted, passing
+    over the configuration's ``exclude``/``extend-exclude`` and what git ignores."""
+    from kcheck.gate.config import load_config
+    from kcheck.gate.paths import Excluder, discover_studies
 
-    return sorted(
-        p
-        for p in folder.rglob(f"*{STUDY_SUFFIX}")
-        if not any(part.startswith(".") for part in p.relative_to(folder).parts[:-1])
-    )
+    config = load_config()
+    patterns = (*config["exclude"], *config["extend_exclude"])
+    exclude = Excluder(patterns, config.root, gitignore=config["respect_gitignore"])
+    found, errors = discover_studies(folder, exclude)
+    return found, [str(e) for e in errors]
 
 
-def _output(args: argparse.Namespace) -> Path:
-    if args.output is not None:
-        return Path(args.output)
-    name = args.study.name.removesuffix(".yaml").removesuffix(".kcheck-study")
-    return args.study.with_name(name + ".parquet")
+def _name(study: Path) -> str:
+    return study.name.removesuffix(".yaml").removesuffix(".kcheck-study")
+
+
+def _plan(args: argparse.Namespace) -> list[tuple[Path, Path, Path | None, Path | None]]:
+    """Each study with its table, HTML page and pictures folder. One study: ``-o`` is the
+    table (or a folder to hold it), ``--html`` the page, ``--plots`` the folder. Several (a
+    folder holding several study files): ``-o``, ``--html`` and ``--plots`` are folders,
+    each study's files named after it; without ``-o`` each table sits beside its study."""
+    from kcheck.errors import UsageError
+
+    studies = [args.study]
+    if args.study.is_dir():
+        studies, errors = _studies(args.study)
+        if errors:
+            raise UsageError("; ".join(errors))
+        if not studies:
+            raise UsageError(f"{args.study}: no *.kcheck-study.yaml files found in this folder")
+    several = len(studies) > 1
+    out = args.output
+    if several:
+        if out is not None and out.suffix in (".parquet", ".csv"):
+            raise UsageError(
+                f"--output {out}: {args.study} holds {len(studies)} study files; give a "
+                "folder for their tables (one <study>.parquet each)"
+            )
+        if args.html is not None and args.html.suffix == ".html":
+            raise UsageError(
+                f"--html {args.html}: {args.study} holds {len(studies)} study files; give a "
+                "folder for their pages (one <study>.html each)"
+            )
+        names = [_name(s) for s in studies]
+        twice = sorted({n for n in names if names.count(n) > 1})
+        if twice and (out is not None or args.html is not None or args.plots is not None):
+            raise UsageError(
+                f"{args.study}: several study files are named {', '.join(twice)}; their "
+                "outputs would collide in one folder (run them one by one)"
+            )
+    plans = []
+    for study in studies:
+        name = _name(study)
+        if out is None:
+            table = study.with_name(name + ".parquet")
+        elif several or out.is_dir():
+            table = out / (name + ".parquet")
+        else:
+            table = out
+        html = args.html
+        if html is not None and several:
+            html = html / (name + ".html")
+        plots = None if args.plots is None else (args.plots / name if several else args.plots)
+        plans.append((study, table, html, plots))
+    return plans
 
 
 def _client(args: argparse.Namespace) -> Any:
@@ -90,57 +142,89 @@ def _client(args: argparse.Namespace) -> Any:
     return Client(cluster)
 
 
-def run(args: argparse.Namespace) -> int:
-    """Read and check the study file, run its variants, print the summary."""
+def _load(path: Path, output: Path, known: set[str]) -> Any:
+    """The study file read and checked (its table's type, its checks and figures), or the
+    list of its error messages."""
     from kcheck.errors import SceneError
-    from kcheck.gate import study as engine
-    from kcheck.gate.runner import Settings
-    from kcheck.plugin import load_checks
     from kcheck.scene.study import load_study
 
-    if args.study.is_dir():
-        found = _studies(args.study)
-        if len(found) != 1:
-            listed = "".join(f"\n  {f}" for f in found)
-            return fail(
-                f"{args.study}: expected one study file (*.kcheck-study.yaml) in the folder, "
-                f"found {len(found)}{'; name one:' if found else ''}{listed}"
-            )
-        args.study = found[0]
-    output = _output(args)
     if output.suffix not in (".parquet", ".csv"):
-        return fail(f"--output {output}: expected a .parquet or .csv file")
+        return [f"--output {output}: expected a .parquet or .csv file"]
     if output.suffix == ".parquet":
         try:
             import pyarrow  # noqa: F401
         except ImportError:
-            return fail(
+            return [
                 "a Parquet table needs pyarrow: pip install 'kcheck[study]' "
                 "(or write CSV with -o FILE.csv)"
-            )
+            ]
     try:
-        study = load_study(args.study)
+        study = load_study(path)
     except SceneError as exc:
-        for e in exc.all():
-            print(f"kcheck: error: {e}", file=sys.stderr)
-        return ExitCode.USAGE_OR_INPUT
-    checks = load_checks()
-    known = {c.spec.name for c in checks}
+        return [str(e) for e in exc.all()]
     lines = study.lines
     for i, c in enumerate(study.checks or ()):
         if c not in known:
             line = lines.get(("checks", i), "")
-            return fail(
-                f"{args.study}:{line}: field `checks[{i}]`: unknown check `{c}`; "
+            return [
+                f"{path}:{line}: field `checks[{i}]`: unknown check `{c}`; "
                 f"installed: {', '.join(sorted(known))}"
-            )
+            ]
     for i, f in enumerate(study.figures):
         if f.split(".", 1)[0] not in known:
             line = lines.get(("figures", i), "")
-            return fail(
-                f"{args.study}:{line}: field `figures[{i}]`: `{f}` names no "
+            return [
+                f"{path}:{line}: field `figures[{i}]`: `{f}` names no "
                 f"installed check; installed: {', '.join(sorted(known))}"
-            )
+            ]
+    return study
+
+
+def run(args: argparse.Namespace) -> int:
+    """Find and check every study file before any variant runs, then run each in turn and
+    print its summary."""
+    from kcheck.errors import UsageError
+    from kcheck.plugin import load_checks
+
+    try:
+        plans = _plan(args)
+    except UsageError as exc:
+        return fail(str(exc))
+    checks = load_checks()
+    known = {c.spec.name for c in checks}
+    loaded = []
+    bad = False
+    for path, output, html, plots in plans:
+        study = _load(path, output, known)
+        if isinstance(study, list):
+            for message in study:
+                print(f"kcheck: error: {message}", file=sys.stderr)
+            bad = True
+        loaded.append((path, study, output, html, plots))
+    if bad:
+        return ExitCode.USAGE_OR_INPUT
+    worst: int = ExitCode.OK
+    for k, (path, study, output, html, plots) in enumerate(loaded):
+        if k:
+            print()
+        code = _run_one(args, path, study, checks, output, html, plots)
+        worst = max(worst, code)
+    return worst
+
+
+def _run_one(
+    args: argparse.Namespace,
+    path: Path,
+    study: Any,
+    checks: Any,
+    output: Path,
+    html: Path | None,
+    plots: Path | None,
+) -> int:
+    """Run one study's variants, print its summary, draw its pictures and page."""
+    from kcheck.gate import study as engine
+    from kcheck.gate.runner import Settings
+
     selected = None if study.checks is None else frozenset(study.checks)
     settings = Settings(selected=selected, allow_outside=True, memo_mass=True)
     check_ids = [c.spec.name for c in checks if selected is None or c.spec.name in selected]
@@ -163,6 +247,7 @@ def run(args: argparse.Namespace) -> int:
         if sys.stderr.isatty():
             print(f"\r{done}/{total} variants", end="", file=sys.stderr, flush=True)
 
+    output.parent.mkdir(parents=True, exist_ok=True)
     try:
         complete = engine.run_study(study, check_ids, output, executor, args.limit_chunks, progress)
     finally:
@@ -175,7 +260,7 @@ def run(args: argparse.Namespace) -> int:
         print(file=sys.stderr)
     if not complete:
         print(
-            "kcheck: the table is incomplete (stopped, or a worker was killed); "
+            f"kcheck: {path}: the table is incomplete (stopped, or a worker was killed); "
             f"run again to resume ({n} variants)",
             file=sys.stderr,
         )
@@ -185,24 +270,25 @@ def run(args: argparse.Namespace) -> int:
     text = _summary_text(study, summary, output)
     print(text)
     pictures: list[Path] = []
-    title = args.study.name.removesuffix(".kcheck-study.yaml")
-    if args.plots is not None:
+    title = path.name.removesuffix(".kcheck-study.yaml")
+    if plots is not None:
         try:
             from kcheck.pictures.study import draw_study
         except ImportError as exc:
             return fail(f"pictures need the plot extra: pip install 'kcheck[plot]' ({exc})")
         names = [p.name for p in study.parameters]
-        pictures = draw_study(title, table, names, study.figures, args.plots)
-        for path in pictures:
-            print(f"picture: {path}")
-    if args.html is not None:
+        pictures = draw_study(title, table, names, study.figures, plots)
+        for picture in pictures:
+            print(f"picture: {picture}")
+    if html is not None:
         from kcheck.cli.common import write_text
         from kcheck.report.study import render_study_page
 
         page = render_study_page(
             title, text.splitlines(), summary.best, summary.sensitivity, pictures
         )
-        write_text(page, args.html, "--html")
+        html.parent.mkdir(parents=True, exist_ok=True)
+        write_text(page, html, "--html")
     return ExitCode.OK
 
 
@@ -210,7 +296,8 @@ def _summary_text(study: Any, s: Any, output: Path) -> str:
     out = [f"{s.variants} variants of {study.scene_path} written to {output}"]
     out.append(
         f"pass: {s.passed}/{s.variants} = {s.passed / max(s.variants, 1):.1%} "
-        f"(95% interval {s.low:.1%}–{s.high:.1%}); marginal: {s.marginal}; errors: {s.errors}"
+        f"(95% interval {s.low:.1%}–{s.high:.1%}; {s.marginal} of them marginal); "
+        f"errors: {s.errors}"
     )
     if s.best is not None:
         values = ", ".join(

@@ -36,9 +36,9 @@ def draw_study(
     figures: Sequence[str],
     directory: Path,
 ) -> list[Path]:
-    """Write ``figure-vs-parameter`` pictures (points coloured by verdict: green pass, red
-    fail, grey error) and, with two numeric parameters or more, the pass map of the first
-    two. Return the files written."""
+    """Write ``figure-vs-parameter`` pictures (points coloured by verdict: green pass, the
+    report's amber for marginal, red fail, grey error) and, with two numeric parameters
+    or more, the pass map of the first two. Return the files written."""
     written: list[Path] = []
     status = list(table["status"])
     colours = _status_colours(status)
@@ -56,7 +56,7 @@ def draw_study(
             ax.set_xlabel(p)
             ax.set_ylabel(f)
             ax.grid(True, alpha=0.3)
-        fig.suptitle(f"{title}: {f} against each parameter (green pass, red fail)", fontsize=10)
+        fig.suptitle(f"{title}: {f} against each parameter (colour: verdict)", fontsize=10)
         written.extend(save(fig, directory, slug(f"study-{f}")))
     if len(numeric) >= 2:
         p, q = numeric[:2]
@@ -66,9 +66,10 @@ def draw_study(
         ax.set_xlabel(p)
         ax.set_ylabel(q)
         n = len(status)
-        passed = sum(s == "pass" for s in status)
+        passed = sum(s in ("pass", "marginal") for s in status)
         ax.set_title(
-            f"{title}: pass map, {passed}/{n} pass (green pass, red fail, grey error)",
+            f"{title}: pass map, {passed}/{n} pass or marginal\n"
+            "(green pass, amber marginal, red fail, grey error)",
             fontsize=10,
         )
         written.extend(save(fig, directory, slug(f"study-pass-map-{p}-{q}")))

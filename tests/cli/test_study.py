@@ -70,8 +70,8 @@ def _write(tmp_path, text: str, name: str = "s.kcheck-study.yaml"):
 
 def test_worked_example_traces_limiting_friction(cli, tmp_path):
     """The bundled study's μ_lim(β) equals the independent statics above, and a variant
-    is not failing exactly when its μ is below μ_lim(β) (pass, or marginal within the
-    analytical-3d's minimum margin)."""
+    passes (or is marginal: it passes, near its failure line) exactly when its μ is below
+    μ_lim(β); marginal variants keep their figures."""
     out = tmp_path / "t.parquet"
     code, stdout, err = cli("study", str(EXAMPLE), "-o", str(out))
     assert code == 0, err
@@ -84,10 +84,12 @@ def test_worked_example_traces_limiting_friction(cli, tmp_path):
         expected = _mu_lim_statics(b)
         got = lim[(beta == b) & np.isfinite(lim)]
         assert got.size and np.allclose(got, expected, rtol=1e-7), (b, got, expected)
-        status = np.array(table["status"])[beta == b]
-        np.testing.assert_array_equal(status != "fail", mu[beta == b] < expected)
-        assert set(status) <= {"pass", "marginal", "fail"}
-    assert "pass: 32/42" in stdout and "marginal: 6;" in stdout
+        # marginal: a pass within analytical-3d's default band of its failure line
+        passed = np.isin(np.array(table["status"])[beta == b], ["pass", "marginal"])
+        np.testing.assert_array_equal(passed, mu[beta == b] < expected)
+    assert "pass: 38/42" in stdout and "6 of them marginal" in stdout
+    marginal = np.array(table["status"]) == "marginal"
+    assert marginal.any() and np.isfinite(lim[marginal]).all()
     # docs/study.md shows this run: its summary lines are what the command prints.
     doc = (FIXTURES.parent / "docs" / "study.md").read_text(encoding="utf-8")
     block = doc.split("$ kcheck study fixtures/three-vee-study.kcheck-study.yaml")[1]
@@ -333,14 +335,45 @@ def test_checks_are_known(cli, tmp_path):
     assert load_checks()  # the installed checks were listed
 
 
-def test_a_folder_names_its_one_study(cli, tmp_path):
-    (tmp_path / "one").mkdir()
-    study = _write(tmp_path / "one", SMALL)
-    code, stdout, _ = cli("study", str(tmp_path / "one"), "-o", str(tmp_path / "a.csv"))
-    assert code == 0 and "10 variants" in stdout
-    _write(tmp_path / "one", SMALL, "t.kcheck-study.yaml")
-    code, _, err = cli("study", str(tmp_path / "one"), "-o", str(tmp_path / "b.csv"))
-    assert code == 2 and "found 2" in err and str(study) in err
+def test_a_folder_runs_each_study(cli, tmp_path, monkeypatch):
+    """A folder is searched as scenes are: hidden folders and git-ignored files are passed
+    over; each study found gets its own table (`-o` a folder), the same table a run of that
+    study alone writes; a table file for several studies is refused before any variant."""
+    import shutil
+    import subprocess
+
+    if shutil.which("git") is None:
+        pytest.skip("needs git for .gitignore")
+    root = tmp_path / "studies"
+    (root / "sub").mkdir(parents=True)
+    (root / ".hidden").mkdir()
+    subprocess.run(["git", "init", "-q", str(root)], check=True)
+    (root / ".gitignore").write_text("ignored.kcheck-study.yaml\n", encoding="utf-8")
+    monkeypatch.chdir(root)
+    a = _write(root, SMALL, "a.kcheck-study.yaml")
+    b = _write(root / "sub", SMALL.replace("seed: 7", "seed: 8"), "b.kcheck-study.yaml")
+    for skipped in (root / ".hidden", root):
+        _write(skipped, SMALL.replace("samples: 10", "samples: 3"), "ignored.kcheck-study.yaml")
+    code, _, err = cli("study", str(root), "-o", str(tmp_path / "one.csv"))
+    assert code == 2 and "2 study files" in err and not (tmp_path / "one.csv").exists()
+    out = tmp_path / "tables"
+    code, stdout, err = cli("study", str(root), "-o", str(out))
+    assert code == 0, err
+    assert sorted(p.name for p in out.iterdir()) == ["a.parquet", "b.parquet"]
+    assert stdout.count("10 variants") == 2
+    for study, name in ((a, "a"), (b, "b")):
+        alone = tmp_path / f"{name}-alone.parquet"
+        assert cli("study", str(study), "-o", str(alone))[0] == 0
+        assert engine.read_table(out / f"{name}.parquet") == engine.read_table(alone)
+    assert engine.read_table(out / "a.parquet") != engine.read_table(out / "b.parquet")
+    code, _, _ = cli("study", str(root))  # no -o: each table beside its study
+    assert code == 0
+    assert (root / "a.parquet").is_file() and (root / "sub" / "b.parquet").is_file()
+
+
+def test_a_folder_without_study_is_an_error(cli, tmp_path):
+    code, _, err = cli("study", str(tmp_path))
+    assert code == 2 and "no *.kcheck-study.yaml" in err
 
 
 def test_paths_names_wildcards_and_units(tmp_path):
