@@ -26,6 +26,7 @@ from kcheck_checks.wording import (
     load_field,
     merge_findings,
     verdict,
+    with_closing_force_way_out,
     with_friction_way_out,
 )
 
@@ -147,6 +148,7 @@ class Analytical2D(Check):
             return judged(scene, analyse(scene, mass)).status == Status.PASS
 
         result = with_friction_way_out(result, inputs.scene, passes)
+        result = with_closing_force_way_out(result, inputs.scene, passes)
         result = with_partial_ranges(result, analysis, inputs.scene)
         if result.error_estimate is None and analysis.trustworthy and inputs.scene.load is None:
             result = dataclasses.replace(result, error_estimate=_gravity_error_deg(analysis))
