@@ -65,3 +65,42 @@ def test_a_passing_scene_gets_no_preload_hint(tmp_path, cli_json) -> None:
     check = _check(tmp_path, cli_json, 2.0)
     assert check["status"] == "pass"
     assert "passing_closing_force" not in check
+
+
+LOADED = """\
+version: 1
+name: loaded block
+units: mm
+body: {{mass: {mass}, center_of_mass: [50, 30, 0], inertia: 0.001}}
+supports:
+  - {{name: y1, position: [20, 0, 0], normal: [0, 1, 0]}}
+  - {{name: y2, position: [80, 0, 0], normal: [0, 1, 0]}}
+  - {{name: x1, position: [0, 30, 0], normal: [1, 0, 0]}}
+friction: {mu}
+gravity: [0, -{g}, 0]
+load: {{magnitude: {force}, angle: 180}}
+"""
+
+
+def _loaded(tmp_path: Path, cli_json, force: float) -> dict:
+    path = tmp_path / f"loaded-{force}.kcheck.yaml"
+    path.write_text(LOADED.format(mass=MASS, g=G, mu=MU, force=force), encoding="utf-8")
+    _, doc = cli_json(str(path), "--select", "analytical-2d")
+    (check,) = doc["scenes"][0]["checks"]
+    return check
+
+
+def test_without_a_preload_the_load_magnitude_is_the_closing_force(tmp_path, cli_json) -> None:
+    """The same block pushed by its swept load at 180° instead of a spring: below μ m g no
+    angle near −x closes the x1 retraction (closed form), so the least magnitude is above it
+    (more, since the design direction must also keep the required margin); the magnitude the
+    hint writes passes."""
+    check = _loaded(tmp_path, cli_json, 0.5)
+    assert check["status"] == "fail"
+    hint = next(f["hint"] for f in check["findings"] if f["message"].startswith("retract x1"))
+    found = re.search(r"the check passes with a load magnitude at least ([\d.]+) N", hint)
+    assert found is not None, hint
+    value = float(found.group(1))
+    assert value >= MU * MASS * G
+    assert _loaded(tmp_path, cli_json, value)["status"] == "pass"
+    assert _loaded(tmp_path, cli_json, MU * MASS * G * 0.995)["status"] == "fail"
