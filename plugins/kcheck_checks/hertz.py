@@ -626,10 +626,16 @@ def _unknown_materials_result(
         else ""
     )
     details["unknown_materials"] = [{"coupling": c, "side": side} for c, side in seen]
+    # the headline's way out covers every side that is unknown (balls and seats both)
+    sides = [side for _, side in seen]
+    hint = findings[0].hint or ""
+    other = next((s for s in ("ball", "seat") if s in sides and s != sides[0]), None)
+    if other is not None:
+        hint += f" (and likewise `{other}_material` for the {other}s)"
     return CheckResult(
         check_id,
         Status.SKIPPED,
-        f"{first}{more}; {findings[0].hint}",
+        f"{first}{more}; {hint}",
         details=details,
         findings=tuple(findings),
     )

@@ -204,11 +204,11 @@ def friction_way_out(analysis: Analysis) -> str | None:
 
 
 def move_support_text(names: Sequence[str], what: str | None = "direction") -> str:
-    """ "no direction reseats this case: move or turn support x1" (the supports named;
+    """ "no direction closes this case: move or turn support x1" (the supports named;
     ``what``: what was tried and does not help, None when nothing is claimed)."""
     which = " or ".join(names)
     noun = "support" if len(names) == 1 else "supports"
-    tried = "" if what is None else f"no {what} reseats this case: "
+    tried = "" if what is None else f"no {what} closes this case: "
     return f"{tried}move or turn {noun} {which}"
 
 
