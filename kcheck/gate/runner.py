@@ -139,6 +139,21 @@ def scene_status(checks: Sequence[CheckResult], warnings: Sequence[Finding] = ()
     return Status.PASS
 
 
+def _nothing_checked(results: Sequence[CheckResult]) -> tuple[Finding, ...]:
+    """A scene on which no check gave a verdict (each was n/a or not checked) is not a pass:
+    a warning saying so, so that its status is ``warn`` (never a pass on nothing)."""
+    if any(r.status is not Status.SKIPPED for r in results):
+        return ()
+    which = ", ".join(r.id for r in results) or "no check was selected for it"
+    return (
+        Finding(
+            f"nothing was checked: every check was n/a or not checked ({which})",
+            code="nothing-checked",
+            hint="give what the checks' n/a lines ask for, or select checks that apply to it",
+        ),
+    )
+
+
 def _opted_in(lc: LoadedCheck, scene: Scene, settings: Settings) -> bool:
     """Whether a check runs on a scene as far as opting in goes: every default check; an
     opt-in one when the scene, the configuration or ``select`` names it."""
@@ -302,7 +317,9 @@ def check_scene(
         )
         results.append(result)
         drawn.append((lc, inputs, result))
-    warnings = _locate(scene, (*placement, *scene_warnings(scene, mass, results)))
+    warnings = _locate(
+        scene, (*placement, *scene_warnings(scene, mass, results), *_nothing_checked(results))
+    )
     status = scene_status(results, warnings)
     # Pictures after every check, so that each title carries the scene's verdict too.
     for lc, inputs, result in drawn if settings.plots is not None else ():
