@@ -35,6 +35,11 @@ __all__ = [
 
 #: Most sample points per mesh for the triangle search (memory: 24 bytes each, plus the tree).
 MAX_SAMPLES = 4_000_000
+#: Points within this many gaps of the other surface are near: those beyond one gap are near
+#: misses (a gap with no contact), those inside by more than one, interpenetration.
+NEAR_GAPS = 10.0
+#: Samples of the other surface whose triangles are tried for each point.
+NEIGHBOURS = 8
 
 
 @dataclass(frozen=True)
@@ -71,28 +76,64 @@ class ClosedBody:
     bounds: np.ndarray
 
 
-def _samples(mesh: trimesh.Trimesh, spacing: float) -> tuple[np.ndarray, np.ndarray]:
-    """Points on every triangle no farther than ``spacing`` from any point of it (a
-    barycentric grid, one centroid for a small triangle), and their triangle ids."""
-    tri = mesh.triangles
-    edges = np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2).max(axis=1)
-    n = np.maximum(1, np.ceil(edges / spacing)).astype(int)
-    points = [tri.mean(axis=1)]
-    ids = [np.arange(len(tri))]
-    for k in np.unique(n[n > 1]):
-        which = np.flatnonzero(n == k)
-        i, j = np.meshgrid(np.arange(k + 1), np.arange(k + 1), indexing="ij")
-        keep = i + j <= k
-        bary = np.column_stack([i[keep], j[keep], k - i[keep] - j[keep]]) / k
-        pts = np.einsum("bk,tkd->tbd", bary, tri[which])
-        points.append(pts.reshape(-1, 3))
-        ids.append(np.repeat(which, len(bary)))
+def _samples(
+    mesh: trimesh.Trimesh, spacing: float, faces: np.ndarray, most: int = MAX_SAMPLES
+) -> tuple[np.ndarray, np.ndarray]:
+    """Points on the triangles ``faces`` (ids) no farther than 2 ``spacing`` from any point of
+    them (a grid, the centroid alone for a small triangle), and their triangle
+    ids; the spacing widened when more than about ``most`` points would be needed."""
+    tri = mesh.triangles[faces]
+    if len(tri) == 0:
+        return np.zeros((0, 3)), np.zeros(0, int)
+    area = float(mesh.area_faces[faces].sum())
+    spacing = max(spacing, float(np.sqrt(2 * area / most)))
+    # Each triangle from the corner opposite its longest edge, along its two shorter edges:
+    # a grid of n1 x n2 steps no longer than `spacing` (a long thin facet of a pin gets a row
+    # of points, not a square grid), so every point of it is within 2 `spacing` of a sample.
+    lengths = np.linalg.norm(np.roll(tri, -1, axis=1) - np.roll(tri, 1, axis=1), axis=2)
+    start = np.argmax(lengths, axis=1)
+    order = (start[:, None] + np.arange(3)) % 3
+    tri = np.take_along_axis(tri, order[:, :, None], axis=1)
+    e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+    n1 = np.maximum(1, np.ceil(np.linalg.norm(e1, axis=1) / spacing)).astype(int)
+    n2 = np.maximum(1, np.ceil(np.linalg.norm(e2, axis=1) / spacing)).astype(int)
+    small = lengths.max(axis=1) <= spacing
+    points = [tri[small].mean(axis=1)]
+    ids = [faces[small]]
+    grid = np.column_stack([n1, n2])[~small]
+    rest = np.flatnonzero(~small)
+    if len(rest):
+        keys, inverse = np.unique(grid, axis=0, return_inverse=True)
+        inverse = np.ravel(inverse)
+        for g, (k1, k2) in enumerate(keys):
+            which = rest[inverse == g]
+            i, j = np.meshgrid(np.arange(k1 + 1) / k1, np.arange(k2 + 1) / k2, indexing="ij")
+            keep = i + j <= 1 + 1e-12
+            u, v = i[keep], j[keep]
+            pts = (
+                tri[which, 0][:, None]
+                + u[None, :, None] * e1[which][:, None]
+                + (v[None, :, None] * e2[which][:, None])
+            )
+            points.append(pts.reshape(-1, 3))
+            ids.append(np.repeat(faces[which], len(u)))
     return np.concatenate(points), np.concatenate(ids)
 
 
-def surface_distances(points: np.ndarray, mesh: trimesh.Trimesh, radius: float) -> Near:
-    """Exact distances from ``points`` (n, 3) to ``mesh``'s surface, for the points within
-    ``radius`` of it; the sign from the closest triangle's outward normal."""
+def _faces_in_box(mesh: trimesh.Trimesh, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Ids of the triangles whose bounding boxes meet the box ``lo``..``hi``."""
+    tri = mesh.triangles
+    return np.flatnonzero(np.all((tri.max(axis=1) >= lo) & (tri.min(axis=1) <= hi), axis=1))
+
+
+def surface_distances(
+    points: np.ndarray, mesh: trimesh.Trimesh, radius: float, spacing: float
+) -> Near:
+    """Distances from ``points`` (n, 3) to ``mesh``'s surface, for the points within
+    ``radius`` of it; the sign from the closest triangle's outward normal.
+
+    The triangles tried for a point are those of the :data:`NEIGHBOURS` samples (at most
+    ``spacing`` apart) nearest to it, and the distance to each is exact (point to triangle)."""
     import trimesh
     from scipy.spatial import cKDTree
 
@@ -101,22 +142,21 @@ def surface_distances(points: np.ndarray, mesh: trimesh.Trimesh, radius: float) 
     empty = Near(np.zeros(0, int), np.zeros(0), np.zeros((0, 3)), np.zeros(0, int))
     if len(inside) == 0:
         return empty
-    tri = mesh.triangles
-    edges = np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2)
-    spacing = float(np.median(edges))
-    area = float(mesh.area)
-    spacing = max(spacing, np.sqrt(2 * area / MAX_SAMPLES))  # bounds the sample count
-    samples, ids = _samples(mesh, spacing)
-    # Every point of a triangle lies within `spacing` of one of its samples.
-    pairs = (
-        cKDTree(points[inside])
-        .sparse_distance_matrix(cKDTree(samples), radius + spacing, output_type="ndarray")
-        .astype([("i", int), ("j", int), ("v", float)])
-    )
-    if len(pairs) == 0:
+    box = points[inside]
+    faces = _faces_in_box(mesh, box.min(axis=0) - radius, box.max(axis=0) + radius)
+    samples, ids = _samples(mesh, spacing, faces)
+    if len(samples) == 0:
         return empty
-    candidates = np.unique(np.column_stack([pairs["i"], ids[pairs["j"]]]), axis=0)
-    q = points[inside][candidates[:, 0]]
+    k = min(NEIGHBOURS, len(samples))
+    dist, idx = cKDTree(samples).query(box, k=k, distance_upper_bound=radius + 2 * spacing)
+    dist, idx = dist.reshape(len(box), k), idx.reshape(len(box), k)
+    hit = np.isfinite(dist)
+    if not hit.any():
+        return empty
+    rows = np.broadcast_to(np.arange(len(box))[:, None], hit.shape)[hit]
+    candidates = np.unique(np.column_stack([rows, ids[idx[hit]]]), axis=0)
+    tri = mesh.triangles
+    q = box[candidates[:, 0]]
     closest = trimesh.triangles.closest_point(tri[candidates[:, 1]], q)
     d = np.linalg.norm(q - closest, axis=1)
     # The nearest triangle per point: sort by point, then distance.
@@ -124,8 +164,7 @@ def surface_distances(points: np.ndarray, mesh: trimesh.Trimesh, radius: float) 
     first = order[np.r_[True, np.diff(candidates[order, 0]) != 0]]
     keep = first[d[first] <= radius]
     t = candidates[keep, 1]
-    normal = mesh.face_normals[t]
-    signed = np.einsum("ij,ij->i", q[keep] - closest[keep], normal)
+    signed = np.einsum("ij,ij->i", q[keep] - closest[keep], mesh.face_normals[t])
     # On an edge or a corner the face normal gives no reliable sign: a point off the face's
     # own plane by less than its distance is outside.
     unsigned = d[keep]
@@ -164,19 +203,6 @@ def closed_bodies(mesh: trimesh.Trimesh) -> list[ClosedBody]:
     return out
 
 
-def _vertex_patch(
-    mesh: trimesh.Trimesh, labels: np.ndarray, vertices: np.ndarray, facing: np.ndarray
-) -> np.ndarray:
-    """The patch each vertex lies on; on a sharp edge, that of the incident face whose normal
-    is most opposite ``facing`` (the other surface's normal there: the face that touches)."""
-    vf = mesh.vertex_faces[vertices]  # padded with -1
-    valid = vf >= 0
-    normals = mesh.face_normals[np.where(valid, vf, 0)]
-    score = np.where(valid, np.einsum("ikd,id->ik", normals, facing), np.inf)
-    best = vf[np.arange(len(vertices)), np.argmin(score, axis=1)]
-    return labels[best]
-
-
 def patch_fit(
     mesh: trimesh.Trimesh, labels: np.ndarray, patch: int
 ) -> tuple[Primitive | None, list[Primitive]]:
@@ -191,31 +217,27 @@ def patch_fit(
 def contact_regions(
     base: trimesh.Trimesh, body: trimesh.Trimesh, gap: float
 ) -> tuple[list[Region], float]:
-    """The contact regions of ``body`` on ``base`` (vertices of either within ``gap`` of the
-    other), each with its patches fitted; and the deepest interpenetration found (m, ≥ 0)."""
+    """The contact regions of ``body`` on ``base``, each with its patches fitted; and the
+    deepest interpenetration found (m, ≥ 0).
+
+    Points sampled on each mesh's triangles (at most ``3 gap`` apart, so that the touching
+    point of two long facets crossing, as on tessellated pins, is not missed) within
+    :data:`NEAR_GAPS` gaps of the other's surface are found; those within ``gap`` touch, the
+    others are near misses (a region's ``least_distance`` says which)."""
     body_labels = smooth_patches(body)
     base_labels = smooth_patches(base)
-    a = surface_distances(body.vertices, base, gap)  # body vertices near the base
-    b = surface_distances(base.vertices, body, gap)  # base vertices near the body
+    reach = NEAR_GAPS * gap
+    sides = []
+    for mesh, other in ((body, base), (base, body)):
+        lo, hi = other.bounds[0] - reach, other.bounds[1] + reach
+        points, faces = _samples(mesh, 3 * gap, _faces_in_box(mesh, lo, hi))
+        near = surface_distances(points, other, reach, 3 * gap)
+        sides.append((points[near.index], faces[near.index], near))
+    (pa, fa, a), (pb, fb, b) = sides
     depth = float(max(0.0, -min(a.signed.min(initial=0.0), b.signed.min(initial=0.0))))
-    body_side = np.concatenate(
-        [
-            _vertex_patch(body, body_labels, a.index, base.face_normals[a.triangle]),
-            body_labels[b.triangle],
-        ]
-    )
-    base_side = np.concatenate(
-        [
-            base_labels[a.triangle],
-            _vertex_patch(base, base_labels, b.index, body.face_normals[b.triangle]),
-        ]
-    )
-    points = np.concatenate(
-        [
-            (body.vertices[a.index] + a.closest) / 2,
-            (base.vertices[b.index] + b.closest) / 2,
-        ]
-    )
+    body_side = np.concatenate([body_labels[fa], body_labels[b.triangle]])
+    base_side = np.concatenate([base_labels[a.triangle], base_labels[fb]])
+    points = np.concatenate([(pa + a.closest) / 2, (pb + b.closest) / 2])
     signed = np.concatenate([a.signed, b.signed])
     regions = []
     pairs, inverse = np.unique(np.column_stack([body_side, base_side]), axis=0, return_inverse=True)

@@ -158,7 +158,28 @@ def _crossed(body: Primitive, base: Primitive, region: Region) -> PointContact |
     return PointContact(point, n, gap, to_mesh, None, "body", ("", 0), base, region)
 
 
-def _contact(region: Region, gap_tol: float) -> PointContact | Unusable:
+def _contact(region: Region, gap_tol: float) -> PointContact | Unusable | None:
+    """What a region is; None for surfaces that come near only at an edge (their fitted
+    surfaces meet beyond the meshes' faces, as a ball passing a groove's end face does)."""
+    found = _touch(region, gap_tol)
+    if region.least_distance <= gap_tol:
+        return found
+    if isinstance(found, PointContact) and found.gap > gap_tol:
+        return Unusable(
+            _what(region),
+            f"a gap with no contact: the surfaces come within {found.gap:.3g} m, more than "
+            f"the gap tolerance {gap_tol:.3g} m",
+            0,
+            region,
+        )
+    return None
+
+
+def _what(region: Region) -> str:
+    return f"{_name(region.body_fit)} on the body against {_name(region.base_fit)} on the base"
+
+
+def _touch(region: Region, gap_tol: float) -> PointContact | Unusable | None:
     body, base = region.body_fit, region.base_fit
     what = f"{_name(body)} on the body against {_name(base)} on the base"
     if body is None or base is None:
@@ -167,14 +188,6 @@ def _contact(region: Region, gap_tol: float) -> PointContact | Unusable:
         return Unusable(
             what,
             f"the {side}'s surface there is not a plane, sphere or cylinder ({fits})",
-            0,
-            region,
-        )
-    if region.least_distance > gap_tol:
-        return Unusable(
-            what,
-            f"a gap with no contact: the surfaces come within {region.least_distance:.3g} m, "
-            f"more than the gap tolerance {gap_tol:.3g} m",
             0,
             region,
         )
@@ -189,7 +202,9 @@ def _contact(region: Region, gap_tol: float) -> PointContact | Unusable:
                 found = PointContact(**{**found.__dict__, "key": key})
             return found
     if body.kind == "plane" and base.kind == "plane":
-        return Unusable(what, "an area contact (flat on flat)", 3, region)
+        if body.axis @ base.axis < -math.cos(math.radians(_PARALLEL_DEG)):
+            return Unusable(what, "an area contact (flat on flat)", 3, region)
+        return None  # a face's edge on another face: part of an area contact found beside
     if {body.kind, base.kind} == {"plane", "cylinder"}:
         cyl, plane = (body, base) if body.kind == "cylinder" else (base, body)
         if abs(cyl.axis @ plane.axis) < math.sin(math.radians(_PARALLEL_DEG)):
@@ -248,7 +263,7 @@ def _shorthand(contacts: list[PointContact]) -> tuple[str, dict[str, Any] | None
             if _same(contacts, couplings.ball_vee(c, r, axis, up, half), r):
                 return "ball-vee", fields
         elif kinds == {"plane"} and len(contacts) == 3:
-            up = _unit(sum(toward))
+            up = _unit(np.sum(toward, axis=0))
             half = math.degrees(math.acos(min(1.0, float(toward[0] @ up))))
             radial = toward[0] - (toward[0] @ up) * up
             reference = -_unit(radial)
@@ -278,7 +293,7 @@ def recognise(regions: list[Region], gap_tol: float) -> Recognition:
         found = _contact(region, gap_tol)
         if isinstance(found, Unusable):
             out.unusable.append(found)
-        else:
+        elif found is not None:
             groups.setdefault(found.key, []).append(found)
     ordered = sorted(groups.values(), key=lambda g: tuple(np.round(g[0].point, 9)))
     for k, contacts in enumerate(ordered, start=1):

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from kcheck.numerics.thresholds import SURFACE_FIT_RTOL
+from kcheck.numerics.thresholds import SMOOTH_PATCH_DEG, SURFACE_FIT_RTOL
 
 __all__ = ["Primitive", "fit_plane", "fit_sphere", "fit_cylinder", "fit_surface"]
 
@@ -120,9 +120,24 @@ def fit_surface(
     if len(points) >= 6:
         tried.append(fit_cylinder(points, centres, normals))
     for fit in tried:
-        if fit.rms <= SURFACE_FIT_RTOL * fit.size:
+        if fit.rms <= SURFACE_FIT_RTOL * fit.size and _normals_agree(fit, centres, normals):
             return fit, tried
     return None, tried
+
+
+def _normals_agree(fit: Primitive, centres: np.ndarray, normals: np.ndarray) -> bool:
+    """Whether every face normal is within :data:`SMOOTH_PATCH_DEG` of the fitted surface's
+    normal below the face's centre: a tessellated pin's vertices lie on its two end circles,
+    which also lie on a sphere; its faces' normals tell the two apart."""
+    if fit.kind == "plane":
+        expected = np.broadcast_to(fit.axis, normals.shape)
+    else:
+        d = centres - fit.point
+        if fit.kind == "cylinder":
+            d = d - np.outer(d @ fit.axis, fit.axis)
+        expected = fit.outward * d / np.linalg.norm(d, axis=1)[:, None]
+    cos = np.einsum("ij,ij->i", expected, normals)
+    return bool(np.all(cos >= np.cos(np.radians(SMOOTH_PATCH_DEG))))
 
 
 def _size(points: np.ndarray) -> float:
