@@ -277,8 +277,8 @@ def _merged_parts(
     regions: Any,
 ) -> list[str]:
     """Findings on a body mesh of several closed bodies: each named (volume, bounds), and
-    those that sit in grooves of the rest of the body (two or more point-like contacts with
-    it): likely parts of the base exported with the body."""
+    those that touch the base and sit in grooves of the rest of the body (two or more
+    contacts with it): likely parts of the base exported with the body."""
     import numpy as np
 
     pieces = bodies(body)
@@ -296,11 +296,13 @@ def _merged_parts(
             (m for m in split if np.allclose(m.bounds, piece.bounds, atol=1e-12 + 1e-9 * scale)),
             None,
         )
-        if mesh is not None and len(split) > 1 and piece.volume < max(p.volume for p in pieces):
-            rest = [m for m in split if m is not mesh]
+        on_base = mesh is not None and any(
+            r.least_distance <= gap for r in regions(base, mesh, gap)[0]
+        )
+        if mesh is not None and on_base:
             import trimesh
 
-            others = trimesh.util.concatenate(rest)
+            others = trimesh.util.concatenate([m for m in split if m is not mesh])
             seated, _ = regions(others, mesh, gap)
             touching = [r for r in seated if r.least_distance <= gap]
             if len(touching) >= 2:
