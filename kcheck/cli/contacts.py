@@ -131,8 +131,9 @@ def scene_text(
     import numpy as np
 
     out = [
-        f"# Written by `{command}`: the contacts found in the assembly, each side's",
-        "# surface fitted (plane, sphere, cylinder) and recognised as the elements below.",
+        f"# Written by `{command}`:",
+        "# the contacts found in the assembly, each side's surface fitted (plane, sphere,",
+        "# cylinder) and recognised as the elements below (lengths in the scene's units).",
     ]
     out += [f"#   {line}" for line in report_lines(found, scale, units) + notes]
     out += [
@@ -197,6 +198,8 @@ def run(args: argparse.Namespace) -> int:
         return fail(f"unknown material `{args.material}`; known: {known_names()}")
     if not (math.isfinite(args.friction) and 0 <= args.friction <= 100):
         return fail(f"--friction {args.friction}: expected a number from 0 to 100")
+    if args.gap is not None and not (math.isfinite(args.gap) and args.gap > 0):
+        return fail(f"--gap {args.gap}: expected a positive length in {units}")
     scale = LENGTH_UNITS[units]
     meshes = []
     for path, what in ((args.base, "BASE"), (args.body, "BODY")):
@@ -212,8 +215,6 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     size = float(np.linalg.norm(np.ptp(np.vstack([base.bounds, body.bounds]), axis=0)))
-    if args.gap is not None and not (math.isfinite(args.gap) and args.gap > 0):
-        return fail(f"--gap {args.gap}: expected a positive length in {units}")
     gap = args.gap * scale if args.gap is not None else CONTACT_GAP_RTOL * size
     regions, depth = contact_regions(base, body, gap)
     if depth > gap:

@@ -202,3 +202,18 @@ def test_balls_of_the_base_merged_into_the_body_are_named(tmp_path, capsys):
     assert "looks like part of the base" in out.err
     assert out.err.count("looks like part of the base") == 3
     assert "volume 902.8 mm^3" in out.err  # the icosphere's, 4/3 pi 6^3 less its facets
+
+
+@pytest.mark.parametrize(
+    ("option", "said"),
+    [
+        (["--gap", "-1"], "--gap -1.0: expected a positive length"),
+        (["--units", "furlong"], "--units furlong: expected one of"),
+        (["--material", "cheese"], "unknown material `cheese`"),
+    ],
+)
+def test_bad_options(tmp_path, capsys, option, said):
+    base, body = three_vee()
+    _write(tmp_path, base, body)
+    code = main(["contacts", str(tmp_path / "base.stl"), str(tmp_path / "body.stl"), *option])
+    assert code == 2 and said in capsys.readouterr().err
