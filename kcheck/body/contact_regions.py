@@ -161,7 +161,10 @@ def surface_distances(
     if not hit.any():
         return empty
     rows = np.broadcast_to(np.arange(len(box))[:, None], hit.shape)[hit]
-    candidates = np.unique(np.column_stack([rows, ids[idx[hit]]]), axis=0)
+    # Unique (point, triangle) pairs, through one integer key (np.unique over rows is slow).
+    count = np.int64(len(mesh.faces))
+    key = np.unique(rows.astype(np.int64) * count + ids[idx[hit]])
+    candidates = np.column_stack([key // count, key % count])
     tri = mesh.triangles
     q = box[candidates[:, 0]]
     closest = trimesh.triangles.closest_point(tri[candidates[:, 1]], q)
