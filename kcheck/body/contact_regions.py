@@ -31,6 +31,7 @@ __all__ = [
     "closed_bodies",
     "contact_regions",
     "patch_fit",
+    "merged_pieces",
 ]
 
 #: Most sample points per mesh for the triangle search (memory: 24 bytes each, plus the tree).
@@ -268,3 +269,30 @@ def contact_regions(
             region.tried[side] = tried
         regions.append(region)
     return regions, depth
+
+
+def merged_pieces(
+    body: trimesh.Trimesh, base: trimesh.Trimesh, gap: float
+) -> list[tuple[ClosedBody, bool]]:
+    """Each closed body of a body mesh made of several, and whether it looks like part of the
+    base: it touches the base and sits in two or more grooves of the rest of the body file
+    (the base's balls exported inside the plate's file). An empty list for a single body."""
+    import trimesh
+
+    pieces = closed_bodies(body)
+    if len(pieces) < 2:
+        return []
+    split = body.split(only_watertight=False)
+    out = []
+    for piece in pieces:
+        tol = 1e-9 * float(np.ptp(piece.bounds, axis=0).max())
+        mesh = next((m for m in split if np.allclose(m.bounds, piece.bounds, atol=tol)), None)
+        swallowed = False
+        if mesh is not None and any(
+            r.least_distance <= gap for r in contact_regions(base, mesh, gap)[0]
+        ):
+            rest = trimesh.util.concatenate([m for m in split if m is not mesh])
+            seated = contact_regions(rest, mesh, gap)[0]
+            swallowed = sum(r.least_distance <= gap for r in seated) >= 2
+        out.append((piece, swallowed))
+    return out

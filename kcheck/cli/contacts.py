@@ -183,7 +183,7 @@ def _mesh_field(body: Path, output: Path | None) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from kcheck.body.contact_regions import closed_bodies, contact_regions
+    from kcheck.body.contact_regions import contact_regions
     from kcheck.body.coupling_elements import recognise
     from kcheck.body.meshio import load_mesh, not_watertight
     from kcheck.errors import MeshError
@@ -233,7 +233,7 @@ def run(args: argparse.Namespace) -> int:
             "(the body seated), or raise --gap"
         )
     found = recognise(regions, gap)
-    notes = _merged_parts(body, args.body, base, gap, scale, units, closed_bodies, contact_regions)
+    notes = _merged_parts(body, args.body, base, gap, scale, units)
     report = report_lines(found, scale, units) + notes
     count = found.contact_count
     problems = []
@@ -268,49 +268,26 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _merged_parts(
-    body: Any,
-    path: Path,
-    base: Any,
-    gap: float,
-    scale: float,
-    units: str,
-    bodies: Any,
-    regions: Any,
+    body: Any, path: Path, base: Any, gap: float, scale: float, units: str
 ) -> list[str]:
     """Findings on a body mesh of several closed bodies: each named (volume, bounds), and
-    those that touch the base and sit in grooves of the rest of the body (two or more
-    contacts with it): likely parts of the base exported with the body."""
-    import numpy as np
+    whether it looks like part of the base (:func:`kcheck.body.contact_regions.merged_pieces`)."""
+    from kcheck.body.contact_regions import merged_pieces
 
-    pieces = bodies(body)
-    if len(pieces) < 2:
+    pieces = merged_pieces(body, base, gap)
+    if not pieces:
         return []
     lines = [f"{path.name}: {len(pieces)} disconnected closed bodies:"]
-    split = body.split(only_watertight=False) if len(pieces) > 1 else [body]
-    for k, piece in enumerate(pieces, start=1):
+    for k, (piece, swallowed) in enumerate(pieces, start=1):
         lo = ", ".join(f"{v / scale:.4g}" for v in piece.bounds[0])
         hi = ", ".join(f"{v / scale:.4g}" for v in piece.bounds[1])
         line = (
             f"  body {k}: volume {piece.volume / scale**3:.4g} {units}^3, bounds ({lo}) to ({hi})"
         )
-        mesh = next(
-            (m for m in split if np.allclose(m.bounds, piece.bounds, atol=1e-12 + 1e-9 * scale)),
-            None,
-        )
-        on_base = mesh is not None and any(
-            r.least_distance <= gap for r in regions(base, mesh, gap)[0]
-        )
-        if mesh is not None and on_base:
-            import trimesh
-
-            others = trimesh.util.concatenate([m for m in split if m is not mesh])
-            seated, _ = regions(others, mesh, gap)
-            touching = [r for r in seated if r.least_distance <= gap]
-            if len(touching) >= 2:
-                line += (
-                    f": sits in the body's own grooves ({len(touching)} contacts with the rest "
-                    "of the body), so it looks like part of the base exported with the body; "
-                    "its mass is counted as the body's"
-                )
+        if swallowed:
+            line += (
+                ": it touches the base and sits in grooves of the rest of the body, so it looks "
+                "like part of the base exported with the body; its mass is counted as the body's"
+            )
         lines.append(line)
     return lines
