@@ -12,7 +12,7 @@ is needed.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -291,7 +291,7 @@ def merged_pieces(
         if mesh is not None and any(
             r.least_distance <= gap for r in contact_regions(base, mesh, gap)[0]
         ):
-            rest = trimesh.util.concatenate([m for m in split if m is not mesh])
+            rest: Any = trimesh.util.concatenate([m for m in split if m is not mesh])
             seated = contact_regions(rest, mesh, gap)[0]
             swallowed = sum(r.least_distance <= gap for r in seated) >= 2
         out.append((piece, swallowed))
