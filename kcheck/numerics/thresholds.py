@@ -106,6 +106,9 @@ __all__ = [
     "RESEAT_STICK_SHARE",
     "RESEAT_ESTIMATE_FACTOR",
     "RESEAT_SEAT_RESOLUTION",
+    "CONTACT_GAP_RTOL",
+    "SMOOTH_PATCH_DEG",
+    "SURFACE_FIT_RTOL",
 ]
 
 # --- floating point ----------------------------------------------------------------------
