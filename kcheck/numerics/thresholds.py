@@ -466,11 +466,11 @@ RESEAT_SEAT_RESOLUTION: float = 2e-8
 
 # --- Contacts from the CAD (kcheck contacts) ---------------------------------------------------
 
-#: Default gap tolerance of ``kcheck contacts`` as a fraction of the assembly's size (the
-#: diagonal of both parts' bounds): surfaces closer than this touch. Tessellating a 6 mm ball
+#: Default gap tolerance of ``kcheck contacts`` as a fraction of the assembly's size
+#: (nondimensional; of the diagonal of both parts' bounds): surfaces closer than this touch. Tessellating a 6 mm ball
 #: with 0.3 mm edges leaves gaps of about 0.002 mm; 1e-3 of a 100 mm assembly is 0.1 mm.
 CONTACT_GAP_RTOL: float = 1e-3
-#: Faces meeting at a dihedral angle below this (degrees) belong to one smooth surface patch:
+#: Faces meeting at a dihedral angle below this (deg) belong to one smooth surface patch:
 #: above the facet angles of any usable tessellation of a ball or pin (an 8-sided pin has
 #: 45°, so coarser ones are not recognised), below the sharp edges of grooves and flats.
 SMOOTH_PATCH_DEG: float = 30.0
