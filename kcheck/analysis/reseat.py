@@ -49,8 +49,10 @@ __all__ = [
 #: First-motion classes, in analytical-2d/3d's words (``jams``: friction holds the body).
 FIRST_MOTIONS = ("closes", "loses_contact", "opens", "opens_loses_contact", "jams")
 
-#: Settle time as a share of one phase.
+#: Settle time as a share of one phase ...
 SETTLE_SHARE = 0.2
+#: ... and at least this many contact time constants (a short phase still settles).
+SETTLE_TIME_CONSTANTS = 50
 #: Return time of the support as a share of phase 2.
 RETURN_SHARE = 0.25
 #: Ball radius as a share of the supports' size (largest distance from their centroid).
@@ -250,7 +252,8 @@ def simulate(
     seats = points.copy()
     pair_of = {int(model.geom(f"ball{i}").id): i for i in range(k)}
     n_phase = max(1, round(settings.duration / dt))
-    n_settle = max(1, round(SETTLE_SHARE * settings.duration / dt))
+    settle = max(SETTLE_SHARE * settings.duration, SETTLE_TIME_CONSTANTS * settings.time_constant)
+    n_settle = max(1, round(settle / dt))
     chunk = max(1, n_phase // SAMPLES)
     force6 = np.zeros(6)
 
@@ -290,6 +293,11 @@ def simulate(
             done += n
             sample(t0 + done * dt)
 
+    # The settle is frictionless: with friction the body would stop wherever its sinking into
+    # the soft contacts first sticks, on forces the rigid seat does not have (often a support
+    # unloaded); frictionless it settles on the seat's determinate normal forces.
+    rough = model.pair_friction[:, :2].copy()
+    model.pair_friction[:, :2] = 0.0
     mujoco.mj_forward(model, data)
     data.xfrc_applied[body] = _wrench(scene, data.xipos[body], 1.0)
     accel = float(np.linalg.norm(data.xfrc_applied[body][:3])) / mass.mass
@@ -304,6 +312,7 @@ def simulate(
     seated_forces = rows[-1][3].copy()
     seated_com = rows[-1][4].copy()
     seated_quat = data.xquat[body].copy()
+    model.pair_friction[:, :2] = rough
     backed = seats[retracted] - settings.retraction * normals[retracted]
     data.mocap_pos[retracted] = backed
     mujoco.mj_forward(model, data)
