@@ -105,6 +105,7 @@ __all__ = [
     "RESEAT_STICK_SHARE",
     "RESEAT_ESTIMATE_FACTOR",
     "RESEAT_SEAT_RESOLUTION",
+    "RESEAT_REST_SPEED",
 ]
 
 # --- floating point ----------------------------------------------------------------------
@@ -452,3 +453,7 @@ RESEAT_ESTIMATE_FACTOR: float = 2.0
 #: and changes with each contact's force), not converging with the step; halving the step
 #: changed fixtures' nm seat errors by up to 0.016 µm. 2 % of the default tolerance (1 µm).
 RESEAT_SEAT_RESOLUTION: float = 2e-8
+#: The settle goes on (in blocks of its own length, up to 1 s) until no contact point of the
+#: body moves faster than this (m/s): the first motion is compared from a body at rest, and a
+#: sliding body reaches 10 µm within a few ms (over 1e-2 m/s), 100 times faster.
+RESEAT_REST_SPEED: float = 1e-4
