@@ -256,8 +256,8 @@ def premise(c: Compared) -> str | None:
     if c.settle_speed > RESEAT_REST_SPEED:
         return (
             "not compared: the simulated seat is not at rest after settling for 1 s (a "
-            "near-singular seat: its seated normal forces are several times the load, and the "
-            "body slides out of the soft seat)"
+            "near-singular seat, its seated normal forces 7 to 1100 times the load, out of "
+            "which the body slides in the soft model)"
         )
     if c.seat_pressed < SEAT_PRESSED:
         return (
@@ -269,9 +269,9 @@ def premise(c: Compared) -> str | None:
 
 #: Every support must carry at least this share of the largest seated normal force.
 SEAT_PRESSED = 0.01
-#: The share of compared cases measured on these scenes, every disagreement counted (the
-#: issue's 0.95 is asserted on the cases without a physical reason to differ).
-MEASURED_SHARE = 0.95
+#: The share of compared cases measured on these scenes, every disagreement counted: 0.892
+#: (the issue's 0.95 is asserted on the cases without a physical reason to differ: 0.952).
+MEASURED_SHARE = 0.89
 
 #: Reasons a first motion may differ from the rigid analysis's class for physical reasons.
 PHYSICAL = ("Painlevé", "analytical jams within", "friction can hold", "at the resolution limit")
