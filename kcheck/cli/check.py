@@ -274,7 +274,7 @@ def _check(args: argparse.Namespace, temporary: list[Path]) -> int:
 
     paths = [Path(p) for p in config["paths"]] or [Path(".")]
     exclude = _excluder(config)
-    accept = _acceptance(args, config)
+    accept, baseline = _acceptance(args, config)
     stdin: tuple[Path, str] | None = None
     if any(str(p) == "-" for p in args.paths or ()):
         if len(args.paths) != 1:
@@ -366,6 +366,8 @@ def _check(args: argparse.Namespace, temporary: list[Path]) -> int:
         print(f"kcheck: error: {message}", file=sys.stderr)
     if args.statistics:
         _statistics(results, config["fail_on"])
+    if baseline is not None:
+        _stale_baseline(baseline, results, args.baseline)
     states = {r.status for r in results}
     if args.write_baseline is not None:
         from kcheck.gate.suppress import write_baseline
@@ -388,9 +390,10 @@ def _check(args: argparse.Namespace, temporary: list[Path]) -> int:
 
 def _acceptance(
     args: argparse.Namespace, config: Any
-) -> Callable[[SceneResult, tuple[Path, str] | None], SceneResult]:
+) -> tuple[Callable[[SceneResult, tuple[Path, str] | None], SceneResult], Any]:
     """What accepts failures (inline suppressions, per-path ignores, the baseline): a
-    function from a scene's result to its result with accepted failures set aside."""
+    function from a scene's result to its result with accepted failures set aside, and the
+    baseline with its root (None without ``--baseline``), to find its stale entries after."""
     from kcheck.gate.suppress import Baseline, PathIgnores
 
     baseline = None
@@ -430,7 +433,25 @@ def _acceptance(
             )
         return apply(result, inline, ignores, baseline, root)
 
-    return accept
+    return accept, None if baseline is None or root is None else (baseline, root)
+
+
+def _stale_baseline(baseline: Any, results: Sequence[SceneResult], source: Path) -> None:
+    """Warn once about baseline entries no failure matched: a fixed failure left in the file
+    would accept a new one of the same rule and field later."""
+    entries, root = baseline
+    stale = entries.stale(results, root)
+    if not stale:
+        return
+    shown = "; ".join(f"{path} {rule} ({field})" for path, rule, field in stale[:5])
+    more = f"; and {len(stale) - 5} more" if len(stale) > 5 else ""
+    print(
+        f"kcheck: warning: {len(stale)} baseline "
+        f"{'entry matches' if len(stale) == 1 else 'entries match'} no failure any more "
+        f"(fixed?): {shown}{more}; rewrite {source} with --write-baseline to drop "
+        f"{'it' if len(stale) == 1 else 'them'}",
+        file=sys.stderr,
+    )
 
 
 def _stdin_scene(name: Path | None) -> tuple[Path, str]:
