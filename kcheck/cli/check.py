@@ -290,11 +290,13 @@ def _check(args: argparse.Namespace, temporary: list[Path]) -> int:
     if stdin is not None:
         pass  # the one scene, whatever --changed-only or the hook would say
     elif args.pre_commit:
-        files, missing = _hook_files(files, missing, args.paths, exclude)
+        files, missing = _hook_files(files, missing, args.paths, exclude, _inputs(args))
     elif args.changed_only or args.since:
         from kcheck.gate.vcs import changed_scenes
 
-        files = changed_scenes(files, args.since or "HEAD", since=args.since is not None)
+        files = changed_scenes(
+            files, args.since or "HEAD", since=args.since is not None, inputs=_inputs(args)
+        )
     options = ReportOptions(
         color=args.color,
         verbosity=1 if args.verbose else -1 if args.quiet else 0,
@@ -502,8 +504,17 @@ def _excluder(config: Any) -> Excluder:
     return Excluder(patterns, config.root, gitignore=config["respect_gitignore"])
 
 
+def _inputs(args: argparse.Namespace) -> list[Path]:
+    """Files besides scenes, meshes and configuration whose change changes every verdict."""
+    return [args.baseline] if args.baseline is not None and args.write_baseline is None else []
+
+
 def _hook_files(
-    everything: list[Path], missing: list[SceneResult], given: Sequence[Path], exclude: Excluder
+    everything: list[Path],
+    missing: list[SceneResult],
+    given: Sequence[Path],
+    exclude: Excluder,
+    inputs: Sequence[Path] = (),
 ) -> tuple[list[Path], list[SceneResult]]:
     """The pre-commit hook's scenes: those a change against HEAD affects (among the
     configured paths), and those of the files pre-commit passed (``--all-files``, ``--files``)
@@ -514,7 +525,9 @@ def _hook_files(
     # `pre-commit run --from-ref A --to-ref B` (CI) says so in the environment: then the
     # change is the branch's, against the merge-base, as for --since.
     from_ref = os.environ.get("PRE_COMMIT_FROM_REF")
-    affected = set(changed_scenes(everything, from_ref or "HEAD", since=bool(from_ref)))
+    affected = set(
+        changed_scenes(everything, from_ref or "HEAD", since=bool(from_ref), inputs=inputs)
+    )
     given = [p for p in given if not exclude.forced(p)]
     named, named_missing = discover(given, exclude) if given else ([], [])
     wanted = affected | set(named)
