@@ -102,9 +102,7 @@ def answers(path: str) -> object:
 
     def strip(value: object) -> object:
         if isinstance(value, dict):
-            return {
-                k: strip(v) for k, v in value.items() if "runtime" not in k and k != "elapsed_s"
-            }
+            return {k: strip(v) for k, v in value.items() if k not in VARYING}
         if isinstance(value, list):
             return [strip(v) for v in value]
         return value
