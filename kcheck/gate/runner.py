@@ -508,7 +508,14 @@ def run_batch(
     def work(path: Path) -> SceneResult:
         return check_scene(path, checks, settings=settings)
 
-    budget = pool.Budget(settings.timeout_s, settings.memory_bytes)
+    # Workers that draw pictures grow (matplotlib's caches): recycled past a threshold.
+    recycle = pool.RECYCLE_RSS_BYTES if settings.plots is not None else None
+    if recycle is not None:
+        # Imported once here, before the forks: a recycled worker starts with matplotlib and
+        # its font list loaded instead of loading them again.
+        import matplotlib.figure  # noqa: F401
+        from matplotlib.backends import backend_agg  # noqa: F401
+    budget = pool.Budget(settings.timeout_s, settings.memory_bytes, recycle)
     outcomes = pool.run_in_workers(files, work, jobs=settings.jobs, budget=budget, tick=tick)
     for path, outcome in zip(files, outcomes, strict=True):
         if isinstance(outcome, pool.BudgetExceeded):

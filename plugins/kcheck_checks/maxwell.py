@@ -21,7 +21,7 @@ from kcheck.mechanics.kinematics import (
     point_velocity,
 )
 from kcheck.numerics.margins import MARGINAL_COS
-from kcheck.numerics.thresholds import EPS, NEARLY_SINGULAR
+from kcheck.numerics.thresholds import EPS, NEARLY_SINGULAR, NOISE_RTOL
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck_checks.marginal import with_margin
@@ -158,7 +158,10 @@ class Maxwell(Check):
                 ),
             )
         poor = [c for c in cases if c.outcome != "ok"]
-        worst = min(cases, key=lambda c: c.cos_maxwell if c.cos_maxwell is not None else -1)
+        # The first of the worst: supports tied in cos θ (a symmetric coupling) within rounding
+        # noise are one tie, so the name does not depend on the last digits of the input.
+        cosines = [c.cos_maxwell if c.cos_maxwell is not None else -1.0 for c in cases]
+        worst = cases[next(k for k, v in enumerate(cosines) if v <= min(cosines) + NOISE_RTOL)]
         near = sigma < NEARLY_SINGULAR
         findings = tuple(
             Finding(
