@@ -203,6 +203,8 @@ def describe_sweep(normal: Sequence[float] | np.ndarray, zero: Sequence[float] |
 def rounded_bound(value: float, digits: int, up: bool) -> float:
     """``value`` (non-zero) to ``digits`` significant digits, strictly above (``up``) or below
     it by at least a millionth: a bound a designer can type in and still be on the right side."""
+    if value == 0 or not math.isfinite(value):
+        raise ValueError(f"a rounded bound needs a finite non-zero value, not {value!r}")
     scale = 10.0 ** (digits - 1 - math.floor(math.log10(abs(value))))
     if up:
         return (math.floor(value * scale * (1 + 1e-6)) + 1) / scale

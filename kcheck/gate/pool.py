@@ -141,6 +141,16 @@ def _read(fd: int) -> object:
     return pickle.loads(body)
 
 
+def _inherited_address_space() -> int:
+    """This process's mapped address space (bytes) from /proc (Linux); 0 where unknown."""
+    try:
+        with open("/proc/self/statm", encoding="ascii") as statm:
+            pages = int(statm.read().split()[0])
+    except (OSError, ValueError, IndexError):
+        return 0
+    return pages * os.sysconf("SC_PAGE_SIZE")
+
+
 def _child(tasks: int, results: int, work: Callable[[T], R], budget: Budget) -> None:
     """The worker's loop; never returns."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
@@ -148,11 +158,11 @@ def _child(tasks: int, results: int, work: Callable[[T], R], budget: Budget) -> 
         import resource
 
         _, hard = resource.getrlimit(resource.RLIMIT_AS)
-        limit = (
-            budget.memory_bytes
-            if hard == resource.RLIM_INFINITY
-            else min(hard, budget.memory_bytes)
-        )
+        # The budget is what a task may add to the address space the worker inherits: a
+        # parent that has mapped much already (threads' stacks and arenas after a Dask
+        # cluster ran in it, say) must not leave a forked worker over budget before its task.
+        wanted = _inherited_address_space() + budget.memory_bytes
+        limit = wanted if hard == resource.RLIM_INFINITY else min(hard, wanted)
         if limit < MAX_ADDRESS_SPACE:  # a larger budget is no limit (and overflows rlim_t)
             resource.setrlimit(resource.RLIMIT_AS, (limit, hard))
     code = 0

@@ -251,6 +251,7 @@ def check_scene(
                     )
                 )
         plan = []
+        unavailable: list[CheckResult] = []  # opt-in checks a scene asks for that cannot run
         for lc in checks:
             defaults = settings.check_options.get(lc.spec.name, {})
             try:
@@ -263,12 +264,9 @@ def check_scene(
             if not _opted_in(lc, scene, settings):
                 continue  # an opt-in check nobody asked for: not run, not listed
             missing = lc.check.missing_extra()
-            if missing is not None:  # an opt-in check the scene asks for, its extra absent
-                wrong.append(
-                    scene.error(
-                        ("checks", lc.spec.name),
-                        f"check `{lc.spec.name}` cannot run here: {missing}",
-                    )
+            if missing is not None:  # asked for by the scene, its extra absent: not checked
+                unavailable.append(
+                    CheckResult(lc.spec.name, Status.SKIPPED, f"not checked: {missing}")
                 )
                 continue
             severity = severity or settings.severities.get(lc.spec.name) or lc.check.severity
@@ -290,7 +288,7 @@ def check_scene(
         )
         return _error(path, message, (Finding(message, code=BUDGET_CODES["crashed"]),))
 
-    results = []
+    results = list(unavailable)
     written: list[str] = []
     drawn: list[tuple[LoadedCheck, Inputs, CheckResult]] = []
     notes = scene.notes
@@ -317,6 +315,9 @@ def check_scene(
         )
         results.append(result)
         drawn.append((lc, inputs, result))
+    if unavailable:  # in the checks' order, as the others
+        order = {lc.spec.name: k for k, lc in enumerate(checks)}
+        results.sort(key=lambda r: order.get(r.id, len(order)))
     warnings = _locate(
         scene, (*placement, *scene_warnings(scene, mass, results), *_nothing_checked(results))
     )

@@ -392,8 +392,11 @@ def _finding(
         f"{format_number(least, 3)}; the scene has {which} = {format_number(mu, 3)})"
     )
     # Rounded down, so that the friction named is below the least that holds.
-    below = "–" if least is None else format_number(rounded_bound(least, 3, up=False), 7)
-    hint = f"lower the friction at {others} below {below}"
+    if least is not None and least > 0:
+        below = format_number(rounded_bound(least, 3, up=False), 7)
+        hint = f"lower the friction at {others} below {below}"
+    else:  # held at any friction (or unknown): no friction bound frees it
+        hint = f"no friction frees it: move or turn support {names[r]} or the supports {others}"
     if gravity_only:
         pass  # nobody turns gravity: the friction is what the designer changes here
     elif arcs is not None and arcs.held != FULL:

@@ -205,7 +205,7 @@ class Maxwell(Check):
         return with_margin(
             result,
             "Maxwell cos θ",
-            worst.cos_maxwell,
+            min(cosines),  # the margin is the least cos θ itself; the name the first tied
             band,
             "at least",
             f"retracting {worst.retracted} frees a motion with cos θ = {worst.cos_maxwell:.3f}, "

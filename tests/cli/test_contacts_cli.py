@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import re
 import sys
 from pathlib import Path
 
@@ -78,8 +79,15 @@ def _close(a, b, path=""):
             _close(x, y, f"{path}[{i}]")
     elif isinstance(a, float):
         assert a == pytest.approx(b, rel=1e-4, abs=1e-4), path
+    elif isinstance(a, str) and path.endswith(".message"):
+        # A symmetric coupling's supports tie: which one a message names as the worst
+        # depends on the fits' last digits, so support names (b1.1, b2.2) are not compared.
+        assert SUPPORT.sub("b?", a) == SUPPORT.sub("b?", b), path
     else:
         assert a == b, path
+
+
+SUPPORT = re.compile(r"\bb\d\.\d\b")
 
 
 def test_three_vee_scene_checks_as_the_hand_written_one(tmp_path, capsys):

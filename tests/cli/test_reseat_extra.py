@@ -4,6 +4,7 @@ fresh interpreter (``sys.modules["mujoco"] = None``: importlib finds no such mod
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -49,3 +50,23 @@ def test_a_default_run_does_not_import_mujoco() -> None:
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert done.stdout.strip().splitlines()[-1] == "False", done.stderr
+
+
+def test_a_scene_asking_for_reseat_without_the_extra_is_not_checked_by_it(tmp_path) -> None:
+    """A scene whose `checks:` name reseat, where the extra is absent: reseat says "not
+    checked" and which extra to install; the scene's other checks run as usual."""
+    scene = tmp_path / "block.kcheck.yaml"
+    source = FIXTURES / "planar-block" / "block.kcheck.yaml"
+    text = source.read_text(encoding="utf-8")
+    assert "\nchecks:\n" in text  # the fixture has a checks: block: reseat joins it
+    text = text.replace("\nchecks:\n", "\nchecks:\n  reseat: {duration_s: 0.1}\n", 1)
+    scene.write_text(text, encoding="utf-8")
+    for mesh in (FIXTURES / "planar-block").glob("*.stl"):
+        (tmp_path / mesh.name).write_bytes(mesh.read_bytes())
+    done = _kcheck_without_mujoco("check", str(scene), "--format", "json")
+    assert done.returncode in (0, 1), done.stderr
+    doc = json.loads(done.stdout)
+    checks = {c["id"]: c for c in doc["scenes"][0]["checks"]}
+    assert checks["reseat"]["status"] == "skipped"
+    assert "kcheck[sim]" in checks["reseat"]["message"]
+    assert checks["analytical-2d"]["status"] in ("pass", "marginal", "fail")

@@ -200,8 +200,11 @@ def test_the_corpus_has_every_fixture_variant_and_200_generated_scenes(runs):
     # the unit mix-ups do what they are there for
     codes = {w["code"] for w in by_path["tool-changer-plate-in-cm"]["warnings"]}
     assert "part-size-outlier" in codes
-    codes = {w["code"] for w in by_path["tool-changer-units-slip"]["warnings"]}
-    assert {"support-far-from-body", "point-far-from-body"} <= codes
+    # every coordinate slipped to m: the supports 30 m off the body are an input error that
+    # names the unit the numbers fit (kcheck.analysis.placement)
+    slipped = by_path["tool-changer-units-slip"]
+    assert slipped["status"] == "error"
+    assert "units: mm" in slipped["error"] and "from the body's surface" in slipped["error"]
     assert [w["code"] for w in by_path["repaired-mesh"]["warnings"]] == ["mesh-repaired"]
     # verdicts of every kind occur
     assert {"pass", "fail", "warn"} <= {s["status"] for s in doc["scenes"]}
