@@ -44,7 +44,7 @@ from kcheck.mechanics.statics import (
     holds,
     holds_exactly,
 )
-from kcheck.numerics.thresholds import JAM_MU_RTOL, SLIVER, UNDETERMINED
+from kcheck.numerics.thresholds import FREE_CANDIDATE_TOL, JAM_MU_RTOL, SLIVER, UNDETERMINED
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 
@@ -65,6 +65,9 @@ __all__ = [
 ]
 
 Outcome = Literal["jams", "holds", "moves", "swept", "undetermined"]
+
+#: Directions measured exactly first, for a lower bound of the freest direction's depth.
+FREE_SAMPLE = 64
 
 
 # --- from a scene to its statics ------------------------------------------------------------
@@ -368,9 +371,8 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
         ("circumscribed", [c.held for c in analysis.cases if c.determined]),
         ("inscribed", [c.held_inner for c in analysis.cases if c.determined]),
     ):
-        depth = _free_depth(sets, dirs)  # type: ignore[arg-type]
-        best = int(np.argmax(depth))
-        if depth[best] > 0 and np.isfinite(depth[best]):
+        best = _freest(sets, dirs)  # type: ignore[arg-type]
+        if best is not None:
             freest, pyramids = dirs[best], kind
             break
     return JamMap(
@@ -401,3 +403,39 @@ def _free_depth(sets: list[Equilibria], dirs: np.ndarray) -> np.ndarray:
         if held.kind == "cone" and len(held.a):
             depth = np.minimum(depth, -cap_margin_matrix(held.a, held.c, dirs).min(axis=1))
     return depth
+
+
+def _freest(sets: list[Equilibria], dirs: np.ndarray) -> int | None:
+    """The index of the direction :func:`_free_depth` puts deepest (the first of equals) when
+    its depth is positive and finite, else None — computed exactly on a few directions only.
+
+    A direction is deeper than ``L`` in a case iff it lies outside some facet's circle by more
+    than ``L``: ``axis . d < cos(radius + L)``, a test without arccos. ``L`` is the best depth
+    among a sparse subset of the directions; only those passing the test in every case (with
+    a margin for rounding) are measured exactly, so the deepest is among them.
+    """
+    from kcheck.mechanics.arcs import cap_geometry
+
+    cones = [h for h in sets if h.kind == "cone" and len(h.a)]
+    if any(h.kind == "everywhere" for h in sets) or not cones:
+        return None  # -pi everywhere, or inf everywhere (nothing held): neither counts
+    free = np.ones(len(dirs), bool)
+    for held in cones:  # depth > 0 only outside every held set
+        free &= ~held.contains(dirs, -FREE_CANDIDATE_TOL)
+    candidates = np.flatnonzero(free)
+    if not len(candidates):
+        return None
+    sample = candidates[:: max(1, len(candidates) // FREE_SAMPLE)]
+    floor = float(_free_depth(sets, dirs[sample]).max())
+    if floor > 0:
+        for held in cones:
+            ratio, axes, radius = cap_geometry(held.a, held.c)
+            bound = np.cos(np.minimum(radius + floor, np.pi)) + FREE_CANDIDATE_TOL
+            bound = np.where(ratio >= 1.0, np.inf, np.where(ratio <= -1.0, -np.inf, bound))
+            deeper = np.any(dirs[candidates] @ axes.T <= bound, axis=1)
+            candidates = candidates[deeper]
+    depth = _free_depth(sets, dirs[candidates])
+    best = int(np.argmax(depth))
+    if depth[best] > 0 and np.isfinite(depth[best]):
+        return int(candidates[best])
+    return None
