@@ -349,12 +349,21 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
     closing_all = np.ones(points, bool)
     held, inner = [], []
     band_width = 0.0
+    # Least facet slacks, exact down to -FREE_CANDIDATE_TOL, per case: circumscribed, inscribed.
+    slacks: tuple[list[np.ndarray], list[np.ndarray]] = ([], [])
     for case in analysis.cases:
         if not case.determined:
             continue
         assert case.held_inner is not None
-        outer_in = case.held.contains(dirs)
-        inner_in = case.held_inner.contains(dirs)
+        outer = case.held.least_slack(dirs, -FREE_CANDIDATE_TOL)
+        # The inscribed pyramids hold less than the circumscribed ones (a subset): only the
+        # directions the circumscribed ones hold, to far more than rounding, can be held.
+        maybe = np.flatnonzero(outer >= -FREE_CANDIDATE_TOL)
+        inner_slack = np.full(points, -np.inf)
+        inner_slack[maybe] = case.held_inner.least_slack(dirs[maybe], -FREE_CANDIDATE_TOL)
+        slacks[0].append(outer)
+        slacks[1].append(inner_slack)
+        outer_in, inner_in = outer >= 0, inner_slack >= 0
         band = outer_in & ~inner_in
         if np.any(band) and case.held.kind == "cone":
             band_width = max(
@@ -367,11 +376,11 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
         held.append(np.count_nonzero(outer_in) / points)
         inner.append(np.count_nonzero(inner_in) / points)
     freest, pyramids = None, None
-    for kind, sets in (
-        ("circumscribed", [c.held for c in analysis.cases if c.determined]),
-        ("inscribed", [c.held_inner for c in analysis.cases if c.determined]),
+    for kind, sets, slack in (
+        ("circumscribed", [c.held for c in analysis.cases if c.determined], slacks[0]),
+        ("inscribed", [c.held_inner for c in analysis.cases if c.determined], slacks[1]),
     ):
-        best = _freest(sets, dirs)  # type: ignore[arg-type]
+        best = _freest(sets, dirs, slack)  # type: ignore[arg-type]
         if best is not None:
             freest, pyramids = dirs[best], kind
             break
@@ -405,7 +414,7 @@ def _free_depth(sets: list[Equilibria], dirs: np.ndarray) -> np.ndarray:
     return depth
 
 
-def _freest(sets: list[Equilibria], dirs: np.ndarray) -> int | None:
+def _freest(sets: list[Equilibria], dirs: np.ndarray, slacks: list[np.ndarray]) -> int | None:
     """The index of the direction :func:`_free_depth` puts deepest (the first of equals) when
     its depth is positive and finite, else None — computed exactly on a few directions only.
 
@@ -420,8 +429,8 @@ def _freest(sets: list[Equilibria], dirs: np.ndarray) -> int | None:
     if any(h.kind == "everywhere" for h in sets) or not cones:
         return None  # -pi everywhere, or inf everywhere (nothing held): neither counts
     free = np.ones(len(dirs), bool)
-    for held in cones:  # depth > 0 only outside every held set
-        free &= ~held.contains(dirs, -FREE_CANDIDATE_TOL)
+    for slack in slacks:  # depth > 0 only outside every held set
+        free &= slack < FREE_CANDIDATE_TOL
     candidates = np.flatnonzero(free)
     if not len(candidates):
         return None

@@ -196,43 +196,51 @@ class Equilibria:
 
     def contains(self, directions: np.ndarray, tol: float = 0.0) -> np.ndarray:
         """Whether each unit direction (m, dim) is held (boundary included within ``tol``)."""
-        if self.kind != "cone":
-            return np.full(len(directions), self.kind == "everywhere")
-        # A few facets that, on a sample of the directions, leave the fewest inside; only the
-        # directions inside them meet the other facets (each test is the same a + c . d >= -tol,
-        # so the answer is that of testing every facet at once). In chunks: a picture's
-        # 58,000 directions against hundreds of facets at once took 180 MB.
-        first = self._screening_facets(directions, tol)
+        return self.least_slack(directions, -tol) >= -tol
+
+    def least_slack(self, directions: np.ndarray, floor: float) -> np.ndarray:
+        """The least ``a + c . d`` over the facets for each unit direction (m, dim), where it is
+        at least ``floor``; elsewhere some value below ``floor``. ``inf`` everywhere for a set
+        held everywhere, ``-inf`` for a flat one (held nowhere but a measure-zero set)."""
+        if self.kind != "cone" or not len(self.a):
+            held = self.kind == "everywhere" or (self.kind == "cone" and not len(self.a))
+            return np.full(len(directions), np.inf if held else -np.inf)
+        # A few facets that, on a sample of the directions, leave the fewest above the floor;
+        # only the directions above it there meet the other facets (the least of the same
+        # values a + c . d as with every facet at once). In chunks: a picture's 58,000
+        # directions against hundreds of facets at once took 180 MB.
+        first = self._screening_facets(directions, floor)
         rest = np.setdiff1d(np.arange(len(self.a)), first, assume_unique=True)
-        inside = np.zeros(len(directions), bool)
+        slack = np.empty(len(directions))
         step = max(1, CONTAINS_CHUNK // max(1, len(first)))
         for i in range(0, len(directions), step):
             chunk = directions[i : i + step]
-            inside[i : i + step] = np.all(self.a[first] + chunk @ self.c[first].T >= -tol, axis=1)
+            slack[i : i + step] = np.min(self.a[first] + chunk @ self.c[first].T, axis=1)
         if len(rest):
-            alive = np.flatnonzero(inside)
+            alive = np.flatnonzero(slack >= floor)
             step = max(1, CONTAINS_CHUNK // len(rest))
             for i in range(0, len(alive), step):
                 which = alive[i : i + step]
-                inside[which] = np.all(
-                    self.a[rest] + directions[which] @ self.c[rest].T >= -tol, axis=1
+                slack[which] = np.minimum(
+                    slack[which],
+                    np.min(self.a[rest] + directions[which] @ self.c[rest].T, axis=1),
                 )
-        return inside
+        return slack
 
-    def _screening_facets(self, directions: np.ndarray, tol: float) -> np.ndarray:
+    def _screening_facets(self, directions: np.ndarray, floor: float) -> np.ndarray:
         """Up to CONTAINS_FIRST facet indices chosen greedily on a sample of ``directions``:
-        each the one excluding most of the sample still inside the ones before."""
+        each the one putting most of the sample still above ``floor`` below it."""
         sample = directions[:: max(1, len(directions) // CONTAINS_SAMPLE)]
-        inside = self.a + sample @ self.c.T >= -tol  # (s, f)
+        above = self.a + sample @ self.c.T >= floor  # (s, f)
         alive = np.ones(len(sample), bool)
         chosen: list[int] = []
         for _ in range(min(CONTAINS_FIRST, len(self.a))):
-            out = np.count_nonzero(~inside[alive], axis=0)
+            out = np.count_nonzero(~above[alive], axis=0)
             best = int(np.argmax(out))
             if out[best] == 0:
                 break
             chosen.append(best)
-            alive &= inside[:, best]
+            alive &= above[:, best]
         return np.array(chosen or [0], dtype=int)
 
     def arcs(self, e1: np.ndarray, e2: np.ndarray) -> tuple[ArcSet, float]:
