@@ -72,11 +72,14 @@ for name, paths in sets.items():
             Inputs(s, m, check.options(**s.check_options.get(check.id, {})))
             for s, m in zip(scenes, masses)
         ])
+    def run_check(name):
+        check, inputs = checks[name]
+        return [check.run(i) for i in inputs]
     runs = {
         "analyse": lambda: [analyse(s, m) for s, m in zip(scenes, masses)],
         "limiting friction": lambda: [limiting(s, m) for s, m in zip(scenes, masses)],
-        "analytical-3d": lambda: [checks["analytical-3d"][0].run(i) for i in checks["analytical-3d"][1]],
-        "jamming": lambda: [checks["jamming"][0].run(i) for i in checks["jamming"][1]],
+        "analytical-3d": lambda: run_check("analytical-3d"),
+        "jamming": lambda: run_check("jamming"),
     }
     for what, fn in runs.items():
         fn()  # warm-up (lazy imports, caches)
