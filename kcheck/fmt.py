@@ -21,6 +21,7 @@ from kcheck.numerics.thresholds import FULL_TURN_SLACK_DEG, NOISE_RTOL
 __all__ = [
     "FULL_TURN",
     "normalise_range",
+    "rounded_bound",
     "format_angle",
     "format_range",
     "format_ranges",
@@ -193,3 +194,12 @@ def describe_sweep(normal: Sequence[float] | np.ndarray, zero: Sequence[float] |
         f"0° along {format_direction(z)}, 90° along {format_direction(np.cross(n, z))}, "
         f"counter-clockwise about {format_direction(n)}"
     )
+
+
+def rounded_bound(value: float, digits: int, up: bool) -> float:
+    """``value`` (non-zero) to ``digits`` significant digits, strictly above (``up``) or below
+    it by at least a millionth: a bound a designer can type in and still be on the right side."""
+    scale = 10.0 ** (digits - 1 - math.floor(math.log10(abs(value))))
+    if up:
+        return (math.floor(value * scale * (1 + 1e-6)) + 1) / scale
+    return (math.ceil(value * scale * (1 - 1e-6)) - 1) / scale

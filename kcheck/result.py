@@ -36,7 +36,7 @@ __all__ = [
 ]
 
 #: Version of the JSON result layout; bumped when a name or meaning changes.
-JSON_FORMAT_VERSION = 2
+JSON_FORMAT_VERSION = 3
 
 #: How much a failing check matters: ``error`` fails the run, ``warning`` is shown and fails
 #: it only with ``--strict`` (or ``fail_on = "warning"``).
@@ -47,12 +47,17 @@ SEVERITIES: tuple[Severity, ...] = ("error", "warning")
 class Status(str, enum.Enum):
     """Verdict of a check or scene.
 
-    A check is ``pass``, ``fail``, ``skipped`` or ``error`` (it crashed). A scene is ``pass``,
-    ``warn`` (only checks of severity ``warning`` failed, or the scene has sanity warnings),
-    ``fail`` (a check of severity ``error`` failed) or ``error`` (bad input, or a crash).
+    A check is ``pass``, ``marginal`` (it passes, but its margin is below the minimum margin
+    its options ask for: docs/checks.md, "Marginal results"), ``fail``, ``skipped`` or
+    ``error`` (it crashed). A scene is ``pass``, ``marginal`` (some check is marginal and
+    nothing is worse), ``warn`` (only checks of severity ``warning`` failed, or the scene has
+    sanity warnings), ``fail`` (a check of severity ``error`` failed) or ``error`` (bad input,
+    or a crash). From best to worst: pass, marginal, warn, fail, error. A marginal result fails
+    the run only with ``--strict`` (``fail_on = "warning"``), as a warning does.
     """
 
     PASS = "pass"
+    MARGINAL = "marginal"
     WARN = "warn"
     FAIL = "fail"
     SKIPPED = "skipped"

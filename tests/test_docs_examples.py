@@ -5,6 +5,9 @@ and its output must match the block.
 A line `...` in a block stands for any number of lines (an abridged example); run times
 (`in 4.6 s`, `, 1.93 s`) and trailing blanks are not compared. Blocks whose command needs
 files outside the repository (a scene the reader writes) or says `# abridged` are left out.
+
+`KCHECK_RECORD_DOCS=1 pytest tests/test_docs_examples.py` rewrites every unabridged block
+that no longer matches with what the tool prints (review the diff before committing it).
 """
 
 from __future__ import annotations
@@ -35,6 +38,7 @@ def _examples() -> list[tuple[str, str, str]]:
             if not all((ROOT / a).exists() for a in paths):
                 continue  # a file the reader writes
             found.append((f"{md.name}: {command}", command, body))
+            _SOURCES[(command, body)] = md
     return found
 
 
@@ -51,6 +55,7 @@ def _pattern(body: str) -> re.Pattern[str]:
     return re.compile("".join(parts) + r"\Z")
 
 
+_SOURCES: dict[tuple[str, str], object] = {}
 EXAMPLES = _examples()
 
 
@@ -78,6 +83,15 @@ def test_example_output_is_what_the_tool_prints(command, body):
     )
     printed = "\n".join(line.rstrip() for line in (proc.stdout + proc.stderr).split("\n"))
     printed = printed.rstrip("\n") + "\n"
+    if os.environ.get("KCHECK_RECORD_DOCS") and "..." not in body.split("\n"):
+        md = _SOURCES[(command, body)]
+        text = md.read_text(encoding="utf-8")  # type: ignore[attr-defined]
+        old = f"$ {command}\n{body}```"
+        assert text.count(old) == 1, f"{md}: `{command}` with this output is not unique"
+        md.write_text(  # type: ignore[attr-defined]
+            text.replace(old, f"$ {command}\n{printed}```"), encoding="utf-8"
+        )
+        return
     assert _pattern(body).match(printed), (
         f"the example of `{command}` no longer matches what it prints; run it and paste the "
         f"output (NO_COLOR=1, COLUMNS unset). It printed:\n{printed}"

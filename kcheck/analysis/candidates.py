@@ -3,13 +3,14 @@ the body's mesh surface (uniform by area, seeded), and more points near the best
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Protocol
 
 import numpy as np
 
 from kcheck.scene import Scene
 
-__all__ = ["SuggestError", "Sampler", "BoxSampler", "SurfaceSampler"]
+__all__ = ["SuggestError", "Sampler", "Chart", "BoxSampler", "SurfaceSampler"]
 
 
 class SuggestError(ValueError):
@@ -28,6 +29,32 @@ class Sampler(Protocol):
         self, centres: np.ndarray, radius: float, count: int
     ) -> tuple[np.ndarray, np.ndarray | None]:
         """About ``count`` points within ``radius`` (m) of each centre (m, 3)."""
+
+    def chart(self, start: np.ndarray, radius: float) -> Chart:
+        """Local coordinates about ``start`` for a continuous search within ``radius`` (m)."""
+
+
+class Chart:
+    """Local coordinates of candidate points about a start: ``point(x)`` maps ``x``
+    (``dims``,) in metres to a candidate point (m) and its surface normal (None off a
+    surface); ``x = 0`` is the start."""
+
+    def __init__(
+        self,
+        start: np.ndarray,
+        axes: np.ndarray,
+        place: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray | None]],
+    ) -> None:
+        self.start, self.axes, self.place = start, axes, place
+
+    @property
+    def dims(self) -> int:
+        """Number of local coordinates."""
+        return len(self.axes)
+
+    def point(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+        """The candidate point (m) at local coordinates ``x`` and its normal."""
+        return self.place(self.start + np.asarray(x, float) @ self.axes)
 
 
 class BoxSampler:
@@ -58,6 +85,12 @@ class BoxSampler:
         """Uniform points in cubes of half-side ``radius`` about the centres, clipped."""
         offsets = self.rng.uniform(-radius, radius, (len(centres), count, 3)) * self.live
         return np.clip(centres[:, None, :] + offsets, self.lo, self.hi).reshape(-1, 3), None
+
+    def chart(self, start: np.ndarray, radius: float) -> Chart:
+        """The box's live axes about ``start``; points clipped into the box."""
+        del radius
+        axes = np.eye(3)[self.live]
+        return Chart(np.asarray(start, float), axes, lambda p: (np.clip(p, self.lo, self.hi), None))
 
 
 class SurfaceSampler:
@@ -117,3 +150,28 @@ class SurfaceSampler:
         if not points:
             return np.zeros((0, 3)), np.zeros((0, 3))
         return np.vstack(points), np.vstack(normals)
+
+    def chart(self, start: np.ndarray, radius: float) -> Chart:
+        """The tangent plane at ``start`` (of the face nearest it), each point moved onto the
+        nearest face within ``radius`` of the start: the search may cross an edge."""
+        from trimesh.triangles import closest_point
+
+        triangles = self.mesh.triangles
+        start = np.asarray(start, float)
+        at_start = closest_point(triangles, np.broadcast_to(start, (len(triangles), 3)))
+        gap = np.linalg.norm(at_start - start, axis=1)
+        near = np.flatnonzero(gap <= gap.min() + radius)
+        normal = self.mesh.face_normals[int(np.argmin(gap))]
+        first = np.cross(normal, (1.0, 0.0, 0.0))
+        if np.linalg.norm(first) < 0.5:
+            first = np.cross(normal, (0.0, 1.0, 0.0))
+        first /= np.linalg.norm(first)
+        axes = np.vstack([first, np.cross(normal, first)])
+        local = triangles[near]
+
+        def place(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            on = closest_point(local, np.broadcast_to(p, (len(local), 3)))
+            k = int(np.argmin(np.linalg.norm(on - p, axis=1)))
+            return on[k], self.mesh.face_normals[near[k]]
+
+        return Chart(start, axes, place)

@@ -214,6 +214,10 @@ def _evaluated(
         with np.errstate(over="ignore"):
             accel = float(x[0] * problem.acceleration_scale() * case.free.closing)
     details["friction_intervals"] = intervals_json(intervals.intervals)
+    if intervals.errors:
+        details["friction_intervals_error"] = [list(e) for e in intervals.errors]
+    if intervals.unresolved:
+        details["friction_intervals_unresolved"] = intervals_json(intervals.unresolved)
     if not intervals.uniform:
         details["friction_scaled"] = True
     start = intervals.painleve_from

@@ -34,6 +34,8 @@ __all__ = [
     "analyse_range",
     "design_margins",
     "failing_intervals",
+    "bounded_intervals",
+    "Bounded",
     "worst_parameter",
 ]
 
@@ -64,26 +66,118 @@ def design_margins(rc: RangeCase, direction: np.ndarray | None, x: np.ndarray) -
     return np.where(rc.painleve_at(x), -np.pi, value)
 
 
-def failing_intervals(rc: RangeCase, direction: np.ndarray | None) -> list[tuple[float, float]]:
-    """The intervals of ``t`` in [0, 1] where the case does not close at the direction:
-    pieces between the roots of every numerator and effective mass, one decision each."""
+@dataclass(frozen=True)
+class Bounded:
+    """Where a case fails along the path, with how sure that is (``t`` in [0, 1]).
+
+    ``failing``: resolved intervals ``(lo, hi, lo_error, hi_error)``, each end's error bound
+    well inside the interval. ``unresolved``: intervals ``(lo, hi, lo_error, hi_error,
+    condition)`` whose ends are uncertain by as much as the interval is wide, or where a
+    condition comes within its own error bound of zero without crossing it (a sliver rounding
+    may hide): neither closing nor failing. ``condition`` is how much the responsible
+    condition amplifies rounding (its error bound over ``eps`` times its size).
+    """
+
+    failing: tuple[tuple[float, float, float, float], ...]
+    unresolved: tuple[tuple[float, float, float, float, float], ...]
+
+
+def _root_errors(p: np.ndarray, err: float, x: np.ndarray) -> np.ndarray:
+    """Error bounds (in x) of roots ``x`` of the series ``p`` whose values err by up to
+    ``err``: ``err / |p'|`` at a simple root, ``sqrt(2 err / |p''|)`` where the first-order
+    bound is not small against the curvature (a near-double root); 2 (all of [-1, 1]) where
+    neither bounds it."""
+    d1 = cheb.values(cheb.derivative(p[None])[0], x)
+    d2 = cheb.values(cheb.derivative(cheb.derivative(p[None]))[0], x)
+    with np.errstate(all="ignore"):
+        first = err / np.abs(d1)
+        second = np.sqrt(2.0 * err / np.abs(d2))
+        out = np.where(np.abs(d1) ** 2 > 4.0 * err * np.abs(d2), first, second)
+    return np.where(np.isfinite(out), np.minimum(out, 2.0), 2.0)
+
+
+def _near_misses(p: np.ndarray, err: float) -> list[tuple[float, float]]:
+    """Regions (x) where the series ``p`` comes within ``err`` of zero at a local extremum
+    without a root there: a sliver of the other sign may hide within the rounding."""
+    critical = cheb.real_roots(cheb.derivative(p[None]))[0]
+    critical = np.concatenate([critical[np.isfinite(critical)], [-1.0, 1.0]])
+    at = cheb.values(p[None], critical)[0]
+    d2 = cheb.values(cheb.derivative(cheb.derivative(p[None]))[0], critical)
+    out = []
+    for c, value, curve in zip(critical, at, d2, strict=True):
+        if abs(value) > err:
+            continue
+        with np.errstate(all="ignore"):
+            half = float(np.sqrt(2.0 * (err + abs(value)) / abs(curve))) if curve else 2.0
+        half = min(half if np.isfinite(half) else 2.0, 2.0)
+        out.append((max(-1.0, c - half), min(1.0, c + half)))
+    return out
+
+
+def bounded_intervals(rc: RangeCase, direction: np.ndarray | None) -> Bounded:
+    """:func:`failing_intervals` with each end's error bound, and the unresolved intervals
+    (:class:`Bounded`): the roots' errors come from the series' error bounds
+    (:meth:`kcheck.mechanics.friction_range.RangeCase.condition_errors`)."""
+    from kcheck.numerics.thresholds import EPS
+
     if not rc.trusted:
-        return [(0.0, 1.0)]
+        return Bounded((), ((0.0, 1.0, 0.5, 0.5, float("inf")),))
     d = None if direction is None else np.atleast_2d(direction)
     series = np.concatenate([rc.conditions(d)[0], rc.effective])
+    effective_error = np.zeros(2) if rc.effective_error is None else rc.effective_error
+    errors = np.concatenate([rc.condition_errors(d)[0], effective_error])
     roots = cheb.real_roots(series)
-    edges = np.unique(np.concatenate([[-1.0, 1.0], roots[np.isfinite(roots)]]))
+    found: dict[float, tuple[float, float]] = {}  # root -> (error, condition)
+    hidden: list[tuple[float, float, float]] = []  # near misses: lo, hi, condition
+    for p, err, row in zip(series, errors, roots, strict=True):
+        size = float(cheb.abs_bound(p))
+        condition = float(err / (EPS * size)) if size > 0 else float("inf")
+        row = row[np.isfinite(row)]
+        for r, e in zip(row, _root_errors(p, float(err), row), strict=True):
+            if r not in found or e > found[r][0]:
+                found[float(r)] = (float(e), condition)
+        # A double root (found, or split into a complex pair) is a near miss too.
+        hidden += [(lo, hi, condition) for lo, hi in _near_misses(p, float(err))]
+    edges = np.unique(np.concatenate([[-1.0, 1.0], list(found)]))
     mids = 0.5 * (edges[1:] + edges[:-1])
     ok = rc.closing_at(d, mids)[0]
-    out: list[list[float]] = []
+
+    def error(x: float) -> tuple[float, float]:
+        return found.get(float(x), (0.0, 0.0))
+
+    pieces: list[list[float]] = []
     for lo, hi, good in zip(edges[:-1], edges[1:], ok, strict=True):
         if good:
             continue
-        if out and out[-1][1] == lo:
-            out[-1][1] = hi
+        if pieces and pieces[-1][1] == lo:
+            pieces[-1][1] = hi
         else:
-            out.append([lo, hi])
-    return [(0.5 * (a + 1.0), 0.5 * (b + 1.0)) for a, b in out]
+            pieces.append([lo, hi])
+    failing, unresolved = [], []
+    for lo, hi in pieces:
+        (elo, clo), (ehi, chi) = error(lo), error(hi)
+        near = any(a <= hi + ehi and lo - elo <= b for a, b, _ in hidden)
+        if hi - lo > elo + ehi and not near:
+            failing.append((lo, hi, elo, ehi))
+        else:
+            unresolved.append((lo, hi, elo, ehi, max(clo, chi)))
+    for lo, hi, condition in hidden:
+        unresolved.append((lo, hi, 0.0, 0.0, condition))
+
+    def to_t(x: float) -> float:
+        return 0.5 * (x + 1.0)
+
+    return Bounded(
+        tuple((to_t(a), to_t(b), 0.5 * ea, 0.5 * eb) for a, b, ea, eb in failing),
+        tuple((to_t(a), to_t(b), 0.5 * ea, 0.5 * eb, c) for a, b, ea, eb, c in sorted(unresolved)),
+    )
+
+
+def failing_intervals(rc: RangeCase, direction: np.ndarray | None) -> list[tuple[float, float]]:
+    """The intervals of ``t`` in [0, 1] where the case does not close at the direction:
+    pieces between the roots of every numerator and effective mass, one decision each; only
+    the resolved ones (:func:`bounded_intervals` has the unresolved and the ends' errors)."""
+    return [(lo, hi) for lo, hi, _, _ in bounded_intervals(rc, direction).failing]
 
 
 def worst_parameter(
@@ -146,6 +240,7 @@ class RangeInfo:
     failing: tuple[tuple[tuple[float, float], ...], ...] = ()
     worst: tuple[tuple[float, float] | None, ...] = ()
     angular: bool = True  # whether the margins are angles (a design direction)
+    bounded: tuple[Bounded | None, ...] = ()
     _arcs: dict[tuple[int, bytes], ArcSet] = field(default_factory=dict, compare=False)
 
     def mu(self, t: float) -> float:
@@ -164,12 +259,31 @@ class RangeInfo:
         """The cases' polynomial forms for another swept wrench ``b0 + B d`` (gravity)."""
         return tuple(range_cases(self.problem, self.cases, self.path, rhs=(b0, big_b)))
 
+    def mu_error(self, dt: float) -> float:
+        """An error of ``t`` as an error of the reference support's coefficient."""
+        return float(dt * abs(self.mu(1.0) - self.mu(0.0)))
+
     def summary(self, r: int) -> dict[str, object]:
         """The case's ``friction_range`` details (coefficients of the reference support)."""
         out: dict[str, object] = {
             "min": self.mu(0.0),
             "max": self.mu(1.0),
         }
+        bounded = self.bounded[r] if r < len(self.bounded) else None
+        if bounded is not None:
+            out["fails_for_error"] = [
+                [self.mu_error(ea), self.mu_error(eb)] for _, _, ea, eb in bounded.failing
+            ]
+            if bounded.unresolved:
+                out["closes_throughout"] = None
+                out["unresolved"] = [
+                    {
+                        "mu": [self.mu(a), self.mu(b)],
+                        "error": [self.mu_error(ea), self.mu_error(eb)],
+                        "condition": c,
+                    }
+                    for a, b, ea, eb, c in bounded.unresolved
+                ]
         if r < len(self.closes) and self.closes[r] is not None:
             out["closes_throughout"] = bool(self.closes[r])
             worst = self.worst[r]
@@ -205,6 +319,7 @@ def analyse_range(
     closes: list[bool | None] = [None] * len(cases)
     failing: list[tuple[tuple[float, float], ...]] = [()] * len(cases)
     worst: list[tuple[float, float] | None] = [None] * len(cases)
+    bounded: list[Bounded | None] = [None] * len(cases)
     at_worst: dict[float, Analysis] = {}
     for r, rc in enumerate(rcs):
         if (
@@ -217,8 +332,11 @@ def analyse_range(
             )
         ):
             continue
-        closes[r] = bool(rc.closes(top.design)[0])
-        failing[r] = tuple(failing_intervals(rc, top.design))
+        bounded[r] = found = bounded_intervals(rc, top.design)
+        failing[r] = tuple((lo, hi) for lo, hi, _, _ in found.failing)
+        # Unresolved slivers (and nothing that surely fails): neither closing nor failing.
+        undecided = bool(found.unresolved) and not failing[r]
+        closes[r] = None if undecided else bool(rc.closes(top.design)[0]) and not failing[r]
         worst[r] = worst_parameter(rc, top.design, failing[r])
         t = worst[r][0]  # type: ignore[index]
         if t not in at_worst:
@@ -233,6 +351,7 @@ def analyse_range(
         tuple(failing),
         tuple(worst),
         top.design is not None,
+        tuple(bounded),
     )
     results = [
         replace(res, details={**res.details, "friction_range": info.summary(r)})
@@ -240,6 +359,22 @@ def analyse_range(
         else res
         for r, res in enumerate(results)
     ]
+    for r, held in enumerate(bounded):
+        if held is not None and closes[r] is None:
+            # Neither closing nor failing can be said: no trustworthy answer (issue 21).
+            where = ", ".join(
+                f"μ {info.mu(a):.6g}–{info.mu(b):.6g}" for a, b, *_ in held.unresolved
+            )
+            diagnostic = (
+                f"unresolved near {where}: the conditions come within their rounding error of "
+                "zero there (a degenerate case), so whether it closes for every coefficient "
+                "of the range cannot be decided in double precision"
+            )
+            results[r] = replace(
+                results[r],
+                outcome="ill_conditioned",
+                details={**results[r].details, "diagnostic": diagnostic},
+            )
     analysis = replace(top, results=tuple(results), friction=tuple(friction), friction_range=info)
     if not sweeping or analysis.plane is None:
         return analysis
@@ -255,8 +390,20 @@ def range_details(scene: Scene, analysis: Analysis) -> dict[str, object] | None:
         return coefficients_used(scene, "kinetic")
     out: dict[str, object] = {"kind": "kinetic", "min": info.mu(0.0), "max": info.mu(1.0)}
     decided = [r for r, c in enumerate(info.closes) if c is not None]
+    unresolved = [
+        analysis.problem.names[r]
+        for r, b in enumerate(info.bounded)
+        if b is not None and b.unresolved and info.closes[r] is None
+    ]
+    if unresolved:
+        # Not "closes throughout": these cases are too close to a degenerate system to say.
+        out["unresolved_cases"] = unresolved
     if decided:
-        out["closes_throughout"] = all(info.closes[r] for r in decided)
+        out["closes_throughout"] = (
+            None
+            if unresolved and all(info.closes[r] for r in decided)
+            else all(info.closes[r] for r in decided)
+        )
         worst = min(
             (r for r in decided if info.worst[r] is not None),
             key=lambda r: info.worst[r][1],  # type: ignore[index]

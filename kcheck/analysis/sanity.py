@@ -16,6 +16,9 @@ public results, never at a check's internals.
   or less than its inverse.
 * ``part-size-outlier``: a mesh part whose size is out of line with the others (a part in cm
   in a mm assembly).
+* ``mass-units``, ``inertia-units``, ``center-of-mass-units``: explicit mass properties that
+  disagree with the mesh (or the supports) by a unit factor (:mod:`kcheck.analysis.mass_units`);
+  the box rules are then skipped (the box of a slipped inertia means nothing).
 * ``normals-reversed``: every case opens, with every normal reversed every case closes, and
   the normals do not clearly point towards the centre of mass.
 * and the mesh warnings carried by the mass properties (``mesh-repaired``).
@@ -50,6 +53,9 @@ TINY_LAYOUT = 1e-2
 #: gyration from its centre of mass, and a support layout this many times larger (or smaller)
 #: than it means a body nearly all of whose mass sits in a tiny core: a units slip is likelier.
 GYRATION_RATIO = 100.0
+#: Density (kg/m³) given to mesh parts without one when explicit values are compared with
+#: them: only ratios are read then (radius of gyration, centre of mass).
+MESH_STAND_IN_DENSITY = 1000.0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -152,17 +158,21 @@ def _points_far(scene: Scene, box: Box, mass: MassProperties) -> list[Finding]:
     return out
 
 
-def _body_size(scene: Scene, box: Box) -> list[Finding]:
+def _body_size(scene: Scene, box: Box, mass: MassProperties) -> list[Finding]:
     low, high = BODY_SIZE_M
     if low <= box.diagonal <= high:
         return []
+    explicit = mass.source == "explicit"
     return [
         Finding(
-            f"the body is {box.diagonal:.3g} m across, outside the plausible "
-            f"{low:g}–{high:g} m for a kinematic coupling",
+            f"the body is {box.diagonal:.3g} m across"
+            + (" (the uniform box with its explicit inertia)" if explicit else "")
+            + f", outside the plausible {low:g}–{high:g} m for a kinematic coupling",
             code="body-size",
-            field=("body",),
-            hint=f"is the mesh's unit right? The scene says {scene.units}",
+            field=("body", "inertia") if explicit else ("body",),
+            hint="are `inertia` in kg·m² and `mass` in kg?"
+            if explicit
+            else f"is the mesh's unit right? The scene says {scene.units}",
         )
     ]
 
@@ -306,11 +316,18 @@ def scene_warnings(
     out: list[Finding] = []
     if mass is not None:
         out.extend(mass.warnings)
-    box = body_box(mass)
+    try:
+        slips = _unit_slips(scene) if mass is not None else []
+    except Exception as exc:  # a bug in a rule must not lose the scene's result
+        slips = [_crashed(exc)]
+    out += slips
+    # A box from an explicit inertia in the wrong unit says nothing more: the slip is named.
+    slipped = {("body", "mass"), ("body", "inertia")} & {f.field for f in slips}
+    box = None if slipped else body_box(mass)
     rules: list[Callable[[], list[Finding]]] = []
     if box is not None and mass is not None:
         rules += [
-            lambda: _body_size(scene, box),
+            lambda: _body_size(scene, box, mass),
             lambda: _supports_far(scene, box),
             lambda: _supports_tiny(scene, box),
             lambda: _points_far(scene, box, mass),
@@ -318,16 +335,46 @@ def scene_warnings(
         ]
     if mass is not None:
         rules.append(lambda: _normals_reversed(scene, mass, checks))
-    if box is None and mass is not None and mass.bounds is None:
+    if box is None and not slipped and mass is not None and mass.bounds is None:
         rules.append(lambda: _supports_vs_inertia(scene, mass))
     for rule in rules:
         try:
             out += rule()
         except Exception as exc:  # a bug in a rule must not lose the scene's result
-            out.append(
-                Finding(
-                    f"a sanity rule crashed ({type(exc).__name__}: {exc}); please report it",
-                    code="sanity-rule-crashed",
-                )
-            )
+            out.append(_crashed(exc))
     return tuple(out)
+
+
+def _crashed(exc: Exception) -> Finding:
+    return Finding(
+        f"a sanity rule crashed ({type(exc).__name__}: {exc}); please report it",
+        code="sanity-rule-crashed",
+    )
+
+
+def _unit_slips(scene: Scene) -> list[Finding]:
+    """Explicit mass properties in the wrong unit (:mod:`kcheck.analysis.mass_units`),
+    against the mesh parts' own mass properties when the body has meshes (read again: the
+    explicit values won over them). A mesh that cannot give mass properties is no reference."""
+    from kcheck.analysis.mass_units import explicit_unit_slips
+
+    body = scene.body
+    if body is None or body.explicit is None:
+        return []
+    mesh = None
+    has_density = bool(body.parts) and all(p.density > 0 for p in body.parts)
+    if body.parts:
+        from kcheck.body.mass import body_mass_properties
+        from kcheck.errors import SceneError
+        from kcheck.scene import Body
+
+        # Without a density only ratios (radius of gyration, centre) are read: any will do.
+        parts = tuple(
+            p if p.density > 0 else dataclasses.replace(p, density=MESH_STAND_IN_DENSITY)
+            for p in body.parts
+        )
+        try:
+            mesh = body_mass_properties(Body(parts, None))
+        except SceneError:
+            return []
+    return explicit_unit_slips(scene, mesh, has_density)

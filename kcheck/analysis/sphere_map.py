@@ -56,6 +56,9 @@ class SphereMap:
     case_fractions: np.ndarray
     boundary_error: float  # rad, estimated error of the region's boundary (and so of margins)
     region: Region | None = None
+    #: rad: the largest cap any condition's rounding could open or move (a full or empty map
+    #: has no boundary; this is what it may hide)
+    hidden_error: float = 0.0
     nearest: np.ndarray | None = None
     lattice: SafeFraction | None = None
 
@@ -112,13 +115,24 @@ def direction_caps(
 def _cap_errors(a: np.ndarray, c: np.ndarray, error: np.ndarray) -> np.ndarray:
     """Angular error (rad) of each cap's boundary: the condition's coefficient error over its
     rate of change across the boundary, ``sqrt(|c|^2 - a^2)`` (as for the sweep-plane arcs),
-    scaled per condition so that nothing overflows."""
+    scaled per condition so that nothing overflows.
+
+    A condition with no boundary (``|a| >= |c|``: it holds for every direction, or for none)
+    gets the angular radius of the cap its coefficients' error could open,
+    ``arccos((|a| - error) / |c|)`` (0 when it cannot open one, π for a condition that is
+    zero to within its error): what a full or empty map may hide."""
     size = np.maximum(np.abs(a), np.abs(c).max(axis=1)) if len(a) else np.zeros(0)
     size = np.where(size > 0, size, 1.0)
-    an, cn = a / size, c / size[:, None]
-    slope = np.sqrt(np.maximum(np.sum(cn * cn, axis=1) - an * an, 0.0))
+    an, cn, en = a / size, c / size[:, None], error / size
+    norm = np.linalg.norm(cn, axis=1) if len(a) else np.zeros(0)
+    slope = np.sqrt(np.maximum(norm * norm - an * an, 0.0))
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(slope > 0, (error / size) / slope, np.inf)
+        hidden = np.where(
+            norm > 0,
+            np.arccos(np.clip((np.abs(an) - en) / np.where(norm > 0, norm, 1.0), -1.0, 1.0)),
+            np.where(np.abs(an) <= en, np.pi, 0.0),
+        )
+        return np.where(slope > 0, en / slope, hidden)
 
 
 def sphere_map(scene: Scene, analysis: Analysis, lattice_points: int = 0) -> SphereMap | None:
@@ -168,6 +182,7 @@ def sphere_map(scene: Scene, analysis: Analysis, lattice_points: int = 0) -> Sph
         case_fractions=case_fractions,
         boundary_error=boundary_error,
         region=safe,
+        hidden_error=float(cap_errors.max()),
         nearest=None if design_margin is None or design_margin >= 0 else nearest,
         lattice=safe_fraction(a, c, lattice_points) if lattice_points > 0 else None,
     )

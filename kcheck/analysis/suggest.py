@@ -12,7 +12,12 @@ candidate point's caps on the sphere of directions follow in closed form, for al
 once. The margin of a point is the largest, over directions, of the smallest angular distance
 to a cap boundary (:func:`kcheck.mechanics.arcs.cap_margin_matrix`, the quantity `analytical-3d`
 reports as the design margin); the best points are refined with
-:func:`kcheck.mechanics.sphere.most_robust_direction`.
+:func:`kcheck.mechanics.sphere.most_robust_direction`, and the best few points then with a
+continuous search over the point (:func:`polish_point`).
+
+A planar scene is the same in the plane: ``C_k(q) = g_k perp(q - c) + h_k`` with the scalar
+moment row ``g_k``, arcs instead of caps, and the exact most robust angle
+(:func:`kcheck.mechanics.robust_angle.most_robust_angle`).
 """
 
 from __future__ import annotations
@@ -28,11 +33,17 @@ import numpy as np
 from kcheck.analysis import analyse
 from kcheck.analysis.candidates import Sampler, SuggestError
 from kcheck.analysis.cases import problem_for
-from kcheck.mechanics.arcs import cap_margin_matrix
+from kcheck.mechanics.arcs import cap_margin_matrix, cap_margins
 from kcheck.mechanics.deepest import most_robust_direction
 from kcheck.mechanics.dynamics import Problem, analyse_case, solve_affine
+from kcheck.mechanics.robust_angle import most_robust_angle
 from kcheck.mechanics.sphere import fibonacci_sphere
-from kcheck.numerics.thresholds import LEAST_FORCE_RTOL, SAME_POINT_RTOL
+from kcheck.numerics.thresholds import (
+    LEAST_FORCE_RTOL,
+    POLISH_FTOL,
+    POLISH_XTOL,
+    SAME_POINT_RTOL,
+)
 from kcheck.scene import Load, Scene
 
 if TYPE_CHECKING:
@@ -46,6 +57,9 @@ __all__ = [
     "caps_at",
     "point_margins",
     "search",
+    "polish_point",
+    "direction_grid",
+    "best_direction",
     "limiting_friction_at",
     "with_load",
     "best_margin",
@@ -75,13 +89,12 @@ class Caps:
 def point_caps(problem: Problem, frictions: Sequence[np.ndarray] | None = None) -> Caps:
     """Caps of every case, for each set of friction coefficients (k,) given (default the
     scene's); with several sets, the caps of all of them: a point must be safe for each."""
-    if problem.dim != 3:
-        raise SuggestError("kcheck suggest searches spatial (6-support) scenes")
     if not problem.load_scale > 0:
         raise SuggestError("the scene has no closing load to place (give `load` or --magnitude)")
     a_all, g_all, h_all, owner, mu = [], [], [], [], []
     b0, _ = problem.load_basis()
-    unit = problem.load_scale * np.eye(6)
+    nw = 1 if problem.dim == 2 else 3  # moment components of a wrench
+    unit = problem.load_scale * np.eye(nw + problem.dim)
     for mu_set in [problem.friction] if frictions is None else frictions:
         scaled = dataclasses.replace(problem, friction=np.asarray(mu_set, float))
         for r in range(len(problem.names)):
@@ -93,8 +106,8 @@ def point_caps(problem: Problem, frictions: Sequence[np.ndarray] | None = None) 
                 )
             solved = solve_affine(case.forward.matrix, b0, unit)
             a_all.append(solved.a)
-            g_all.append(solved.c[:, :3])
-            h_all.append(solved.c[:, 3:])
+            g_all.append(solved.c[:, :nw])
+            h_all.append(solved.c[:, nw:])
             owner.append(np.full(len(solved.a), r))
             mu.append(np.full(len(solved.a), float(np.max(mu_set))))
     return Caps(
@@ -110,7 +123,35 @@ def point_caps(problem: Problem, frictions: Sequence[np.ndarray] | None = None) 
 def caps_at(caps: Caps, points: np.ndarray) -> np.ndarray:
     """Direction coefficients ``C`` (m, k, 3) of every cap at points (m, 3) in metres."""
     r = caps.problem.frame.point(np.asarray(points, float)) - caps.problem.com
+    if caps.problem.dim == 2:  # the moment of d at r is r x d = perp(r) . d, perp(r) = (-ry, rx)
+        perp = np.column_stack([-r[:, 1], r[:, 0]])
+        return caps.g[None, :, :] * perp[:, None, :] + caps.h[None, :, :]
     return np.cross(caps.g[None, :, :], r[:, None, :]) + caps.h[None, :, :]
+
+
+def direction_grid(dim: int, count: int) -> np.ndarray:
+    """``count`` unit directions spread evenly: a Fibonacci sphere, or a circle in a plane."""
+    if dim == 3:
+        return fibonacci_sphere(count)
+    angles = np.arange(count) * (2.0 * np.pi / count)
+    return np.column_stack([np.cos(angles), np.sin(angles)])
+
+
+def grid_spacing(dim: int, count: int) -> float:
+    """Typical angle (rad) between neighbours of :func:`direction_grid`."""
+    return float(np.sqrt(4 * np.pi / count)) if dim == 3 else 2.0 * np.pi / count
+
+
+def best_direction(caps: Caps, c: np.ndarray) -> tuple[np.ndarray, float]:
+    """The exact most robust direction (3,) for the direction coefficients ``c`` (k, dim) of
+    one point, and its margin (rad): on the sphere, or in the plane (``z = 0``)."""
+    if caps.problem.dim == 3:
+        direction, margin = most_robust_direction(caps.a, c)
+        # The margin the direction really has: the deepest point of the caps that bound the
+        # region knows nothing of a condition that holds nowhere (its c is 0 and a < 0).
+        return direction, min(margin, float(cap_margins(caps.a, c, direction[None])[0]))
+    direction, margin = most_robust_angle(caps.a, c)
+    return np.append(direction, 0.0), margin
 
 
 def point_margins(
@@ -129,7 +170,7 @@ def point_margins(
         c = caps_at(caps, points[start : start + chunk])
         m = len(c)
         a = np.broadcast_to(caps.a, (m, k)).reshape(-1)
-        block = cap_margin_matrix(a, c.reshape(-1, 3), directions).reshape(n, m, k).min(axis=2)
+        block = cap_margin_matrix(a, c.reshape(m * k, -1), directions).reshape(n, m, k).min(axis=2)
         index[start : start + m] = np.argmax(block, axis=0)
         best[start : start + m] = block[index[start : start + m], np.arange(m)]
     return best, index
@@ -248,6 +289,7 @@ def search(
     frictions: Sequence[np.ndarray] | None = None,
     jobs: int = 1,
     progress: Callable[[int], None] | None = None,
+    polish: int = 3,
 ) -> Search:
     """Search ``count`` candidate points from ``sampler`` for the ``keep`` best candidates.
 
@@ -255,12 +297,13 @@ def search(
     times, points are added near the best five within a radius halving from twice the
     sampler's spacing; finally the ``refine`` best points get their direction refined
     (:func:`kcheck.mechanics.sphere.most_robust_direction`, exact margins) and the best ``keep`` the
-    limiting friction. ``jobs`` processes share the first pass; ``progress`` is called with the
-    number of points done.
+    limiting friction. The ``polish`` best of these get a continuous local search over the
+    point (:func:`polish_point`). ``jobs`` processes share the first pass; ``progress`` is
+    called with the number of points done.
     """
     problem = problem_for(scene, mass)
     caps = point_caps(problem, frictions)
-    grid = fibonacci_sphere(directions)
+    grid = direction_grid(problem.dim, directions)
     points, normals = sampler.initial(count)
     margins, index = _grid_margins(caps, points, grid, jobs, progress)
     radius = 2.0 * sampler.spacing
@@ -280,23 +323,74 @@ def search(
     refined = []
     for j in order:
         c = caps_at(caps, points[j : j + 1])[0]
-        direction, margin = most_robust_direction(caps.a, c)
+        direction, margin = best_direction(caps, c)
         refined.append((margin, j, direction))
     refined.sort(key=lambda t: -t[0])
-    chosen = set(_distinct(points, np.array([j for _, j, _ in refined]), keep, sampler.spacing))
-    best = []
-    for margin, j, direction in [r for r in refined if r[1] in chosen]:
-        friction = limiting_friction_at(scene, mass, points[j], direction) if margin > 0 else None
+    # a few more than kept: starts the search joins count once
+    chosen = _distinct(points, np.array([j for _, j, _ in refined]), keep + polish, sampler.spacing)
+    by_index = {j: (margin, direction) for margin, j, direction in refined}
+    # The sampled optimum is within a sampling step of the true one: a continuous search over
+    # the point (its direction exact at every step) closes that gap.
+    found: list[tuple[float, np.ndarray, np.ndarray, np.ndarray | None]] = []
+    for rank, j in enumerate(chosen):
         normal = None if normals is None else normals[j]
-        best.append(Candidate(points[j], direction, margin, friction, normal))
+        margin, direction = by_index[j]
+        start = (margin, points[j], direction, normal)
+        found.append(polish_point(caps, sampler, start) if rank < polish else start)
+    found.sort(key=lambda t: -t[0])
+    at = np.array([f[1] for f in found])
+    best = []
+    for k in _distinct(at, np.arange(len(found)), keep, sampler.spacing):
+        margin, point, direction, normal = found[k]
+        friction = limiting_friction_at(scene, mass, point, direction) if margin > 0 else None
+        best.append(Candidate(point, direction, margin, friction, normal))
     return Search(
         points,
         margins,
-        grid[index],
+        np.pad(grid[index], ((0, 0), (0, 3 - problem.dim))),  # a plane's as (x, y, 0)
         tuple(best),
-        float(np.sqrt(4 * np.pi / directions)),
+        grid_spacing(problem.dim, directions),
         tuple(float(f) for f in np.unique(caps.friction)),
     )
+
+
+def polish_point(
+    caps: Caps,
+    sampler: Sampler,
+    start: tuple[float, np.ndarray, np.ndarray, np.ndarray | None],
+) -> tuple[float, np.ndarray, np.ndarray, np.ndarray | None]:
+    """Nelder–Mead over the point about ``start`` ``(margin, point, direction, normal)``: in
+    the surface's tangent plane (each step moved onto the mesh) or the box, the direction
+    exact at every point (:func:`kcheck.mechanics.sphere.most_robust_direction`), the
+    simplex first a sampling step wide. Returns the better of the start and the end."""
+    from scipy.optimize import minimize
+
+    step = sampler.spacing or 1e-3
+    chart = sampler.chart(start[1], 4.0 * step)
+    if chart.dims == 0:
+        return start
+
+    def margin_at(x: np.ndarray) -> float:
+        point, _ = chart.point(x)
+        return -best_direction(caps, caps_at(caps, point[None])[0])[1]
+
+    simplex = np.vstack([np.zeros(chart.dims), step * np.eye(chart.dims)])
+    end = minimize(
+        margin_at,
+        np.zeros(chart.dims),
+        method="Nelder-Mead",
+        options={
+            "initial_simplex": simplex,
+            "xatol": POLISH_XTOL * step,
+            "fatol": POLISH_FTOL,
+            "maxfev": 400,
+        },
+    )
+    point, normal = chart.point(end.x)
+    direction, margin = best_direction(caps, caps_at(caps, point[None])[0])
+    if margin <= start[0]:
+        return start
+    return margin, point, direction, start[3] if normal is None else normal
 
 
 def best_margin(
@@ -305,7 +399,7 @@ def best_margin(
     """The best grid margin (rad) over candidate points with the load at ``magnitude`` (N)."""
     loaded = with_load(scene, points[0], np.array([0.0, 0.0, 1.0]), magnitude)
     caps = point_caps(problem_for(loaded, mass))
-    margins, _ = point_margins(caps, points, fibonacci_sphere(directions))
+    margins, _ = point_margins(caps, points, direction_grid(scene.dim, directions))
     return float(margins.max())
 
 

@@ -10,8 +10,9 @@ transforms and point masses added by the parallel-axis theorem.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -45,6 +46,7 @@ __all__ = [
     "part_mass_properties",
     "point_mass",
     "principal_axes",
+    "shared_meshes",
     "step_length_unit",
     "transformed",
 ]
@@ -238,11 +240,42 @@ def mesh_mass_properties(
     )
 
 
+#: Meshes read within :func:`shared_meshes`, by file and scale (None: outside it).
+_SHARED: dict[tuple[str, float], trimesh.Trimesh] | None = None
+
+
+@contextlib.contextmanager
+def shared_meshes() -> Iterator[None]:
+    """Within it each mesh file is read once: mass properties and the supports' check
+    (:mod:`kcheck.body.surface`) share it. The meshes are let go on leaving."""
+    global _SHARED
+    outer = _SHARED
+    if outer is None:
+        _SHARED = {}
+    try:
+        yield
+    finally:
+        if outer is None:
+            _SHARED = None
+
+
+def _load(part: Part, max_mesh_bytes: int | None) -> trimesh.Trimesh:
+    """The part's mesh in metres (unplaced): read, or a copy of the one read already within
+    :func:`shared_meshes` (a copy: repairs and placement change a mesh in place)."""
+    field = (*part.field, "mesh")
+    if _SHARED is None:
+        return load_mesh(part.mesh, part.scale, field, max_bytes=max_mesh_bytes)
+    key = (str(part.mesh), part.scale)
+    if key not in _SHARED:
+        _SHARED[key] = load_mesh(part.mesh, part.scale, field, max_bytes=max_mesh_bytes)
+    return _SHARED[key].copy()
+
+
 def part_mass_properties(part: Part, max_mesh_bytes: int | None = None) -> MassProperties:
     """Mass properties of one part in the scene's frame (its transform applied); its mesh
     file at most ``max_mesh_bytes`` (default :data:`kcheck.body.meshio.MAX_MESH_BYTES`)."""
     field = (*part.field, "mesh")
-    mesh = load_mesh(part.mesh, part.scale, field, max_bytes=max_mesh_bytes)
+    mesh = _load(part, max_mesh_bytes)
     props = mesh_mass_properties(
         mesh,
         part.density,
@@ -309,7 +342,7 @@ def place(points: np.ndarray, part: Part) -> np.ndarray:
 
 def placed_mesh(part: Part, max_mesh_bytes: int | None = None) -> trimesh.Trimesh:
     """The part's mesh in the scene's frame, in metres: its units and transform applied."""
-    mesh = load_mesh(part.mesh, part.scale, (*part.field, "mesh"), max_bytes=max_mesh_bytes)
+    mesh = _load(part, max_mesh_bytes)
     if part.rotation is not None or any(part.translation):
         mesh.vertices = place(np.asarray(mesh.vertices), part)
     return mesh

@@ -24,7 +24,8 @@ __all__ = ["add_parser", "run"]
 
 EPILOG = """\
 exit codes:
-  0  every check passed (checks of severity warning may have failed; see --strict)
+  0  every check passed (some may be marginal, or checks of severity warning may have
+     failed; see --strict)
   1  a check failed
   2  bad input or usage; every other scene is still checked
 
@@ -381,7 +382,9 @@ def _check(args: argparse.Namespace, temporary: list[Path]) -> int:
         return ExitCode.USAGE_OR_INPUT if Status.ERROR in states else ExitCode.OK
     if Status.ERROR in states or tee.failures:
         return ExitCode.USAGE_OR_INPUT
-    if Status.FAIL in states or (config["fail_on"] == "warning" and Status.WARN in states):
+    if Status.FAIL in states or (
+        config["fail_on"] == "warning" and {Status.WARN, Status.MARGINAL} & states
+    ):
         return ExitCode.OK if args.exit_zero else ExitCode.CHECKS_FAILED
     return ExitCode.OK
 

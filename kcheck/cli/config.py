@@ -86,7 +86,8 @@ def add_gate_options(parser: argparse.ArgumentParser) -> None:
     gate.add_argument(
         "--select",
         metavar="IDS",
-        help="comma-separated check ids to run (default: every installed check)",
+        help="comma-separated check ids to run (default: every installed check but the opt-in "
+        "ones, e.g. reseat)",
     )
     gate.add_argument("--ignore", metavar="IDS", help="comma-separated check ids not to run")
     gate.add_argument(
@@ -97,8 +98,8 @@ def add_gate_options(parser: argparse.ArgumentParser) -> None:
     gate.add_argument(
         "--strict",
         action="store_true",
-        help="failed checks of severity warning, and scene warnings, fail the run too "
-        "(same as --fail-on warning)",
+        help="marginal results, failed checks of severity warning and scene warnings fail "
+        "the run too (same as --fail-on warning)",
     )
     gate.add_argument(
         "--output-format",
@@ -246,12 +247,17 @@ def plan_checks(config: Config, checks: Sequence[LoadedCheck]) -> CheckPlan:
     known = set(by_id)
     select = _check_list(config, "select", known)
     ignore = _check_list(config, "ignore", known) or ()
-    selected = frozenset(select if select is not None else known) - set(ignore)
+    defaults = {k for k in known if by_id[k].check.default_selected}
+    selected = frozenset(select if select is not None else defaults) - set(ignore)
     if not selected:
         raise UsageError(
             f"no check left to run (select {', '.join(select or sorted(known))}, "
             f"ignore {', '.join(ignore)}); installed: {', '.join(sorted(known))}"
         )
+    for check_id in sorted(selected):
+        missing = by_id[check_id].check.missing_extra()
+        if missing is not None:
+            raise UsageError(f"check `{check_id}` cannot run here: {missing}")
     severities: dict[str, Severity] = {}
     options: dict[str, dict[str, Any]] = {}
     for check_id, table in config.checks.items():
@@ -341,7 +347,7 @@ def _shown(config: Config, name: str) -> str:
     if name == "jobs" and value == 0:
         return f"0 (one per core: {cpu_count()})"
     if name == "select" and value is None:
-        return "(every installed check)"
+        return "(every installed check but the opt-in ones)"
     if name == "cache_dir" and value is None:
         folder = cache_folder(config) if config["cache"] else None
         return f"(default: {folder})" if folder is not None else "(cache off)"

@@ -46,6 +46,29 @@ def _in_units(value_si: float, scale: float) -> float:
     return next((c for c in candidates if c * scale == value_si), x)
 
 
+def _contact(g: Any, scale: float) -> dict[str, Any] | None:
+    """An expanded support's `contact` (scene units), so that `hertz` checks it as before;
+    None for a line contact (ball-cone), which an explicit point contact cannot describe."""
+    import numpy as np
+
+    if g.line_contact:
+        return None
+    seat, ball = (g.base, g.body) if g.ball_on == "body" else (g.body, g.base)
+    out: dict[str, Any] = {"ball_radius": _in_units(g.ball_radius, scale), "ball_on": g.ball_on}
+    if ball.radii != (g.ball_radius, g.ball_radius):  # a canoe ball
+        out["ball_radii"] = [_in_units(r, scale) for r in ball.radii]
+        if ball.direction is not None:
+            out["ball_direction"] = [float(v) for v in ball.direction]
+    if any(np.isfinite(seat.radii)):
+        out["seat_radii"] = [None if np.isinf(r) else _in_units(r, scale) for r in seat.radii]
+    if seat.direction is not None:
+        out["seat_direction"] = [float(v) for v in seat.direction]
+    for side in ("ball_material", "seat_material"):
+        if getattr(g, side) is not None:
+            out[side] = getattr(g, side)
+    return out
+
+
 def expanded_text(path: Path, *, allow_outside: bool = False) -> str:
     """The scene file's text with its couplings expanded (validated first)."""
     from kcheck.scene import load_scene
@@ -66,6 +89,9 @@ def expanded_text(path: Path, *, allow_outside: bool = False) -> str:
         }
         if s.geometry.coupling in with_friction:
             entry["friction"] = s.coefficients.to_yaml()
+        contact = _contact(s.geometry, scene.scale)
+        if contact is not None:
+            entry["contact"] = contact
         expanded.append(entry)
     out: dict[str, Any] = {}
     for key, value in data.items():

@@ -275,10 +275,10 @@ def template(coupling: str, mesh: Path | None, scene_path: Path, material: str) 
 def run(args: argparse.Namespace) -> int:
     """Write the template scene."""
     from kcheck.errors import MeshError
-    from kcheck.scene.materials import MATERIALS, density_of
+    from kcheck.scene.materials import density_of, known_names
 
     if density_of(args.material) is None:
-        return fail(f"unknown material `{args.material}`; known: {', '.join(sorted(MATERIALS))}")
+        return fail(f"unknown material `{args.material}`; known: {known_names()}")
     if args.mesh is not None and not args.mesh.is_file():
         return fail(f"{args.mesh}: no such file")
     if args.output == "-":

@@ -129,9 +129,9 @@ def _densities(
     args: argparse.Namespace,
 ) -> tuple[list[tuple[Path, str | None, float]], list[str]]:
     """Each mesh with its material (None for --density) and density; the errors found."""
-    from kcheck.scene.materials import MATERIALS, density_of
+    from kcheck.scene.materials import density_of, known_names
 
-    known = ", ".join(sorted(MATERIALS))
+    known = known_names()
     errors: list[str] = []
     default: float | None = None
     if args.material is not None:

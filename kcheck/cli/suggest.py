@@ -30,7 +30,7 @@ def add_parser(sub: Any) -> None:
         "largest margin",
         description="Search attachment points (on the body's surface, or in a box) and force "
         "directions for the largest angular margin over every retracted support, and print the "
-        "best candidates with their margins and limiting friction (spatial scenes).",
+        "best candidates with their margins and limiting friction (spatial and planar scenes).",
     )
     p.add_argument("scene", type=Path, help="a scene file (*.kcheck.yaml)")
     p.add_argument(
@@ -226,8 +226,6 @@ def run(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     try:
         scene = load_scene(args.scene, allow_outside=args.allow_outside_paths)
-        if scene.kind != "spatial":
-            return fail(f"{args.scene}: kcheck suggest searches spatial (6-support) scenes")
         if scene.body is None:
             return fail(f"{args.scene}: the scene has no `body` (mass properties are needed)")
         mass = body_mass_properties(scene.body, scene.scale)
@@ -312,4 +310,5 @@ def _design_margin(
     if _frictions(scene, args) is not None:
         return _range_margin(base, mass, point, direction)
     caps = point_caps(problem_for(base, mass), None)
-    return float(cap_margins(caps.a, caps_at(caps, point[None])[0], direction[None])[0])
+    at = caps_at(caps, point[None])[0]
+    return float(cap_margins(caps.a, at, direction[None, : scene.dim])[0])

@@ -163,7 +163,12 @@ class Key:
 
 KEYS: tuple[Key, ...] = (
     Key("paths", _str_list, (), "scene files and folders checked when none are given"),
-    Key("select", _check_ids, None, "check ids to run (default: every installed check)"),
+    Key(
+        "select",
+        _check_ids,
+        None,
+        "check ids to run (default: every installed check but the opt-in ones, e.g. reseat)",
+    ),
     Key("ignore", _str_list, (), "check ids not to run"),
     Key("fail_on", _choice("error", "warning"), "error", "lowest severity that fails the run"),
     Key("jobs", _jobs, 0, "worker processes (0: one per core; 1: no parallelism)"),

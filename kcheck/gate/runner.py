@@ -20,10 +20,10 @@ from typing import Any
 from pydantic import ValidationError
 
 from kcheck.analysis.sanity import scene_warnings
-from kcheck.errors import SceneError
+from kcheck.errors import SceneError, SceneErrors
 from kcheck.gate.paths import Excluder, discover_paths
 from kcheck.plugin import Inputs, LoadedCheck, Options
-from kcheck.result import CheckResult, Finding, SceneResult, Severity, Status
+from kcheck.result import CheckResult, Finding, MassProperties, SceneResult, Severity, Status
 from kcheck.scene import Scene, describe_pydantic, load_scene
 from kcheck.scene.yamlio import DEFAULT_LIMITS
 
@@ -43,7 +43,8 @@ class Settings:
     ``severities`` overrides a check's default severity (from configuration or the command
     line); a scene's own ``checks: {id: {severity: ...}}`` wins over both.
     ``check_options`` are per-check option defaults (from configuration): a scene's own
-    options win key by key. ``selected`` names the checks to run (None: every check given);
+    options win key by key. ``selected`` names the checks to run (None: every check given
+    that runs by default, ``Check.default_selected``: not the opt-in `reseat`);
     options of the others are still validated, and are no error. ``cache_dir`` holds the
     mass-property cache (None: no cache). ``jobs`` is the number of worker processes (0: run
     in this process), each scene limited to ``timeout_s`` seconds and ``memory_bytes`` of
@@ -119,7 +120,8 @@ def _field(text: str | None) -> tuple[str, ...] | None:
 
 def scene_status(checks: Sequence[CheckResult], warnings: Sequence[Finding] = ()) -> Status:
     """``error`` if a check erred; ``fail`` if a check of severity ``error`` failed; ``warn``
-    if only checks of severity ``warning`` failed or the scene has warnings; else ``pass``."""
+    if only checks of severity ``warning`` failed or the scene has warnings; ``marginal`` if a
+    check is marginal and nothing is worse; else ``pass``."""
     if any(c.status is Status.ERROR for c in checks):
         return Status.ERROR
     failed = [c for c in checks if c.status is Status.FAIL]
@@ -127,6 +129,8 @@ def scene_status(checks: Sequence[CheckResult], warnings: Sequence[Finding] = ()
         return Status.FAIL
     if failed or warnings:
         return Status.WARN
+    if any(c.status is Status.MARGINAL for c in checks):
+        return Status.MARGINAL
     return Status.PASS
 
 
@@ -143,9 +147,12 @@ def _options(
     try:
         return lc.check.options.model_validate(raw), severity
     except ValidationError as exc:
-        err = exc.errors(include_url=False)[0]
-        where = ("checks", lc.spec.name, *err["loc"])
-        raise scene.error(where, describe_pydantic(err)) from None
+        raise SceneErrors(
+            [
+                scene.error(("checks", lc.spec.name, *err["loc"]), describe_pydantic(err))
+                for err in exc.errors(include_url=False)
+            ]
+        ) from None
 
 
 def _crashed(lc: LoadedCheck, exc: Exception) -> str:
@@ -184,7 +191,6 @@ def check_scene(
     settings: Settings | None = None,
 ) -> SceneResult:
     """Load one scene and run every check on it; bad input becomes an error result."""
-    from kcheck.gate.cache import body_mass_properties_cached
     from kcheck.gate.config import did_you_mean
 
     if settings is None:
@@ -198,41 +204,36 @@ def check_scene(
         )
         scene = load_scene(path, allow_outside=settings.allow_outside, limits=limits)
         known = {lc.spec.name for lc in checks}
+        wrong: list[SceneError] = []  # every check's options' errors, said together
         for check_id in scene.check_options:
             if check_id not in known:
-                raise scene.error(
-                    ("checks", check_id),
-                    f"options for unknown check `{check_id}`{did_you_mean(check_id, known)}; "
-                    f"installed: {', '.join(sorted(known))}",
+                wrong.append(
+                    scene.error(
+                        ("checks", check_id),
+                        f"options for unknown check `{check_id}`"
+                        f"{did_you_mean(check_id, known)}; installed: {', '.join(sorted(known))}",
+                    )
                 )
         plan = []
         for lc in checks:
             defaults = settings.check_options.get(lc.spec.name, {})
-            options, severity = _options(scene, lc, defaults)
+            try:
+                options, severity = _options(scene, lc, defaults)
+            except SceneError as exc:
+                wrong.extend(exc.all())
+                continue
+            if settings.selected is None and not lc.check.default_selected:
+                continue  # opt-in: runs only when selected
             if settings.selected is not None and lc.spec.name not in settings.selected:
                 continue  # its options are valid; it just does not run
             severity = severity or settings.severities.get(lc.spec.name) or lc.check.severity
             plan.append((lc, options, severity, *_ask(lc, scene)))
-        mass = None
-        if any(needs_mass for *_, needs_mass, _ in plan):
-            if scene.body is None:
-                raise scene.error(
-                    ("body",),
-                    "a check needs the body's mass properties; "
-                    "give `body` with a mesh or explicit mass properties",
-                )
-            try:
-                mass = body_mass_properties_cached(
-                    scene.body, scene.scale, settings.cache_dir, settings.max_mesh_bytes
-                )
-            except SceneError as exc:
-                where = exc.where or ("body",)
-                raise scene.error(where, f"{exc.path}: {exc.message}") from exc
-            from kcheck.body.mass import body_limits_problem
+        if wrong:
+            raise SceneErrors(sorted(wrong, key=lambda e: (e.line or 0, e.column or 0)))
+        from kcheck.body.mass import shared_meshes
 
-            problem = body_limits_problem(mass)
-            if problem is not None:
-                raise scene.error(("body",), problem)
+        with shared_meshes():  # mass properties and the supports' check read each mesh once
+            mass, placement = _matter(scene, plan, settings)
     except SceneError as exc:
         return _input_error(path, exc)
     except MemoryError:
@@ -271,11 +272,11 @@ def check_scene(
         )
         results.append(result)
         drawn.append((lc, inputs, result))
-    warnings = _locate(scene, scene_warnings(scene, mass, results))
+    warnings = _locate(scene, (*placement, *scene_warnings(scene, mass, results)))
     status = scene_status(results, warnings)
     # Pictures after every check, so that each title carries the scene's verdict too.
     for lc, inputs, result in drawn if settings.plots is not None else ():
-        if result.status in (Status.PASS, Status.FAIL):
+        if result.status in (Status.PASS, Status.MARGINAL, Status.FAIL):
             files, note = _plot(lc, inputs, result, settings, (status, results, warnings))
             notes = notes if note is None else (*notes, note)
             written.extend(str(f) for f in files)
@@ -298,6 +299,64 @@ def check_scene(
         if scene.kind == "planar" or scene.sweep.given
         else None,
     )
+
+
+def _matter(
+    scene: Scene, plan: list[Any], settings: Settings
+) -> tuple[MassProperties | None, tuple[Finding, ...]]:
+    """The body's mass properties when a check needs them (through the cache), and the
+    supports checked against its mesh (:func:`_placement`)."""
+    from kcheck.gate.cache import body_mass_properties_cached
+
+    mass = None
+    if any(needs_mass for *_, needs_mass, _ in plan):
+        if scene.body is None:
+            raise scene.error(
+                ("body",),
+                "a check needs the body's mass properties; "
+                "give `body` with a mesh or explicit mass properties",
+            )
+        try:
+            mass = body_mass_properties_cached(
+                scene.body, scene.scale, settings.cache_dir, settings.max_mesh_bytes
+            )
+        except SceneError as exc:
+            where = exc.where or ("body",)
+            raise scene.error(where, f"{exc.path}: {exc.message}") from exc
+        from kcheck.body.mass import body_limits_problem
+
+        problem = body_limits_problem(mass)
+        if problem is not None:
+            raise scene.error(("body",), problem)
+    placement = _placement(scene, settings)
+    return mass, placement
+
+
+def _placement(scene: Scene, settings: Settings) -> tuple[Finding, ...]:
+    """The supports against the body's mesh (:mod:`kcheck.analysis.placement`): raises the
+    errors (a support off the body, a normal pointing out of it) as input errors; returns the
+    warnings (where the mesh cannot tell)."""
+    if scene.body is None or not scene.body.parts:
+        return ()
+    from kcheck.analysis.placement import support_placement
+    from kcheck.body.surface import body_surface
+
+    try:
+        surface = body_surface(scene.body, settings.max_mesh_bytes)
+    except SceneError as exc:
+        where = exc.where or ("body",)
+        raise scene.error(where, f"{exc.path}: {exc.message}") from exc
+    if surface is None:
+        return ()
+    found = support_placement(scene, surface)
+    if found.errors:
+        raise SceneErrors(
+            [
+                scene.error(f.field or ("supports",), f.message + (f"; {f.hint}" if f.hint else ""))
+                for f in found.errors
+            ]
+        )
+    return found.warnings
 
 
 #: Codes of the error results of a scene whose worker ran out of a budget, died or crashed:

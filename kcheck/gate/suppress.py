@@ -249,7 +249,7 @@ def failures(results: Iterable[SceneResult], root: Path) -> list[dict[str, str]]
     for scene in results:
         path = relative_path(scene.path, root)
         for check in scene.checks:
-            if check.status is not Status.FAIL:
+            if check.status not in (Status.FAIL, Status.MARGINAL):
                 continue
             for f in check.findings or (Finding(check.message),):
                 out.append({"path": path, "rule": rule_of(check, f), "field": _what(f)})
@@ -284,7 +284,7 @@ def apply(
     checks = []
     changed = False
     for check in scene.checks:
-        if check.status is not Status.FAIL:
+        if check.status not in (Status.FAIL, Status.MARGINAL):
             checks.append(check)
             continue
         kept: list[Finding] = []
@@ -327,7 +327,7 @@ def apply(
                     suppressed=tuple(accepted),
                 )
             )
-    ran = {c.id for c in scene.checks if c.status in (Status.PASS, Status.FAIL)}
+    ran = {c.id for c in scene.checks if c.status in (Status.PASS, Status.MARGINAL, Status.FAIL)}
     unused = [
         Finding(
             f"unused suppression ignore[{', '.join(s.codes)}]: no failure of "

@@ -26,6 +26,8 @@ from kcheck.fmt import format_number
 from kcheck.mechanics.dynamics import ILL_CONDITIONED, Case, Problem, _equilibrate
 from kcheck.mechanics.outcomes import outcome
 from kcheck.numerics.thresholds import (
+    DET_ROUNDING,
+    EPS,
     IMAG_RTOL,
     MU_END_RTOL,
     PENCIL_INFINITE_RTOL,
@@ -40,6 +42,7 @@ __all__ = [
     "limiting_friction",
     "friction_intervals_many",
     "pencil_roots",
+    "root_errors",
     "describe_friction",
 ]
 
@@ -62,6 +65,19 @@ class FrictionIntervals:
     closes: bool
     painleve: tuple[tuple[float, float], ...] = ()
     uniform: bool = True
+    #: Per interval, a bound of each end's numerical error ``(lo_error, hi_error)`` (0 at 0
+    #: and at infinity): :func:`root_errors`.
+    errors: tuple[tuple[float, float], ...] = ()
+
+    @property
+    def unresolved(self) -> tuple[tuple[float, float], ...]:
+        """The intervals no wider than their ends' error bounds: a sliver that rounding may
+        have made or moved; neither closing nor failing can be said of it."""
+        return tuple(
+            (lo, hi)
+            for (lo, hi), (elo, ehi) in zip(self.intervals, self.errors, strict=True)
+            if np.isfinite(hi) and hi - lo <= elo + ehi
+        )
 
     @property
     def containing(self) -> tuple[float, float] | None:
@@ -182,6 +198,45 @@ def _samples(points: np.ndarray, counts: np.ndarray) -> tuple[np.ndarray, np.nda
     return last[used], np.broadcast_to(rows[:, None], used.shape)[used]
 
 
+def root_errors(a0: np.ndarray, a1: np.ndarray, roots: np.ndarray) -> np.ndarray:
+    """Error bounds (p, r) of real roots ``mu`` (p, r) of pencils ``det(A0 + mu A1)`` (p, n, n):
+    the determinant over the product of its rows' norms errs by at most ``DET_ROUNDING n² eps``
+    (LU's backward error, Hadamard's bound on cofactors), so a root errs by that over the
+    slope of the normalised determinant there (a central difference across the root); NaN
+    roots stay NaN, and a root where the slope vanishes (a double root) gets its own size."""
+    n = a0.shape[-1]
+    bound = DET_ROUNDING * n * n * EPS
+    step = 1e-6 * np.maximum(1.0, np.abs(roots))
+
+    def normalised(mu: np.ndarray) -> np.ndarray:
+        m = a0[:, None] + np.nan_to_num(mu)[..., None, None] * a1[:, None]
+        with np.errstate(all="ignore"):
+            sign, logdet = np.linalg.slogdet(m)
+            rows = np.sum(np.log(np.sqrt(np.sum(m * m, axis=-1))), axis=-1)
+            return sign * np.exp(logdet - rows)
+
+    slope = np.abs(normalised(roots + step) - normalised(roots - step)) / (2.0 * step)
+    with np.errstate(all="ignore"):
+        out = np.where(slope > 0, bound / slope, np.maximum(1.0, np.abs(roots)))
+    return np.where(np.isfinite(roots), np.minimum(out, np.maximum(1.0, np.abs(roots))), np.nan)
+
+
+def _end_errors(
+    intervals: tuple[tuple[float, float], ...], roots: np.ndarray, errors: np.ndarray
+) -> tuple[tuple[float, float], ...]:
+    """Each interval end's error: the largest error of the roots (either sign) at that
+    breakpoint; 0 at 0 and at infinity."""
+    size, err = np.abs(roots[np.isfinite(roots)]), errors[np.isfinite(roots)]
+
+    def at(value: float) -> float:
+        if value <= 0 or not np.isfinite(value):
+            return 0.0
+        near = np.abs(size - value) <= SAME_ROOT_RTOL * value
+        return float(err[near].max()) if np.any(near) else 0.0
+
+    return tuple((at(lo), at(hi)) for lo, hi in intervals)
+
+
 def _pieces(points: np.ndarray, flags: np.ndarray) -> tuple[tuple[float, float], ...]:
     """Closed intervals from the pieces ``[0, p1], [p1, p2], ..., [pm, inf)`` whose flag holds,
     adjacent ones merged."""
@@ -254,7 +309,10 @@ def friction_intervals_many(
     big_f = np.stack([c.k_friction for c in live])  # type: ignore[misc]
     c, n = k0.shape[0], k0.shape[-1]
     a0, a1 = _pencils(k0, big_f, rhs)
-    roots = pencil_roots(a0.reshape(-1, n, n), a1.reshape(-1, n, n)).reshape(c, n + 1, n)
+    all_a0, all_a1 = a0.reshape(-1, n, n), a1.reshape(-1, n, n)
+    roots = pencil_roots(all_a0, all_a1)
+    errors = root_errors(all_a0, all_a1, roots).reshape(c, n + 1, n)
+    roots = roots.reshape(c, n + 1, n)
     # Samples of every case, for closing (all roots) and for Painlevé (det K roots only).
     points, counts = _breakpoints(roots.reshape(c, -1))
     det_points, det_counts = _breakpoints(roots[:, 0])
@@ -270,12 +328,14 @@ def friction_intervals_many(
     det_bounds = len(first) + np.concatenate([[0], np.cumsum(det_counts + 1)])
     by_case = {}
     for i, case in enumerate(live):
+        pieces = _pieces(points[i, : counts[i]], closes[bounds[i] : bounds[i + 1]])
         by_case[id(case)] = FrictionIntervals(
-            _pieces(points[i, : counts[i]], closes[bounds[i] : bounds[i + 1]]),
+            pieces,
             mu,
             outcome(case, direction)[0] == "closes",
             _pieces(det_points[i, : det_counts[i]], painleve[det_bounds[i] : det_bounds[i + 1]]),
             uniform,
+            _end_errors(pieces, roots[i], errors[i]),
         )
     return [by_case.get(id(c), FrictionIntervals((), mu, False, (), uniform)) for c in cases]
 

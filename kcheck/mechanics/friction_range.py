@@ -37,9 +37,11 @@ from kcheck.mechanics.dynamics import (
 )
 from kcheck.numerics import chebyshev as cheb
 from kcheck.numerics.thresholds import (
+    DET_ROUNDING,
     ENVELOPE_IMAG_TOL,
     ENVELOPE_INSIDE_SLACK,
     ENVELOPE_TOL,
+    EPS,
     SAMPLE_STEP_FLOOR,
 )
 
@@ -49,6 +51,7 @@ __all__ = [
     "range_cases",
     "range_arcs",
     "condition_series",
+    "determinant_error",
 ]
 
 
@@ -102,6 +105,23 @@ class RangeCase:
     effective: np.ndarray
     numerators: np.ndarray
     trusted: bool
+    #: Absolute error bounds of the series' values on [-1, 1] (same units): ``(2,)`` for the
+    #: effective masses, ``(n, 1 + dim)`` for the numerators (:func:`determinant_error`).
+    effective_error: np.ndarray | None = None
+    numerator_error: np.ndarray | None = None
+
+    def condition_errors(self, directions: np.ndarray | None) -> np.ndarray:
+        """Error bounds (q, n) of :meth:`conditions`' values at unit directions (q, dim)
+        (``None``: the fixed wrench, q = 1); zeros when no bounds were computed."""
+        n = self.numerators.shape[0]
+        if self.numerator_error is None:
+            q = 1 if directions is None else len(np.atleast_2d(directions))
+            return np.zeros((q, n))
+        fixed = self.numerator_error[:, 0]
+        if directions is None:
+            return fixed[None]
+        d = np.abs(np.atleast_2d(directions))
+        return fixed[None] + d @ self.numerator_error[:, 1:].T
 
     @property
     def painleve_free(self) -> bool:
@@ -143,6 +163,19 @@ def _determinants(stack: np.ndarray, log_base: np.ndarray) -> np.ndarray:
     with np.errstate(all="ignore"):
         sign, logdet = np.linalg.slogdet(stack)
         return sign * np.exp(logdet - log_base)
+
+
+def determinant_error(stack: np.ndarray, log_base: np.ndarray) -> np.ndarray:
+    """An absolute bound of the rounding error of ``det(stack) / exp(log_base)`` (stack
+    (..., n, n)), whatever the conditioning: LU with partial pivoting computes the exact
+    determinant of ``K + E`` with ``|E_ij| <= γ |K|`` row by row, and ``|d det / d K_ij|`` (a
+    cofactor) is at most the product of the other rows' norms (Hadamard), so the error is at
+    most ``n γ`` times the product of every row's norm; ``γ = DET_ROUNDING n eps``
+    (:data:`kcheck.numerics.thresholds.DET_ROUNDING`)."""
+    n = stack.shape[-1]
+    with np.errstate(all="ignore"):
+        rows = np.sum(np.log(np.sqrt(np.sum(stack * stack, axis=-1))), axis=-1)
+        return DET_ROUNDING * n * n * EPS * np.exp(rows - log_base)
 
 
 def range_cases(
@@ -192,12 +225,19 @@ def range_cases(
     quality = _hadamard_ok(systems)  # (c,)
     eff_series = cheb.interpolate(x, np.moveaxis(effective, 2, 0))  # (2, c, m)
     num_series = cheb.interpolate(x, np.moveaxis(numer, 1, 0))  # (c, 1 + dim, n, m)
+    # Values' errors at the nodes carry over to the series on [-1, 1] times the Lebesgue
+    # constant of the nodes (Chebyshev–Lobatto: below 2/π ln m + 1).
+    lebesgue = 2.0 / np.pi * np.log(len(x)) + 1.0
+    eff_error = lebesgue * determinant_error(systems, log0[None, :, None]).max(axis=2)  # (2, c)
+    num_error = lebesgue * determinant_error(replaced, log0[:, None, None, None]).max(axis=1)
     for j, i in enumerate(live):
         out[i] = RangeCase(
             index=i,
             effective=eff_series[:, j],
             numerators=np.moveaxis(num_series[j], 1, 0),
             trusted=bool(quality[j]),
+            effective_error=eff_error[:, j],
+            numerator_error=num_error[j].T,  # (n, 1 + dim)
         )
     return out
 

@@ -41,6 +41,8 @@ __all__ = [
     "elliptic_integrals",
     "ellipse_ratio",
     "hertz",
+    "contact_shear_modulus",
+    "tangential_stiffness",
 ]
 
 # Iterations of the AGM: quadratic convergence; 1e-300 < k' needs fewer than 12.
@@ -276,3 +278,25 @@ def hertz(
         delta = p0 * b * big_k / e_star
         stiffness = np.where(p > 0, 1.5 * p / delta, 0.0)
     return HertzContact(p, a, b, p0, delta, stiffness)
+
+
+def contact_shear_modulus(
+    youngs1: np.ndarray | Sequence[float] | float,
+    poisson1: np.ndarray | Sequence[float] | float,
+    youngs2: np.ndarray | Sequence[float] | float,
+    poisson2: np.ndarray | Sequence[float] | float,
+) -> np.ndarray:
+    """``G* = 1 / ((2 - nu1)/G1 + (2 - nu2)/G2)`` in Pa, ``G = E / (2 (1 + nu))`` (Johnson
+    §7.2, the tangential loading of a Hertz contact)."""
+    e1, n1, e2, n2 = (np.asarray(x, dtype=float) for x in (youngs1, poisson1, youngs2, poisson2))
+    g1, g2 = e1 / (2.0 * (1.0 + n1)), e2 / (2.0 * (1.0 + n2))
+    return 1.0 / ((2.0 - n1) / g1 + (2.0 - n2) / g2)
+
+
+def tangential_stiffness(contact: HertzContact, shear_modulus: np.ndarray | float) -> np.ndarray:
+    """Mindlin's tangential stiffness without slip, ``k_t = 8 G* a`` (N/m; Johnson §7.2, a
+    circular contact of radius ``a``); an elliptical contact takes the circle of equal area,
+    ``a = sqrt(a b)`` (an approximation: the exact compliance of an ellipse differs by
+    direction). It holds while friction keeps the contact from slipping (small tangential
+    loads against ``mu N``)."""
+    return 8.0 * np.asarray(shear_modulus, float) * np.sqrt(contact.a * contact.b)

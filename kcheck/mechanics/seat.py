@@ -42,6 +42,7 @@ __all__ = [
     "external_wrench",
     "contact_forces",
     "stiffness_matrix",
+    "tangential_stiffness_matrix",
     "twist_from_approach",
     "point_translation",
     "point_compliance",
@@ -142,6 +143,34 @@ def stiffness_matrix(seat: Seat, stiffness: np.ndarray) -> np.ndarray:
     s = seat.scale()
     nondim = np.einsum("i,ia,ib->ab", np.asarray(stiffness, float), seat.rows, seat.rows)
     return nondim * s[:, None] * s[None, :]
+
+
+def tangential_stiffness_matrix(
+    seat: Seat, positions: np.ndarray, normals: np.ndarray, stiffness: np.ndarray
+) -> np.ndarray:
+    """The stiffness matrix (n, n) of the contacts' tangential (Mindlin, no-slip) compliance,
+    SI like :func:`stiffness_matrix`: ``sum_i k_t,i sum_j t_ij t_ij^T`` over the wrenches of
+    unit tangents ``t_ij`` (two in space, one in a plane) at each contact; isotropic in the
+    tangent plane with ``stiffness`` ``k_t,i`` (N/m)."""
+    frame = seat.frame
+    dim = seat.dim
+    n = np.asarray(normals, float)
+    total = np.zeros((seat.rows.shape[1],) * 2)
+    points = frame.point(np.asarray(positions, float))
+    for i, k_t in enumerate(np.asarray(stiffness, float)):
+        if dim == 2:
+            tangents = [np.array([-n[i, 1], n[i, 0]])]
+        else:
+            helper = np.eye(3)[int(np.argmin(np.abs(n[i])))]
+            t1 = np.cross(n[i], helper)
+            t1 /= np.linalg.norm(t1)
+            tangents = [t1, np.cross(n[i], t1)]
+        for t in tangents:
+            t = t[:dim] / np.linalg.norm(t[:dim])
+            w = wrenches(points[i : i + 1], t[None, :])[0]
+            total += k_t * np.outer(w, w)
+    s = seat.scale()
+    return total * s[:, None] * s[None, :]
 
 
 def twist_from_approach(seat: Seat, approach_change: np.ndarray) -> Solution:

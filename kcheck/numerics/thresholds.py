@@ -26,7 +26,9 @@ import math
 import sys
 
 __all__ = [
+    "THERMAL_CENTRE_DET",
     "EPS",
+    "DET_ROUNDING",
     "TINY",
     "ZERO_GUARD",
     "LENTZ_RTOL",
@@ -53,6 +55,8 @@ __all__ = [
     "DEGENERATE_FACE_RTOL",
     "NO_VOLUME_RTOL",
     "SAME_POINT_RTOL",
+    "POLISH_XTOL",
+    "POLISH_FTOL",
     "FACET_TOL",
     "HULL_FACET_TOL",
     "FACET_DECIMALS",
@@ -97,6 +101,12 @@ __all__ = [
     "CURVATURE_RTOL",
     "AGM_ULP_FRACTION",
     "LIFTED_RTOL",
+    "RESEAT_WINDOW_SHARE",
+    "RESEAT_JAM_FACTOR",
+    "RESEAT_LOST_SHARE",
+    "RESEAT_STICK_SHARE",
+    "RESEAT_ESTIMATE_FACTOR",
+    "RESEAT_SEAT_RESOLUTION",
 ]
 
 # --- floating point ----------------------------------------------------------------------
@@ -223,6 +233,14 @@ NO_VOLUME_RTOL: float = 1e-9
 #: same point found twice (nondimensional): the same candidate reached twice agrees to
 #: rounding.
 SAME_POINT_RTOL: float = 1e-9
+
+#: The continuous search over the attachment point (kcheck suggest) stops when its simplex is
+#: this fraction of the sampling step (nondimensional; a 5 mm step: 5 µm) ...
+POLISH_XTOL: float = 1e-3
+
+#: ... and its margins agree to this (rad, 6e-4°): two orders below the 0.05° the search
+#: promises against an exhaustive reference (docs/suggest.md).
+POLISH_FTOL: float = 1e-5
 
 # --- cones and linear programmes ---------------------------------------------------------------
 
@@ -392,6 +410,12 @@ LEAST_FORCE_RTOL: float = 0.01
 #: freest direction (which lies outside every held set); far above rounding (1e-16), so no
 #: direction outside is left out.
 FREE_CANDIDATE_TOL: float = 1e-9
+#: Constant of the determinant's rounding bound (:func:`kcheck.mechanics.friction_range.
+#: determinant_error`, nondimensional): LU's backward error is ``γ |K|`` with ``γ`` a small
+#: multiple of ``n eps`` (the growth factor of partial pivoting, in practice a few); 4 covers
+#: it, and ``tests/kcheck/test_friction_range_errors.py`` checks the bound against 50-digit
+#: determinants of nearly singular systems.
+DET_ROUNDING: float = 4.0
 
 # --- Hertz contact -----------------------------------------------------------------------------
 
@@ -406,3 +430,39 @@ AGM_ULP_FRACTION: float = 1e-3
 #: A seated contact force at or below this fraction of the force scale is zero: the contact is
 #: lifted (nondimensional, the solve's rounding is about 1e-15 of the scale).
 LIFTED_RTOL: float = 1e-12
+
+
+#: A coupling has a thermal centre only when the map from a body point to its thermal pose
+#: shift, ``(alpha_body - alpha_base) dT I + [omega]x`` scaled to its largest entry, has a
+#: determinant above this (nondimensional): below it the body and the base expand alike (to
+#: about 1e-4 of the larger term in each direction) and the shift is a rigid motion.
+THERMAL_CENTRE_DET: float = 1e-12
+
+# --- reseat (time domain, MuJoCo) ----------------------------------------------------------------
+
+#: The first-motion window ends when a contact point of the body has moved this share of the
+#: retraction distance (nondimensional): far enough to see the sense of the motion above the
+#: soft contacts' overlap changes (tenths of a µm against 10 µm at the default 100 µm).
+RESEAT_WINDOW_SHARE: float = 0.1
+#: A body that needs more than this many times the free-body time of its acceleration scale to
+#: move the window's distance is held by friction (nondimensional): soft friction creeps (about
+#: 2 µm/s in the Appendix A block at the defaults), a sliding body gets there within a few
+#: free-body times (accelerations down to 1/400 of the scale still count as moving).
+RESEAT_JAM_FACTOR: float = 20.0
+#: A remaining support that is open and carries less than this share of the normal force over
+#: the window's second half has lost contact (nondimensional); judged by force, because a kept
+#: contact's soft overlap changes with its force by tenths of a µm.
+RESEAT_LOST_SHARE: float = 0.01
+#: A pressed rough contact sticks when its slip speed is below this share of retraction /
+#: duration (nondimensional): creep is slower, sliding in the first motion much faster.
+RESEAT_STICK_SHARE: float = 1e-3
+#: error_estimate = this factor x |seat error(dt) - seat error(dt/2)| (nondimensional): first
+#: order would make the reported (half-step) run's error about the difference; the seat error
+#: at nm levels is part stick-slip noise, which halving the step changed by up to 1.3 x the
+#: difference on the fixtures (mujoco 2.3.3, Appendix A), so twice it.
+RESEAT_ESTIMATE_FACTOR: float = 2.0
+#: The smallest seat error the simulation resolves (m), the floor of error_estimate: seat errors
+#: of nm are the soft contacts' settling noise (their overlap is about 0.4 µm at the defaults,
+#: and changes with each contact's force), not converging with the step; halving the step
+#: changed fixtures' nm seat errors by up to 0.016 µm. 2 % of the default tolerance (1 µm).
+RESEAT_SEAT_RESOLUTION: float = 2e-8

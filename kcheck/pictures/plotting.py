@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from kcheck.pictures.colours import OUTCOME_COLOURS, VERDICT_COLOURS, outcome_colour
 from kcheck.result import CheckResult, Finding, Status
 
 if TYPE_CHECKING:
@@ -30,6 +31,7 @@ __all__ = [
     "formats",
     "scene_verdict",
     "current_scene",
+    "current_formats",
     "save",
     "slug",
     "outcome_colour",
@@ -50,22 +52,6 @@ SVG_IMAGE_COLOURS = 64
 #: The fonts an SVG's text asks for (the font pictures are drawn in, then common fallbacks).
 SVG_FAMILIES = "'DejaVu Sans', Verdana, Arial, sans-serif"
 SVG_FONTS = f"font-family: {SVG_FAMILIES}"
-#: Colours of case outcomes, the same in every picture; any other outcome gets UNKNOWN.
-OUTCOME_COLOURS = {
-    "closes": "#2ca02c",
-    "ok": "#2ca02c",
-    "swept": "#17becf",
-    "loses_contact": "#ff7f0e",
-    "opens": "#d62728",
-    "jams": "#7f7f7f",
-    "opens_loses_contact": "#8c1c13",
-    "ambiguous": "#9467bd",
-    "wrong_sense": "#d62728",
-}
-UNKNOWN_OUTCOME = "#8c564b"
-#: Colours of verdicts (the text and HTML reports use the same hues).
-VERDICT_COLOURS = {"pass": "#1a7f37", "warn": "#9a6700", "fail": "#cf222e", "error": "#8250df"}
-
 _formats: ContextVar[tuple[str, ...]] = ContextVar("kcheck_plot_formats", default=("png",))
 _scene: ContextVar[SceneVerdict | None] = ContextVar("kcheck_scene_verdict", default=None)
 
@@ -115,9 +101,9 @@ def formats(names: Sequence[str]) -> Iterator[None]:
         _formats.reset(token)
 
 
-def outcome_colour(outcome: str) -> str:
-    """The colour of a case outcome (a colour for any outcome, known or not)."""
-    return OUTCOME_COLOURS.get(outcome, UNKNOWN_OUTCOME)
+def current_formats() -> tuple[str, ...]:
+    """The picture formats requested for the pictures being drawn now."""
+    return _formats.get()
 
 
 def sweep_note(normal: object, zero: object) -> str:

@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 
 from kcheck.analysis.suggest import Search
+from kcheck.pictures import colours as palette
 from kcheck.pictures.plotting import figure, formats, save
 from kcheck.scene import Scene
 
@@ -37,17 +38,17 @@ def plot_suggestion(
     span = float(np.ptp(pts, axis=0).max()) or 1.0
     top = max(float(margins.max()), 1.0)
     low = min(float(np.percentile(margins[some], 5)) if np.any(some) else -1.0, -1.0)
-    style = {"cmap": "RdYlGn", "norm": TwoSlopeNorm(0.0, max(low, -3 * top), top)}
+    style = {"cmap": palette.MARGIN_MAP, "norm": TwoSlopeNorm(0.0, max(low, -3 * top), top)}
     order = np.argsort(margins)  # the best drawn last, on top
     grey, live = order[~some[order]], order[some[order]]
     arrows = []
     if found.best:
-        arrows.append((found.best[0].point / s, found.best[0].direction, "tab:blue", "best"))
+        arrows.append((found.best[0].point / s, found.best[0].direction, palette.CANDIDATE, "best"))
     if design is not None:
-        arrows.append((design[0] / s, design[1], "black", "design"))
+        arrows.append((design[0] / s, design[1], palette.DESIGN, "design"))
 
     ax3 = fig.add_subplot(1, 3, 1, projection="3d")
-    ax3.scatter(*pts[grey].T, s=4, color="0.8")
+    ax3.scatter(*pts[grey].T, s=4, color=palette.NO_VALUE)
     dots = ax3.scatter(*pts[live].T, s=6, c=margins[live], **style)
     for p, d, c, label in arrows:
         ax3.quiver(*(p - 0.3 * span * d), *(0.3 * span * d), color=c, lw=2, label=label)
@@ -88,7 +89,7 @@ def _view(
 ) -> None:
     """One orthographic view of the candidate points and the forces."""
     i, j = axes
-    ax.scatter(pts[grey, i], pts[grey, j], s=4, color="0.8")
+    ax.scatter(pts[grey, i], pts[grey, j], s=4, color=palette.NO_VALUE)
     ax.scatter(pts[live, i], pts[live, j], s=8, c=margins[live], **style)
     for p, d, c, label in arrows:
         tail = p - 0.3 * span * d

@@ -80,6 +80,15 @@ class Check:
     #: module never imports its pictures or matplotlib: they are imported only when pictures
     #: are asked for.
     pictures: ClassVar[str | None] = None
+    #: Whether the check runs when no ``select`` names checks; a slow check sets False and
+    #: runs only when selected.
+    default_selected: ClassVar[bool] = True
+
+    def missing_extra(self) -> str | None:
+        """What to install for this check to run here (an optional extra whose packages
+        are absent), or None. Asked only of selected checks; the command line stops with it
+        (exit 2) before any scene runs."""
+        return None
 
     def skip_reason(self, scene: Scene) -> str | None:
         """Why this check does not apply to a scene, or None when it does."""

@@ -14,6 +14,8 @@ class ConciseReporter(LineReporter):
     def line(self, issue: Issue) -> str:
         """``path:line: check: message``; warnings say so."""
         what = issue.rule if issue.check is None else issue.check
-        if issue.level == "warning":
+        if issue.kind == "marginal":
+            what += " (marginal)"
+        elif issue.level == "warning":
             what += " (warning)"
         return f"{issue.location}: {what}: {issue.text}"

@@ -85,7 +85,7 @@ def _table(view: tables.Table) -> str:
 
 def _reasons(check: CheckResult) -> str:
     word = views.verdict(check)
-    if word not in ("fail", "warn", "error") or not check.findings:
+    if word not in ("marginal", "fail", "warn", "error") or not check.findings:
         return ""
     items = []
     for r in views.reasons(check):
@@ -248,7 +248,7 @@ def _write_page(
 ) -> None:
     """Head, summary, the scenes' sections (written by ``sections``), footer."""
     n = views.counts(scenes)
-    worst = next((k for k in ("error", "fail", "warn") if n[k]), "pass")
+    worst = next((k for k in ("error", "fail", "warn", "marginal") if n[k]), "pass")
     style = resources.files("kcheck.report").joinpath("report.css").read_text(encoding="utf-8")
     when = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
     stream.write(

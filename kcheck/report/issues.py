@@ -1,8 +1,10 @@
 """Scene results as a flat list of located issues: what every CI format (concise, GitHub
 annotations, SARIF, Markdown) reports, one line or record each.
 
-An issue is a check's failure (one per finding), a check that crashed, an input error of the
-scene, a scene past its time or memory budget, or a sanity warning of the scene. Its ``rule``
+An issue is a check's failure (one per finding), a marginal result (its one finding, level
+``warning``: it fails the run only with ``fail_on = "warning"``), a check that crashed, an
+input error of the scene, a scene past its time or memory budget, or a sanity warning of the
+scene. Its ``rule``
 is stable across runs (SARIF ``ruleId``, annotation title): ``<check>/<finding code>``
 (``analytical-2d/jams``), the check id for a finding without a code (or whose code is the
 check id), ``<check>/crashed``, ``input-error``, ``budget-exceeded/time``,
@@ -15,7 +17,7 @@ from __future__ import annotations
 import re
 from collections import Counter
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Literal, TextIO
 
 from kcheck.result import CheckResult, Finding, SceneResult, Status
@@ -77,15 +79,16 @@ Level = Literal["error", "warning"]
 
 @dataclass(frozen=True)
 class Issue:
-    """One located thing to report. ``kind``: ``failure`` (a check failed), ``error`` (bad
-    input or a crashed check) or ``warning`` (a scene's sanity warning); ``level`` is the
-    severity; ``counts`` says whether it fails the run (with the run's ``fail_on``)."""
+    """One located thing to report. ``kind``: ``failure`` (a check failed), ``marginal`` (a
+    check passed within its marginal band), ``error`` (bad input or a crashed check) or
+    ``warning`` (a scene's sanity warning); ``level`` is the severity (``warning`` for a
+    marginal result); ``counts`` says whether it fails the run (with the run's ``fail_on``)."""
 
     path: str
     line: int | None
     column: int | None
     level: Level
-    kind: Literal["failure", "error", "warning"]
+    kind: Literal["failure", "marginal", "error", "warning"]
     rule: str
     check: str | None
     message: str
@@ -184,6 +187,10 @@ def issues(scene: SceneResult, fail_on: str = "error", suppressed: bool = False)
             counts = counts_toward_exit(check.severity, fail_on)
             for f in check.findings or (Finding(check.message),):
                 yield _failure(path, check, f, counts)
+        elif check.status is Status.MARGINAL:
+            counts = counts_toward_exit("warning", fail_on)
+            for f in check.findings or (Finding(check.message),):
+                yield replace(_failure(path, check, f, counts), level="warning", kind="marginal")
         if suppressed:
             for f in check.suppressed:
                 yield _failure(path, check, f, False, f.suppressed)
@@ -213,10 +220,13 @@ def clean_text(text: str) -> str:
 
 
 def summary_line(counts: Mapping[Status, int], total: int, elapsed_s: float | None = None) -> str:
-    """``4 scenes: 2 passed, 1 with warnings, 1 failed, 0 with errors (1.2 s)``."""
+    """``4 scenes: 2 passed, 1 with warnings, 1 failed, 0 with errors (1.2 s)``; marginal
+    scenes are counted when there are any."""
+    marginal = counts.get(Status.MARGINAL, 0)
     text = (
         f"{total} scene{'s' if total != 1 else ''}: {counts.get(Status.PASS, 0)} passed, "
-        f"{counts.get(Status.WARN, 0)} with warnings, {counts.get(Status.FAIL, 0)} failed, "
+        + (f"{marginal} marginal, " if marginal else "")
+        + f"{counts.get(Status.WARN, 0)} with warnings, {counts.get(Status.FAIL, 0)} failed, "
         f"{counts.get(Status.ERROR, 0)} with errors"
     )
     if elapsed_s is not None:

@@ -79,7 +79,7 @@ class JunitReporter:
                 el = ET.SubElement(tc, "error", message=clean_text(check.message), type="crashed")
                 el.text = _text(lines)
                 tally["errors"] += 1
-            elif check.status is Status.FAIL and any(i.counts for i in mine):
+            elif check.status in (Status.FAIL, Status.MARGINAL) and any(i.counts for i in mine):
                 el = ET.SubElement(
                     tc, "failure", message=clean_text(check.message), type=mine[0].rule
                 )
@@ -88,6 +88,9 @@ class JunitReporter:
             elif check.status is Status.FAIL:  # a warning that does not fail the run
                 out = ET.SubElement(tc, "system-out")
                 out.text = _text([f"warning: {check.message}", *lines])
+            elif check.status is Status.MARGINAL:  # marginal, not failing the run
+                out = ET.SubElement(tc, "system-out")
+                out.text = _text([f"marginal: {check.message}", *lines])
         warnings = [i for i in found if i.kind == "warning"]
         if warnings:
             out = ET.SubElement(suite, "system-out")

@@ -11,12 +11,12 @@ from __future__ import annotations
 import math
 import re
 from collections import Counter
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, TextIO
 
 from kcheck.fmt import format_number, format_percent, format_share
 from kcheck.report.issues import CollectingReporter, Issue, clean_text, summary_line
-from kcheck.report.views import GOOD_OUTCOMES, headline, margin_text, verdict
+from kcheck.report.views import GOOD_OUTCOMES, headline, margin_figure, margin_text, verdict
 from kcheck.result import SceneResult, Status
 
 if TYPE_CHECKING:
@@ -29,6 +29,7 @@ MAX_ISSUE_LINES = 200
 
 MARK = {
     Status.PASS: "✅ pass",
+    Status.MARGINAL: "🔶 marginal",
     Status.WARN: "⚠️ warn",
     Status.FAIL: "❌ fail",
     Status.ERROR: "🛑 error",
@@ -64,7 +65,8 @@ def _checks_cell(scene: SceneResult) -> str:
 
 def _issue_line(issue: Issue) -> str:
     who = f"**{escape(issue.check)}**" if issue.check else f"**{escape(issue.rule)}**"
-    level = "" if issue.level == "error" else " (warning)"
+    level = " (marginal)" if issue.kind == "marginal" else ""
+    level = level or ("" if issue.level == "error" else " (warning)")
     line = f"- {_code(issue.location)} {who}{level}: {escape(issue.subject)}"
     if issue.hint:
         line += f" — _{escape(issue.hint)}_"
@@ -93,7 +95,10 @@ def _numbers(scene: SceneResult) -> list[str]:
         worst = check.details.get("max_utilisation")
         if isinstance(worst, (int, float)):
             figures.append(f"peak contact stress {format_percent(float(worst))} of allowed")
-        mark = MARK[Status(word)].split(" ")[0] if word != "marginal" else "⚠️"
+        band = check.details.get("margin")
+        if word == "marginal" and isinstance(band, Mapping):
+            figures.append(margin_figure(band))
+        mark = MARK[Status(word)].split(" ")[0]
         head = f"- **{escape(check.id)}** {mark} {word}"
         out.append(head + (f": {escape('; '.join(figures))}" if figures else ""))
         for case in check.cases:
@@ -146,7 +151,7 @@ class MarkdownReporter(CollectingReporter):
         counts = Counter(r.status for r in results)
         failing = counts[Status.FAIL] + counts[Status.ERROR]
         if self.options.fail_on == "warning":
-            failing += counts[Status.WARN]
+            failing += counts[Status.WARN] + counts[Status.MARGINAL]
         verdict = "❌ kcheck failed" if failing else "✅ kcheck passed"
         out = [f"## {verdict}", "", summary_line(counts, len(results), elapsed_s), ""]
         rows = [r for r in results if len(results) <= MAX_TABLE_ROWS or r.status is not Status.PASS]
@@ -173,7 +178,7 @@ class MarkdownReporter(CollectingReporter):
                 "",
             ]
         if self.issues:
-            out += ["### Failures, errors and warnings", ""]
+            out += ["### Failures, errors, warnings and marginal results", ""]
             out += [_issue_line(i) for i in self.issues[:MAX_ISSUE_LINES]]
             if len(self.issues) > MAX_ISSUE_LINES:
                 out.append(f"- … and {len(self.issues) - MAX_ISSUE_LINES} more")

@@ -99,6 +99,13 @@ def _rule(rule: str, summaries: dict[str, str], docs: str | None) -> dict[str, A
         if code == "crashed":
             short = f"{summary} — the check crashed (a bug: please report it)."
             full = f"The check `{check}` raised an exception: a bug in the check; the run exits 2."
+        elif code == "marginal":
+            short = f"{summary} — marginal: passes, but closer to failing than its minimum margin."
+            full = (
+                f"The check `{check}` ({summary}) passed, but its margin is below the minimum "
+                "margin its options ask for (a marginal result, level warning: it fails the run "
+                f"only with --strict). Described in {CHECKS_PAGE}, section `marginal-results`."
+            )
         else:
             full = (
                 f"The check `{check}` ({summary}) failed"

@@ -30,6 +30,7 @@ __all__ = ["TextReporter", "make_console", "render_scene", "render_summary", "re
 
 STYLE = {
     "pass": "bold green",
+    "marginal": "bold dark_orange",
     "warn": "bold yellow",
     "fail": "bold red",
     "error": "bold magenta",
@@ -114,6 +115,11 @@ def _word(word: str) -> Text:
     return Text(f"{word:<5}", style=STYLE.get(word, "bold"))
 
 
+def _padded(word: str, width: int) -> str:
+    """A verdict in capitals, padded to ``width`` and followed by at least one blank."""
+    return f"{word.upper():<{width}}" if len(word) < width else f"{word.upper()} "
+
+
 def render_mass(
     console: Console, mass: Any, indent: str = "  ", units: str | None = None, notes: bool = True
 ) -> None:
@@ -178,7 +184,7 @@ def _check_line(console: Console, scene: SceneResult, check: CheckResult) -> Non
     plane = views.check_sweep_text(scene, check)
     if plane is not None:
         _hanging(console, 8, Text(), Text(plane, style="dim"))
-    if word in ("fail", "warn", "error") and check.findings:
+    if word in ("marginal", "fail", "warn", "error") and check.findings:
         for reason in views.reasons(check):
             _reason(console, word, reason.text, reason.line, reason.hint)
     for f in check.suppressed:
@@ -228,7 +234,7 @@ def render_scene(
     headline = views.headline(scene)
     if headline and (word == "pass" or verbosity > 0):
         head.append(f"  {headline}")
-    _hanging(console, 0, Text(f"{word.upper():<7}", style=STYLE.get(word, "bold")), head)
+    _hanging(console, 0, Text(_padded(word, 7), style=STYLE.get(word, "bold")), head)
     verbose = verbosity > 0
     if word == "pass" and not verbose:
         for check in scene.checks:
@@ -295,11 +301,11 @@ def render_summary(
         for word, where, text in lines:
             line = Text(where, style="bold")
             line.append(f"  {text}")
-            _hanging(console, 0, Text(f"{word.upper():<6}", style=STYLE.get(word, "bold")), line)
+            _hanging(console, 0, Text(_padded(word, 6), style=STYLE.get(word, "bold")), line)
     if plots:
         console.print(f"{plots} picture file{'s' if plots > 1 else ''} written", style="cyan")
     n = views.counts(scenes)
-    worst = next((k for k in ("error", "fail", "warn") if n[k]), "pass")
+    worst = next((k for k in ("error", "fail", "warn", "marginal") if n[k]), "pass")
     console.print(views.run_line(scenes, elapsed_s), style=STYLE[worst])
 
 

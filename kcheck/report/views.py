@@ -24,6 +24,7 @@ from kcheck.fmt import (
     describe_sweep,
     format_angle,
     format_number,
+    format_percent,
     format_ranges,
     format_share_bounds,
 )
@@ -36,6 +37,7 @@ __all__ = [
     "scene_verdict",
     "worse",
     "margin_text",
+    "margin_figure",
     "status_text",
     "scene_status_text",
     "counts",
@@ -62,11 +64,9 @@ ANGLE_CONVENTION = (
 )
 
 #: Verdict words in the order a summary counts them.
-VERDICTS = ("pass", "warn", "fail", "error")
-#: Every verdict word from best to worst. Issue 21's ``marginal`` (a passing check closer to
-#: its boundary than the scene allows) has its place here already: once :func:`verdict`
-#: returns it, picture titles (:func:`status_text`, :func:`scene_status_text`) say it with
-#: no other change.
+VERDICTS = ("pass", "marginal", "warn", "fail", "error")
+#: Every verdict word from best to worst: ``marginal`` is a passing check closer to its
+#: failure line than its minimum margin (docs/checks.md, "Marginal results").
 SEVERITY_ORDER = ("n/a", "pass", "marginal", "warn", "fail", "error")
 
 # Case outcomes that are good news: the case closes (analytical, graphical), the layout is
@@ -75,7 +75,8 @@ GOOD_OUTCOMES = ("closes", "ok", "swept", "moves")
 
 
 def verdict(check: CheckResult) -> str:
-    """``pass``, ``warn`` (failed, severity warning), ``fail``, ``error`` or ``n/a``."""
+    """``pass``, ``marginal``, ``warn`` (failed, severity warning), ``fail``, ``error`` or
+    ``n/a``."""
     if check.status is Status.SKIPPED:
         return "n/a"
     if check.status is Status.FAIL and check.severity == "warning":
@@ -101,6 +102,19 @@ def margin_text(check: CheckResult) -> str | None:
     if not isinstance(margin, (int, float)) or not math.isfinite(margin) or _nothing_safe(check):
         return None
     return f"margin {format_angle(float(margin))}"
+
+
+def margin_figure(band: Mapping[str, Any]) -> str:
+    """A check's margin against its marginal band (``details["margin"]``) as a figure:
+    ``force-angle margin 0.29 (marginal below 5)``."""
+    value, limit = band.get("value"), band.get("limit")
+    if not isinstance(value, (int, float)) or not isinstance(limit, (int, float)):
+        return str(band.get("quantity", "margin"))
+    side = "below" if band.get("sense") == "at least" else "above"
+    return (
+        f"{band.get('quantity', 'margin')} {format_number(float(value), 3)} "
+        f"(marginal {side} {format_number(float(limit), 3)})"
+    )
 
 
 def status_text(check: CheckResult, qualifier: str = "") -> str:
@@ -138,7 +152,7 @@ def scene_status_text(
 
 
 def scene_verdict(scene: SceneResult) -> str:
-    """The scene's status as a word: ``pass``, ``warn``, ``fail`` or ``error``."""
+    """The scene's status as a word: ``pass``, ``marginal``, ``warn``, ``fail`` or ``error``."""
     return scene.status.value
 
 
@@ -165,9 +179,15 @@ def duration(seconds: float) -> str:
 def run_line(scenes: Sequence[SceneResult], elapsed_s: float) -> str:
     """The last line of a run: ``13 scenes: 10 passed, 3 failed in 98 s``."""
     n = counts(scenes)
-    words = {"pass": "passed", "warn": "with warnings", "fail": "failed", "error": "with errors"}
+    words = {
+        "pass": "passed",
+        "marginal": "marginal",
+        "warn": "with warnings",
+        "fail": "failed",
+        "error": "with errors",
+    }
     parts = [f"{n['pass']} passed"] + [
-        f"{n[k]} {words[k]}" for k in ("warn", "fail", "error") if n[k]
+        f"{n[k]} {words[k]}" for k in ("marginal", "warn", "fail", "error") if n[k]
     ]
     noun = "scene" if len(scenes) == 1 else "scenes"
     return f"{len(scenes)} {noun}: {', '.join(parts)} in {duration(elapsed_s)}"
@@ -233,6 +253,11 @@ def headline(scene: SceneResult) -> str:
         said.setdefault(source.id, []).append(
             f"{format_share_bounds(low, high)} of {_swept(source)} directions safe"
         )
+    for c in checks:  # contact stress (`max_utilisation` with the `materials` it is of)
+        used, materials = c.details.get("max_utilisation"), c.details.get("materials")
+        if isinstance(used, (int, float)) and isinstance(materials, str):
+            figure = f"contact stress {format_percent(float(used))} of allowable ({materials})"
+            said.setdefault(c.id, []).append(figure)
     parts += [f"{check}: {', '.join(figures)}" for check, figures in said.items()]
     if not parts:
         ranged = [c for c in checks if c.safe_ranges_deg is not None]
@@ -294,9 +319,9 @@ def _answers_ranges(check: CheckResult) -> bool:
 
 
 def disagreements(scene: SceneResult, check: CheckResult) -> list[str]:
-    """For a passing check that judges force directions, every other such check of the scene
-    that failed: ``analytical-2d: FAIL — <its first reason>``."""
-    if check.status is not Status.PASS or not _answers_ranges(check):
+    """For a passing (or marginal) check that judges force directions, every other such check
+    of the scene that failed: ``analytical-2d: FAIL — <its first reason>``."""
+    if check.status not in (Status.PASS, Status.MARGINAL) or not _answers_ranges(check):
         return []
     out = []
     for other in scene.checks:
@@ -317,8 +342,8 @@ def location(path: str, line: int | None, column: int | None = None) -> str:
 
 
 def short_summary(scenes: Sequence[SceneResult]) -> list[tuple[str, str, str]]:
-    """One ``(verdict, path, reason)`` per failing, warning or erring check of every scene,
-    and one per scene with input errors."""
+    """One ``(verdict, path, reason)`` per marginal, failing, warning or erring check of every
+    scene, and one per scene with input errors."""
     out: list[tuple[str, str, str]] = []
     for scene in scenes:
         if scene.status is Status.PASS:
@@ -332,7 +357,7 @@ def short_summary(scenes: Sequence[SceneResult]) -> list[tuple[str, str, str]]:
             continue
         for check in scene.checks:
             word = verdict(check)
-            if word in ("fail", "warn", "error"):
+            if word in ("marginal", "fail", "warn", "error"):
                 why = reasons(check)
                 more = f" (and {len(why) - 1} more)" if len(why) > 1 else ""
                 text = f"{check.id}: {why[0].text}{more}"

@@ -14,7 +14,7 @@ import numpy as np
 from kcheck.errors import describe_os_error
 from kcheck.numerics.thresholds import PRINCIPAL_TRIANGLE_RTOL, ROTATION_TOL
 from kcheck.scene.limits import INERTIA_SYMMETRY_RTOL, LIMITS
-from kcheck.scene.materials import MATERIALS, density_of
+from kcheck.scene.materials import canonical, density_of, known_names
 from kcheck.scene.models import BodyModel, PartModel, TransformModel
 from kcheck.scene.types import Body, ExplicitMass, Part, PointMass
 from kcheck.scene.units import LENGTH_TO_M
@@ -84,7 +84,10 @@ class BodyReader:
             point = p.coordinates((*pw, "point"), point_mass.point, self.scale)
             if p.in_range((*pw, "mass"), point_mass.mass, "mass") and point is not None:
                 point_masses.append(PointMass(point_mass.name, float(point_mass.mass), point))
-        return Body(tuple(parts), explicit, tuple(point_masses))
+        given = [model.material] + [pm.material for pm in model.parts or ()]
+        named = (canonical(m) for m in given if m is not None)
+        materials = tuple(dict.fromkeys(m for m in named if m is not None))
+        return Body(tuple(parts), explicit, tuple(point_masses), materials)
 
     def density(
         self, where: FieldPath, material: str | None, density: float | None, optional: bool
@@ -107,8 +110,7 @@ class BodyReader:
             return None
         value = density_of(material)
         if value is None:
-            known = ", ".join(sorted(MATERIALS))
-            p.add((*where, "material"), f"unknown material `{material}`; known: {known}")
+            p.add((*where, "material"), f"unknown material `{material}`; known: {known_names()}")
         return value
 
     def part(

@@ -122,12 +122,27 @@ def _ring(
 
 
 def ball_vee(
-    center: np.ndarray, radius: float, axis: np.ndarray, up: np.ndarray, half_angle_deg: float
+    center: np.ndarray,
+    radius: float,
+    axis: np.ndarray,
+    up: np.ndarray,
+    half_angle_deg: float,
+    flank_radius: float | None = None,
 ) -> list[Contact]:
-    """A ball in a V-groove: two flat flanks whose normals make ``half_angle`` with ``up``.
+    """A ball in a V-groove: two flanks whose normals make ``half_angle`` with ``up``; flat,
+    or (``flank_radius``) concave across the groove with that radius and straight along it (a
+    gothic arch: two arcs meeting at the bottom; a conformal groove as the radius nears the
+    ball's). The contact normals are the same either way: at the contact the arc's normal
+    passes through the ball centre.
 
     Contact 1's normal leans towards ``up × axis``, contact 2's away from it.
     """
+    if flank_radius is not None and not flank_radius > radius:
+        raise CouplingError(
+            f"the groove's flank radius {flank_radius:.6g} must exceed the ball's radius "
+            f"{radius:.6g} (a smaller one touches at two edges, not at a point)",
+            ("groove", "radius"),
+        )
     a = unit(axis)
     u = _perpendicular(
         up,
@@ -139,7 +154,8 @@ def ball_vee(
     side = np.cross(u, a)
     h = math.radians(half_angle_deg)
     normals = [unit(math.cos(h) * u + sign * math.sin(h) * side) for sign in (1.0, -1.0)]
-    return [Contact(center - radius * n, n, Surface(FLAT)) for n in normals]
+    flank = Surface(FLAT) if flank_radius is None else Surface((math.inf, -flank_radius), a)
+    return [Contact(center - radius * n, n, flank) for n in normals]
 
 
 def _touching(distance: float, radius: float, other: float, what: str, where: tuple) -> None:
@@ -250,11 +266,13 @@ def supports(
     ball_on: Literal["body", "base"],
     friction: float,
     scale: float,
+    ball_surface: Surface | None = None,
 ) -> tuple[Support, ...]:
     """Supports ``<name>.1``, ``<name>.2``, ... in SI units (``scale`` metres per length unit
     of the contacts). With the ball on the body the supports push along ``n``; with the ball
-    on the base, along ``-n``."""
-    ball = Surface((radius * scale, radius * scale))
+    on the base, along ``-n``. ``ball_surface``: a canoe ball's contact surface (in the
+    contacts' unit; default a sphere of ``radius``)."""
+    ball = _si(ball_surface or Surface((radius, radius)), scale)
     out = []
     for k, c in enumerate(contacts, start=1):
         mate = _si(c.mate, scale)

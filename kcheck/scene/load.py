@@ -9,31 +9,34 @@ touches a mesh beyond checking that its path is a readable file (mass properties
 from __future__ import annotations
 
 import dataclasses
+import math
 from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
-from pydantic import ValidationError
 
-from kcheck.numerics.thresholds import PARALLEL_SIN, ZERO_GUARD
+from kcheck.numerics.thresholds import PARALLEL_COS, PARALLEL_SIN, ZERO_GUARD
 from kcheck.scene.body import BodyReader, rotation_matrix
 from kcheck.scene.coefficients import resolve_friction
 from kcheck.scene.limits import LIMITS, MIN_FORCE
-from kcheck.scene.models import BodyModel, LoadModel, SceneModel, SweepModel
+from kcheck.scene.materials import canonical, known_names
+from kcheck.scene.models import BodyModel, ContactModel, LoadModel, SceneModel, SweepModel
 from kcheck.scene.shorthands import contact_count, expand_coupling
 from kcheck.scene.types import (
     PLANAR_TOL,
     Body,
+    ContactGeometry,
     Friction,
     Load,
     Preload,
     Scene,
     Support,
+    Surface,
     Sweep,
     Tolerances,
 )
 from kcheck.scene.units import LENGTH_TO_M
-from kcheck.scene.validate import Problems, plain_value_problems, pydantic_problems
+from kcheck.scene.validate import Problems, consequence_of, plain_value_problems, salvage
 from kcheck.scene.yamlio import DEFAULT_LIMITS, FieldPath, YamlLimits, format_path, read_yaml
 
 __all__ = ["SCENE_GLOB", "load_scene", "rotation_matrix"]
@@ -53,14 +56,18 @@ def load_scene(
     if not isinstance(data, dict):
         raise problems.error((), f"expected a mapping of scene fields, got {type(data).__name__}")
     plain_value_problems(data, problems)
-    model: SceneModel | None = None
-    try:
-        model = SceneModel.model_validate(data)
-    except ValidationError as exc:
-        pydantic_problems(exc, SceneModel, problems)
-    problems.raise_if_any()
-    assert model is not None
+    # Values are checked on what is left of a file with wrong fields too (every mistake in
+    # one run); an error that only follows from leaving a field out is not one of them.
+    # Not when `units` is wrong: every length is read in it.
+    model, dropped = salvage(data, SceneModel, problems)
+    if model is None or ("units",) in dropped:
+        problems.raise_if_any()
+    assert isinstance(model, SceneModel)
+    said = len(problems.errors)
     scene = _Builder(path, model, problems, allow_outside, document).build()
+    problems.errors[said:] = [
+        e for e in problems.errors[said:] if not consequence_of(e.where, dropped)
+    ]
     problems.raise_if_any()
     assert scene is not None
     return scene
@@ -96,7 +103,7 @@ class _Builder:
         m, p = self.m, self.p
         supports, fields = self.supports()
         kind: Literal["planar", "spatial"] | None = None
-        if not p.errors:
+        if not (p.has(("supports",)) or p.has(("couplings",))):
             kind = self.kind(supports, fields)
         if kind is not None:
             self.layout(supports)
@@ -159,7 +166,11 @@ class _Builder:
             mu = scene_mu
             if s.friction is not None:
                 mu = resolve_friction(s.friction, (*where, "friction"), p)
-            out.append(_with_friction(Support(s.name, position, normal, 0.0, None, where), mu))
+            support = Support(s.name, position, normal, 0.0, None, where)
+            if s.contact is not None:
+                contact = self.contact(s.name, s.contact, (*where, "contact"), position, normal)
+                support = dataclasses.replace(support, contact=contact)
+            out.append(_with_friction(support, mu))
             fields.append(where)
         for i, c in enumerate(m.couplings):
             where = ("couplings", i)
@@ -169,8 +180,14 @@ class _Builder:
             made = expand_coupling(c, where, self.p, self.scale, mu.largest)
             for k in range(1, contact_count(c) + 1):
                 self.unique_name(names, f"{c.name}.{k}", where)
-            for support in made or ():
-                out.append(_with_friction(dataclasses.replace(support, field=where), mu))
+            ball = self.material((*where, "ball_material"), c.ball_material)
+            seat = self.material((*where, "seat_material"), c.seat_material)
+            for made_support in made or ():
+                g = made_support.geometry
+                assert g is not None
+                g = dataclasses.replace(g, ball_material=ball, seat_material=seat)
+                support = dataclasses.replace(made_support, field=where, geometry=g)
+                out.append(_with_friction(support, mu))
                 fields.append(where)
             if made and c.type == "ball-cone":
                 self.notes.append(
@@ -178,6 +195,76 @@ class _Builder:
                     "modelled as 3 points 120° apart"
                 )
         return tuple(out), fields
+
+    def material(self, where: FieldPath, name: str | None) -> str | None:
+        """The table's name of a material given at ``where`` (None if not given); an error if
+        the table does not know it."""
+        if name is None:
+            return None
+        found = canonical(name)
+        if found is None:
+            self.p.add(where, f"unknown material `{name}`; known: {known_names()}")
+        return found
+
+    def contact(
+        self, name: str, c: ContactModel, where: FieldPath, position: np.ndarray, normal: np.ndarray
+    ) -> ContactGeometry | None:
+        """An explicit support's contact shape (SI), or None after recording its errors."""
+        p = self.p
+        ok = p.in_range((*where, "ball_radius"), c.ball_radius, "radius", self.scale)
+        radii = [math.inf if r is None else float(r) * self.scale for r in c.seat_radii or ()]
+        radii = radii or [math.inf, math.inf]
+        for j, r in enumerate(radii):
+            if r != math.inf and not p.in_range((*where, "seat_radii", j), abs(r), "radius"):
+                ok = False
+        direction = None
+        if c.seat_direction is not None:
+            direction = p.direction((*where, "seat_direction"), c.seat_direction, "the direction")
+            ok &= direction is not None
+            if direction is not None and abs(direction @ normal) > PARALLEL_COS:
+                p.add((*where, "seat_direction"), "is along the support's normal; it must not be")
+                ok = False
+        elif radii[0] != radii[1]:
+            p.add(
+                (*where, "seat_direction"),
+                "expected the direction of the seat's first radius: its two radii differ",
+            )
+            ok = False
+        ball_radii = [float(r) * self.scale for r in c.ball_radii or (c.ball_radius,) * 2]
+        for j, r in enumerate(c.ball_radii or ()):
+            ok &= p.in_range((*where, "ball_radii", j), r, "radius", self.scale)
+        ball_direction = None
+        if c.ball_direction is not None:
+            ball_direction = p.direction((*where, "ball_direction"), c.ball_direction, "it")
+            ok &= ball_direction is not None
+        elif ball_radii[0] != ball_radii[1]:
+            p.add(
+                (*where, "ball_direction"),
+                "expected the direction of the ball's first radius: its two radii differ",
+            )
+            ok = False
+        ball_material = self.material((*where, "ball_material"), c.ball_material)
+        seat_material = self.material((*where, "seat_material"), c.seat_material)
+        if not ok:
+            return None
+        r = float(c.ball_radius) * self.scale
+        ball = Surface((ball_radii[0], ball_radii[1]), ball_direction)
+        seat = Surface((radii[0], radii[1]), direction)
+        # The normal points into the body: a ball on the base sits below the contact point.
+        sign = -1.0 if c.ball_on == "base" else 1.0
+        body, base = (ball, seat) if c.ball_on == "body" else (seat, ball)
+        return ContactGeometry(
+            coupling=name,
+            kind="explicit",
+            index=1,
+            ball_center=position + sign * r * normal,
+            ball_radius=r,
+            ball_on=c.ball_on,
+            body=body,
+            base=base,
+            ball_material=ball_material,
+            seat_material=seat_material,
+        )
 
     def unique_name(self, names: dict[str, FieldPath], name: str, where: FieldPath) -> None:
         """Record a support's name; an error if another support has it."""

@@ -6,7 +6,16 @@ from __future__ import annotations
 
 from typing import Annotated, Any, ClassVar, Literal
 
-from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag, field_validator
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Discriminator,
+    Field,
+    Tag,
+    WithJsonSchema,
+    field_validator,
+)
 
 from kcheck.scene.limits import LIMITS
 
@@ -17,6 +26,8 @@ __all__ = [
     "BodyModel",
     "PartModel",
     "SupportModel",
+    "ContactModel",
+    "MaterialName",
     "CouplingModel",
     "TransformModel",
     "AxisAngleModel",
@@ -36,6 +47,22 @@ Units = Literal["m", "cm", "mm", "um", "in"]
 Vec3 = Annotated[list[float], Field(min_length=3, max_length=3)]
 Matrix3 = Annotated[list[Vec3], Field(min_length=3, max_length=3)]
 Name = Annotated[str, Field(min_length=1, max_length=200)]
+
+
+def _material_name(value: Any) -> Any:
+    # YAML reads an unquoted 52100 as a number; a material's name is text either way.
+    if isinstance(value, int) and not isinstance(value, bool):
+        return str(value)
+    return value
+
+
+#: A name of the material table (docs/materials.md); numbers such as 52100 may go unquoted.
+MaterialName = Annotated[
+    str,
+    BeforeValidator(_material_name),
+    Field(min_length=1, max_length=100),
+    WithJsonSchema({"anyOf": [{"type": "string"}, {"type": "integer"}]}),
+]
 
 
 def bounded(key: str, default: Any = ..., **kwargs: Any) -> Any:
@@ -119,7 +146,9 @@ class PartModel(_Model):
         description="Mesh file, relative to the scene file; any format trimesh "
         "loads, or STEP (.step/.stp) with the `step` extra"
     )
-    material: str | None = Field(None, description="Name from the built-in material table")
+    material: MaterialName | None = Field(
+        None, description="Name from the material table (docs/materials.md)"
+    )
     density: float | None = bounded("density", None, description="kg/m^3")
     units: Units | None = Field(
         None,
@@ -142,7 +171,9 @@ class BodyModel(_Model):
     """The moving body: a mesh (or parts) with a material, or explicit mass properties."""
 
     mesh: str | None = Field(None, description="Mesh file, relative to the scene file")
-    material: str | None = Field(None, description="Name from the built-in material table")
+    material: MaterialName | None = Field(
+        None, description="Name from the material table (docs/materials.md)"
+    )
     density: float | None = bounded("density", None, description="kg/m^3")
     repair: bool = Field(False, description="Merge vertices, fix winding, fill small holes")
     parts: list[PartModel] | None = Field(
@@ -157,6 +188,34 @@ class BodyModel(_Model):
     )
 
 
+class ContactModel(_Model):
+    """The local shape at an explicit support, for `hertz`: a ball (any convex sphere: a
+    ball-ended pin, a ball) on a seat (a flat face, a pin, a groove of radius)."""
+
+    ball_radius: float = Field(gt=0, description="Scene units")
+    ball_radii: Annotated[list[float], Field(min_length=2, max_length=2)] | None = Field(
+        None, description="A canoe ball's two principal radii (default: ball_radius both ways)"
+    )
+    ball_direction: Vec3 | None = Field(
+        None, description="Along the first ball radius (needed when the two differ)"
+    )
+    seat_radii: Annotated[list[float | None], Field(min_length=2, max_length=2)] | None = Field(
+        None,
+        description="The seat's two principal radii, scene units: positive convex (a pin), "
+        "negative concave (a groove), null flat; default: flat",
+    )
+    seat_direction: Vec3 | None = Field(
+        None, description="Along the seat's first radius (needed when the two differ)"
+    )
+    ball_on: Literal["body", "base"] = Field(
+        "base", description="Which side carries the ball; the seat is on the other"
+    )
+    ball_material: MaterialName | None = Field(None, description="The ball's material")
+    seat_material: MaterialName | None = Field(
+        None, description="The seat's material (default: the body's, for a seat on the body)"
+    )
+
+
 class SupportModel(_Model):
     """One point support."""
 
@@ -166,13 +225,25 @@ class SupportModel(_Model):
     friction: FrictionValue | None = Field(
         None, description="Coulomb coefficient: a number, {min, max} or {static, kinetic}"
     )
+    contact: ContactModel | None = Field(
+        None, description="Local contact radii and materials, for the `hertz` check"
+    )
 
 
 class BallModel(_Model):
-    """A ball (or the spherical end of a pin): centre and radius in scene units."""
+    """A ball (or the spherical end of a pin): centre and radius in scene units; a canoe ball
+    also gives its contact surface's two principal radii."""
 
     center: Vec3
     radius: float = Field(gt=0)
+    surface_radii: Annotated[list[float], Field(min_length=2, max_length=2)] | None = Field(
+        None,
+        description="A canoe ball: the contact surface's principal radii, scene units "
+        "(default: `radius` both ways); `radius` still places the contacts",
+    )
+    surface_direction: Vec3 | None = Field(
+        None, description="Along the first surface radius (needed when the two differ)"
+    )
 
 
 class GrooveModel(_Model):
@@ -181,6 +252,12 @@ class GrooveModel(_Model):
     axis: Vec3 = Field(description="Along the groove; any length")
     up: Vec3 = Field(description="Out of the groove, towards the ball; any length")
     half_angle: float = bounded("half_angle", description="deg between each flank normal and up")
+    radius: float | None = Field(
+        None,
+        gt=0,
+        description="Flanks of this radius across the groove (a gothic arch or a conformal "
+        "groove; larger than the ball's), scene units; default flat flanks",
+    )
 
 
 class CylinderModel(_Model):
@@ -206,6 +283,12 @@ class _Coupling(_Model):
     )
     friction: FrictionValue | None = Field(
         None, description="For its contacts: a number, {min, max} or {static, kinetic}"
+    )
+    ball_material: MaterialName | None = Field(None, description="The ball's material")
+    seat_material: MaterialName | None = Field(
+        None,
+        description="The groove's, flat's, cylinders' or spheres' material (default: the "
+        "body's, when they are cut into the body: `ball_on: base`)",
     )
 
 

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from kcheck.scene import couplings
-from kcheck.scene.types import Support
+from kcheck.scene.types import Support, Surface
 from kcheck.scene.validate import Problems
 from kcheck.scene.yamlio import FieldPath
 
@@ -48,7 +48,9 @@ def expand_coupling(
             axis = direction(("groove", "axis"), c.groove.axis, "the groove's axis")
             up = direction(("groove", "up"), c.groove.up, "the groove's `up`")
             if ok:
-                contacts = couplings.ball_vee(center, radius, axis, up, c.groove.half_angle)
+                contacts = couplings.ball_vee(
+                    center, radius, axis, up, c.groove.half_angle, c.groove.radius
+                )
         elif c.type == "ball-cylinders":
             cylinders = []
             for j, cyl in enumerate(c.cylinders):
@@ -82,6 +84,35 @@ def expand_coupling(
     except couplings.CouplingError as exc:
         p.add((*where, *exc.where), str(exc))
         return None
-    if not ok:
+    surface = _ball_surface(c, where, p, scale)
+    if not ok or surface is False:
         return None
-    return couplings.supports(c.name, c.type, center, radius, contacts, c.ball_on, friction, scale)
+    return couplings.supports(
+        c.name, c.type, center, radius, contacts, c.ball_on, friction, scale, surface
+    )
+
+
+def _ball_surface(c: Any, where: FieldPath, p: Problems, scale: float) -> Any:
+    """A canoe ball's contact surface (scene units), None for a plain ball, False after
+    recording an error."""
+    radii = c.ball.surface_radii
+    bw: FieldPath = (*where, "ball")
+    if radii is None:
+        if c.ball.surface_direction is not None:
+            p.add((*bw, "surface_direction"), "applies only with `surface_radii`")
+            return False
+        return None
+    ok = all(
+        [p.in_range((*bw, "surface_radii", j), r, "radius", scale) for j, r in enumerate(radii)]
+    )
+    direction = None
+    if c.ball.surface_direction is not None:
+        direction = p.direction((*bw, "surface_direction"), c.ball.surface_direction, "it")
+        ok &= direction is not None
+    elif radii[0] != radii[1]:
+        p.add(
+            (*bw, "surface_direction"),
+            "expected the direction of the first surface radius: the two radii differ",
+        )
+        ok = False
+    return Surface((float(radii[0]), float(radii[1])), direction) if ok else False

@@ -73,6 +73,9 @@ class ContactGeometry:
     ``ball_center`` (m) and ``ball_radius`` (m) describe the ball; ``ball_on`` says which side
     carries it. ``body`` and ``base`` are the body's and the base's surfaces at the contact.
     ``line_contact`` marks a line contact modelled by points (``ball-cone``).
+    ``ball_material`` and ``seat_material``: the table's names given in the scene for the ball
+    and the mating surface (None: not given there). An explicit support's contact has its
+    support's name as ``coupling`` and ``kind`` ``explicit``.
     """
 
     coupling: str
@@ -84,6 +87,13 @@ class ContactGeometry:
     body: Surface
     base: Surface
     line_contact: bool = False
+    ball_material: str | None = None
+    seat_material: str | None = None
+
+    @property
+    def seat_on(self) -> Literal["body", "base"]:
+        """Which side carries the seat (the mating surface): the other one than the ball."""
+        return "base" if self.ball_on == "body" else "body"
 
 
 FrictionKind = Literal["static", "kinetic"]
@@ -150,6 +160,13 @@ class Support:
     field: FieldPath = dataclasses.field(default=(), compare=False)
     #: Static and kinetic ranges; None: exactly ``friction`` for both.
     friction_spec: Friction | None = None
+    #: An explicit support's local contact shape and materials (its `contact` field).
+    contact: ContactGeometry | None = None
+
+    @property
+    def contact_geometry(self) -> ContactGeometry | None:
+        """The contact's shape: from the coupling shorthand, or an explicit `contact`."""
+        return self.geometry if self.geometry is not None else self.contact
 
     @property
     def coefficients(self) -> Friction:
@@ -270,11 +287,14 @@ class ExplicitMass:
 @dataclass(frozen=True)
 class Body:
     """The moving body: mesh parts, explicit mass properties, or both (explicit wins over the
-    meshes), plus point masses added to either."""
+    meshes), plus point masses added to either. ``materials``: the table's names of the
+    body's (or its parts') `material`, each once, in order (seats cut into the body are of
+    it)."""
 
     parts: tuple[Part, ...]
     explicit: ExplicitMass | None
     point_masses: tuple[PointMass, ...] = ()
+    materials: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

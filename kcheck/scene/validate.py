@@ -26,6 +26,8 @@ __all__ = [
     "pydantic_problems",
     "describe_pydantic",
     "did_you_mean",
+    "salvage",
+    "consequence_of",
 ]
 
 # Integers beyond this are refused before they reach float arithmetic (1e300 still squares).
@@ -427,3 +429,125 @@ def pydantic_problems(exc: ValidationError, root: type[BaseModel], problems: Pro
         if err["type"] in ("union_tag_invalid", "union_tag_not_found"):
             path = (*path, "type")
         problems.add(path, describe_pydantic(err, root))
+
+
+# --- every mistake in one run ---------------------------------------------------------------
+
+#: Stand-ins for required top-level fields whose value is wrong: the file's other fields are
+#: still checked with it, and its own error is already recorded.
+_STAND_INS: dict[str, Any] = {"version": 1}
+#: Rounds of salvaging: each drops at least one field, and a file has a bounded depth.
+_SALVAGE_ROUNDS = 64
+
+
+def _at(data: Any, path: FieldPath) -> tuple[bool, Any]:
+    """Whether ``path`` exists in nested mappings and lists, and what is there."""
+    here = data
+    for part in path:
+        if isinstance(here, dict) and part in here:
+            here = here[part]
+        elif isinstance(here, list) and isinstance(part, int) and 0 <= part < len(here):
+            here = here[part]
+        else:
+            return False, None
+    return True, here
+
+
+def _existing(data: Any, path: FieldPath) -> FieldPath:
+    """The longest prefix of ``path`` present in ``data``."""
+    for n in range(len(path), 0, -1):
+        if _at(data, path[:n])[0]:
+            return path[:n]
+    return ()
+
+
+def _under(path: FieldPath, prefixes: set[FieldPath]) -> bool:
+    return any(path[: len(p)] == p for p in prefixes)
+
+
+def _drop(data: Any, path: FieldPath, bad: set[FieldPath], dropped: set[FieldPath]) -> bool:
+    """Take a wrong field out of ``data``: a mapping's key goes (back to its default), a list
+    item becomes a copy of a sound sibling (so later items keep their index), a list with no
+    sound item goes whole; a required top-level field gets its stand-in. False if nothing
+    could be dropped (the root)."""
+    import copy
+
+    while path:
+        _, parent = _at(data, path[:-1])
+        key = path[-1]
+        if isinstance(parent, dict):
+            if len(path) == 1 and key in _STAND_INS:
+                if parent.get(key) == _STAND_INS[key] and path in dropped:
+                    return False
+                parent[key] = _STAND_INS[key]
+            else:
+                parent.pop(key, None)
+            dropped.add(path)
+            return True
+        if isinstance(parent, list) and isinstance(key, int):
+            sound = [
+                i
+                for i in range(len(parent))
+                if i != key and not _under((*path[:-1], i), bad | dropped)
+            ]
+            if sound:
+                stand_in = copy.deepcopy(parent[sound[0]])
+                if isinstance(stand_in, dict) and isinstance(stand_in.get("name"), str):
+                    stand_in["name"] = f"<left out {key}>"  # no duplicate name of its own
+                parent[key] = stand_in
+                dropped.add(path)
+                return True
+        path = path[:-1]
+    return False
+
+
+def salvage(
+    data: Any, root: type[BaseModel], problems: Problems
+) -> tuple[BaseModel | None, set[FieldPath]]:
+    """Validate ``data`` against ``root``, recording every pydantic error; then, so that the
+    checks of values run on the rest of the file too (every mistake of a file in one run),
+    drop each wrong field and validate again until what is left validates. Returns the model
+    of what is left (None if nothing could be kept) and the fields dropped or replaced: errors
+    at, under or above them are consequences of the dropping, not mistakes
+    (:func:`consequence_of`)."""
+    import copy
+
+    work = copy.deepcopy(data)
+    dropped: set[FieldPath] = set()
+    said = {e.where for e in problems.errors if e.where}  # plain-value errors
+    for path in sorted(said, key=len):
+        if not _under(path, dropped):
+            _drop(work, _existing(work, path), said, dropped)
+    first = True
+    for _ in range(_SALVAGE_ROUNDS):
+        try:
+            return root.model_validate(work), dropped
+        except ValidationError as exc:
+            if first:
+                pydantic_problems(exc, root, problems)
+            first = False
+            paths = [
+                _existing(work, _resolve(tuple(e["loc"]), root)[0])
+                for e in exc.errors(include_url=False)
+            ]
+        bad = set(paths)
+        changed = False
+        for path in sorted(bad, key=len):
+            if path and _under(path, dropped) and path not in dropped:
+                continue  # an item replaced this round already
+            changed |= _drop(work, path, bad, dropped)
+        if not changed:
+            return None, dropped
+    return None, dropped
+
+
+def consequence_of(where: FieldPath | None, dropped: set[FieldPath]) -> bool:
+    """Whether an error at ``where`` may only follow from dropping the fields ``dropped``
+    (:func:`salvage`): it sits at, under or above one of them; the supports' and couplings'
+    counts and layout are one thing, so dropping either's item touches both."""
+    if not dropped or where is None:
+        return False
+    if _under(where, dropped) or any(d[: len(where)] == where for d in dropped):
+        return True
+    layout = {("supports",), ("couplings",)}
+    return where in layout and any(d[:1] in layout for d in dropped)

@@ -16,20 +16,28 @@ from kcheck.numerics.thresholds import UNCERTAIN_DEG
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CaseResult, CheckResult, Status
 from kcheck.scene import Scene
+from kcheck_checks.marginal import with_angle_margin
 from kcheck_checks.options import AnalyticalOptions
 from kcheck_checks.wording import (
     case_findings,
     design_findings,
     empty_range_findings,
+    friction_way_out,
+    load_field,
     merge_findings,
     verdict,
+    with_friction_way_out,
 )
 
 __all__ = ["Analytical2D", "AnalyticalOptions", "analytical_result", "design_findings"]
 
 
 def analytical_result(
-    check_id: str, scene: Scene, analysis: Analysis, min_margin_deg: float
+    check_id: str,
+    scene: Scene,
+    analysis: Analysis,
+    min_margin_deg: float,
+    marginal_deg: float = 0.0,
 ) -> CheckResult:
     """Verdict of an analytical check from its analysis (planar sweep semantics)."""
     combined = analysis.combined
@@ -64,7 +72,9 @@ def analytical_result(
             parts.append(f"safe force angles: {describe_ranges(combined)}")
         else:
             parts.append("no safe force angle")
-            findings = merge_findings(findings, empty_range_findings(scene, analysis.results))
+            findings = merge_findings(
+                findings, empty_range_findings(scene, analysis.results, analysis=analysis)
+            )
         design_deg = scene.design_angle_deg
         if design_deg is not None:
             findings.extend(
@@ -75,6 +85,8 @@ def analytical_result(
                     analysis.nearest_safe_deg,
                     describe_ranges(combined),
                     min_margin_deg,
+                    safe=ranges,
+                    by_friction=friction_way_out(analysis),
                 )
             )
             if combined and analysis.design_margin_deg is not None and not findings:
@@ -85,7 +97,7 @@ def analytical_result(
     elif not findings:
         parts.append("every retraction closes under the fixed forces (weight, preloads)")
     ok = not findings
-    return CheckResult(
+    result = CheckResult(
         check_id,
         Status.PASS if ok else Status.FAIL,
         verdict(parts, findings),
@@ -95,6 +107,8 @@ def analytical_result(
         details=details,
         findings=tuple(findings),
     )
+    field = load_field(scene) if scene.load is not None else None
+    return with_angle_margin(result, marginal_deg, field, gravity=scene.load is None)
 
 
 class Analytical2D(Check):
@@ -119,9 +133,34 @@ class Analytical2D(Check):
     def run(self, inputs: Inputs) -> CheckResult:
         """Analyse every retracted case and intersect the safe ranges."""
         assert inputs.mass is not None and isinstance(inputs.options, AnalyticalOptions)
-        analysis = analyse(inputs.scene, inputs.mass)
-        result = analytical_result(self.id, inputs.scene, analysis, inputs.options.min_margin_deg)
-        return with_partial_ranges(result, analysis, inputs.scene)
+        mass, opts = inputs.mass, inputs.options
+        analysis = analyse(inputs.scene, mass)
+
+        def judged(scene: Scene, analysis: Analysis) -> CheckResult:
+            return analytical_result(
+                self.id, scene, analysis, opts.min_margin_deg, opts.marginal_deg
+            )
+
+        result = judged(inputs.scene, analysis)
+
+        def passes(scene: Scene) -> bool:
+            return judged(scene, analyse(scene, mass)).status == Status.PASS
+
+        result = with_friction_way_out(result, inputs.scene, passes)
+        result = with_partial_ranges(result, analysis, inputs.scene)
+        if result.error_estimate is None and analysis.trustworthy and inputs.scene.load is None:
+            result = dataclasses.replace(result, error_estimate=_gravity_error_deg(analysis))
+        return result
+
+
+def _gravity_error_deg(analysis: Analysis) -> float | None:
+    """Under gravity alone (no load, so no swept range): the error (deg) of the closing
+    conditions' boundaries in the plane, as a gravity sweep would report its range ends; the
+    verdict at the fixed gravity direction holds when it lies farther than this from each."""
+    from kcheck.analysis.cases import sweep_ranges
+
+    e1, e2 = np.eye(2)
+    return sweep_ranges(analysis, e1, e2).error_deg
 
 
 # --- partial ranges (the thesis reports motion and contact separately) ------------------------

@@ -24,13 +24,17 @@ from kcheck.fmt import clean, format_angle, format_share, format_vector
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
+from kcheck_checks.marginal import with_angle_margin
 from kcheck_checks.options import AnalyticalOptions
 from kcheck_checks.wording import (
     case_findings,
+    friction_way_out,
     load_field,
     merge_findings,
+    move_support_text,
     support_field,
     verdict,
+    with_friction_way_out,
 )
 
 __all__ = [
@@ -66,15 +70,29 @@ class Analytical3DOptions(AnalyticalOptions):
     )
 
 
+def tilt_words(scene: Scene) -> str:
+    """How a gravity-only scene's tolerated tilt is measured: "from level" when the scene's
+    gravity points straight down (−z), else "from the installed attitude"."""
+    g = np.asarray(scene.gravity, float)
+    n = float(np.linalg.norm(g))
+    if n > 0 and np.allclose(g / n, (0.0, 0.0, -1.0), atol=1e-9):
+        return "from level"
+    return "from the installed attitude"
+
+
 def _sphere_findings(
     scene: Scene, analysis: Analysis, smap: SphereMap, what: str, min_margin_deg: float
 ) -> list[Finding]:
     """Why the map fails: nothing safe (and why), the design direction outside (how far, the
-    nearest safe direction) or too close to a boundary."""
+    nearest safe direction) or too close to a boundary. A gravity-only scene (gravity swept)
+    is told its tolerated tilt and the friction or supports to change, never a direction of
+    gravity: nobody turns gravity (a printer bed stays level)."""
     from kcheck.analysis.sphere_map import disjoint_cases
 
     deg = float(np.degrees(1.0))
     names = analysis.problem.names
+    gravity = smap.swept != "load"
+    by_friction = friction_way_out(analysis)
     if smap.empty:
         nowhere = [i for i in np.unique(smap.owner) if smap.case_fractions[i] == 0]
         if nowhere:
@@ -83,6 +101,7 @@ def _sphere_findings(
                     f"retract {names[i]} → no {what} direction closes it",
                     code="no-safe-direction",
                     field=support_field(scene, names[i]),
+                    hint=by_friction or move_support_text([names[i]]),
                 )
                 for i in nowhere
             ]
@@ -96,6 +115,7 @@ def _sphere_findings(
                     f"close {names[j]} ({format_share(smap.case_fractions[j])}) do not overlap",
                     code="ranges-disjoint",
                     field=support_field(scene, names[i]),
+                    hint=by_friction or move_support_text([names[i], names[j]]),
                 )
             ]
         return [
@@ -104,6 +124,7 @@ def _sphere_findings(
                 "not all together)",
                 code="no-safe-direction",
                 field=("supports",),
+                hint=by_friction,
             )
         ]
     if smap.design is None or smap.design_margin is None:
@@ -120,6 +141,17 @@ def _sphere_findings(
         return []
     field = load_field(scene) if smap.swept == "load" else ("gravity",)
     margin = smap.design_margin * deg
+    if margin < 0 and gravity:
+        return [
+            Finding(
+                f"as installed (gravity along {format_vector(smap.design, 3)}), the weight "
+                f"does not close every retraction: a tilt of {format_angle(-margin)} would be "
+                "needed to reach the safe region",
+                code="design-outside",
+                field=field,
+                hint=by_friction,
+            )
+        ]
     if margin < 0:
         assert smap.nearest is not None
         return [
@@ -129,10 +161,19 @@ def _sphere_findings(
                 f"is {format_vector(smap.nearest, 3)}",
                 code="design-outside",
                 field=field,
-                hint=f"tilt the {what} by more than {format_angle(-margin)} towards "
-                f"{format_vector(smap.nearest, 3)}; the most robust direction "
-                f"{format_vector(smap.robust, 3)} keeps "
-                f"{format_angle(smap.robust_margin * deg)} from every boundary",
+                hint=f"turn the {what} to {format_vector(smap.robust, 3)}, the most robust "
+                f"direction ({format_angle(smap.robust_margin * deg)} from every boundary; "
+                f"the nearest safe one is {format_angle(-margin)} away)"
+                + ("" if by_friction is None else f"; or {by_friction}"),
+            )
+        ]
+    if margin < min_margin_deg and gravity:
+        return [
+            Finding(
+                f"the installation is safe for tilts up to {format_angle(margin)} "
+                f"{tilt_words(scene)} only, less than the required {min_margin_deg:g}°",
+                code="margin",
+                field=field,
             )
         ]
     if margin < min_margin_deg:
@@ -143,8 +184,13 @@ def _sphere_findings(
                 f"{min_margin_deg:g}°",
                 code="margin",
                 field=field,
-                hint=f"the most robust direction {format_vector(smap.robust, 3)} keeps "
-                f"{format_angle(smap.robust_margin * deg)}",
+                hint=f"turn the {what} to {format_vector(smap.robust, 3)}, the most robust "
+                f"direction: it keeps {format_angle(smap.robust_margin * deg)}"
+                if smap.robust_margin * deg >= min_margin_deg
+                else f"no {what} direction keeps {min_margin_deg:g}° (the most robust, "
+                f"{format_vector(smap.robust, 3)}, keeps "
+                f"{format_angle(smap.robust_margin * deg)}): move the force's point or the "
+                "supports (kcheck suggest searches the points)",
             )
         ]
     return []
@@ -236,6 +282,9 @@ def spatial_result(
         details["robust_margin_deg"] = smap.robust_margin * deg
     if smap.design_margin is not None and not full:
         details["design_margin_deg"] = smap.design_margin * deg
+    if smap.swept != "load" and smap.design_margin is not None:
+        # What a gravity-only scene's designer can read off: the tilt the installation takes.
+        details["tolerated_tilt_deg"] = 180.0 if full else max(0.0, smap.design_margin * deg)
     if smap.nearest is not None:
         details["nearest_safe_direction"] = clean(smap.nearest).tolist()
     cases = tuple(
@@ -256,14 +305,23 @@ def spatial_result(
         parts = [f"no safe {what} direction"]
     elif full:
         parts = [f"every {what} direction closes every retraction"]
+        if smap.swept != "load":
+            parts.append("safe at any tilt")
     else:
         parts = [f"safe {what} directions: {format_share(smap.fraction.fraction)} of the sphere"]
         if smap.design_margin is not None and smap.design_margin >= 0 and not findings:
-            parts.append(
-                f"design direction {format_angle(smap.design_margin * deg)} from the nearest "
-                "boundary"
-            )
-        elif smap.design is None and not findings:
+            if smap.swept == "load":
+                parts.append(
+                    f"design direction {format_angle(smap.design_margin * deg)} from the "
+                    "nearest boundary"
+                )
+            else:
+                # Nobody turns gravity: the margin said as the tilt the installation tolerates.
+                parts.append(
+                    f"safe for tilts up to {format_angle(smap.design_margin * deg)} "
+                    f"{tilt_words(scene)}"
+                )
+        elif smap.design is None and not findings and smap.swept == "load":
             parts.append(
                 f"most robust {format_vector(smap.robust, 3)}, "
                 f"{format_angle(smap.robust_margin * deg)} from every boundary"
@@ -282,16 +340,22 @@ def spatial_result(
         details=details,
         findings=tuple(findings),
     )
+    field = load_field(scene) if scene.load is not None else None
+    result = with_angle_margin(result, options.marginal_deg, field, gravity=what == "gravity")
     return result, smap, analysis
 
 
-def _error_deg(analysis: Analysis, smap: SphereMap) -> float | None:
+def _error_deg(analysis: Analysis, smap: SphereMap) -> float:
     """The check's error estimate (deg): the sweep-plane range ends and the safe region's
-    boundary (its margins), whichever is worse; None when neither exists."""
+    boundary (its margins), whichever is worse; a map with no boundary (every direction safe,
+    or none) the largest cap its conditions' rounding could open (gravity alone: no sweep
+    plane, a full map)."""
     errors = [] if analysis.error_deg is None else [analysis.error_deg]
     if not smap.empty and (smap.region is None or not smap.region.full):
         errors.append(float(np.degrees(smap.boundary_error)))
-    return max(errors) if errors else None
+    else:
+        errors.append(float(np.degrees(smap.hidden_error)))
+    return max(errors)
 
 
 def _ranges(analysis: Analysis) -> tuple[tuple[float, float], ...]:
@@ -324,5 +388,12 @@ class Analytical3D(Check):
     def run(self, inputs: Inputs) -> CheckResult:
         """Analyse every retracted case and map the safe directions on the sphere."""
         assert inputs.mass is not None and isinstance(inputs.options, Analytical3DOptions)
-        analysis = analyse(inputs.scene, inputs.mass)
-        return spatial_result(self.id, inputs.scene, analysis, inputs.options)[0]
+        mass, options = inputs.mass, inputs.options
+        analysis = analyse(inputs.scene, mass)
+        result = spatial_result(self.id, inputs.scene, analysis, options)[0]
+
+        def passes(scene: Scene) -> bool:
+            again = spatial_result(self.id, scene, analyse(scene, mass), options)[0]
+            return again.status == Status.PASS
+
+        return with_friction_way_out(result, inputs.scene, passes)

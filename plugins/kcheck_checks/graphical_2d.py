@@ -74,6 +74,7 @@ from kcheck.mechanics.koster import (
     tilted_twist,
     virtual_power,
 )
+from kcheck.numerics.margins import MARGINAL_ANGLE_DEG
 from kcheck.numerics.thresholds import INFINITE_POLE
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
@@ -85,9 +86,11 @@ from kcheck_checks.graphical_attachment import (
     missing_force,
     needs_centre_of_mass,
 )
+from kcheck_checks.marginal import with_angle_margin
 from kcheck_checks.wording import (
     design_findings,
     empty_range_findings,
+    load_field,
     ranges_text,
     support_field,
     verdict,
@@ -120,6 +123,13 @@ class GraphicalOptions(Options):
 
     min_margin_deg: float = Field(
         0.0, ge=0, description="Least angular distance of the design direction from a boundary"
+    )
+    marginal_deg: float = Field(
+        MARGINAL_ANGLE_DEG,
+        ge=0,
+        le=180,
+        description="A pass whose design margin is below this (degrees) is marginal "
+        "(0: no marginal band)",
     )
 
 
@@ -295,7 +305,9 @@ class Graphical2D(Check):
                 ),
                 details=details,
             )
-        return _verdict(self.id, scene, built, opts.min_margin_deg, details)
+        result = _verdict(self.id, scene, built, opts.min_margin_deg, details)
+        field = load_field(scene) if scene.load is not None else None
+        return with_angle_margin(result, opts.marginal_deg, field, gravity=scene.load is None)
 
 
 def _verdict(
@@ -346,8 +358,12 @@ def _verdict(
                         f"retract {c.retracted} → {why}",
                         code=c.outcome.replace("_", "-"),
                         field=support_field(scene, c.retracted),
-                        hint=f"this retraction closes for {what} angles "
-                        f"{ranges_text(c.safe_ranges_deg)}",
+                        hint=f"closes for force angles {ranges_text(c.safe_ranges_deg)}"
+                        if what == "force"
+                        # nobody turns gravity: what is left to change is the seat
+                        else "lower the friction"
+                        if c.outcome == "jams"
+                        else f"move or turn support {c.retracted}",
                     )
                 )
         if combined:
@@ -365,6 +381,7 @@ def _verdict(
                 describe_ranges(combined),
                 min_margin_deg,
                 what=f"design {what} direction",
+                safe=ranges_deg(combined),
             )
             # The cases that do not close already say why the design direction is outside.
             findings.extend(f for f in found if f.code != "design-outside" or not findings)

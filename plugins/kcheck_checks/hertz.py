@@ -2,9 +2,11 @@
 seat and the body's error motion under a disturbing load (docs/checks.md, `hertz`).
 
 Needs the contact geometry of every support (ball radius, the mating surface's radii), which
-the coupling shorthands (`couplings:`) give; explicit supports have none and the check is then
-skipped with that reason. Materials come from the check's options: a ball and a seat material
-for every coupling, overrides per coupling name, and custom materials.
+the coupling shorthands (`couplings:`) give and an explicit support gives in its `contact`
+field; without it the check is skipped with that reason. Materials come from the scene (each
+coupling's or contact's ball and seat material, the body's material for seats cut into it),
+then from the check's options (hertz_materials); a contact whose material is unknown is not
+checked, and says how to give it.
 """
 
 from __future__ import annotations
@@ -20,7 +22,14 @@ from kcheck.numerics.thresholds import CURVATURE_RTOL, LIFTED_RTOL, ZERO_GUARD
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Preload, Scene, Support
-from kcheck_checks.hertz_materials import Contacts, HertzOptions, contacts_of
+from kcheck_checks.hertz_materials import (
+    Contacts,
+    HertzOptions,
+    Unknown,
+    contacts_of,
+    unknown_hint,
+)
+from kcheck_checks.marginal import with_margin
 
 if TYPE_CHECKING:  # the computation is imported when the check runs, not when it is found
     from kcheck.mechanics.hertz import HertzContact
@@ -64,15 +73,18 @@ class Hertz(Check):
 
     def skip_reason(self, scene: Scene) -> str | None:
         """Every support needs its contact geometry; ball-cone line contacts are not points."""
-        bare = [s.name for s in scene.supports if s.geometry is None]
+        bare = [s.name for s in scene.supports if s.contact_geometry is None]
         if bare:
             shown = ", ".join(bare[:4]) + (", ..." if len(bare) > 4 else "")
             return (
-                f"needs the contact geometry of every support; {shown} "
+                f"not checked: needs the contact geometry of every support; {shown} "
                 f"{'is an explicit support' if len(bare) == 1 else 'are explicit supports'} "
-                "(write the coupling with `couplings:` shorthands to give ball and groove radii)"
+                "with no `contact` (give each `contact: {ball_radius, seat_radii}`, or write "
+                "the coupling with `couplings:` shorthands)"
             )
-        lines = sorted({s.geometry.coupling for s in scene.supports if s.geometry.line_contact})  # type: ignore[union-attr]
+        lines = sorted(
+            {g.coupling for s in scene.supports if (g := s.contact_geometry) and g.line_contact}
+        )
         if lines:
             return (
                 f"coupling(s) {', '.join(lines)} are line contacts (ball in a cone); Hertz point "
@@ -103,7 +115,7 @@ class Hertz(Check):
 
 
 def _unknown_couplings(scene: Scene, options: HertzOptions) -> CheckResult | None:
-    known = {s.geometry.coupling for s in scene.supports if s.geometry is not None}
+    known = {g.coupling for s in scene.supports if (g := s.contact_geometry) is not None}
     unknown = sorted(set(options.couplings) - known)
     if not unknown:
         return None
@@ -122,12 +134,18 @@ def _unknown_couplings(scene: Scene, options: HertzOptions) -> CheckResult | Non
 def _contact_json(
     support: Support, contacts: Contacts, i: int, seated: HertzContact, worst: HertzContact
 ) -> dict[str, Any]:
-    assert support.geometry is not None
+    g = support.contact_geometry
+    assert g is not None
+    ball, seat = contacts.ball[i], contacts.seat[i]
     return {
         "support": support.name,
-        "coupling": support.geometry.coupling,
-        "ball_material": contacts.ball[i].name,
-        "seat_material": contacts.seat[i].name,
+        "coupling": g.coupling,
+        "ball_material": ball.name,
+        "ball_material_grade": ball.grade or ball.name,
+        "ball_material_from": contacts.ball_from[i],
+        "seat_material": seat.name,
+        "seat_material_grade": seat.grade or seat.name,
+        "seat_material_from": contacts.seat_from[i],
         "contact_modulus": float(contacts.modulus[i]),
         "curvature_sums": [float(contacts.sum_a[i]), float(contacts.sum_b[i])],
         # a circle has no major axis
@@ -228,11 +246,14 @@ def _stress_findings(
     out = []
     for i in map(int, np.flatnonzero(utilisation > 1.0)):
         weak = contacts.weaker(i)
+        assert weak.allowable_pressure is not None
         factor = f" / safety factor {sf:g}" if sf != 1 else ""
         out.append(
             Finding(
-                f"{scene.supports[i].name}: peak pressure {_pressure(worst.max_pressure[i])} "
-                f"exceeds {weak.name}'s allowable {_pressure(weak.allowable_pressure)}{factor} "
+                f"{scene.supports[i].name} ({contacts.ball[i].label} ball on "
+                f"{contacts.seat[i].label} seat): peak pressure "
+                f"{_pressure(worst.max_pressure[i])} exceeds {weak.label}'s allowable "
+                f"{_pressure(weak.allowable_pressure)}{factor} "
                 f"({format_percent(utilisation[i])})",
                 "contact-stress",
                 _support_field(scene, i),
@@ -245,15 +266,203 @@ def _stress_findings(
     return out
 
 
+def _subsurface(contacts: Contacts, worst: HertzContact) -> list[dict[str, dict[str, Any]]]:
+    """Per contact and side (ball, seat): the largest shear and von Mises stresses below the
+    surface under the heavier load, their depths, and von Mises over the side's yield."""
+    from kcheck.mechanics.subsurface import subsurface_stress
+
+    n = len(contacts.ball)
+    sides = {"ball": contacts.ball, "seat": contacts.seat}
+    nu = np.array([m.poisson for ms in sides.values() for m in ms], float)
+    both = subsurface_stress(
+        np.tile(worst.a, 2), np.tile(worst.b, 2), np.tile(worst.max_pressure, 2), nu
+    )
+    out: list[dict[str, dict[str, Any]]] = [{} for _ in range(n)]
+    for k, (side, materials) in enumerate(sides.items()):
+        for i, m in enumerate(materials):
+            j = k * n + i
+            mises = float(both.von_mises[j])
+            out[i][side] = {
+                "max_shear": float(both.max_shear[j]),
+                "max_shear_depth": float(both.max_shear_depth[j]),
+                "von_mises": mises,
+                "von_mises_depth": float(both.von_mises_depth[j]),
+                "yield_strength": m.yield_strength,
+                "yield_utilisation": None if not m.yield_strength else mises / m.yield_strength,
+            }
+    return out
+
+
+def _thermal(
+    scene: Scene,
+    seat: Seat,
+    contacts: Contacts,
+    options: HertzOptions,
+    point: np.ndarray,
+    details: dict[str, Any],
+) -> str:
+    """The thermal pose shift at ``point`` and the thermal centre (details["thermal"]); the
+    message's words. Every expansion coefficient must be known: none is assumed."""
+    from kcheck.mechanics.thermal import thermal_approach, thermal_shift
+
+    d_t = options.temperature_change
+    body_name = options.body_material
+    if body_name is None and scene.body is not None and len(scene.body.materials) == 1:
+        body_name = scene.body.materials[0]
+    body = None if body_name is None else options.lookup(body_name)
+    base = None if options.base_material is None else options.lookup(options.base_material)
+    missing = []
+    if body is None or body.thermal_expansion is None:
+        missing.append(
+            "the body's expansion (set the body's `material` or `body_material` under checks: "
+            "hertz)"
+            if body is None
+            else f"{body.label}'s expansion coefficient"
+        )
+    if base is None or base.thermal_expansion is None:
+        missing.append(
+            "the base's expansion (set `base_material` under checks: hertz)"
+            if base is None
+            else f"{base.label}'s expansion coefficient"
+        )
+    balls = [m.thermal_expansion for m in contacts.ball]
+    if any(a is None for a in balls):
+        missing.append("a ball's expansion coefficient")
+    if missing:
+        details["thermal"] = {"temperature_change": d_t, "not_computed": missing}
+        return f"thermal shift not computed: {'; '.join(missing)} unknown"
+    assert body is not None and base is not None
+    assert body.thermal_expansion is not None and base.thermal_expansion is not None
+    geometry = [s.contact_geometry for s in scene.supports]
+    approach = thermal_approach(
+        np.array([s.position for s in scene.supports]),
+        np.array([s.normal for s in scene.supports]),
+        np.array([g.ball_center for g in geometry if g is not None]),
+        np.array([g.ball_radius for g in geometry if g is not None]),
+        np.array([g is not None and g.ball_on == "body" for g in geometry]),
+        seat.frame.origin,
+        body.thermal_expansion,
+        base.thermal_expansion,
+        np.array(balls, float),
+        d_t,
+    )
+    beta = (body.thermal_expansion - base.thermal_expansion) * d_t
+    found = thermal_shift(seat, approach, beta, point)
+    if found is None:  # the seated solve succeeded with the same matrix: not reached
+        return "thermal shift not computed: singular layout"
+    nw = seat.rotations
+    rotation = found.twist[:nw] if nw == 3 else np.array([0.0, 0.0, found.twist[0]])
+    details["thermal"] = {
+        "temperature_change": d_t,
+        "alpha_body": body.thermal_expansion,
+        "alpha_base": base.thermal_expansion,
+        "point": point.tolist(),
+        "shift": found.shift.tolist(),
+        "rotation": rotation.tolist(),
+        "centre": None if found.centre is None else found.centre.tolist(),
+    }
+    centre = (
+        "no thermal centre (body and base expand alike)"
+        if found.centre is None
+        else f"thermal centre {format_vector(found.centre / scene.scale)} {scene.units}"
+    )
+    return (
+        f"thermal shift ({d_t:+g} K) {format_number(float(np.linalg.norm(found.shift)) * 1e6, 3)}"
+        f" µm, {format_number(float(np.linalg.norm(rotation)) * 1e6, 3)} µrad at "
+        f"{format_vector(point / scene.scale)} {scene.units}; {centre}"
+    )
+
+
+def _materials_text(scene: Scene, contacts: Contacts) -> str:
+    """The materials of every contact, in a designer's words: ``materials: 52100 balls on
+    aluminium (as 6061-t6) seats`` (one pair) or per group of couplings."""
+    groups: dict[tuple[str, str], list[str]] = {}
+    for i, s in enumerate(scene.supports):
+        g = s.contact_geometry
+        assert g is not None
+        names = groups.setdefault((contacts.ball[i].label, contacts.seat[i].label), [])
+        if g.coupling not in names:
+            names.append(g.coupling)
+    if len(groups) == 1:
+        (ball, seat), _ = next(iter(groups.items()))
+        return f"materials: {ball} balls on {seat} seats"
+    return "materials: " + ", ".join(
+        f"{ball} on {seat} ({', '.join(names)})" for (ball, seat), names in groups.items()
+    )
+
+
+def _lift_off_result(
+    check_id: str, scene: Scene, forces: _Forces, details: dict[str, Any]
+) -> CheckResult:
+    """A contact would have to pull under the seated load: the coupling does not seat, and the
+    solution's stresses (with a pulling contact) describe no real state; none are shown."""
+    names = [scene.supports[i].name for i in map(int, np.flatnonzero(forces.lifted))]
+    details["lifted"] = names
+    details["seated_forces"] = {
+        s.name: float(f) for s, f in zip(scene.supports, forces.seated, strict=True)
+    }
+    return CheckResult(
+        check_id,
+        Status.FAIL,
+        f"the body lifts off at {', '.join(names)} under the seated load: the coupling does "
+        "not seat, so no contact stress is reported",
+        details=details,
+        findings=tuple(f for f in _contact_findings(scene, forces) if f.code == "lifts-off"),
+    )
+
+
+def _unknown_materials_result(
+    check_id: str, scene: Scene, unknown: list[Unknown], details: dict[str, Any]
+) -> CheckResult:
+    """Some contact's material is not known: not checked, and how to give it (no default)."""
+    findings = []
+    seen: dict[tuple[str, str], None] = {}
+    for u in unknown:
+        g = scene.supports[u.index].contact_geometry
+        assert g is not None
+        key = (g.coupling, u.side)
+        if key in seen:
+            continue
+        seen[key] = None
+        what = f"material of {g.coupling}'s {u.side}"
+        text = (
+            f"not checked: {what} unknown"
+            if u.name is None
+            else (f"not checked: {what} ({u.name}) has no elastic constants")
+        )
+        findings.append(
+            Finding(
+                text, "material-unknown", _support_field(scene, u.index), unknown_hint(scene, u)
+            )
+        )
+    first = findings[0].message
+    more = (
+        f" (and {len(findings) - 1} more: "
+        + ", ".join(f"{c}'s {side}" for c, side in list(seen)[1:])
+        + ")"
+        if len(findings) > 1
+        else ""
+    )
+    details["unknown_materials"] = [{"coupling": c, "side": side} for c, side in seen]
+    return CheckResult(
+        check_id,
+        Status.SKIPPED,
+        f"{first}{more}; {findings[0].hint}",
+        details=details,
+        findings=tuple(findings),
+    )
+
+
 def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) -> CheckResult:
     """The hertz check's result for a scene whose supports all carry contact geometry."""
-    from kcheck.mechanics.hertz import hertz
+    from kcheck.mechanics.hertz import contact_shear_modulus, hertz, tangential_stiffness
     from kcheck.mechanics.seat import (
         point_compliance,
         point_translation,
         seat_layout,
         seated_loads,
         stiffness_matrix,
+        tangential_stiffness_matrix,
         twist_from_approach,
     )
 
@@ -291,7 +500,11 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
             "forces are not determined; no contact stresses reported",
             details=details,
         )
+    if np.any(forces.lifted):
+        return _lift_off_result(check_id, scene, forces, details)
     contacts = contacts_of(scene, options)
+    if not isinstance(contacts, Contacts):
+        return _unknown_materials_result(check_id, scene, contacts, details)
     seated = hertz(forces.seated.clip(0.0), contacts.sum_a, contacts.sum_b, contacts.modulus)
     heavier = np.maximum(forces.seated, forces.disturbed).clip(0.0)
     worst = hertz(heavier, contacts.sum_a, contacts.sum_b, contacts.modulus)
@@ -302,6 +515,17 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
         for i, s in enumerate(scene.supports)
     ]
     details["max_utilisation"] = float(utilisation.max())
+    details["materials"] = _materials_text(scene, contacts)
+    below = _subsurface(contacts, worst)
+    for entry, sides in zip(details["contacts"], below, strict=True):
+        entry["subsurface"] = sides
+    used = [
+        side["yield_utilisation"]
+        for sides in below
+        for side in sides.values()
+        if side["yield_utilisation"] is not None
+    ]
+    details["max_yield_utilisation"] = max(used) if used else None
     # Hertz theory assumes contacts small against the radii (half-space, small strains).
     size = float(np.max(worst.a * 2.0 * contacts.sum_b))
     large = f"contacts large against their radii (a/R up to {size:.2g}): Hertz is approximate"
@@ -316,20 +540,29 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
     ]
     if size > 0.1:
         parts.append(large)
-    if not {"ball_material", "seat_material", "couplings"} & options.model_fields_set:
-        # Nothing said which materials: name the assumption instead of hiding it.
-        parts.append(
-            f"materials assumed: {options.ball_material} balls and "
-            f"{options.seat_material} seats (set them under checks: hertz)"
-        )
+    parts.append(details["materials"])
     big_k = stiffness_matrix(seat, seated.stiffness)
     details["stiffness_matrix"] = big_k.tolist()
+    shear = contact_shear_modulus(
+        np.array([m.youngs_modulus for m in contacts.ball], float),
+        np.array([m.poisson for m in contacts.ball], float),
+        np.array([m.youngs_modulus for m in contacts.seat], float),
+        np.array([m.poisson for m in contacts.seat], float),
+    )
+    k_t = tangential_stiffness(seated, shear)
+    for entry, k in zip(details["contacts"], k_t, strict=True):
+        entry["tangential_stiffness"] = float(k)
+    big_kt = big_k + tangential_stiffness_matrix(seat, positions, normals, k_t)
+    details["stiffness_matrix_with_tangential"] = big_kt.tolist()
     compliance = None if np.any(forces.lifted) else point_compliance(seat, big_k, error_point)
     if compliance is not None:
         axis_k = 1.0 / np.diag(compliance)
         details["error_point"] = error_point.tolist()
         details["point_stiffness"] = axis_k.tolist()
         details["point_compliance"] = compliance.tolist()
+        with_t = point_compliance(seat, big_kt, error_point)
+        if with_t is not None:
+            details["point_stiffness_with_tangential"] = (1.0 / np.diag(with_t)).tolist()
         parts.append(
             f"stiffness at {format_vector(error_point / scene.scale)} {scene.units}: "
             + "/".join(_stiffness_text(k) for k in axis_k)
@@ -354,13 +587,29 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
             f"{format_number(float(np.linalg.norm(rotation) * 1e6), 3)} µrad "
             "under the disturbing load"
         )
+    if options.temperature_change:
+        parts.append(_thermal(scene, seat, contacts, options, error_point, details))
     # Forces err by about the solve's estimate; p0 ~ N^(1/3), so utilisation by a third of it.
     rel = float(np.max(forces.error / np.maximum(np.abs(forces.seated), ZERO_GUARD)))
-    return CheckResult(
+    result = CheckResult(
         check_id,
         Status.PASS if not findings else Status.FAIL,
         "; ".join(parts),
         error_estimate=float(utilisation.max()) * rel / 3.0,
         details=details,
         findings=tuple(findings),
+    )
+    band = options.marginal_utilisation
+    return with_margin(
+        result,
+        "contact stress utilisation",
+        float(utilisation[i]),
+        band,
+        "at most",
+        f"{scene.supports[i].name} uses {format_percent(utilisation[i])} of its allowable "
+        f"contact pressure, above the {format_percent(band)} limit (wear, roughness, load "
+        "scatter)",
+        hint="larger balls or seat radii, a harder material, or less seating force (the "
+        "option `marginal_utilisation` sets the band)",
+        field=_support_field(scene, i),
     )

@@ -37,13 +37,21 @@ from kcheck.analysis.jamming_cases import (
     needs_body,
     tidy,
 )
-from kcheck.fmt import format_angle, format_number, format_ranges, format_share_bounds
+from kcheck.fmt import (
+    format_angle,
+    format_number,
+    format_ranges,
+    format_share_bounds,
+    rounded_bound,
+)
 from kcheck.mechanics.arcs import FULL, TAU, ArcSet, complement, intersect, margin
 from kcheck.mechanics.statics import PYRAMID_EDGES
+from kcheck.numerics.margins import MARGINAL_FRICTION_RATIO
 from kcheck.numerics.thresholds import IN_SWEEP_PLANE, UNDETERMINED
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
+from kcheck_checks.marginal import with_margin
 
 __all__ = ["Jamming", "JammingOptions", "jamming_result", "run_jamming"]
 
@@ -59,6 +67,12 @@ class JammingOptions(Options):
     )
     sphere_points: int = Field(
         20000, ge=100, le=1_000_000, description="Fibonacci directions of the spatial map"
+    )
+    marginal_friction_ratio: float = Field(
+        MARGINAL_FRICTION_RATIO,
+        ge=1,
+        description="A pass whose least holding friction is below this multiple of the design "
+        "friction is marginal (1: no marginal band)",
     )
 
 
@@ -223,18 +237,59 @@ def jamming_result(
         share = format_share_bounds(smap.jam_free, smap.jam_free_upper, 1)
         parts.append(f"{what} directions free of jamming: {share} of the sphere")
         results = [_with_map_share(res, smap, i, analysis) for i, res in enumerate(results)]
-    return (
-        CheckResult(
-            check_id,
-            Status.PASS if ok else Status.FAIL,
-            "; ".join(parts),
-            error_estimate=error_deg if smap is None else max(error_deg, smap.error_deg),
-            safe_ranges_deg=ranges_deg(safe),
-            cases=tuple(results),
-            details=details,
-            findings=tuple(findings),
-        ),
-        smap,
+    result = CheckResult(
+        check_id,
+        Status.PASS if ok else Status.FAIL,
+        "; ".join(parts),
+        error_estimate=error_deg if smap is None else max(error_deg, smap.error_deg),
+        safe_ranges_deg=ranges_deg(safe),
+        cases=tuple(results),
+        details=details,
+        findings=tuple(findings),
+    )
+    return _friction_margin(result, analysis, results, least, options), smap
+
+
+def _friction_margin(
+    result: CheckResult,
+    analysis: JamAnalysis,
+    results: list[CaseResult],
+    least: list[float | None],
+    options: JammingOptions,
+) -> CheckResult:
+    """The marginal band of jamming: the least holding friction over every case at the design
+    direction against the design friction (the top of a static range), as a ratio."""
+    design_mu = float(analysis.statics.friction.max())
+    if (
+        analysis.design is None
+        or design_mu <= 0
+        or any(r.outcome == "undetermined" for r in results)
+    ):
+        return result
+    # None: no coefficient up to 100 holds the body (comfortable).
+    holding = [np.inf if mu is None else mu for mu in least]
+    r = int(np.argmin(holding))
+    ratio = float(holding[r]) / design_mu
+    mu_text = format_number(float(holding[r]), 3)
+    message = (
+        f"retract {results[r].retracted} → friction would hold the body from μ = {mu_text}, only "
+        f"{format_number(ratio, 3)}× the design μ = {format_number(design_mu, 3)}, less than "
+        f"the {options.marginal_friction_ratio:g}× minimum margin (friction scatter, wear)"
+    )
+    hint = (
+        f"keep μ below {format_number(float(holding[r]) / options.marginal_friction_ratio, 3)} "
+        "(lubricate, or harder and smoother seats), or turn the force away from the held "
+        "directions (the option `marginal_friction_ratio` sets the band)"
+    )
+    return with_margin(
+        result,
+        "least holding friction / design friction",
+        ratio,
+        options.marginal_friction_ratio,
+        "at least",
+        message,
+        hint=hint,
+        field=("friction",),
     )
 
 
@@ -304,30 +359,44 @@ def _finding(
     names = statics.names
     others = ", ".join(names[j] for j in analysis.cases[r].keep)
     what = "load" if analysis.swept == "load" else "gravity"
-    where = ""
+    gravity_only = analysis.swept != "load"
+    # The set named is always the one friction holds the body at (the case's `held_deg`),
+    # said as such: "friction holds it for load angles ...".
+    holds = ""
     if arcs is not None and arcs.held == FULL:
-        where = f" for every {what} angle in the sweep plane"
+        holds = f"friction holds it for every {what} angle in the sweep plane"
     elif arcs is not None and arcs.held:
-        where = f" for {what} angles {_text(arcs.held)}"
+        holds = f"friction holds it for {what} angles {_text(arcs.held)}"
     if analysis.design is None:
         if arcs is None or not arcs.jamming:
             return None
-        message = f"retract {names[r]} → friction can hold the body{where}"
+        message = f"retract {names[r]} → " + holds.replace(
+            "friction holds it", "friction can hold the body", 1
+        )
         hint = f"keep the {what} direction out of {_text(arcs.held)}"
         return Finding(message, code="jams", field=scene.support_field(r), hint=hint)
     mu = float(statics.friction[analysis.cases[r].keep].max())
     force = "load" if analysis.swept == "load" else "weight"
-    held = f"although the {force} would {'close' if outcome == 'jams' else 'open'} it"
+    held = f"although the {force} would {'close' if outcome == 'jams' else 'open'} it there"
     # Holding is the start of motion: the static coefficient (the top of its range: the held
     # set only grows with friction).
     which = "μ" if all(s.coefficients.plain for s in scene.supports) else "static μ"
+    closes = ""  # where, without friction, the swept force closes the case (`closing_deg`)
+    if arcs is not None and arcs.closing == FULL:
+        closes = f"; without friction it closes for every {what} angle in the sweep plane"
+    elif arcs is not None and arcs.closing:
+        closes = f"; without friction it closes for {what} angles {_text(arcs.closing)}"
     message = (
         f"retract {names[r]} → friction can hold the body at the design direction, {held}"
-        f"{where} (equilibrium exists for μ ≥ {format_number(least, 3)}; the scene has "
-        f"{which} = {format_number(mu, 3)})"
+        f"{closes}{'; ' + holds if holds else ''} (equilibrium exists for μ ≥ "
+        f"{format_number(least, 3)}; the scene has {which} = {format_number(mu, 3)})"
     )
-    hint = f"lower the friction at {others} below {format_number(least, 3)}"
-    if arcs is not None and arcs.held != FULL:
+    # Rounded down, so that the friction named is below the least that holds.
+    below = "–" if least is None else format_number(rounded_bound(least, 3, up=False), 7)
+    hint = f"lower the friction at {others} below {below}"
+    if gravity_only:
+        pass  # nobody turns gravity: the friction is what the designer changes here
+    elif arcs is not None and arcs.held != FULL:
         hint += f", or turn the {what} out of {_text(arcs.held)}"
     elif statics.dim == 3 and not everywhere:
         hint += f", or turn the {what} away from the held directions (see the sphere map)"

@@ -19,9 +19,11 @@ from kcheck.mechanics.kinematics import (
     maxwell_angle,
     maxwell_cos,
 )
+from kcheck.numerics.margins import MARGINAL_COS
 from kcheck.numerics.thresholds import EPS, NEARLY_SINGULAR
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
+from kcheck_checks.marginal import with_margin
 
 __all__ = ["Maxwell", "MaxwellOptions"]
 
@@ -30,6 +32,13 @@ class MaxwellOptions(Options):
     """Options of the ``maxwell`` check."""
 
     min_cos: float = Field(0.7, ge=0, le=1, description="Smallest acceptable cos(theta)")
+    marginal_cos: float = Field(
+        MARGINAL_COS,
+        ge=0,
+        le=1,
+        description="A pass whose smallest cos(theta) is below this is marginal (0: no "
+        "marginal band)",
+    )
 
 
 class Maxwell(Check):
@@ -126,7 +135,7 @@ class Maxwell(Check):
             )
         if near:
             message += f"; nearly singular layout (scaled σ_min {sigma:.1e})"
-        return CheckResult(
+        result = CheckResult(
             self.id,
             status,
             message,
@@ -134,4 +143,19 @@ class Maxwell(Check):
             cases=tuple(cases),
             details=details,
             findings=findings,
+        )
+        if worst.cos_maxwell is None:
+            return result
+        band = opts.marginal_cos
+        return with_margin(
+            result,
+            "Maxwell cos θ",
+            worst.cos_maxwell,
+            band,
+            "at least",
+            f"retracting {worst.retracted} frees a motion with cos θ = {worst.cos_maxwell:.3f}, "
+            f"below the {band:g} minimum margin (wear and seat misalignment tilt normals)",
+            hint="tilt the neighbouring contacts so the freed motion meets this normal more "
+            "squarely (the option `marginal_cos` sets the band)",
+            field=scene.support_field(cases.index(worst)),
         )

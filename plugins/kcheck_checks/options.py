@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pydantic import Field
 
+from kcheck.numerics.margins import MARGINAL_ANGLE_DEG
 from kcheck.plugin import Options
 
 __all__ = ["AnalyticalOptions"]
@@ -14,4 +15,11 @@ class AnalyticalOptions(Options):
 
     min_margin_deg: float = Field(
         0.0, ge=0, description="Least angular distance of the design direction from a boundary"
+    )
+    marginal_deg: float = Field(
+        MARGINAL_ANGLE_DEG,
+        ge=0,
+        le=180,
+        description="A pass whose design margin is below this (degrees) is marginal "
+        "(0: no marginal band)",
     )

@@ -26,9 +26,11 @@ from kcheck.analysis import analyse
 from kcheck.analysis.cases import closing_force_reason, problem_for
 from kcheck.analysis.friction_ranges import RangeInfo
 from kcheck.fmt import format_angle, format_length, format_number
+from kcheck.numerics.margins import MARGINAL_PASS_PROBABILITY
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
+from kcheck_checks.marginal import with_margin
 from kcheck_checks.wording import verdict
 
 if TYPE_CHECKING:  # the sampling is imported when the check runs, not when it is found
@@ -59,6 +61,13 @@ class TolerancesOptions(Options):
         le=1.0,
         description="Pass when the lower confidence bound reaches this; default: every "
         "sample (and the nominal coupling over its friction range) must pass",
+    )
+    marginal_pass_probability: float = Field(
+        MARGINAL_PASS_PROBABILITY,
+        ge=0.0,
+        le=1.0,
+        description="A pass whose pass probability's lower confidence bound is below this is "
+        "marginal (0: no marginal band)",
     )
 
 
@@ -178,12 +187,28 @@ class Tolerances(Check):
             )
         if not ok:
             findings.append(_finding(scene, details, opts, design is not None))
-        return CheckResult(
+        result = CheckResult(
             self.id,
             Status.PASS if ok else Status.FAIL,
             verdict(parts, findings),
+            # The pass probability's statistical error (a fraction): half its confidence
+            # interval. Sampling dominates: each sample's margin is exact to ~1e-12 rad.
+            error_estimate=(high_p - low_p) / 2.0,
             details=details,
             findings=tuple(findings),
+        )
+        band = opts.marginal_pass_probability
+        return with_margin(
+            result,
+            "tolerance pass probability (lower confidence bound)",
+            low_p,
+            band,
+            "at least",
+            f"the pass probability is at least {100 * low_p:.2f}% "
+            f"({100 * opts.confidence:g}% confidence), below the {100 * band:g}% minimum margin",
+            hint="tighten the tolerances, or take more samples if every sample passed "
+            "(the option `marginal_pass_probability` sets the band)",
+            field=("tolerances",),
         )
 
 
@@ -234,4 +259,6 @@ def _finding(
             f", below the required {100 * opts.min_pass_probability:g}%"
         )
     hint = "tighten the tolerances, or turn the load towards the most robust direction"
+    if scene.load is None or not scene.load.magnitude > 0:
+        hint = "tighten the tolerances, or lower the friction"  # nobody turns gravity
     return Finding(message, code="tolerance", field=("tolerances",), hint=hint)

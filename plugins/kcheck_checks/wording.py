@@ -8,17 +8,19 @@ same way. A finding names the retracted support (``("supports", i)``) or the loa
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Sequence
+import math
+import re
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
 from kcheck.analysis.cases import Analysis
 from kcheck.errors import FieldPath
-from kcheck.fmt import format_angle, format_number, format_ranges
+from kcheck.fmt import format_angle, format_number, format_ranges, rounded_bound
 from kcheck.mechanics.arcs import ArcSet, intersect
 from kcheck.mechanics.friction import FrictionIntervals, describe_friction
 from kcheck.numerics.thresholds import FULL_TURN_SLACK_DEG
-from kcheck.result import CaseResult, Finding
+from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
 
 __all__ = [
@@ -29,6 +31,11 @@ __all__ = [
     "ranges_text",
     "mu_text",
     "case_findings",
+    "with_friction_way_out",
+    "friction_bound_text",
+    "friction_way_out",
+    "move_support_text",
+    "way_out",
     "empty_range_findings",
     "design_findings",
 ]
@@ -128,6 +135,130 @@ def _why(result: CaseResult, intervals: FrictionIntervals | None) -> tuple[str, 
     return None
 
 
+def friction_bound(
+    intervals: Sequence[tuple[float, float]], mu: float
+) -> tuple[float | None, float | None] | None:
+    """The closing interval of μ nearest the scene's ``mu``, its ends rounded inwards
+    (:func:`rounded_bound`) so that any μ inside closes: ``(low, high)``, None for no end (μ from 0,
+    or without bound); None when no interval is wide enough to round inwards."""
+
+    def distance(interval: tuple[float, float]) -> float:
+        lo, hi = interval
+        return 0.0 if lo <= mu <= hi else min(abs(lo - mu), abs(hi - mu))
+
+    for lo, hi in sorted(intervals, key=distance):
+        for digits in range(3, 8):
+            low = rounded_bound(lo, digits, up=True) if lo > 0 else None
+            high = rounded_bound(hi, digits, up=False) if math.isfinite(hi) else None
+            if high is not None and high <= 0:
+                continue
+            if low is None or high is None or low < high:
+                return low, high
+    return None
+
+
+def friction_bound_text(
+    intervals: Sequence[tuple[float, float]], mu: float, uniform: bool = True
+) -> str | None:
+    """ "closes for μ ≤ 0.096" (or "μ ≥ 0.3", "0.1 ≤ μ ≤ 0.2"): the nearest friction that closes,
+    rounded inwards (:func:`friction_bound`); None when none does."""
+    bound = friction_bound(intervals, mu)
+    if bound is None:
+        return None
+    low, high = bound
+    if low is None and high is None:
+        return None
+    if low is None:
+        text = f"μ ≤ {format_number(high, 7)}"
+    elif high is None:
+        text = f"μ ≥ {format_number(low, 7)}"
+    else:
+        text = f"{format_number(low, 7)} ≤ μ ≤ {format_number(high, 7)}"
+    tail = "" if uniform else " (the largest coefficient, the others in proportion)"
+    return f"closes for {text}{tail}"
+
+
+def common_intervals(
+    sets: Sequence[Sequence[tuple[float, float]]],
+) -> tuple[tuple[float, float], ...]:
+    """The μ intervals common to every set (each sorted, closed)."""
+    out: list[tuple[float, float]] = [(0.0, math.inf)]
+    for intervals in sets:
+        out = [
+            (max(a, c), min(b, d)) for a, b in out for c, d in intervals if max(a, c) < min(b, d)
+        ]
+    return tuple(out)
+
+
+def friction_way_out(analysis: Analysis) -> str | None:
+    """The friction at which every case closes at the design direction ("every retraction
+    closes for μ ≤ 0.096"), the nearest to the scene's; None when none does (or unknown)."""
+    found = [f for f in analysis.friction if f is not None]
+    if not found or len(found) != len(analysis.friction):
+        return None
+    text = friction_bound_text(
+        common_intervals([f.intervals for f in found]), found[0].mu, found[0].uniform
+    )
+    return None if text is None else f"every retraction {text}"
+
+
+def move_support_text(names: Sequence[str], what: str | None = "direction") -> str:
+    """ "no direction reseats this case: move or turn support x1" (the supports named;
+    ``what``: what was tried and does not help, None when nothing is claimed)."""
+    which = " or ".join(names)
+    noun = "support" if len(names) == 1 else "supports"
+    tried = "" if what is None else f"no {what} reseats this case: "
+    return f"{tried}move or turn {noun} {which}"
+
+
+def _lost_names(result: CaseResult) -> list[str]:
+    """The remaining supports that lose contact (no positive normal force)."""
+    return [n for n, f in (result.normal_forces or {}).items() if not f > 0]
+
+
+def way_out(scene: Scene, result: CaseResult, intervals: FrictionIntervals | None) -> str | None:
+    """The nearest change that closes a failing case, in one line: the friction that closes
+    it, the force angles that close it (a swept load), else the support to move or turn."""
+    ways = []
+    if intervals is not None and intervals.intervals:
+        text = friction_bound_text(intervals.intervals, intervals.mu, intervals.uniform)
+        if text is not None:
+            ways.append(text)
+    gravity_only = _swept(scene) == "gravity"
+    if result.safe_ranges_deg and not gravity_only:
+        ways.append(f"closes for force angles {ranges_text(result.safe_ranges_deg)}")
+    if ways:
+        return "; or ".join(ways)
+    if result.outcome in ("undetermined", "ill_conditioned"):
+        return None
+    # What was tried and does not help (friction only when its intervals were computed).
+    what: str | None
+    if gravity_only:
+        # nobody turns gravity: the tilt is not the designer's to change
+        what = None if intervals is None else "friction"
+    elif result.safe_ranges_deg is None:  # the directions were not swept
+        what = None if intervals is None else "friction"
+    elif scene.dim == 2:
+        what = "direction"
+    else:
+        what = "force angle in the sweep plane"
+        if intervals is not None:
+            what = "friction nor " + what
+    lost = _lost_names(result)
+    text = move_support_text(lost or [result.retracted], what)
+    if scene.dim == 2 and not gravity_only:
+        text += f", or move {_acting_point(scene)}"
+    return text
+
+
+def _acting_point(scene: Scene) -> str:
+    """Where the swept force acts, as a designer would move it."""
+    load = scene.load
+    if load is not None and load.magnitude > 0 and load.point is not None:
+        return "the load point"
+    return "the centre of mass (where the force acts)"
+
+
 def case_findings(scene: Scene, analysis: Analysis) -> list[Finding]:
     """One finding per retracted case that does not close: "retract y1 → jams at μ = 0.6; it
     closes for μ ≤ 0.122", located at the retracted support. With static and kinetic
@@ -144,21 +275,7 @@ def case_findings(scene: Scene, analysis: Analysis) -> list[Finding]:
         if why is None:
             continue
         code, sentence = why
-        hint = None
-        if result.safe_ranges_deg:
-            hint = f"this retraction closes for force angles {ranges_text(result.safe_ranges_deg)}"
-        elif (
-            scene.dim == 2
-            and result.outcome in ("loses_contact", "opens_loses_contact")
-            and not _friction_tail(intervals)
-        ):
-            # Every direction in the plane was tried and no friction closes it: what is left
-            # to change is where the force acts and where the supports are. (A spatial sweep
-            # plane is not every direction; the sphere map says that.)
-            hint = (
-                f"move {_acting_point(scene)}, or the supports: turning the {_swept(scene)} "
-                "alone cannot close it"
-            )
+        hint = way_out(scene, result, intervals)
         text = f"retract {result.retracted} → {sentence}"
         out.append(
             Finding(text, code=code, field=support_field(scene, result.retracted), hint=hint)
@@ -171,25 +288,21 @@ def _swept(scene: Scene) -> str:
     return "force" if scene.load is not None and scene.load.magnitude > 0 else "gravity"
 
 
-def _acting_point(scene: Scene) -> str:
-    """Where the swept force acts, as a designer would move it."""
-    load = scene.load
-    if load is not None and load.magnitude > 0 and load.point is not None:
-        return "the load point"
-    return "the centre of mass (where the force acts)"
-
-
 def _rad(ranges: Sequence[Sequence[float]]) -> ArcSet:
     return tuple((float(np.radians(s)), float(np.radians(e))) for s, e in ranges)
 
 
 def empty_range_findings(
-    scene: Scene, results: Sequence[CaseResult], plane_text: str = ""
+    scene: Scene,
+    results: Sequence[CaseResult],
+    plane_text: str = "",
+    analysis: Analysis | None = None,
 ) -> list[Finding]:
     """Why no force angle is safe: cases that close nowhere, else two cases whose safe ranges
     do not overlap, else all of them together ("the safe ranges of y1 (...) and y2 (...) do not
     overlap")."""
     usable = [r for r in results if r.safe_ranges_deg is not None]
+    by_friction = None if analysis is None else friction_way_out(analysis)
     nowhere = [r for r in usable if not r.safe_ranges_deg]
     if nowhere:
         return [
@@ -197,6 +310,7 @@ def empty_range_findings(
                 f"retract {r.retracted} → no force angle{plane_text} closes this retraction",
                 code="no-safe-direction",
                 field=support_field(scene, r.retracted),
+                hint=by_friction or move_support_text([r.retracted]),
             )
             for r in nowhere
         ]
@@ -210,6 +324,7 @@ def empty_range_findings(
                         f"({ranges_text(second.safe_ranges_deg)}) do not overlap{plane_text}",
                         code="ranges-disjoint",
                         field=("load",),
+                        hint=by_friction or move_support_text([first.retracted, second.retracted]),
                     )
                 ]
     listed = ", ".join(f"{r.retracted} ({ranges_text(r.safe_ranges_deg)})" for r in usable)
@@ -218,6 +333,7 @@ def empty_range_findings(
             f"the safe ranges {listed} have no angle in common{plane_text}",
             code="ranges-disjoint",
             field=("load",),
+            hint=by_friction,
         )
     ]
 
@@ -274,6 +390,8 @@ def design_findings(
     ranges_text: str,
     min_margin_deg: float,
     what: str = "design direction",
+    safe: Sequence[Sequence[float]] | None = None,
+    by_friction: str | None = None,
 ) -> list[Finding]:
     """Why a design direction is not good enough: outside the safe ranges (by how much, and
     the nearest safe angle), or inside by less than the required margin. None when no range
@@ -294,9 +412,7 @@ def design_findings(
                 f"range {ranges_text}{near}",
                 code="design-outside",
                 field=field,
-                hint=None
-                if nearest_deg is None
-                else f"turn the force to {format_angle(nearest_deg)} or further in",
+                hint=_into_range(scene, safe, by_friction),
             )
         ]
     if margin_deg < min_margin_deg:
@@ -306,6 +422,69 @@ def design_findings(
                 f"{ranges_text}, less than the required {min_margin_deg:g}°",
                 code="margin",
                 field=field,
+                hint=_into_range(scene, safe, None, min_margin_deg),
             )
         ]
     return []
+
+
+def _into_range(
+    scene: Scene,
+    safe: Sequence[Sequence[float]] | None,
+    by_friction: str | None,
+    margin_deg: float = 0.0,
+) -> str | None:
+    """Where to turn a swept load: the middle of the widest safe range, with what it keeps
+    from either end (when that is more than ``margin_deg``); and the friction that closes
+    every case at the design. A gravity-only scene gets only the friction: nobody turns
+    gravity."""
+    ways = []
+    if safe and _swept(scene) == "force":
+        start, end = max(safe, key=lambda r: (r[1] - r[0]) % 360.0)
+        half = ((end - start) % 360.0 or 360.0) / 2.0
+        if half > margin_deg:
+            middle = (start + half) % 360.0
+            ways.append(
+                f"turn the force to {format_angle(middle)}, the middle of "
+                f"{format_ranges([(start, end)])} ({format_angle(half)} from either end)"
+            )
+    if by_friction is not None:
+        ways.append(by_friction)
+    return "; or ".join(ways) or None
+
+
+#: A hint that already names a number to change: a friction bound, force angles, a direction.
+NUMERIC_WAY_OUT = re.compile(r"μ [≤≥] \d|below \d|force angles \d|turn the force to")
+
+#: Findings about the whole safe set, which a friction search can answer for the whole check.
+CHECK_LEVEL = ("margin", "design-outside", "ranges-disjoint", "no-safe-direction")
+
+
+def with_friction_way_out(
+    result: CheckResult, scene: Scene, passes: Callable[[Scene], bool]
+) -> CheckResult:
+    """A failing result whose findings about the safe set name no number to change, with the
+    friction at which the whole check passes added to their hints ("the check passes for
+    μ ≤ 0.0812", :func:`kcheck.analysis.way_out.passing_friction`, judged by ``passes``)."""
+    wanting = [
+        i
+        for i, f in enumerate(result.findings)
+        if f.code in CHECK_LEVEL and not NUMERIC_WAY_OUT.search(f.hint or "")
+    ]
+    if result.status != Status.FAIL or not wanting:
+        return result
+    from kcheck.analysis.way_out import passing_friction
+
+    mu = passing_friction(scene, passes)
+    if mu is None:
+        return result
+    uniform = len({s.friction for s in scene.supports if s.friction > 0}) <= 1
+    tail = "" if uniform else " (the largest coefficient, the others in proportion)"
+    text = f"the check passes for μ ≤ {format_number(mu, 7)}{tail}"
+    findings = list(result.findings)
+    for i in wanting:
+        hint = findings[i].hint
+        findings[i] = dataclasses.replace(
+            findings[i], hint=text if not hint else f"{hint}; or {text}"
+        )
+    return dataclasses.replace(result, findings=tuple(findings))

@@ -25,7 +25,7 @@ def test_fixtures_run_and_report(cli):
 def test_json_document_layout(cli_json, write_scene):
     code, doc = cli_json(str(write_scene(PLANAR_SCENE)))
     assert code == 0
-    assert doc["kcheck_version"] == __version__ and doc["format_version"] == 2
+    assert doc["kcheck_version"] == __version__ and doc["format_version"] == 3
     (scene,) = doc["scenes"]
     assert scene["status"] == "pass" and scene["error"] is None and scene["kind"] == "planar"
     assert scene["mass_properties"]["source"] == "explicit"

@@ -34,7 +34,15 @@ def test_init_writes_a_scene_that_checks(cli, tmp_path, coupling, with_mesh):
     code, doc = 0, None
     code, out, _ = cli("check", "--format", "json", str(path))
     doc = json.loads(out)["scenes"][0]
-    assert doc["status"] == "pass" and doc["warnings"] == [], doc
+    balls_off_the_mesh = with_mesh and coupling in ("maxwell", "kelvin")
+    if balls_off_the_mesh:
+        # The template's balls hang under the plate, in no mesh: the mesh cannot tell their
+        # contacts (support-unchecked, docs/scene-format.md), and says so; nothing else.
+        assert doc["status"] == "warn" and doc["checks"], doc
+        assert {w["code"] for w in doc["warnings"]} == {"support-unchecked"}
+        assert all(c["status"] == "pass" for c in doc["checks"] if c["status"] != "skipped")
+    else:
+        assert doc["status"] == "pass" and doc["warnings"] == [], doc
     if with_mesh:
         assert "units: mm is a GUESS" in text and "largest extent 120" in text
         assert "x -60 … 60, y -40 … 40, z -7.5 … 7.5 mm" in text

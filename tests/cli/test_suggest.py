@@ -116,7 +116,7 @@ def test_text_report_and_picture(cli, tmp_path):
 
 def test_bad_input_is_exit_2(cli, write_scene, tmp_path):
     code, _, err = cli("suggest", str(write_scene(PLANAR_SCENE)))
-    assert code == 2 and "spatial" in err
+    assert code == 2 and "give --box" in err  # no mesh to sample: a box is needed
     code, _, err = cli(
         "suggest", str(FIXTURES / "three-groove" / "coupling.kcheck.yaml"), "--magnitude", "-1"
     )
@@ -190,3 +190,24 @@ def test_a_box_of_one_point_is_reported_as_one_point(cli):
     )
     assert code in (0, 1)
     assert "1 point in the box" in stdout and "points in the box" not in stdout
+
+
+def test_planar_scene_suggestion_checks_safe(cli, write_scene, tmp_path):
+    """A planar scene is searched (in a box: its body has no mesh); the written scene's
+    analytical-2d design margin is the margin suggest reported."""
+    from kcheck_checks.analytical_2d import Analytical2D, AnalyticalOptions
+
+    from kcheck.body.mass import body_mass_properties
+    from kcheck.plugin import Inputs
+    from kcheck.scene import load_scene
+
+    out = tmp_path / "suggested.kcheck.yaml"
+    args = ("--box", "0", "0", "0", "100", "60", "0", "--points", "200", "--format", "json")
+    code, stdout, _ = cli("suggest", str(write_scene(PLANAR_SCENE)), *args, "--write", str(out))
+    assert code == 0
+    best = json.loads(stdout)["best"][0]
+    assert best["direction"][2] == 0.0 and best["margin_deg"] > 0
+    scene = load_scene(out)
+    mass = body_mass_properties(scene.body, scene.scale)
+    check = Analytical2D().run(Inputs(scene, mass, AnalyticalOptions()))
+    assert check.details["design_margin_deg"] == pytest.approx(best["margin_deg"], abs=1e-6)

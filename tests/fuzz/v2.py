@@ -132,7 +132,9 @@ class _Design:
                 normal = np.array([0.0, 0.0, -1.0 if on_base else 1.0])
                 support = {
                     "name": f"s{name}",
-                    "position": self.point(centre - r * np.array([0, 0, 1.0])),
+                    # on the body's face, where the ball touches it (kcheck checks
+                    # supports against the mesh, which may leave the ball out)
+                    "position": self.point(centre + (-r if on_base else r) * np.array([0, 0, 1.0])),
                     "normal": _vec(normal * rng.choice((1.0, 3.0, 0.25))),
                 }
                 if rng.random() < 0.3:

@@ -298,6 +298,94 @@ case(
     "couplings[0]",
 )
 case("planar z differ", PLANAR, put("supports[0].position", [20, 0, 5]), "supports")
+# materials and explicit contact radii (issue 21 items 1, 13)
+case(
+    "unknown ball material",
+    SPATIAL,
+    put("couplings[1].ball_material", "mithril"),
+    "couplings[1].ball_material",
+)
+case(
+    "contact ball radius zero-ish",
+    PLANAR,
+    put("supports[0].contact", {"ball_radius": 1e-30}),
+    "supports[0].contact.ball_radius",
+)
+case(
+    "contact seat radius huge",
+    PLANAR,
+    put("supports[0].contact", {"ball_radius": 5, "seat_radii": [None, 1e30]}),
+    "supports[0].contact.seat_radii[1]",
+)
+case(
+    "contact seat radii without a direction",
+    PLANAR,
+    put("supports[0].contact", {"ball_radius": 5, "seat_radii": [None, 2]}),
+    "supports[0].contact.seat_direction",
+)
+case(
+    "contact seat direction zero",
+    PLANAR,
+    put("supports[0].contact", {"ball_radius": 5, "seat_direction": [0, 0, 0]}),
+    "supports[0].contact.seat_direction",
+)
+case(
+    "contact ball radii huge",
+    PLANAR,
+    put("supports[0].contact", {"ball_radius": 5, "ball_radii": [5, 1e30]}),
+    "supports[0].contact.ball_radii[1]",
+)
+case(
+    "contact ball radii without a direction",
+    PLANAR,
+    put("supports[0].contact", {"ball_radius": 5, "ball_radii": [5, 50]}),
+    "supports[0].contact.ball_direction",
+)
+case(
+    "contact ball direction zero",
+    PLANAR,
+    put("supports[0].contact", {"ball_radius": 5, "ball_direction": [0, 0, 0]}),
+    "supports[0].contact.ball_direction",
+)
+case(
+    "groove radius below the ball's",
+    SPATIAL,
+    put("couplings[1].groove.radius", 5),
+    "couplings[1].groove.radius",
+)
+case(
+    "canoe radius huge",
+    SPATIAL,
+    put("couplings[1].ball.surface_radii", [500, 1e30]),
+    "couplings[1].ball.surface_radii[1]",
+)
+case(
+    "canoe radii without a direction",
+    SPATIAL,
+    put("couplings[1].ball.surface_radii", [500, 50]),
+    "couplings[1].ball.surface_direction",
+)
+case(
+    "canoe direction zero",
+    SPATIAL,
+    both(
+        put("couplings[1].ball.surface_radii", [500, 50]),
+        put("couplings[1].ball.surface_direction", [0, 0, 0]),
+    ),
+    "couplings[1].ball.surface_direction",
+)
+case(
+    "canoe direction without radii",
+    SPATIAL,
+    put("couplings[1].ball.surface_direction", [0, 0, 1]),
+    "couplings[1].ball.surface_direction",
+)
+case(
+    "contact seat direction along the normal",
+    PLANAR,
+    put("supports[0].contact", {"ball_radius": 5, "seat_direction": [0, 2, 0]}),
+    "supports[0].contact.seat_direction",
+)
 case(
     "layout of a micrometre",
     PLANAR,
@@ -622,6 +710,20 @@ case(
     "checks.maxwell.min_cos",
 )
 case("unknown check", PLANAR, put("checks", {"maxwel": {}}), "checks.maxwel")
+# supports against the body's mesh (kcheck/analysis/placement.py)
+case(
+    "contact off the body",
+    SPATIAL,
+    put(f"{C}[2].ball.center", [43.3, -25, -500]),
+    f"{C}[2]",
+)
+case(
+    "mesh unreadable for the supports alone",
+    SPATIAL,
+    put("body.mesh", "garbage.obj"),
+    "body.mesh",
+    selected=frozenset({"maxwell"}),
+)
 for name in ("body as a whole heavy",):  # point masses need their points
     base, edit, field, settings = CORPUS[name]
     CORPUS[name] = (

@@ -10,7 +10,7 @@ import pytest
 
 from tests.conftest import PLANAR_SCENE
 
-HEAVY = ("trimesh", "scipy", "matplotlib", "clarabel")
+HEAVY = ("trimesh", "scipy", "matplotlib", "clarabel", "mujoco")
 
 # Scenes run in this process (no worker), so the modules they import are seen here.
 PROBE = """

@@ -383,7 +383,7 @@ def _name(rule: str, variant: str, kind: str) -> str:
 def test_the_base_scene_of_every_kind_checks(batch):
     for kind in KINDS:
         result = batch["results"][f"base-{kind}"]
-        assert result["status"] in ("pass", "warn", "fail"), (kind, result.get("error"))
+        assert result["status"] in ("pass", "marginal", "warn", "fail"), (kind, result.get("error"))
     assert batch["code"] == 2  # the broken ones
 
 

@@ -190,7 +190,9 @@ def test_empty_and_unreadable_files(tmp_path):
 
 
 def test_explicit_values_win_over_the_mesh(write_scene, tmp_path):
-    trimesh.creation.box(extents=(100.0, 60.0, 20.0)).export(tmp_path / "b.stl")
+    box = trimesh.creation.box(extents=(100.0, 60.0, 20.0))
+    box.apply_translation((50, 30, 0))  # the supports on its faces (checked against the mesh)
+    box.export(tmp_path / "b.stl")
     path = write_scene(
         """
         version: 1

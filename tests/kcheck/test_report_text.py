@@ -130,7 +130,9 @@ def test_short_summary_and_counts(default_run: subprocess.CompletedProcess[str])
     lines = default_run.stdout.splitlines()
     start = lines.index("short summary")
     summary = lines[start + 1 : -1]
-    assert summary and all(re.match(r"(FAIL|WARN|ERROR)\s+\S+\.kcheck\.yaml", s) for s in summary)
+    assert summary and all(
+        re.match(r"(FAIL|WARN|MARGINAL|ERROR)\s+\S+\.kcheck\.yaml", s) for s in summary
+    )
     assert any("analytical-2d:" in s and "retract x3 → y1 loses contact" in s for s in summary)
     assert re.fullmatch(r"2 scenes: 1 passed, 1 failed in \d+(\.\d+)? s", lines[-1])
 

@@ -62,18 +62,20 @@ def _box_mesh(path: Path, extents, corner=(0.0, 0.0, 0.0)) -> None:
 
 
 def test_units_slip_names_the_supports(write_scene, tmp_path, checks):
-    """The new user's scene: a 20 cm body in metres, supports typed in millimetres."""
+    """The new user's scene: a 20 cm body in metres, supports typed in millimetres. Each
+    support is off the body's mesh: an input error naming it, and the unit that fits."""
     _box_mesh(tmp_path / "block.stl", (0.2, 0.15, 0.085))
     text = (FIXTURES / "block-321" / "block.kcheck.yaml").read_text()
     text = text.replace("units: mm", "units: m").replace("[100, 75, 85]", "[0.1, 0.075, 0.085]")
     result = check_scene(write_scene(text), checks)
-    far = [w for w in result.warnings if w.code == "support-far-from-body"]
-    assert {w.field for w in far} == {("supports", i) for i in range(6)}
-    x1 = next(w for w in far if w.field == ("supports", 0))
-    # x1 at (0, 75, 42.5) m: 74.85 m in y and 42.415 m in z beyond the box.
-    assert "support `x1` is 86.03 m from the body's bounding box" in x1.message
-    assert x1.line is not None and "scene's units (m)" in x1.hint
-    assert result.status is not Status.PASS
+    assert result.status is Status.ERROR
+    assert {e.field for e in result.errors} == {("supports", i, "position") for i in range(6)}
+    x1 = next(e for e in result.errors if e.field == ("supports", 0, "position"))
+    # x1 at (0, 75, 42.5) m against a 0.2 x 0.15 x 0.085 m box at the origin: the nearest
+    # point is its corner (0, 0.15, 0.085), sqrt(74.85² + 42.415²) = 86.03 m away.
+    assert "support `x1` is 86.03 m from the body's surface" in x1.message
+    assert "scene's coordinates in mm (`units: mm` and `units: m` on the meshes)" in x1.message
+    assert x1.line is not None
 
 
 def test_units_slip_the_other_way(write_scene, tmp_path, checks):

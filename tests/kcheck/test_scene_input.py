@@ -205,17 +205,59 @@ def test_every_error_of_a_file_in_line_order(write_scene):
     text = _edit("magnitude: 1", "magnitude: .inf")
     text = _edit("friction: 0.1", "fricton: 0.1", text)
     text = _edit("normal: [1, 0, 0]", "normal: [0, 0, 0]", text)
-    text = _edit("units: mm", "units: furlong", text)
-    with pytest.raises(SceneError) as info:
-        load_scene(write_scene(text))
-    errors = info.value.all()
-    assert [e.field for e in errors] == ["units", "fricton", "load.magnitude"]
+    errors = _errors(write_scene(text))
+    assert [e.field for e in errors] == ["supports[2].normal", "fricton", "load.magnitude"]
     assert [e.line for e in errors] == sorted(e.line for e in errors)
     assert all(e.column is not None for e in errors)
-    # The normal is semantic: reported once the fields themselves are right.
-    fixed = text.replace("units: furlong", "units: mm").replace("fricton", "friction")
-    fixed = fixed.replace("magnitude: .inf", "magnitude: 1")
-    assert [e.field for e in _errors(write_scene(fixed))] == ["supports[2].normal"]
+    # A wrong `units` stops at the fields: every length would be read in a unit not meant.
+    wrong_units = _edit("units: mm", "units: furlong", text)
+    assert [e.field for e in _errors(write_scene(wrong_units))] == [
+        "units",
+        "fricton",
+        "load.magnitude",
+    ]
+
+
+def test_three_mistakes_in_one_run(write_scene, tmp_path):
+    """Issue 21: mistakes in `friction` (a structure error), one support's `normal` and
+    `load` (value errors) come out together, each at its own line, from the loader and as
+    exit 2 from the command line, without a traceback."""
+    import subprocess
+    import sys
+
+    text = _edit("friction: 0.1", "friction: -0.1")
+    text = _edit("normal: [0, 1, 0]}", "normal: [0, 0, 0]}", text)
+    text = _edit("angle: 225", "angle: 225\n  direction: [1, 0, 0]", text)
+    path = write_scene(text)
+    lines = path.read_text().splitlines()
+    errors = _errors(path)
+    by_field = {e.field: e for e in errors}
+    assert set(by_field) == {"friction", "supports[0].normal", "load"}
+    for field, written in (
+        ("friction", "friction: -0.1"),
+        ("supports[0].normal", "name: y1"),
+        ("load", "load:"),
+    ):
+        assert written in lines[by_field[field].line - 1], field
+    run = subprocess.run(
+        [sys.executable, "-m", "kcheck", "check", str(path)],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+    )
+    assert run.returncode == 2
+    assert "Traceback" not in run.stdout + run.stderr
+    for e in errors:
+        assert f"{path.name}:{e.line}:" in run.stdout
+
+
+def test_a_dropped_item_does_not_make_errors_of_its_own(write_scene):
+    """A support whose `normal` is missing is left out to check the rest, which must not
+    turn into "2 supports" or a duplicate name: only the mistake itself is said."""
+    text = _edit(", normal: [0, 1, 0]}", "}")
+    text = _edit("magnitude: 1", "magnitude: -1", text)
+    errors = _errors(write_scene(text))
+    assert {e.field for e in errors} == {"supports[0].normal", "load.magnitude"}
 
 
 def test_slips_a_new_user_made_are_said_once_with_the_fix(write_scene):
@@ -471,3 +513,19 @@ def test_limits_table_matches_the_code():
     assert f"| {DEFAULT_LIMITS.max_depth} levels |" in doc
     assert f"{DEFAULT_LIMITS.max_values:,}".replace(",", " ") in doc
     assert f"{DEFAULT_LIMITS.max_alias_values:,}".replace(",", " ") in doc
+
+
+def test_every_check_option_error_in_one_run(write_scene):
+    """Options of several checks, and a misspelt check id, are said together."""
+    text = PLANAR_SCENE + (
+        "checks:\n  analytical-2d: {min_margin_deg: abc, no_such_option: 1}\n  analytcal-2d: {}\n"
+    )
+    result = check_scene(write_scene(text), load_checks())
+    assert result.status is Status.ERROR
+    fields = {e.field for e in result.errors}
+    assert fields == {
+        ("checks", "analytical-2d", "min_margin_deg"),
+        ("checks", "analytical-2d", "no_such_option"),
+        ("checks", "analytcal-2d"),
+    }
+    assert all(e.line is not None for e in result.errors)

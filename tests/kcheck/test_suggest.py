@@ -14,7 +14,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from kcheck.analysis.candidates import BoxSampler, SuggestError, SurfaceSampler
+from kcheck.analysis.candidates import BoxSampler, SurfaceSampler
 from kcheck.analysis.cases import problem_for
 from kcheck.analysis.suggest import (
     caps_at,
@@ -125,11 +125,18 @@ def test_friction_range_is_safe_at_every_sampled_coefficient(three_groove):
     assert sorted(set(both.friction)) == values
 
 
-def test_planar_scene_is_refused(write_scene):
+def test_planar_caps_at_points_equal_a_fresh_solve(write_scene):
+    """A planar scene is searched too: its arcs at each point are those kcheck's dynamics
+    computes with the load moved there (a new problem and a new solve per point)."""
     scene = load_scene(write_scene(PLANAR_SCENE))
     mass = body_mass_properties(scene.body, scene.scale)
-    with pytest.raises(SuggestError, match="spatial"):
-        point_caps(problem_for(scene, mass))
+    caps = point_caps(problem_for(scene, mass))
+    points = np.random.default_rng(5).uniform(-0.05, 0.1, (4, 3))
+    for point, c in zip(points, caps_at(caps, points), strict=True):
+        moved = problem_for(with_load(scene, point, np.array([0.0, -1.0, 0.0])), mass)
+        fresh = [analyse_case(moved, r).forward for r in range(3)]
+        np.testing.assert_allclose(caps.a, np.concatenate([f.a for f in fresh]), atol=1e-12)
+        np.testing.assert_allclose(c, np.vstack([f.c for f in fresh]), rtol=1e-10, atol=1e-12)
 
 
 def _closes_anywhere(scene, mass, magnitude: float, radius: float) -> float:

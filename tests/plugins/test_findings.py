@@ -174,8 +174,8 @@ def test_contact_loss_at_every_angle_hints_at_the_load_point() -> None:
     assert "loses contact" in x3.message
     # The scene's load has no point: it acts at the centre of mass.
     assert x3.hint == (
-        "move the centre of mass (where the force acts), or the supports: turning the force "
-        "alone cannot close it"
+        "no direction reseats this case: move or turn support y1, or move the centre of mass "
+        "(where the force acts)"
     )
 
 
@@ -228,7 +228,10 @@ def test_spatial_design_outside_is_a_distance_and_offers_the_nearest_direction(
     design_finding = result.findings[0]
     assert design_finding.code == "design-outside" and design_finding.field == ("load", "direction")
     assert f"lies {-margin:.2f}° outside" in design_finding.message
-    assert "most robust direction (0, 0, -1) keeps 19.10°" in (design_finding.hint or "")
+    assert (
+        "turn the force to (0, 0, -1), the most robust direction (19.10° from every boundary"
+        in (design_finding.hint or "")
+    )
 
 
 def test_no_negative_margin_offered_as_a_remedy(tmp_path: Path) -> None:

@@ -33,6 +33,9 @@ BETA = 45.0
 
 
 def _run(scene, mass=None, **options):
+    """Run hertz; 52100 balls and seats unless the test names other materials (the check has
+    no default material: tests/plugins/test_hertz_materials.py)."""
+    options = {"ball_material": "52100", "seat_material": "52100"} | options
     check = Hertz()
     assert check.skip_reason(scene) is None
     return check.run(Inputs(scene, mass, HertzOptions(**options)))
@@ -108,7 +111,8 @@ def test_kelvin_with_weight_and_materials(tmp_path):
         disturbing_force=[0.1, 0.0, 0.0],
     )
     contacts = {c["support"]: c for c in result.details["contacts"]}
-    assert contacts["cone.1"]["seat_material"] == "aluminium-6061-t6"
+    assert contacts["cone.1"]["seat_material"] == "6061-t6"
+    assert contacts["cone.1"]["seat_material_from"] == "checks.hertz.seat_material"
     assert contacts["flat.1"]["seat_material"] == "hard"
     assert contacts["flat.1"]["allowable_pressure"] == pytest.approx(9e6)
     # the weight balances: sum of contact forces along the normals equals m g
@@ -151,6 +155,10 @@ def test_lifting_off_and_opening_are_findings(tmp_path):
     result = _run(with_preloads(scene, off))
     assert result.status is Status.FAIL
     assert {f.code for f in result.findings} == {"lifts-off"}
+    # issue 21 item 9: the lift-off is the headline, and no stress of a pulling solution
+    assert result.message.startswith("the body lifts off at g1.1, g1.2 under the seated load")
+    assert "contacts" not in result.details and "peak contact pressure" not in result.message
+    assert all(result.details["seated_forces"][n] < 0 for n in result.details["lifted"])
     # the first coupling's contacts: the first two items the test scene file writes
     assert {f.field for f in result.findings} <= {("supports", 0), ("supports", 1)}
     assert "would have to pull" in result.findings[0].message
@@ -158,6 +166,10 @@ def test_lifting_off_and_opening_are_findings(tmp_path):
     result = _run(seated, disturbing_force=[0.0, 0.0, 100.0])
     assert {f.code for f in result.findings} == {"opens-under-disturbance"}
     assert "error_motion" not in result.details
+    # stresses shown only where the contact presses: an opened contact carries none
+    worst = [c["normal_force_worst"] for c in result.details["contacts"]]
+    assert min(c["max_pressure_worst"] for c in result.details["contacts"]) >= 0
+    assert all(w >= 0 for w in worst)
 
 
 def test_explicit_supports_are_skipped_with_the_reason(tmp_path):
@@ -241,6 +253,14 @@ def test_slocum_spreadsheet_example(tmp_path):
     sink = seated["approach"] / np.cos(np.radians(45.0))
     assert sink * 1e3 == pytest.approx(0.0307, abs=1e-4)
     assert sink * np.cos(np.radians(45.0)) ** 2 * 1e3 == pytest.approx(0.015, abs=5e-4)
+    # "largest stress ratio" 0.22: the largest subsurface shear, taken as 0.3 p0, over the
+    # Tresca shear yield 0.5 Y (Y = 1720 MPa): 0.3 p0 / (0.5 Y) = 0.217 rounds to it; kcheck's
+    # exact largest shear (0.31 p0 for a circle, nu = 0.29) gives 0.225
+    p0, shear_yield = worst["max_pressure_worst"], 0.5 * 1720e6
+    assert round(0.3 * p0 / shear_yield, 2) == 0.22
+    tau = worst["subsurface"]["seat"]["max_shear"]
+    assert tau / p0 == pytest.approx(0.31, abs=0.005)
+    assert tau / shear_yield == pytest.approx(0.225, abs=0.001)
 
 
 def test_hint_scales_the_radii_to_the_allowable(tmp_path):
@@ -259,7 +279,12 @@ def test_hint_scales_the_radii_to_the_allowable(tmp_path):
 
 def test_picture(three_vee_scene, tmp_path):
     pytest.importorskip("matplotlib")
-    options = HertzOptions(disturbing_force=[5.0, 0, 0], error_point=[0, 0, 30.0])
+    options = HertzOptions(
+        disturbing_force=[5.0, 0, 0],
+        error_point=[0, 0, 30.0],
+        ball_material="52100",
+        seat_material="52100",
+    )
     inputs = Inputs(three_vee_scene, None, options)
     result = Hertz().run(inputs)
     from kcheck.pictures.plotting import formats
@@ -298,14 +323,6 @@ def test_singular_layout_is_reported_not_solved(tmp_path):
     assert result.details["condition"] > 1e12 and "contacts" not in result.details
 
 
-def test_assumed_materials_are_named(three_vee_scene):
-    """Without a material in the options, the verdict says which ones it assumed."""
-    assumed = _run(three_vee_scene).message
-    assert "materials assumed: 52100 balls and 52100 seats" in assumed
-    chosen = _run(three_vee_scene, ball_material="si3n4").message
-    assert "materials assumed" not in chosen
-
-
 def test_picture_when_no_contact_carries_load(tmp_path):
     # Fuzz finding (suite seed 13, extreme-13-5): the closing force of three-groove-beta-35
     # turned to +z lifts every ball, so every contact ellipse is a point; the ellipse panel
@@ -317,10 +334,32 @@ def test_picture_when_no_contact_carries_load(tmp_path):
     shutil.copytree(FIXTURES / "three-groove-beta-35", folder)
     path = folder / "coupling.kcheck.yaml"
     path.write_text(path.read_text().replace("direction: [0, 0, -1]", "direction: [0, 0, 1]"))
-    inputs = Inputs(load_scene(path), None, HertzOptions())
+    options = HertzOptions(ball_material="52100", seat_material="52100")
+    inputs = Inputs(load_scene(path), None, options)
     result = Hertz().run(inputs)
-    assert all(c["semi_axes"] == [0.0, 0.0] for c in result.details["contacts"])
+    # every contact would pull: the lift-off is the result, with no stresses to draw
+    assert "lifts off" in result.message and "contacts" not in result.details
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         files = Hertz().plot(inputs, result, tmp_path / "plots")
-    assert [f.suffix for f in files] == [".png"] and files[0].stat().st_size
+    assert files == []
+
+
+def test_three_vee_vertical_stiffness_with_mindlin_tangential_compliance(three_vee_scene):
+    # Johnson §7.2: no-slip tangential stiffness k_t = 8 G* a, 1/G* = 2 (2 - nu) / G for two
+    # equal materials; with k_n = 2 E* a, k_t / k_n = 2 (1 - nu) / (2 - nu) (Mindlin).
+    result = _run(three_vee_scene)
+    nu, e = 0.3, 210e9
+    g = e / (2 * (1 + nu))
+    a = result.details["contacts"][0]["semi_axes"][0]
+    k_n = 2 * contact_modulus(e, nu, e, nu) * a
+    k_t = 8 * a / (2 * (2 - nu) / g)
+    assert k_t / k_n == pytest.approx(2 * (1 - nu) / (2 - nu), rel=1e-12)
+    for c in result.details["contacts"]:
+        assert c["tangential_stiffness"] == pytest.approx(k_t, rel=1e-12)
+    # straight down the axis every contact moves by dz: cos(b) dz along its normal, sin(b) dz
+    # in its tangent plane, so k_z = 6 (k_n cos^2 b + k_t sin^2 b)
+    b = np.radians(BETA)
+    kz = result.details["point_stiffness_with_tangential"][2]
+    assert kz == pytest.approx(6 * (k_n * np.cos(b) ** 2 + k_t * np.sin(b) ** 2), rel=1e-10)
+    assert kz > result.details["point_stiffness"][2]

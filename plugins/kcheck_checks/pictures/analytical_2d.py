@@ -22,7 +22,9 @@ from kcheck.analysis.cases import Analysis
 from kcheck.fmt import format_angle, format_number, format_point, format_ranges
 from kcheck.mechanics.dynamics import Case
 from kcheck.mechanics.outcomes import outcomes
-from kcheck.pictures.plotting import outcome_colour, sweep_note
+from kcheck.pictures import colours as palette
+from kcheck.pictures.colours import outcome_colour
+from kcheck.pictures.plotting import sweep_note
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CaseResult, CheckResult
 from kcheck.scene import Scene
@@ -32,21 +34,19 @@ if TYPE_CHECKING:
 
 __all__ = ["plot_analytical_2d", "support_style"]
 
-# Support curves in colours that do not collide with the outcome colours.
-SUPPORT_COLOURS = ("#1f77b4", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22")
 # Wide and pale first, then narrower patterned lines drawn on top of it.
 SUPPORT_LINES = (
     {"ls": "-", "lw": 4.0, "alpha": 0.45},
     {"ls": (0, (5, 2)), "lw": 1.8, "alpha": 1.0},
     {"ls": (0, (1, 1.5)), "lw": 2.2, "alpha": 1.0},
 )
-DESIGN = "#1f3b73"
+DESIGN = palette.DESIGN
 GOOD = ("closes", "swept")
 
 
 def support_style(j: int) -> dict[str, Any]:
     """Colour and line of support ``j``'s normal force, the same in every panel."""
-    return {"color": SUPPORT_COLOURS[j % len(SUPPORT_COLOURS)], **SUPPORT_LINES[j % 3]}
+    return {"color": palette.support_colour(j), **SUPPORT_LINES[j % 3]}
 
 
 def plot_analytical_2d(inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
@@ -164,12 +164,13 @@ def _mark_design(
     if not marks:
         marks.append((ax, 0.0, result.outcome.replace("_", " ")))
     for k, (target, value, text) in enumerate(marks):
-        target.plot(design, value, "o", ms=9, mfc="none", mec="#d62728", mew=2.0, zorder=9)
+        target.plot(design, value, "o", ms=9, mfc="none", mec=palette.FAILING, mew=2.0, zorder=9)
         target.annotate(
             text, (design, value), textcoords="offset points", xytext=(12, 12 + 14 * k),
-            fontsize=9, weight="bold", color="#d62728", zorder=9,
-            arrowprops={"arrowstyle": "-", "color": "#d62728", "lw": 1.0},
-            bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "#d62728", "lw": 0.8},
+            fontsize=9, weight="bold", color=palette.FAILING, zorder=9,
+            arrowprops={"arrowstyle": "-", "color": palette.FAILING, "lw": 1.0},
+            bbox={"boxstyle": "round,pad=0.2", "fc": palette.PAPER, "ec": palette.FAILING,
+                  "lw": 0.8},
             ha="left" if design < 250 else "right",
         )  # fmt: skip
 
@@ -195,7 +196,7 @@ def _case_panel(
     """One retracted support: its safe band, normal forces (N, left) and acceleration (right);
     returns the outcomes its bar shows."""
     ax.set_xlim(0, 360)
-    ax.axhline(0, color="black", lw=0.8)
+    ax.axhline(0, color=palette.INK, lw=0.8)
     title = _title(result, scene)
     if case.forward is None or result.safe_ranges_deg is None:
         ax.set_title(f"{title} — {result.outcome.replace('_', ' ')}", fontsize=9, loc="left")
@@ -205,7 +206,7 @@ def _case_panel(
     deg = np.linspace(0.0, 360.0, 721)
     curves = _curves(case, analysis, scene, deg)
     for s, e in _spans(result.safe_ranges_deg):
-        ax.axvspan(s, e, color="#2ca02c", alpha=0.13, lw=0)
+        ax.axvspan(s, e, color=palette.SAFE, alpha=0.13, lw=0)
     _outcome_strip(ax, deg, curves["state"])
     for k, j in enumerate(case.keep):
         _plot_split(ax, deg, curves["forces"][:, k], curves["forward"], **support_style(j))
@@ -213,7 +214,7 @@ def _case_panel(
     ax.set_ylim(-limit, limit / 0.92)
     ax.set_ylabel("normal force (N)", fontsize=8)
     twin = ax.twinx()
-    _plot_split(twin, deg, curves["accel"], curves["forward"], color="black", lw=1.1, ls="--")
+    _plot_split(twin, deg, curves["accel"], curves["forward"], color=palette.INK, lw=1.1, ls="--")
     alimit = float(np.abs(curves["accel"]).max()) * 1.15 or 1.0
     twin.set_ylim(-alimit, alimit / 0.92)
     twin.set_ylabel(f"accel. of {result.retracted}\ntowards it (m/s²)", fontsize=8)
@@ -241,13 +242,15 @@ def _legend(fig: Any, analysis: Analysis, states: set[str]) -> None:
         Line2D([], [], label=f"N {name}", **support_style(j))
         for j, name in enumerate(analysis.problem.names)
     ]
-    handles.append(Line2D([], [], color="black", lw=1.1, ls="--", label="acceleration"))
-    handles.append(Line2D([], [], color="0.4", lw=0.8, ls=":", label="body moves away (dotted)"))
+    handles.append(Line2D([], [], color=palette.INK, lw=1.1, ls="--", label="acceleration"))
+    handles.append(
+        Line2D([], [], color=palette.MUTED, lw=0.8, ls=":", label="body moves away (dotted)")
+    )
     handles += [
         Patch(color=outcome_colour(k), label=k.replace("_", " "))
         for k in sorted(states | {"closes"}, key=lambda k: (k != "closes", k))
     ]
-    handles.append(Patch(color="#2ca02c", alpha=0.25, label="safe band"))
+    handles.append(Patch(color=palette.SAFE, alpha=0.25, label="safe band"))
     fig.legend(handles=handles, loc="lower center", ncol=5, fontsize=7.5, frameon=False,
                title="curves: forward sliding; bar on top of each panel: the outcome at that angle",
                title_fontsize=7.5)  # fmt: skip
@@ -262,7 +265,7 @@ def _combined_strip(ax: Axes, scene: Scene, analysis: Analysis, result: CheckRes
         f"force angle α (°); {sweep_note(scene.sweep.normal, scene.sweep.e1)}", fontsize=8.5
     )
     for s, e in _spans(result.safe_ranges_deg or ()):
-        ax.axvspan(s, e, color="#2ca02c", alpha=0.6, lw=0)
+        ax.axvspan(s, e, color=palette.SAFE, alpha=0.6, lw=0)
     combined = format_ranges(result.safe_ranges_deg or (), 1)
     ax.text(2, 0.5, f"safe for every retraction: {combined}", transform=ax.get_xaxis_transform(),
             va="center", fontsize=8)  # fmt: skip

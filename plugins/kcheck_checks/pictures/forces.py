@@ -6,7 +6,10 @@ from __future__ import annotations
 
 from typing import Any
 
-from kcheck.pictures.plotting import figure, outcome_colour
+from kcheck.pictures import colours as palette
+from kcheck.pictures.colours import outcome_colour
+from kcheck.pictures.labels import EMPTY_GID
+from kcheck.pictures.plotting import figure
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
 from kcheck_checks.pictures.titles import verdict_colour, verdict_title
@@ -24,13 +27,18 @@ def forces_panel(scene: Scene, result: CheckResult) -> Any:
     drawn: set[str] = set()
     for g, case in enumerate(result.cases):
         forces = case.normal_forces or {}
+        if not forces:
+            ax.text(
+                g, 0.5, f"no forces:\n{case.outcome.replace('_', ' ')}", ha="center",
+                va="center", fontsize=8, transform=ax.get_xaxis_transform(), gid=EMPTY_GID,
+            )  # fmt: skip
         for k, name in enumerate(n for n in names if n in forces):
             x = g - 0.4 + width * (k + 0.5)
             value = forces[name]
-            colour = f"C{names.index(name) % 10}"
+            colour = palette.support_colour(names.index(name))
             ax.bar(
                 x, value, width, color=colour,
-                edgecolor="black" if value <= 0 else colour,
+                edgecolor=palette.INK if value <= 0 else colour,
                 label=None if name in drawn else name,
             )  # fmt: skip
             drawn.add(name)
@@ -40,7 +48,7 @@ def forces_panel(scene: Scene, result: CheckResult) -> Any:
             g, 1.0, case.outcome.replace("_", " "), transform=ax.get_xaxis_transform(),
             ha="center", va="bottom", fontsize=9, color=outcome_colour(case.outcome),
         )  # fmt: skip
-    ax.axhline(0, color="black", linewidth=0.8)
+    ax.axhline(0, color=palette.INK, linewidth=0.8)
     ax.set_xticks(range(len(result.cases)))
     ax.set_xticklabels([f"{c.retracted}\nretracted" for c in result.cases])
     ax.set_ylabel("normal force (N)")

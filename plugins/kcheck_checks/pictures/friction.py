@@ -22,6 +22,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from kcheck.fmt import format_number
+from kcheck.pictures import colours as palette
+from kcheck.pictures.labels import say_why_empty
 from kcheck.plugin import Inputs
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
@@ -31,8 +34,8 @@ if TYPE_CHECKING:
 
 __all__ = ["plot_friction", "friction_axis", "scene_at"]
 
-SAFE = "#2ca02c"
-RANGE = "#1f77b4"
+SAFE = palette.SAFE
+RANGE = palette.FRICTION_RANGE
 ANGLES = 720  # angle bins of a band picture (0.5 deg)
 
 
@@ -100,12 +103,17 @@ def _band_picture(
         origin="lower",
         aspect="auto",
         extent=(mus[0] - step / 2, mus[-1] + step / 2, 0.0, 360.0),
-        cmap="Greens",
+        cmap=palette.SAFE_MAP,
         vmin=0.0,
         vmax=1.6,
         interpolation="nearest",
     )
     ax.plot([], [], color=SAFE, lw=6, alpha=0.6, label=what)
+    if not bands.any():
+        say_why_empty(
+            ax, f"no {what} at any {kind} μ from 0 to {format_number(mus[-1], 3)}:\n"
+            "every force angle fails at every coefficient drawn",
+        )  # fmt: skip
     _range_marks(ax, (low, high), f"{kind} μ")
     if high > low and result.safe_ranges_deg is not None:
         label: str | None = "safe over the whole range"
@@ -117,14 +125,14 @@ def _band_picture(
                     b,
                     facecolor="none",
                     hatch="///",
-                    edgecolor="black",
+                    edgecolor=palette.INK,
                     lw=0.8,
                     label=label,
                 )
                 label = None
     design = scene.design_angle_deg
     if design is not None:
-        ax.axhline(design, color="black", ls="--", lw=1.0, label=f"design {design:.1f}°")
+        ax.axhline(design, color=palette.DESIGN, ls="--", lw=1.0, label=f"design {design:.1f}°")
     ax.set_xlim(mus[0], mus[-1])
     ax.set_ylim(0.0, 360.0)
     ax.set_yticks(np.arange(0, 361, 45))
@@ -162,6 +170,15 @@ def _spatial_picture(inputs: Inputs, result: CheckResult, directory: Path) -> Se
     fig = figure(figsize=(7.5, 5.2))
     top, bottom = fig.subplots(2, 1, sharex=True)
     top.plot(mus, share, color=SAFE, lw=1.8)
+    if not np.nansum(share) > 0:
+        why = (
+            "no safe direction at any coefficient drawn"
+            if np.any(np.isfinite(share))
+            else "no sphere map at any coefficient drawn (the check made none)"
+        )
+        say_why_empty(top, f"{why} (kinetic μ 0 to {format_number(mus[-1], 3)})")
+    if not np.any(np.isfinite(margin)):
+        say_why_empty(bottom, "no design direction: no design margin to draw")
     top.fill_between(mus, 0.0, share, color=SAFE, alpha=0.25)
     top.set_ylabel("safe directions (% of sphere)")
     over = result.details.get("safe_solid_angle_fraction")
@@ -170,13 +187,13 @@ def _spatial_picture(inputs: Inputs, result: CheckResult, directory: Path) -> Se
             100.0 * over,
             low,
             high,
-            colors="black",
+            colors=palette.INK,
             linestyles="--",
             lw=1.2,
             label=f"safe over the whole range: {100.0 * over:.3g}%",
         )
-    bottom.plot(mus, margin, color="black", lw=1.5, label="design direction's margin")
-    bottom.axhline(0.0, color="#d62728", lw=0.8)
+    bottom.plot(mus, margin, color=palette.DESIGN, lw=1.5, label="design direction's margin")
+    bottom.axhline(0.0, color=palette.FAILING, lw=0.8)
     need = result.details.get("friction_range")
     for ax in (top, bottom):
         _range_marks(ax, (low, high), "kinetic μ")

@@ -18,6 +18,8 @@ import numpy as np
 from kcheck.errors import KcheckError
 from kcheck.fmt import format_angle, format_point, format_ranges
 from kcheck.mechanics.arcs import FULL, TAU, ArcSet, complement, intersect, union
+from kcheck.pictures import colours as palette
+from kcheck.pictures.labels import say_why_empty
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
@@ -28,8 +30,8 @@ if TYPE_CHECKING:
 
 __all__ = ["plot_graphical", "draw_construction"]
 
-LABEL_BOX = {"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.85}
-SENSE_COLOURS = {"ccw": "tab:blue", "cw": "tab:purple", "translation": "tab:gray"}
+LABEL_BOX = {"boxstyle": "round,pad=0.15", "fc": palette.PAPER, "ec": "none", "alpha": 0.85}
+SENSE_COLOURS = palette.SENSE_COLOURS
 SENSE_MARK = {"ccw": "↺", "cw": "↻"}
 
 
@@ -117,33 +119,29 @@ def _wedges(
         first = False
 
 
-def _outward(point: np.ndarray, centre: np.ndarray, half: float) -> dict[str, str]:
-    """Text alignment that keeps a label on the inner side of the frame."""
-    d = (point - centre) / half
-    return {
-        "ha": "right" if d[0] > 0.35 else "left" if d[0] < -0.35 else "center",
-        "va": "top" if d[1] > 0.35 else "bottom" if d[1] < -0.35 else "center",
-    }
-
-
 def _supports(ax: Axes, scene: Scene, built: Construction, to_plot: Any, size: float) -> None:
-    """Normal lines and support arrows; each name beyond its arrow's tail, off the body."""
+    """Normal lines and support arrows (names: :func:`_support_names`, once the frame is set)."""
     for k, s in enumerate(scene.supports):
         p = to_plot(s.position[:2])
         n = built.normals[k]
-        ax.axline(tuple(p), tuple(p + n), color="0.6", lw=0.7, ls="--", zorder=1)
+        ax.axline(tuple(p), tuple(p + n), color=palette.FAINT, lw=0.7, ls="--", zorder=1)
         tail = p - 0.28 * size * n
         ax.annotate(
             "", xy=tuple(p), xytext=tuple(tail),
-            arrowprops={"arrowstyle": "-|>", "color": "k", "lw": 1.8}, zorder=5,
+            arrowprops={"arrowstyle": "-|>", "color": palette.SUPPORT, "lw": 1.8}, zorder=5,
         )  # fmt: skip
-        at = tail - 0.06 * size * n
-        ax.text(
-            at[0], at[1], s.name, fontsize=10, weight="bold", zorder=7, bbox=LABEL_BOX,
-            ha="left" if n[0] < -0.4 else "right" if n[0] > 0.4 else "center",
-            va="bottom" if n[1] < -0.4 else "top" if n[1] > 0.4 else "center",
-        )  # fmt: skip
-    ax.plot([], [], color="k", lw=1.8, label="support and normal (pushes the body)")
+    ax.plot([], [], color=palette.SUPPORT, lw=1.8, label="support and normal (pushes the body)")
+
+
+def _support_names(ax: Axes, scene: Scene, built: Construction, to_plot: Any, size: float) -> None:
+    """Each support's name beside its point, across its arrow, inside the frame."""
+    from kcheck.pictures.labels import label_supports
+
+    points = np.array([to_plot(s.position[:2]) for s in scene.supports])
+    label_supports(
+        ax, points, -np.asarray(built.normals, float), [s.name for s in scene.supports], size,
+        fontsize=10, weight="bold", color=palette.SUPPORT,
+    )  # fmt: skip
 
 
 def _away(pp: np.ndarray, other: np.ndarray | None, default: tuple[float, float]) -> dict:
@@ -207,7 +205,7 @@ def _poles(
     for case in result.cases:
         d = case.details
         sense = str(d.get("sense"))
-        colour = SENSE_COLOURS.get(sense, "k")
+        colour = SENSE_COLOURS.get(sense, palette.INK)
         label = None
         if sense not in seen:
             label = {
@@ -221,7 +219,7 @@ def _poles(
         pp = None if not inside(pole) else to_plot(pole)
         fp = None if not inside(fpole) else to_plot(fpole)
         if pp is not None:
-            ax.plot(*pp, "o", color=colour, ms=11, mec="k", zorder=6, label=label)
+            ax.plot(*pp, "o", color=colour, ms=11, mec=palette.INK, zorder=6, label=label)
             ax.annotate(
                 f"{name} {SENSE_MARK.get(sense, '')}", tuple(pp), textcoords="offset points",
                 color=colour, fontsize=10, weight="bold", zorder=7, bbox=LABEL_BOX,
@@ -234,9 +232,9 @@ def _poles(
             far.append((np.asarray(d["translation_direction"], float)[:2],
                         f"{name} at ∞", colour, label))  # fmt: skip
         if fp is not None:
-            fcolour = SENSE_COLOURS.get(str(d.get("friction_sense")), "k")
+            fcolour = SENSE_COLOURS.get(str(d.get("friction_sense")), palette.INK)
             ax.plot(
-                *fp, "o", mfc="white", mec=fcolour, ms=9, mew=1.5, zorder=6,
+                *fp, "o", mfc=palette.PAPER, mec=fcolour, ms=9, mew=1.5, zorder=6,
                 label="friction pole P′ (reactions tilted by friction)" if first_friction else None,
             )  # fmt: skip
             ax.annotate(
@@ -255,27 +253,31 @@ def _compass(ax: Axes, built: Construction) -> None:
         v = np.asarray(vec[:2], float) / np.linalg.norm(vec[:2])
         ax.annotate(
             "", xy=tuple(v), xytext=(0, 0),
-            arrowprops={"arrowstyle": "-|>", "color": "0.2", "lw": 1.3},
+            arrowprops={"arrowstyle": "-|>", "color": palette.DARK, "lw": 1.3},
         )  # fmt: skip
-        ax.text(1.35 * v[0], 1.35 * v[1], text, fontsize=8, ha="center", va="center", color="0.2")
+        ax.text(
+            1.35 * v[0], 1.35 * v[1], text, fontsize=8, ha="center", va="center", color=palette.DARK
+        )
     start = float(np.degrees(np.arctan2(built.e1[1], built.e1[0])))
     turn = 1.0 if built.e1[0] * built.e2[1] - built.e1[1] * built.e2[0] > 0 else -1.0
     t = np.radians(start + turn * np.linspace(15, 75, 20))
     arc = 0.55 * np.column_stack([np.cos(t), np.sin(t)])
-    ax.plot(*arc[:-1].T, color="0.2", lw=1.0)
+    ax.plot(*arc[:-1].T, color=palette.DARK, lw=1.0)
     ax.annotate(
         "", xy=tuple(arc[-1]), xytext=tuple(arc[-3]),
-        arrowprops={"arrowstyle": "-|>", "color": "0.2", "lw": 1.0},
+        arrowprops={"arrowstyle": "-|>", "color": palette.DARK, "lw": 1.0},
     )  # fmt: skip
     ax.set_xlim(-1.7, 1.7)
     ax.set_ylim(-1.7, 1.7)
     ax.set_aspect("equal")
     ax.axis("off")
-    ax.set_title("force angle", fontsize=8, color="0.2")
+    ax.set_title("force angle", fontsize=8, color=palette.DARK)
 
 
 def draw_construction(ax: Axes, scene: Scene, built: Construction, result: CheckResult) -> None:
     """Figure 2.8-like construction: outline, supports, poles, funnel, jamming, safe fan."""
+    from matplotlib.colors import to_rgba
+
     unit = scene.scale
     to_plot = lambda x: np.asarray(x) / unit  # noqa: E731 - m to scene units
     supports = np.array([s.position[:2] for s in scene.supports])
@@ -285,12 +287,12 @@ def draw_construction(ax: Axes, scene: Scene, built: Construction, result: Check
     outline = _body_outline(scene, z)
     for i, line in enumerate(outline):
         ax.fill(
-            *to_plot(line).T, color="0.92", ec="0.35", lw=1.2, zorder=0,
+            *to_plot(line).T, color=palette.BODY, ec=palette.BODY_EDGE, lw=1.2, zorder=0,
             label="body (section at the supports)" if i == 0 else None,
         )  # fmt: skip
     if not outline:
         hull = to_plot(np.vstack([supports, supports[:1]]))
-        ax.plot(*hull.T, color="0.5", ls=":", lw=1.0, label="support triangle (no mesh)")
+        ax.plot(*hull.T, color=palette.FAINT, ls=":", lw=1.0, label="support triangle (no mesh)")
     extent = [to_plot(supports), to_plot(built.attachment.point[:2])[None]]
     extent.extend(to_plot(line) for line in outline)
     extent.append(to_plot(supports) - 0.4 * size * built.normals)  # arrow tails and names
@@ -320,43 +322,54 @@ def draw_construction(ax: Axes, scene: Scene, built: Construction, result: Check
     funnel = intersect(*(c.funnel for c in cases))
     jamming = intersect(funnel, union(*(complement(c.friction) for c in cases)))
     radius = 0.33 * span
-    _wedges(ax, built, q, radius, forbidden, fc=(0.85, 0.1, 0.1, 0.12), ec="tab:red",
+    _wedges(ax, built, q, radius, forbidden, fc=to_rgba(palette.FAILING, 0.12), ec=palette.FAILING,
             hatch="///", lw=0.8, label="forbidden: wrong rotation sense (funnel)",
             zorder=3)  # fmt: skip
-    _wedges(ax, built, q, radius, jamming, fc=(1.0, 0.6, 0.0, 0.18), ec="tab:orange",
+    _wedges(ax, built, q, radius, jamming, fc=to_rgba(palette.JAMMING, 0.18), ec=palette.JAMMING,
             hatch="\\\\", lw=0.8, label="jamming: friction holds the body", zorder=3)  # fmt: skip
-    _wedges(ax, built, q, radius, built.combined, fc=(0.1, 0.7, 0.2, 0.45), ec="tab:green",
+    _wedges(ax, built, q, radius, built.combined, fc=to_rgba(palette.SAFE, 0.45), ec=palette.SAFE,
             lw=1.5, label="safe force directions (mass-free)", zorder=4)  # fmt: skip
+    if not built.combined:
+        say_why_empty(ax, "no safe force direction (mass-free):\nno green fan")
     for s, e in built.combined if built.combined != FULL else ():
         for a in (s, e):
             t = np.radians(_to_plot_angle(built, a))
             tip = q + 1.1 * radius * np.array([np.cos(t), np.sin(t)])
             ax.text(
                 tip[0], tip[1], format_angle(np.degrees(a) % 360, 1), ha="center", va="center",
-                fontsize=9, color="darkgreen", weight="bold", zorder=8, bbox=LABEL_BOX,
+                fontsize=9, color=palette.SAFE_DARK, weight="bold", zorder=8, bbox=LABEL_BOX,
             )  # fmt: skip
-    ax.plot(*q, "o", color="k", ms=7, zorder=8, label="force attachment point")
+    ax.plot(*q, "o", color=palette.INK, ms=7, zorder=8, label="force attachment point")
     design = built.attachment.design
     if design is not None:
         d = design[:2] / np.linalg.norm(design[:2])
         ax.annotate(
             "", xy=tuple(q + 0.9 * radius * d), xytext=tuple(q),
-            arrowprops={"arrowstyle": "-|>", "color": "navy", "lw": 2.4}, zorder=9,
+            arrowprops={"arrowstyle": "-|>", "color": palette.DESIGN, "lw": 2.4}, zorder=9,
         )  # fmt: skip
         angle = result.details.get("design_angle_deg")
         if angle is not None:
-            ax.plot([], [], color="navy", lw=2.4, label=f"design force ({format_angle(angle, 1)})")
+            ax.plot(
+                [],
+                [],
+                color=palette.DESIGN,
+                lw=2.4,
+                label=f"design force ({format_angle(angle, 1)})",
+            )
 
     ax.set_xlim(centre[0] - half, centre[0] + half)
     ax.set_ylim(centre[1] - half, centre[1] + half)
     ax.set_aspect("equal")
+    _support_names(ax, scene, built, to_plot, 2 * half)
     ax.set_xlabel(f"x ({scene.units})")
     ax.set_ylabel(f"y ({scene.units})")
     ax.grid(True, lw=0.3, alpha=0.5)
     triangle = result.details.get("pole_triangle")
     if triangle is not None and all(p is not None for p in triangle):
         corners = to_plot(np.array([*triangle, triangle[0]]))
-        ax.plot(*corners.T, color="tab:blue", lw=1.2, ls="-.", label="pole triangle")
+        ax.plot(
+            *corners.T, color=palette.SENSE_COLOURS["ccw"], lw=1.2, ls="-.", label="pole triangle"
+        )
     _title(ax, scene, result, triangle is not None)
 
 
@@ -371,7 +384,7 @@ def _title(ax: Axes, scene: Scene, result: CheckResult, triangle: bool) -> None:
     ax.set_title(title, fontsize=10.5, color=verdict_colour(result), loc="left")
     ax.text(
         0.0, -0.1, sweep_note(scene.sweep.normal, scene.sweep.e1), transform=ax.transAxes,
-        fontsize=7.5, color="0.35", va="top",
+        fontsize=7.5, color=palette.MUTED, va="top",
     )  # fmt: skip
 
 

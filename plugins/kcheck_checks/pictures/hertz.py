@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from kcheck.fmt import format_vector
+from kcheck.pictures import colours as palette
 from kcheck.pictures.plotting import figure, save, slug
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult
@@ -34,8 +35,9 @@ def plot_hertz(scene: Scene, result: CheckResult, directory: Path) -> list[Path]
         axes[2].remove()
         polar = fig.add_subplot(1, panels, 3, projection="polar")
         _stiffness_panel(polar, np.array(compliance), scene, result.details["error_point"])
+    materials = result.details.get("materials", "")
     fig.suptitle(
-        f"{scene.name} — {verdict_title(result)}\n{result.message.split(';')[0]}",
+        f"{scene.name} — {verdict_title(result)}\n{result.message.split(';')[0]}\n{materials}",
         fontsize=10, color=verdict_colour(result),
     )  # fmt: skip
     return list(save(fig, directory, f"{slug(scene.name)}-hertz"))
@@ -48,12 +50,12 @@ def _pressure_panel(ax: Any, contacts: list[dict[str, Any]], safety_factor: floa
     worst = np.array([c["utilisation"] for c in contacts]) / safety_factor
     share = 100 * safety_factor
     x = np.arange(len(names))
-    colours = ["tab:red" if u * safety_factor > 1 else "tab:green" for u in worst]
+    colours = [palette.status_colour("fail" if u * safety_factor > 1 else "pass") for u in worst]
     ax.bar(x, share * seated, color=colours, alpha=0.85, label="seated")
     # Cosmetic: the disturbed outline only when some bar changes beyond rounding (1e-9).
     if np.any(np.abs(worst - seated) > 1e-9 * np.maximum(worst, 1e-300)):
-        ax.bar(x, share * worst, fill=False, edgecolor="black", label="with the disturbance")
-    ax.axhline(100, color="black", lw=1, ls="--", label="allowable / safety factor")
+        ax.bar(x, share * worst, fill=False, edgecolor=palette.INK, label="with the disturbance")
+    ax.axhline(100, color=palette.INK, lw=1, ls="--", label="allowable / safety factor")
     ax.set_xticks(x, names, rotation=45 if len(names) > 6 else 0)
     ax.set_ylabel("peak pressure, % of allowed")
     ax.set_title("contact stress (labels: seated peak pressure, MPa)", fontsize=10)
@@ -78,12 +80,14 @@ def _ellipse_panel(ax: Any, contacts: list[dict[str, Any]]) -> None:
     top = float(sizes.max()) if sizes.max() > 0 else 1.0
     pitch = 2.6 * top
     for i, (c, (a, b)) in enumerate(zip(contacts, sizes, strict=True)):
-        ax.add_patch(Ellipse((i * pitch, 0), 2 * a, 2 * b, color="tab:blue", alpha=0.6))
+        ax.add_patch(
+            Ellipse((i * pitch, 0), 2 * a, 2 * b, color=palette.support_colour(i), alpha=0.6)
+        )
         ax.annotate(c["support"], (i * pitch, -1.25 * top), ha="center", fontsize=7)
     # a scale bar of a round length about the largest semi-axis
     bar = 10 ** np.floor(np.log10(top))
     y = 1.35 * top
-    ax.plot([-pitch / 2 + 0.1 * pitch, -pitch / 2 + 0.1 * pitch + bar], [y, y], color="black")
+    ax.plot([-pitch / 2 + 0.1 * pitch, -pitch / 2 + 0.1 * pitch + bar], [y, y], color=palette.INK)
     ax.annotate(
         f"{bar:g} µm",
         (-pitch / 2 + 0.1 * pitch, y),
@@ -103,11 +107,13 @@ def _stiffness_panel(ax: Any, compliance: np.ndarray, scene: Scene, point: list[
     """Stiffness 1 / (e^T C e) of the error point along directions e in three planes."""
     t = np.linspace(0, 2 * np.pi, 361)
     planes = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)} if len(compliance) == 3 else {"xy": (0, 1)}
-    for (label, (i, j)), style in zip(planes.items(), ("-", "--", ":"), strict=False):
+    styles = zip(("-", "--", ":"), palette.PLANE_COLOURS, strict=True)
+    for (label, (i, j)), (style, colour) in zip(planes.items(), styles, strict=False):
         e = np.zeros((len(t), len(compliance)))
         e[:, i], e[:, j] = np.cos(t), np.sin(t)
         k = 1.0 / np.einsum("ni,ij,nj->n", e, compliance, e)
-        ax.plot(t, k / 1e6, style, lw=2, label=f"{label} plane (angle from {label[0]})")
+        name = f"{label} plane (angle from {label[0]})"
+        ax.plot(t, k / 1e6, style, color=colour, lw=2, label=name)
     shown = format_vector(np.asarray(point) / scene.scale)
     ax.set_title(f"stiffness at {shown} {scene.units}, N/µm", fontsize=9)
     ax.legend(fontsize=7, loc="lower left", bbox_to_anchor=(-0.1, -0.15))

@@ -13,6 +13,8 @@ import numpy as np
 from kcheck.analysis.jamming_cases import JamAnalysis, JamMap, case_arcs
 from kcheck.fmt import format_angle, format_number, format_share_bounds
 from kcheck.mechanics.arcs import ArcSet
+from kcheck.pictures import colours as palette
+from kcheck.pictures.labels import say_why_empty
 from kcheck.pictures.plotting import figure, save, slug
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CheckResult
@@ -23,10 +25,10 @@ from kcheck_checks.pictures.titles import verdict_colour, verdict_title
 __all__ = ["plot_jamming", "circle_panel", "sphere_panel"]
 
 COLOURS = {
-    "closing": "#cfe8cf",  # frictionless closing (the funnel)
-    "jams": "tab:red",
-    "holds": "tab:orange",
-    "lifts": "0.55",
+    "closing": palette.SAFE_PALE,  # frictionless closing (the funnel)
+    "jams": palette.JAMMING,
+    "holds": palette.JAMMING_PALE,
+    "lifts": palette.PULL,
 }
 
 
@@ -42,7 +44,17 @@ def plot_jamming(
         return []
     stem = f"{slug(scene.name)}-jamming"
     if analysis.statics.dim == 2:
-        fig = figure(figsize=(13, 5.2))
+        # Fixed margins (inches) instead of a layout engine, which left the legend on the
+        # 270° labels and the title's third line on the panels' titles: room for the title's
+        # lines, two lines of panel title, the 90° label above and the 270° label and the
+        # legend below each circle.
+        lines = 2 + verdict_title(result).count("\n")
+        head, foot, circle = 0.2 + 0.23 * lines + 0.7, 0.75, 3.7
+        fig = figure(figsize=(13, circle + head + foot), layout=None)
+        fig.subplots_adjust(
+            left=0.03, right=0.97, top=1 - head / (circle + head + foot),
+            bottom=foot / (circle + head + foot), wspace=0.3,
+        )  # fmt: skip
         circle_panel(fig, scene, analysis, result)
     else:
         fig = figure(figsize=(12, 6.8))
@@ -79,13 +91,15 @@ def circle_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
         if case.determined:
             arcs = case_arcs(case, e1, e2)
             _bars(ax, arcs.closing, 0.55, 0.45, color=COLOURS["closing"], edgecolor="none")
-            _bars(ax, arcs.jamming, 0.7, 0.3, color=COLOURS["jams"], edgecolor="black", lw=0.4)
-            _bars(ax, arcs.holding_open, 0.7, 0.3, color=COLOURS["holds"], edgecolor="black",
+            _bars(ax, arcs.jamming, 0.7, 0.3, color=COLOURS["jams"], edgecolor=palette.INK, lw=0.4)
+            _bars(ax, arcs.holding_open, 0.7, 0.3, color=COLOURS["holds"], edgecolor=palette.INK,
                   lw=0.4)  # fmt: skip
             if arcs.lifts_off:
-                _bars(ax, arcs.lifts_off, 0.7, 0.3, color="white", edgecolor=COLOURS["lifts"],
+                _bars(ax, arcs.lifts_off, 0.7, 0.3, color=palette.PAPER, edgecolor=COLOURS["lifts"],
                       hatch="////", lw=0.4)  # fmt: skip
             _end_labels(ax, [end for s, e in arcs.held for end in (s, e)])
+            if not arcs.held and not arcs.closing:
+                say_why_empty(ax, "no load angle closes this case\nand friction holds none")
             res = cases.get(name)
             if res is not None:
                 title += f": {res.outcome}"
@@ -96,10 +110,13 @@ def circle_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
                     title += "\nnot held for any μ ≤ 100"
         else:
             title += ": undetermined"
+            say_why_empty(ax, "undetermined: the supports left\ndo not fix the body's motion")
         if analysis.design is not None:
             angle = float(np.arctan2(analysis.design @ e2, analysis.design @ e1))
-            ax.annotate("", xy=(angle, 1.0), xytext=(angle, 0.0),
-                        arrowprops={"arrowstyle": "-|>", "color": "black", "lw": 1.6})  # fmt: skip
+            ax.annotate(
+                "", xy=(angle, 1.0), xytext=(angle, 0.0),
+                arrowprops={"arrowstyle": "-|>", "color": palette.DESIGN, "lw": 1.8},
+            )  # fmt: skip
         ax.set_ylim(0, 1.2)
         ax.set_yticks([])
         ax.set_xticks(np.radians(np.arange(0, 360, 45)))
@@ -110,18 +127,19 @@ def circle_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
         _patch(COLOURS["jams"], "jams: friction holds a closing load"),
         _patch(COLOURS["holds"], "holds: friction holds an opening load"),
         _patch(
-            "white",
+            palette.PAPER,
             "Koster's jamming area a support would have to pull in",
             hatch="////",
             edge=COLOURS["lifts"],
         ),  # fmt: skip
     ]
-    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8, frameon=False)
+    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8, frameon=False,
+               bbox_to_anchor=(0.5, 0.0))  # fmt: skip
     what = "load" if analysis.swept == "load" else "gravity"
     fig.suptitle(
         f"{scene.name} — {verdict_title(result)}\n{what} angles (° from +x, ccw) where friction "
         "can hold the body, per retracted support; arrow: design direction",
-        fontsize=11, color=verdict_colour(result),
+        fontsize=11, color=verdict_colour(result), y=1 - 0.1 / fig.get_figheight(), va="top",
     )  # fmt: skip
 
 
@@ -129,12 +147,12 @@ def _reds(n: int) -> list[Any]:
     """White for no case, then darker reds for more cases."""
     import matplotlib
 
-    return ["white"] + [
-        tuple(c) for c in matplotlib.colormaps["Reds"](np.linspace(0.3, 0.95, n - 1))
+    return [palette.PAPER] + [
+        tuple(c) for c in matplotlib.colormaps[palette.JAMMING_MAP](np.linspace(0.3, 0.95, n - 1))
     ]
 
 
-def _patch(colour: str, label: str, hatch: str | None = None, edge: str = "black") -> Any:
+def _patch(colour: str, label: str, hatch: str | None = None, edge: str = palette.INK) -> Any:
     from matplotlib.patches import Patch
 
     return Patch(facecolor=colour, edgecolor=edge, hatch=hatch, label=label)
@@ -153,14 +171,14 @@ def _sweep_circle(ax: Any, plane: Any, c0: np.ndarray, first: bool) -> None:
     front = dirs @ c0 >= -1e-9
     xy = np.array([lambert_forward(d, c0) for d in dirs])
     xy[~front] = np.nan
-    ax.plot(xy[:, 0], xy[:, 1], "--", color="0.15", lw=1.0,
+    ax.plot(xy[:, 0], xy[:, 1], "--", color=palette.DARK, lw=1.0,
             label="sweep plane (angles of the ranges)" if first else None)  # fmt: skip
     for angle in range(0, 360, 45):
         i = 2 * angle
         if front[i]:
-            ax.plot(*xy[i], "o", color="0.15", ms=3)
+            ax.plot(*xy[i], "o", color=palette.DARK, ms=3)
             ax.annotate(format_angle(angle, 0), xy[i], xytext=(3, -9), textcoords="offset points",
-                        fontsize=7, color="0.15")  # fmt: skip
+                        fontsize=7, color=palette.DARK)  # fmt: skip
 
 
 def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckResult) -> None:
@@ -186,28 +204,32 @@ def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
             count += held
             grid = np.where(inside, held.reshape(x.shape).astype(float), np.nan)
             if np.nanmin(grid) < 0.5 < np.nanmax(grid):
-                ax.contour(x, y, grid, levels=[0.5], colors=[f"C{i}"], linewidths=0.9)
+                ax.contour(
+                    x, y, grid, levels=[0.5], colors=[palette.support_colour(i)], linewidths=0.9
+                )
             if k == 0:
-                ax.plot([], [], color=f"C{i}", lw=0.9,
+                ax.plot([], [], color=palette.support_colour(i), lw=0.9,
                         label=f"{analysis.statics.names[i]} can be held inside")  # fmt: skip
         shown = np.where(inside, count.reshape(x.shape), np.nan)
         filled = ax.contourf(x, y, shown, levels=levels, colors=_reds(len(levels) - 1))
+        if not np.nanmax(shown) > 0:
+            say_why_empty(ax, "friction holds no retracted case\nanywhere on this hemisphere")
         for angle in (30, 60, 90):
             r = 2 * np.sin(np.radians(angle) / 2)
             ax.add_patch(ring(r, solid=angle == 90))
             label = f"{angle}°" if sign > 0 else f"{180 - angle}°"
-            ax.text(0.71 * r, 0.71 * r, label, fontsize=7, color="0.35")
+            ax.text(0.71 * r, 0.71 * r, label, fontsize=7, color=palette.MUTED)
         for label, vec in (("+x", (1, 0, 0)), ("+y", (0, 1, 0)), ("+z", (0, 0, 1)),
                            ("−x", (-1, 0, 0)), ("−y", (0, -1, 0)), ("−z", (0, 0, -1))):  # fmt: skip
             v = np.array(vec, float)
             # Cosmetic: label the axes on the near hemisphere, its rim included despite rounding.
             if v @ c0 >= -1e-9:
                 px, py = lambert_forward(v, c0)
-                ax.plot(px, py, "+", color="0.25", ms=8)
-                ax.text(px, py, f" {label}", fontsize=9, color="0.25", va="bottom")
+                ax.plot(px, py, "+", color=palette.DARK, ms=8)
+                ax.text(px, py, f" {label}", fontsize=9, color=palette.DARK, va="bottom")
         _sweep_circle(ax, result.details.get("sweep_plane"), c0, first=k == 0)
         if analysis.design is not None and sign > 0:
-            ax.plot(0, 0, "*", mfc="tab:orange", mec="black", ms=16,
+            ax.plot(0, 0, "*", mfc=palette.DESIGN, mec=palette.PAPER, ms=16,
                     label="design direction" if k == 0 else None)  # fmt: skip
         ax.set_aspect("equal")
         ax.set_xlim(-edge * 1.05, edge * 1.05)
@@ -221,7 +243,7 @@ def sphere_panel(fig: Any, scene: Scene, analysis: JamAnalysis, result: CheckRes
     bar = fig.colorbar(filled, ax=list(axes), shrink=0.7, pad=0.02)
     bar.set_ticks(np.arange(len(analysis.cases) + 1))
     bar.set_label("retracted cases friction can hold (circumscribed pyramids)")
-    fig.legend(loc="lower center", ncol=4, fontsize=8, frameon=False)
+    fig.legend(loc="outside lower center", ncol=4, fontsize=8, frameon=False)
     what = "load" if analysis.swept == "load" else "gravity"
     details = result.details
     low = details.get("jam_free_solid_angle_fraction")

@@ -18,7 +18,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from kcheck.analysis.cases import Analysis
-from kcheck.pictures.plotting import figure, outcome_colour, save, slug
+from kcheck.pictures import colours as palette
+from kcheck.pictures.colours import outcome_colour
+from kcheck.pictures.plotting import figure, save, slug
 from kcheck.plugin import Check, Inputs
 from kcheck.report.tables import motion_text
 from kcheck.result import CaseResult, CheckResult
@@ -34,13 +36,13 @@ __all__ = ["plot_spatial", "scene_views", "clip_segment"]
 
 # Largest number of mesh triangles drawn (the body is a rasterised silhouette anyway).
 MAX_TRIANGLES = 6000
-SUPPORT = "#1f77b4"
-RETRACTED = "#d62728"
-LOAD = "#ff7f0e"
+SUPPORT = palette.SUPPORT
+RETRACTED = palette.RETRACTED
+LOAD = palette.DESIGN
 # Characters of a 9.5 pt panel title that fit a panel 3.8 inches wide.
 TITLE_CHARACTERS = 58
-GRAVITY = "#6b4226"
-MOTION = "#7b2cbf"
+GRAVITY = palette.GRAVITY
+MOTION = palette.MOTION
 
 
 @dataclass(frozen=True)
@@ -184,38 +186,18 @@ def _drawing(scene: Scene, analysis: Analysis) -> Drawing:
     )
 
 
-def _labels(ax: Axes, d: Drawing, view: View, keep: np.ndarray, size: float, nudge: bool) -> None:
-    """Support names just beyond the tail of each normal arrow (or outwards from the
-    supports' centre when the normal points at the viewer); a name that would land on another
-    is nudged aside (``nudge``) or left out."""
+def _labels(ax: Axes, d: Drawing, view: View) -> None:
+    """Every support's name beside its point (:func:`kcheck.pictures.labels.label_supports`);
+    an arrow seen nearly end-on (under 0.3 of its length) counts as none."""
+    from kcheck.pictures.labels import label_supports
+
     k = list(view.axes)
-    centre = d.points[:, k].mean(axis=0)
-    placed: list[np.ndarray] = []
-    for j in np.flatnonzero(keep):
-        p, n = d.points[j, k], d.normals[j, k]
-        if np.linalg.norm(n) > 0.3:
-            away = -n / np.linalg.norm(n)
-            at = p + away * (1.3 * d.arrow * np.linalg.norm(n) + 0.03 * size)
-        else:
-            radial = p - centre
-            away = (
-                radial / np.linalg.norm(radial)
-                if np.linalg.norm(radial) > 0
-                else np.array([0, 1.0])
-            )
-            at = p + away * 0.06 * size
-        crowded = any(np.linalg.norm(at - other) < 0.07 * size for other in placed)
-        if crowded and not nudge:
-            continue  # the plan names it; no blob of names here
-        if crowded:
-            at = at + np.array([-away[1], away[0]]) * 0.08 * size
-        placed.append(at)
-        ax.text(
-            at[0], at[1], d.names[j], fontsize=8, color=SUPPORT, weight="bold",
-            ha="left" if away[0] > 0.3 else "right" if away[0] < -0.3 else "center",
-            va="bottom" if away[1] > 0.3 else "top" if away[1] < -0.3 else "center",
-            zorder=6,
-        )  # fmt: skip
+    arrows = -d.normals[:, k]
+    arrows[np.linalg.norm(arrows, axis=1) < 0.3] = 0.0
+    label_supports(
+        ax, d.points[:, k], arrows, d.names, float(np.max(d.hi - d.lo)),
+        fontsize=8, color=SUPPORT, weight="bold",
+    )  # fmt: skip
 
 
 def _rotation_sense(ax: Axes, centre: np.ndarray, axis: np.ndarray, view: View, r: float) -> None:
@@ -296,7 +278,7 @@ def _view(
         body = PolyCollection(
             # matplotlib's stubs say a sequence of polygons; it takes an (N, 3, 2) array too.
             d.triangles[:, :, k],  # type: ignore[arg-type]
-            facecolor="0.86",
+            facecolor=palette.BODY,
             edgecolor="none",
             zorder=0,
             rasterized=True,
@@ -309,11 +291,10 @@ def _view(
         angles="xy", scale_units="xy", scale=1, color=SUPPORT, width=0.006, zorder=4,
     )  # fmt: skip
     ax.plot(*d.points[keep][:, k].T, "o", color=SUPPORT, ms=3.5, zorder=5)
-    ax.plot(*d.points[retracted, k], "X", color=RETRACTED, ms=9, mec="white", zorder=6)
+    ax.plot(*d.points[retracted, k], "X", color=RETRACTED, ms=9, mec=palette.PAPER, zorder=6)
     ax.plot(
         *np.array([tails[retracted], d.points[retracted]])[:, k].T, ":", color=RETRACTED, lw=1.5
     )
-    _labels(ax, d, view, keep, size, nudge=view.name == "plan")
     # Labels placed so far: a second one at the same place goes a line below.
     placed: list[np.ndarray] = []
     for q, direction, label, colour in d.forces:
@@ -352,7 +333,7 @@ def _view(
 def _panel_title(name: str, case: CaseResult | None, units: str) -> tuple[str, str]:
     """ "B.1 retracted: closes — pure rotation about (...)" and its colour."""
     if case is None:
-        return f"{name} retracted", "black"
+        return f"{name} retracted", palette.INK
     motion = motion_text(case.details, units)
     outcome = case.outcome.replace("_", " ")
     return f"{name} retracted: {outcome} — {motion}", outcome_colour(case.outcome)
@@ -389,6 +370,7 @@ def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
         rows, cols, left=0.05, right=0.99, bottom=0.35 / height,
         top=1 - (head + extra) / height, hspace=(0.4 + extra) / pair, wspace=0.2,
     )  # fmt: skip
+    placed: list[tuple[Axes, Axes]] = []
     for i, name in enumerate(d.names):
         inner = outer[divmod(i, cols)].subgridspec(
             2, 1, height_ratios=[plan_h, elev_h], hspace=0.35 / pair
@@ -400,6 +382,7 @@ def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
             _view(ax, d, view, i, case, scene.scale)
         plan.set_anchor("S")  # the elevation sits right under its plan
         elev.set_anchor("N")
+        placed.append((plan, elev))
         # Every panel has the same limits: numbers only on the outer edges (text is most of
         # the drawing time), grid lines everywhere.
         plan.tick_params(labelbottom=False)
@@ -415,6 +398,10 @@ def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
         if long:
             title = title.replace(" — ", "\n", 1)
         plan.set_title(title, fontsize=9.5, color=colour, loc="left")
+    # Names last: placing them measures them in the panels as laid out.
+    for pair in placed:
+        for ax, view in zip(pair, VIEWS, strict=True):
+            _labels(ax, d, view)
     fig.suptitle(
         f"{scene.name} — {status}", fontsize=12, color=verdict_colour(result),
         y=1 - 0.12 / height, va="top",
@@ -422,10 +409,10 @@ def scene_views(scene: Scene, analysis: Analysis, result: CheckResult) -> Any:
     fig.text(
         0.5, 1 - (0.4 + 0.22 * lines) / height,
         f"free motion when each support is retracted ({scene.units}); each: plan (x–y, from +z)"
-        " over elevation (x–z, from −y);\nblue: supports pushing "
-        "along their normals; red ×: the retracted one; purple: screw axis and rotation sense "
-        "(⊙ towards you, ⊗ away); orange: load, preloads; brown: gravity",
-        ha="center", va="top", fontsize=8.5, color="0.25",
+        " over elevation (x–z, from −y);\ndark grey: supports pushing along their normals, "
+        "grey ×: the retracted one; purple: screw axis and rotation sense (⊙ towards you, "
+        "⊗ away); navy: the load (design direction), preloads; brown: gravity",
+        ha="center", va="top", fontsize=8.5, color=palette.MUTED,
     )  # fmt: skip
     return fig
 

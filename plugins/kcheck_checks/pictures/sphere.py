@@ -17,6 +17,8 @@ import numpy as np
 from kcheck.analysis.cases import Analysis
 from kcheck.fmt import format_angle, format_direction, format_share
 from kcheck.mechanics.arcs import cap_margin_matrix
+from kcheck.pictures import colours as palette
+from kcheck.pictures.labels import say_why_empty
 from kcheck.pictures.plotting import figure
 from kcheck.result import CheckResult
 from kcheck.scene import Scene
@@ -75,7 +77,7 @@ def ring(r: float, solid: bool) -> Any:
     from matplotlib.patches import Circle
 
     return Circle(
-        (0, 0), r, fill=False, color="0.2" if solid else "0.55",
+        (0, 0), r, fill=False, color=palette.DARK if solid else palette.FAINT,
         linewidth=1.2 if solid else 0.5, linestyle="-" if solid else ":",
     )  # fmt: skip
 
@@ -143,12 +145,16 @@ def _rings(ax: Axes, lo: np.ndarray, hi: np.ndarray, about: str) -> None:
     # Cosmetic: + 1e-9 keeps the last ring that rounding of arange's end would drop.
     for angle in np.arange(step, min(span, 90.0) + 1e-9, step):
         r = 2 * np.sin(np.radians(angle) / 2)
-        ax.add_patch(Circle((0, 0), r, fill=False, color="0.45", lw=0.6, ls=(0, (2, 3)), zorder=3))
+        ax.add_patch(
+            Circle((0, 0), r, fill=False, color=palette.MUTED, lw=0.6, ls=(0, (2, 3)), zorder=3)
+        )
         at = np.array([np.cos(np.radians(58)), np.sin(np.radians(58))]) * r
         if np.all((at > lo) & (at < hi)):
-            ax.text(at[0], at[1], f"{angle:g}°", fontsize=7, color="0.3", zorder=3)
-    ax.plot(0, 0, "+", color="0.3", ms=9, zorder=3)
-    ax.set_xlabel(f"dotted rings: angle from the {about} direction", fontsize=8, color="0.3")
+            ax.text(at[0], at[1], f"{angle:g}°", fontsize=7, color=palette.MUTED, zorder=3)
+    ax.plot(0, 0, "+", color=palette.MUTED, ms=9, zorder=3)
+    ax.set_xlabel(
+        f"dotted rings: angle from the {about} direction", fontsize=8, color=palette.MUTED
+    )
 
 
 def _axes_marks(
@@ -162,8 +168,8 @@ def _axes_marks(
             continue
         px, py = lambert_forward(v, centre)
         if lo[0] < px < hi[0] and lo[1] < py < hi[1]:
-            ax.plot(px, py, "s", color="0.2", ms=4, zorder=4)
-            ax.text(px, py, f" {label}", fontsize=9, color="0.2", va="bottom", zorder=4)
+            ax.plot(px, py, "s", color=palette.DARK, ms=4, zorder=4)
+            ax.text(px, py, f" {label}", fontsize=9, color=palette.DARK, va="bottom", zorder=4)
 
 
 def _marks(ax: Axes, smap: SphereMap, centre: np.ndarray, what: str) -> list[Any]:
@@ -174,9 +180,9 @@ def _marks(ax: Axes, smap: SphereMap, centre: np.ndarray, what: str) -> list[Any
     # direction, margin, marker, its matplotlib keyword arguments, name
     marks: tuple[tuple[np.ndarray | None, float | None, str, dict[str, Any], str], ...] = (
         (smap.robust, smap.robust_margin, "o",
-         {"mfc": "white", "mec": "black", "mew": 1.6, "ms": 8}, "most robust"),
+         {"mfc": palette.PAPER, "mec": palette.INK, "mew": 1.6, "ms": 8}, "most robust"),
         (smap.design, smap.design_margin, "*",
-         {"mfc": "#ff7f0e", "mec": "black", "mew": 0.8, "ms": 12}, f"design {what}"),
+         {"mfc": palette.DESIGN, "mec": palette.PAPER, "mew": 0.8, "ms": 14}, f"design {what}"),
     )  # fmt: skip
     for d, margin, marker, kw, name in marks:
         if d is None:
@@ -211,9 +217,16 @@ def on_map(d: np.ndarray, centre: np.ndarray) -> tuple[float, float]:
 
 
 def _case_boundaries(
-    ax: Axes, x: np.ndarray, y: np.ndarray, m: np.ndarray, names: list[str], band: float
+    ax: Axes,
+    x: np.ndarray,
+    y: np.ndarray,
+    m: np.ndarray,
+    names: list[str],
+    ids: np.ndarray,
+    band: float,
 ) -> list[Any]:
-    """Each case's boundary, hatched on the side where that case does not close."""
+    """Each case's boundary, hatched on the side where that case does not close, in the colour
+    of its retracted support (``ids``: the supports' indices)."""
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
@@ -222,7 +235,7 @@ def _case_boundaries(
         mi = m[i]
         if not (np.nanmin(mi) < 0 < np.nanmax(mi)):
             continue
-        colour = f"C{i % 10}"
+        colour = palette.support_colour(int(ids[i]))
         hatched = ax.contourf(
             x, y, mi, levels=[-band, 0.0], colors="none", hatches=["////"], zorder=4
         )
@@ -234,7 +247,12 @@ def _case_boundaries(
         )
     if handles:
         handles.append(
-            Patch(facecolor="none", edgecolor="0.3", hatch="////", label="hatched: does not close")
+            Patch(
+                facecolor="none",
+                edgecolor=palette.MUTED,
+                hatch="////",
+                label="hatched: does not close",
+            )
         )
     return handles
 
@@ -276,15 +294,22 @@ def sphere_figure(scene: Scene, analysis: Analysis, smap: SphereMap, result: Che
     top = float(np.nanmax(total)) if np.any(total > 0) else 0.0
     # Cosmetic: the band from -1e9 (below every margin) to 0 fills where no direction is safe.
     ax.contourf(
-        x, y, np.where(total > 0, np.nan, total), levels=[-1e9, 0.0], colors=["0.9"], zorder=1
+        x,
+        y,
+        np.where(total > 0, np.nan, total),
+        levels=[-1e9, 0.0],
+        colors=[palette.NOTHING],
+        zorder=1,
     )
+    if top <= 0:
+        say_why_empty(ax, f"no {what} direction is safe for every retraction:\nno green region")
     if top > 0:
         step = nice_step(top, 5)
         levels = np.arange(0.0, top + step, step)
         filled = ax.contourf(
-            x, y, np.where(total > 0, total, np.nan), levels=levels, cmap="Greens", zorder=2
+            x, y, np.where(total > 0, total, np.nan), levels=levels, cmap=palette.SAFE_MAP, zorder=2
         )
-        ax.contour(x, y, total, levels=[0.0], colors="black", linewidths=1.8, zorder=6)
+        ax.contour(x, y, total, levels=[0.0], colors=palette.INK, linewidths=1.8, zorder=6)
         bar = fig.colorbar(
             filled, ax=over, orientation="horizontal", fraction=0.08, pad=0.25, aspect=25
         )
@@ -293,8 +318,8 @@ def sphere_figure(scene: Scene, analysis: Analysis, smap: SphereMap, result: Che
         bar.set_label("safe: margin to the nearest boundary", fontsize=8)
         bar.ax.tick_params(labelsize=7)
     span_deg = 2 * np.degrees(np.arcsin(min(float(hi[0] - lo[0]) / 4, 1.0)))
-    handles = _case_boundaries(ax, x, y, m, names, band=max(0.05 * span_deg, 0.3))
-    ax.add_patch(Circle((0, 0), EDGE, fill=False, color="0.2", lw=1.0, zorder=3))
+    handles = _case_boundaries(ax, x, y, m, names, cases, band=max(0.05 * span_deg, 0.3))
+    ax.add_patch(Circle((0, 0), EDGE, fill=False, color=palette.DARK, lw=1.0, zorder=3))
     _rings(ax, lo, hi, about)
     busy = [np.asarray(d, float) for d in (smap.design, smap.robust) if d is not None]
     _axes_marks(ax, centre, lo, hi, busy)
@@ -307,14 +332,23 @@ def sphere_figure(scene: Scene, analysis: Analysis, smap: SphereMap, result: Che
 
     # Overview: the hemisphere, the safe region, the zoomed box.
     over.contourf(ox, oy, np.where(inside, safe.astype(float), np.nan), levels=[-0.5, 0.5, 1.5],
-                  colors=["0.88", "#2ca02c"])  # fmt: skip
+                  colors=[palette.NOTHING, palette.SAFE])  # fmt: skip
     for i in range(len(cases)):
         mi = np.where(inside, om[i], np.nan)
         if np.nanmin(mi) < 0 < np.nanmax(mi):
-            over.contour(ox, oy, mi, levels=[0.0], colors=[f"C{i % 10}"], linewidths=0.6)
-    over.add_patch(Circle((0, 0), EDGE, fill=False, color="0.2", lw=1.0))
+            over.contour(
+                ox,
+                oy,
+                mi,
+                levels=[0.0],
+                colors=[palette.support_colour(int(cases[i]))],
+                linewidths=0.6,
+            )
+    over.add_patch(Circle((0, 0), EDGE, fill=False, color=palette.DARK, lw=1.0))
     if hi[0] - lo[0] < 2 * EDGE:
-        over.add_patch(Rectangle(tuple(lo), *(hi - lo), fill=False, ec="black", lw=1.2, ls="--"))
+        over.add_patch(
+            Rectangle(tuple(lo), *(hi - lo), fill=False, ec=palette.INK, lw=1.2, ls="--")
+        )
     _axes_marks(over, centre, np.array([-EDGE, -EDGE]) * 1.1, np.array([EDGE, EDGE]) * 1.1, busy)
     _marks(over, smap, centre, what)
     over.set_xlim(-EDGE * 1.08, EDGE * 1.08)
@@ -350,6 +384,6 @@ def sphere_figure(scene: Scene, analysis: Analysis, smap: SphereMap, result: Che
         f"equal-area (Lambert azimuthal) map centred on the {about} direction "
         f"{format_direction(centre, 2)}\ngreen: safe for every retraction, shaded by margin; "
         "black: its boundary",
-        fontsize=8.5, color="0.25",
+        fontsize=8.5, color=palette.MUTED,
     )  # fmt: skip
     return fig

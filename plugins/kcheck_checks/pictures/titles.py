@@ -9,7 +9,8 @@ fed the same result objects the text report uses; nothing is computed again.
 
 from __future__ import annotations
 
-from kcheck.pictures.plotting import VERDICT_COLOURS, current_scene
+from kcheck.pictures.colours import INK, VERDICT_COLOURS
+from kcheck.pictures.plotting import current_scene
 from kcheck.report.views import scene_status_text, status_text, verdict, worse
 from kcheck.result import CheckResult
 
@@ -34,4 +35,4 @@ def verdict_colour(result: CheckResult) -> str:
     scene = current_scene()
     if scene is not None and worse(scene.word, word):
         word = scene.word
-    return VERDICT_COLOURS.get(word, "black")
+    return VERDICT_COLOURS.get(word, INK)

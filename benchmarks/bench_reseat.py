@@ -1,0 +1,67 @@
+"""Cost of the `reseat` check: ``python benchmarks/bench_reseat.py`` (needs the `sim` extra).
+
+One retraction case, 1 s simulated (0.5 s retract + 0.5 s return, plus the 0.1 s settle), at
+the default time step 1e-4 s, CPU time (``time.process_time``, median of 5 after a warm-up)
+of :func:`kcheck.analysis.reseat.simulate`, paired with the `analytical-2d` check's whole run
+on the same scene (every case at the instant of retraction). Then the whole `reseat` check
+(every case, at the time step and at half of it). Scenes: the Appendix A block (planar, 3
+supports) and the Maxwell three-vee (spatial, 6 supports). Run from the project's root.
+"""
+
+from __future__ import annotations
+
+import statistics
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from kcheck_checks.analytical_2d import Analytical2D  # noqa: E402
+from kcheck_checks.analytical_3d import Analytical3D  # noqa: E402
+from kcheck_checks.reseat import Reseat, ReseatOptions, settings_of  # noqa: E402
+
+from kcheck.analysis.reseat import simulate  # noqa: E402
+from kcheck.body.mass import body_mass_properties  # noqa: E402
+from kcheck.plugin import Inputs  # noqa: E402
+from kcheck.scene import load_scene  # noqa: E402
+
+SCENES = (
+    ("thesis-appendix-a", "block.kcheck.yaml", Analytical2D),
+    ("maxwell-three-vee", "coupling.kcheck.yaml", Analytical3D),
+)
+
+
+def cpu_time(work: Callable[[], object], repeats: int) -> float:
+    """Median CPU seconds of ``work`` after one warm-up call."""
+    work()
+    times = []
+    for _ in range(repeats):
+        start = time.process_time()
+        work()
+        times.append(time.process_time() - start)
+    return statistics.median(times)
+
+
+def main() -> None:
+    """Print the table rows (docs/performance.md)."""
+    settings = settings_of(ReseatOptions())
+    for folder, name, analytical in SCENES:
+        scene = load_scene(ROOT / "fixtures" / folder / name)
+        assert scene.body is not None
+        mass = body_mass_properties(scene.body, scene.scale)
+        mu = scene.friction_range("kinetic")[1]
+        one = cpu_time(lambda s=scene, m=mass, f=mu: simulate(s, m, 0, f, settings), 5)
+        base = cpu_time(lambda s=scene, m=mass, a=analytical: a().run(Inputs(s, m, a.options())), 5)
+        whole = cpu_time(lambda s=scene, m=mass: Reseat().run(Inputs(s, m, ReseatOptions())), 1)
+        k = len(scene.supports)
+        print(
+            f"| {folder} | {k} | {1e3 * one:.0f} ms | {1e3 * base:.1f} ms "
+            f"({analytical.id}, all {k} cases) | {whole:.2f} s |"
+        )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,272 @@
+"""Where points lie against the body's surface: distance to it (m), the closest point, the
+surface's outward normal there, and whether a point is inside (the generalised winding
+number). Plain numpy over the placed triangles, so that no spatial index (rtree, embree) is
+needed; a scene has a few supports, and each query is one pass over the faces.
+
+A planar scene's body is its section in the plane of motion: :func:`section_segments` cuts
+it, and :func:`closest_on_segments` measures in that plane.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from kcheck.scene import Body
+
+__all__ = [
+    "Surface",
+    "body_surface",
+    "closest_on_triangles",
+    "closest_point",
+    "inside",
+    "closest_on_segments",
+    "section_segments",
+    "winding_numbers",
+]
+
+#: Faces per block of a query: bounds the temporary arrays (points x faces x 3 floats).
+_BLOCK = 200_000
+
+
+@dataclass(frozen=True)
+class Surface:
+    """The body's placed triangles (F, 3, 3), in metres, and whether every part is closed
+    (watertight, consistently wound: inside and outside are then defined)."""
+
+    triangles: np.ndarray
+    closed: bool
+
+    @property
+    def bounds(self) -> np.ndarray:
+        """Axis-aligned bounds (rows min, max), m."""
+        flat = self.triangles.reshape(-1, 3)
+        return np.array([flat.min(axis=0), flat.max(axis=0)])
+
+
+def body_surface(body: Body, max_mesh_bytes: int | None = None) -> Surface | None:
+    """The surface of the body's mesh parts in the scene's frame, in metres; None without
+    mesh parts. Raises MeshError for a mesh that cannot be read (as mass properties do)."""
+    from kcheck.body.mass import placed_mesh
+
+    if not body.parts:
+        return None
+    triangles = []
+    closed = True
+    for part in body.parts:
+        mesh = placed_mesh(part, max_mesh_bytes)
+        if part.repair and not (mesh.is_watertight and mesh.is_winding_consistent):
+            import trimesh  # the repair mass properties apply (kcheck.body.mass)
+
+            with np.errstate(divide="ignore", invalid="ignore"):
+                trimesh.repair.fix_winding(mesh)
+                trimesh.repair.fill_holes(mesh)
+                trimesh.repair.fix_normals(mesh, multibody=True)
+        closed = closed and bool(mesh.is_watertight and mesh.is_winding_consistent)
+        with np.errstate(all="ignore"):
+            if closed and float(mesh.volume) < 0:
+                closed = False  # wound inwards: inside and outside swapped
+        triangles.append(np.asarray(mesh.triangles, dtype=float))
+    return Surface(np.concatenate(triangles), closed)
+
+
+def _box_distance(lo: np.ndarray, hi: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """A lower bound of each triangle's distance (m) to a point: its bounding box's (rows of
+    ``lo`` and ``hi``)."""
+    return np.asarray(np.linalg.norm(np.maximum(np.maximum(lo - point, point - hi), 0), axis=1))
+
+
+def closest_point(triangles: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, ...]:
+    """:func:`closest_on_triangles`, measuring only the triangles whose bounding box is no
+    farther than the nearest vertex (the others cannot hold the closest point): for a large
+    mesh a few triangles per point instead of all."""
+    points = np.asarray(points, dtype=float)
+    vertices = triangles.reshape(-1, 3)
+    lo, hi = triangles.min(axis=1), triangles.max(axis=1)
+    q = np.zeros_like(points)
+    d = np.zeros(len(points))
+    f = np.zeros(len(points), dtype=int)
+    for i, p in enumerate(points):
+        nearest_vertex = float(np.sqrt(np.min(np.einsum("ij,ij->i", vertices - p, vertices - p))))
+        near = np.flatnonzero(_box_distance(lo, hi, p) <= nearest_vertex * (1 + 1e-9) + 1e-300)
+        qi, di, fi = closest_on_triangles(triangles[near], p[None])
+        q[i], d[i], f[i] = qi[0], di[0], near[fi[0]]
+    return q, d, f
+
+
+#: Ray directions of the inside test: generic (no axis, no diagonal of a box's faces), so that a
+#: ray from a point off the surface meets no edge or vertex; the majority of three decides.
+_RAYS = np.array([[0.5377, 0.3189, 0.7806], [-0.6431, 0.5207, 0.5615], [0.2113, -0.7904, 0.5748]])
+
+
+def inside(triangles: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Whether each point lies inside a closed outward-wound surface (or a union of such
+    parts, overlapping or not): the signed count of the triangles a ray from it crosses
+    (Möller–Trumbore), the majority of three rays; only the triangles whose shadow along the
+    ray covers the point are tested."""
+    points = np.asarray(points, dtype=float)
+    votes = np.zeros(len(points), dtype=int)
+    for ray in _RAYS:
+        d = ray / np.linalg.norm(ray)
+        e1 = np.cross(d, [1.0, 0.0, 0.0] if abs(d[0]) < 0.9 else [0.0, 1.0, 0.0])
+        e1 /= np.linalg.norm(e1)
+        e2 = np.cross(d, e1)
+        uv = np.stack([triangles @ e1, triangles @ e2], axis=-1)  # (F, 3, 2)
+        lo, hi = uv.min(axis=1), uv.max(axis=1)
+        for i, p in enumerate(points):
+            pu = np.array([p @ e1, p @ e2])
+            near = np.flatnonzero(np.all((lo <= pu) & (pu <= hi), axis=1))
+            if len(near) == 0:
+                continue
+            votes[i] += int(_crossings(triangles[near], p, d) > 0)
+    return np.asarray(votes >= 2)
+
+
+def _crossings(tri: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> int:
+    """The winding number along the ray ``origin + t direction`` (t > 0): the triangles it
+    leaves through less those it enters through (outward-wound closed parts: 1 inside one
+    part, 2 where two overlap, 0 outside)."""
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    e1, e2 = b - a, c - a
+    h = np.cross(direction, e2)
+    det = np.einsum("ij,ij->i", e1, h)
+    ok = np.abs(det) > 0
+    inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+    s = origin - a
+    u = inv * np.einsum("ij,ij->i", s, h)
+    q = np.cross(s, e1)
+    v = inv * (q @ direction)
+    t = inv * np.einsum("ij,ij->i", e2, q)
+    hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
+    return int(-np.sign(det[hit]).sum())  # det = -direction · (outward normal)
+
+
+def _blocks(count: int) -> list[slice]:
+    return [slice(i, min(i + _BLOCK, count)) for i in range(0, max(count, 1), _BLOCK)]
+
+
+def closest_on_triangles(
+    triangles: np.ndarray, points: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For each point (P, 3): the closest point on the triangles (F, 3, 3), its distance
+    (m) and the index of its triangle (Ericson, *Real-Time Collision Detection*, §5.1.5)."""
+    points = np.asarray(points, dtype=float)
+    best_d = np.full(len(points), np.inf)
+    best_q = np.zeros_like(points)
+    best_f = np.zeros(len(points), dtype=int)
+    for block in _blocks(len(triangles)):
+        tri = triangles[block]
+        q = _closest_block(tri, points)  # (P, F, 3)
+        d = np.linalg.norm(q - points[:, None, :], axis=2)
+        f = np.argmin(d, axis=1)
+        rows = np.arange(len(points))
+        better = d[rows, f] < best_d
+        best_d = np.where(better, d[rows, f], best_d)
+        best_q[better] = q[rows, f][better]
+        best_f[better] = f[better] + block.start
+    return best_q, best_d, best_f
+
+
+def _closest_block(tri: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Closest points (P, F, 3) of each point on each triangle, by Voronoi region."""
+    a, b, c = (tri[None, :, i, :] for i in range(3))
+    p = p[:, None, :]
+    ab, ac, ap = b - a, c - a, p - a
+
+    def dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+        return np.einsum("...k,...k->...", u, v)
+
+    d1, d2 = dot(ab, ap), dot(ac, ap)
+    bp = p - b
+    d3, d4 = dot(ab, bp), dot(ac, bp)
+    cp = p - c
+    d5, d6 = dot(ab, cp), dot(ac, cp)
+    va = d3 * d6 - d5 * d4
+    vb = d5 * d2 - d1 * d6
+    vc = d1 * d4 - d3 * d2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        denom = va + vb + vc
+        v = np.where(denom != 0, vb / denom, 0.0)
+        w = np.where(denom != 0, vc / denom, 0.0)
+        out = a + ab * v[..., None] + ac * w[..., None]  # inside the face
+        # edges
+        t_bc = np.clip((d4 - d3) / ((d4 - d3) + (d5 - d6)), 0, 1)
+        on_bc = (va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0)
+        out = np.where(on_bc[..., None], b + (c - b) * t_bc[..., None], out)
+        t_ac = np.clip(d2 / (d2 - d6), 0, 1)
+        on_ac = (vb <= 0) & (d2 >= 0) & (d6 <= 0)
+        out = np.where(on_ac[..., None], a + ac * t_ac[..., None], out)
+        t_ab = np.clip(d1 / (d1 - d3), 0, 1)
+        on_ab = (vc <= 0) & (d1 >= 0) & (d3 <= 0)
+        out = np.where(on_ab[..., None], a + ab * t_ab[..., None], out)
+    # vertices
+    out = np.where(((d6 >= 0) & (d5 <= d6))[..., None], np.broadcast_to(c, out.shape), out)
+    out = np.where(((d3 >= 0) & (d4 <= d3))[..., None], np.broadcast_to(b, out.shape), out)
+    out = np.where(((d1 <= 0) & (d2 <= 0))[..., None], np.broadcast_to(a, out.shape), out)
+    return np.asarray(out)
+
+
+def winding_numbers(triangles: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Generalised winding number of a closed outward-wound surface about each point: 1
+    inside, 0 outside, ½ on the surface (solid angles of the triangles, Van Oosterom and
+    Strackee 1983, summed over 4π)."""
+    points = np.asarray(points, dtype=float)
+    total = np.zeros(len(points))
+    for block in _blocks(len(triangles)):
+        tri = triangles[block]
+        r = tri[None, :, :, :] - points[:, None, None, :]  # (P, F, 3, 3)
+        n = np.linalg.norm(r, axis=3)
+        a, b, c = r[:, :, 0], r[:, :, 1], r[:, :, 2]
+        la, lb, lc = n[:, :, 0], n[:, :, 1], n[:, :, 2]
+        numerator = np.einsum("pfk,pfk->pf", a, np.cross(b, c))
+        denominator = (
+            la * lb * lc
+            + np.einsum("pfk,pfk->pf", a, b) * lc
+            + np.einsum("pfk,pfk->pf", a, c) * lb
+            + np.einsum("pfk,pfk->pf", b, c) * la
+        )
+        total += 2 * np.arctan2(numerator, denominator).sum(axis=1)
+    return total / (4 * np.pi)
+
+
+def face_normals(triangles: np.ndarray) -> np.ndarray:
+    """Unit outward normals of outward-wound triangles (zero for a degenerate face)."""
+    n = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    length = np.linalg.norm(n, axis=1, keepdims=True)
+    return np.asarray(np.where(length > 0, n / np.where(length > 0, length, 1.0), 0.0))
+
+
+def section_segments(triangles: np.ndarray, z: float) -> np.ndarray:
+    """The surface's section by the plane at height ``z`` (m): segments (S, 2, 2) in x, y.
+    A triangle lying in the plane gives none (its neighbours give the outline)."""
+    height = triangles[:, :, 2] - z
+    above = height > 0
+    crossing = above.any(axis=1) & ~above.all(axis=1)
+    out = []
+    for tri, h in zip(triangles[crossing], height[crossing], strict=True):
+        points = []
+        for i, j in ((0, 1), (1, 2), (2, 0)):
+            if (h[i] > 0) != (h[j] > 0):
+                t = h[i] / (h[i] - h[j])
+                points.append(tri[i, :2] + t * (tri[j, :2] - tri[i, :2]))
+        if len(points) == 2:
+            out.append(points)
+    return np.asarray(out, dtype=float).reshape(-1, 2, 2)
+
+
+def closest_on_segments(segments: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For each point (P, 2): the closest point on the segments (S, 2, 2) and its distance."""
+    a, b = segments[None, :, 0], segments[None, :, 1]
+    p = np.asarray(points, dtype=float)[:, None, :]
+    ab = b - a
+    length_sq = np.einsum("...k,...k->...", ab, ab)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(length_sq > 0, np.einsum("...k,...k->...", p - a, ab) / length_sq, 0.0)
+    q = a + np.clip(t, 0, 1)[..., None] * ab
+    d = np.linalg.norm(q - p, axis=2)
+    k = np.argmin(d, axis=1)
+    rows = np.arange(len(points))
+    return q[rows, k], d[rows, k]

@@ -1,0 +1,128 @@
+"""First motion of the `reseat` simulation against analytical-2d/3d's outcome class, on
+generated scenes and the fixtures (tests/plugins/test_reseat.py; the disagreements and their
+reasons are written to tests/plugins/data/reseat_disagreements.json)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from kcheck.analysis import analyse
+from kcheck.analysis.jamming_cases import analyse_jamming, held_at, jam_statics
+from kcheck.analysis.reseat import ReseatSettings, simulate
+from kcheck.body.mass import body_mass_properties
+from kcheck.scene import load_scene
+from tests.plugins.reseat_scenes import random_scene
+
+__all__ = ["Compared", "compare_scene", "generated", "reason"]
+
+#: Phase length for the first motion: the window ends within a few ms.
+FIRST_MOTION = ReseatSettings(duration=0.05)
+#: A seated-case normal force within this share of the largest is "at the resolution limit".
+NEAR_ZERO = 0.05
+#: A remaining contact below this share of the largest normal force is lightly pressed.
+LIGHT = 0.2
+
+
+@dataclass(frozen=True)
+class Compared:
+    scene: str
+    retracted: str
+    analytical: str
+    simulated: str
+    held: bool | None
+    smallest_force_share: float | None
+    mu: float
+    settle_speed: float
+    seat_pressed: float  # the smallest seated normal force over the largest, simulated
+
+    @property
+    def agrees(self) -> bool:
+        return self.analytical == self.simulated
+
+
+def reason(c: Compared) -> str:
+    """Why a first motion differs from the analytical outcome class."""
+    if c.analytical == "ambiguous":
+        return "Painlevé: the rigid-body equations have no unique sliding answer"
+    if c.analytical == "jams" and c.held is False:
+        return (
+            "analytical jams within the kept contacts, but no equilibrium holds the body "
+            "(jamming: moves): it moves by lifting off a contact the rigid model keeps"
+        )
+    if c.held and c.simulated == "jams":
+        return (
+            "friction can hold the body as well (jamming: an equilibrium exists, the rigid "
+            "model's second consistent answer), and the simulation stays held"
+        )
+    if c.analytical == "jams" and c.held:
+        return (
+            "held by friction, but MuJoCo's soft friction creeps faster than the jam window "
+            "allows (20 free-body times for 10 % of the retraction)"
+        )
+    if c.smallest_force_share is not None and c.smallest_force_share < NEAR_ZERO:
+        return "at the resolution limit: a normal force within 5 % of zero"
+    if (
+        c.analytical == "closes"
+        and c.simulated == "loses_contact"
+        and c.smallest_force_share is not None
+        and c.smallest_force_share < LIGHT
+    ):
+        return (
+            "release transient: a lightly pressed contact (under 20 % of the largest normal "
+            "force) opens in the contact vibration the sudden retraction starts"
+        )
+    return "unexplained"
+
+
+def compare_scene(path: Path, settings: ReseatSettings = FIRST_MOTION) -> Iterator[Compared]:
+    """Every retracted case of one scene, analytical outcome beside simulated first motion."""
+    scene = load_scene(path)
+    assert scene.body is not None
+    mass = body_mass_properties(scene.body, scene.scale)
+    analysis = analyse(scene, mass)
+    statics, swept, design = jam_statics(scene, mass)
+    jams = analyse_jamming(statics, swept, design) if design is not None else None
+    mu = scene.friction_range("kinetic")[1]
+    for r, result in enumerate(analysis.results):
+        run = simulate(scene, mass, r, mu, settings)
+        held = None
+        if jams is not None and design is not None:
+            held = held_at(jams, jams.cases[r], design, statics.friction)
+        share = None
+        if result.normal_forces:
+            forces = np.array(list(result.normal_forces.values()))
+            share = float(np.min(np.abs(forces)) / max(np.max(np.abs(forces)), 1e-300))
+        yield Compared(
+            path.name,
+            result.retracted,
+            result.outcome,
+            run.first,
+            held,
+            share,
+            float(mu.max()),
+            run.settle_speed,
+            _pressed(run.seat_forces),
+        )
+
+
+def _pressed(forces: np.ndarray | None) -> float:
+    if forces is None or np.max(forces) <= 0:
+        return 0.0
+    return float(np.min(forces) / np.max(forces))
+
+
+def generated(folder: Path, count: int, seed: int = 26) -> list[Path]:
+    """``count`` seated random scenes, planar and spatial alternately."""
+    rng = np.random.default_rng(seed)
+    paths: list[Path] = []
+    index = 0
+    while len(paths) < count:
+        index += 1
+        path = random_scene(rng, folder, index, 2 if len(paths) % 2 == 0 else 3)
+        if path is not None:
+            paths.append(path)
+    return paths

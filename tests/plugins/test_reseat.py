@@ -1,0 +1,301 @@
+"""The `reseat` check (MuJoCo): known answers, convergence, the picture, agreement of the
+first motion with analytical-2d/3d. Skipped, saying why, only where the `sim` extra is absent."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip(
+    "mujoco", reason="the reseat check needs the optional `sim` extra: pip install 'kcheck[sim]'"
+)
+
+from kcheck.analysis.reseat import ReseatSettings, rotation_angle, simulate  # noqa: E402
+from kcheck.body.mass import body_mass_properties  # noqa: E402
+from kcheck.scene import load_scene  # noqa: E402
+from tests.conftest import FIXTURES  # noqa: E402
+from tests.plugins.reseat_agreement import Compared, compare_scene, generated, reason  # noqa: E402
+
+#: Short phases keep each test to a few seconds; every case here settles within 0.1 s.
+SHORT = ReseatSettings(duration=0.2)
+DISAGREEMENTS = Path(__file__).parent / "data" / "reseat_disagreements.json"
+
+
+def _fixture_copy(tmp_path: Path, name: str, old: str, new: str) -> Path:
+    """A fixture folder copied with one line of its scene replaced."""
+    folder = shutil.copytree(FIXTURES / name, tmp_path / name)
+    scene = next(folder.glob("*.kcheck.yaml"))
+    text = scene.read_text(encoding="utf-8")
+    assert old in text
+    scene.write_text(text.replace(old, new), encoding="utf-8")
+    return scene
+
+
+def test_rotation_angle_of_small_turns() -> None:
+    """2 atan2(|v|, w) of the relative quaternion: a turn of 1e-7 rad about z is 1e-7 rad
+    (acos of the dot product would round it to zero)."""
+    theta = 1e-7
+    q0 = np.array([1.0, 0.0, 0.0, 0.0])
+    q1 = np.array([np.cos(theta / 2), 0.0, 0.0, np.sin(theta / 2)])
+    assert rotation_angle(q0, q1) == pytest.approx(theta, rel=1e-9)
+
+
+def test_frictionless_three_vee_reseats_within_a_micrometre(tmp_path: Path) -> None:
+    """Known answer: without friction an exactly constrained seat is unique (Maxwell), so
+    after every retraction and return the plate is back within 1 µm and 1 µrad."""
+    path = _fixture_copy(tmp_path, "maxwell-three-vee", "friction: 0.1", "friction: 0")
+    scene = load_scene(path)
+    assert scene.body is not None
+    mass = body_mass_properties(scene.body, scene.scale)
+    for r in range(len(scene.supports)):
+        run = simulate(scene, mass, r, np.zeros(len(scene.supports)), SHORT)
+        assert run.first == "closes"
+        assert run.closing_gap < 1e-6
+        assert run.seat_error < 1e-6, scene.supports[r].name
+        assert run.rotation < 1e-6
+        assert run.reseated_after is not None
+
+
+def test_friction_above_the_least_holding_friction_stops_off_seat(tmp_path: Path, cli_json) -> None:
+    """Appendix A block, y1 retracted: jamming's least holding friction is 0.124. At μ = 0.1
+    the block closes onto the backed-off support and reseats; at μ = 0.3 friction holds it:
+    it stops off its (retracted) seat by nearly the whole retraction, 100 µm."""
+    _, doc = cli_json(str(FIXTURES / "thesis-appendix-a"), "--select", "jamming")
+    (y1,) = [c for c in doc["scenes"][0]["checks"][0]["cases"] if c["retracted"] == "y1"]
+    least = y1["holding_friction"]
+    assert 0.1 < least < 0.3
+    scene = load_scene(FIXTURES / "thesis-appendix-a" / "block.kcheck.yaml")
+    assert scene.body is not None
+    mass = body_mass_properties(scene.body, scene.scale)
+    below = simulate(scene, mass, 0, np.full(3, 0.1), SHORT)
+    above = simulate(scene, mass, 0, np.full(3, 0.3), SHORT)
+    assert below.closing_gap < 1e-6 and below.seat_error < 1e-6
+    assert above.first == "jams"
+    assert above.closing_gap > 0.9e-4  # held: the gap stays nearly the retraction distance
+    assert above.seat_error < 1e-6  # the returning support comes back to it
+
+
+def test_appendix_a_closes_after_tipping(cli_json) -> None:
+    """The thesis's open question (Appendix A): x3 retracted, the block tips about y2 and
+    lifts off y1 (first motion `loses_contact`, as analytical-2d says), then comes back onto
+    y1 and x3 and reseats (docs/validation.md)."""
+    code, doc = cli_json(str(FIXTURES / "thesis-appendix-a"), "--select", "reseat,analytical-2d")
+    checks = {c["id"]: c for c in doc["scenes"][0]["checks"]}
+    reseat = checks["reseat"]
+    (x3,) = [c for c in reseat["cases"] if c["retracted"] == "x3"]
+    (ax3,) = [c for c in checks["analytical-2d"]["cases"] if c["retracted"] == "x3"]
+    assert ax3["outcome"] == x3["first_motion"] == "loses_contact"
+    assert x3["contact_losses"]["y1"] >= 1 and x3["largest_gap_um"]["y1"] > 1
+    assert x3["closing_gap_um"] < 1 and x3["seat_error_um"] < 1
+    assert reseat["status"] == "pass" and reseat["error_estimate"] >= 0
+
+
+def test_halving_the_time_step_changes_the_seat_error_less_than_the_estimate(
+    tmp_path: Path, cli_json
+) -> None:
+    """Convergence on the Appendix A fixture: the result at half the time step differs from
+    the default's by less than the default run's error_estimate (the difference of its own
+    two time steps), case by case."""
+    results = []
+    for step in ("1.0e-4", "5.0e-5"):
+        folder = tmp_path / step
+        folder.mkdir()
+        path = _fixture_copy(folder, "thesis-appendix-a", "version: 1", "version: 1")
+        with path.open("a", encoding="utf-8") as f:
+            f.write(f"checks:\n  reseat: {{time_step_s: {step}, duration_s: 0.2}}\n")
+        _, doc = cli_json(str(path), "--select", "reseat")
+        results.append(doc["scenes"][0]["checks"][0])
+    a, b = results
+    for x, y in zip(a["cases"], b["cases"], strict=True):
+        assert abs(x["seat_error_um"] - y["seat_error_um"]) <= a["error_estimate"] + 1e-9
+
+
+@pytest.mark.slow
+def test_convergence_on_every_fixture(tmp_path: Path) -> None:
+    """Every fixture the check applies to: the whole check at half the default time step
+    changes no case's seat error by more than the default run's error_estimate."""
+    from kcheck_checks.reseat import Reseat, ReseatOptions
+
+    from kcheck.plugin import Inputs
+
+    checked = 0
+    for path in sorted(FIXTURES.glob("*/*.kcheck.yaml")):
+        scene = load_scene(path)
+        check = Reseat()
+        if check.skip_reason(scene) is not None:
+            continue
+        assert scene.body is not None
+        mass = body_mass_properties(scene.body, scene.scale)
+        coarse = check.run(Inputs(scene, mass, ReseatOptions(duration_s=0.2)))
+        fine = check.run(Inputs(scene, mass, ReseatOptions(duration_s=0.2, time_step_s=5e-5)))
+        assert coarse.error_estimate is not None
+        for x, y in zip(coarse.cases, fine.cases, strict=True):
+            change = abs(x.details["seat_error_um"] - y.details["seat_error_um"])
+            assert change <= coarse.error_estimate + 1e-9, (path.parent.name, x.retracted)
+        checked += 1
+    assert checked >= 10
+
+
+def test_picture_is_written(tmp_path: Path) -> None:
+    """--plots writes the gaps, forces and path picture of the worst case, and with SVG the
+    animation of the contact points."""
+    from kcheck.cli import main
+
+    code = main(
+        ["check", str(FIXTURES / "thesis-appendix-a"), "--select", "reseat", "--plots",
+         str(tmp_path), "--plot-format", "png,svg"]
+    )  # fmt: skip
+    assert code == 0
+    (png,) = tmp_path.glob("*-reseat.png")
+    assert png.stat().st_size > 10_000
+    # The animation the HTML report inlines: one moving dot per support (two <animate> each).
+    motion = (tmp_path / "thesis-appendix-a-block-reseat-motion.svg").read_text(encoding="utf-8")
+    assert motion.count("<animate ") == 2 * 3
+
+
+def test_bad_option_is_a_located_input_error(cli, write_scene) -> None:
+    """Options are validated like every check's: an unknown profile is exit 2, no traceback."""
+    path = write_scene(
+        """
+        version: 1
+        name: bad profile
+        body: {mass: 1, center_of_mass: [0, 0, 0], inertia: 0.001}
+        supports:
+          - {name: y1, position: [-0.02, -0.03, 0], normal: [0, 1, 0]}
+          - {name: y2, position: [0.02, -0.03, 0], normal: [0, 1, 0]}
+          - {name: x1, position: [-0.05, 0, 0], normal: [1, 0, 0]}
+        load: {magnitude: 1, angle: 225}
+        checks:
+          reseat: {profile: sine}
+        """
+    )
+    code, out, err = cli("check", str(path), "--select", "reseat")
+    assert code == 2
+    assert "Traceback" not in out + err
+    assert "profile" in out + err
+
+
+@pytest.mark.slow
+def test_first_motion_agrees_with_the_analytical_outcome(tmp_path: Path) -> None:
+    """On three fixtures and 100 generated seated scenes (50 planar, 50 spatial), the
+    simulation's first motion against analytical-2d/3d's outcome class.
+
+    Compared are the cases where the analysis's premise holds in the simulation: not
+    Painlevé (the rigid equations have no unique answer), and a settled seat at rest that
+    presses every support. Every other case, and every disagreement, is written with its
+    reason to tests/plugins/data/reseat_disagreements.json (checked against the recording;
+    rewritten with KCHECK_RECORD_RESEAT=1). Measured: docs/validation.md."""
+    import os
+
+    paths = [
+        FIXTURES / "planar-block" / "block.kcheck.yaml",
+        FIXTURES / "thesis-appendix-a" / "block.kcheck.yaml",
+        FIXTURES / "maxwell-three-vee" / "coupling.kcheck.yaml",
+        *generated(tmp_path, 100),
+    ]
+    rows = [c for p in paths for c in compare_scene(p)]
+    compared = [c for c in rows if premise(c) is None]
+    share = sum(c.agrees for c in compared) / len(compared)
+    listed = [
+        {
+            "scene": c.scene,
+            "retracted": c.retracted,
+            "analytical": c.analytical,
+            "simulated": c.simulated,
+            "compared": premise(c) is None,
+            "reason": premise(c) or reason(c),
+        }
+        for c in rows
+        if not c.agrees
+    ]
+    moving = [c for c in rows if c.analytical != "ambiguous"]
+    held = [c for c in compared if c.held]
+    document = {
+        "cases": len(rows),
+        "compared": len(compared),
+        "agree": sum(c.agrees for c in compared),
+        "share": round(share, 4),
+        "not_compared": dict(
+            Counter((premise(c) or "").split(":")[1] for c in rows if premise(c) is not None)
+        ),
+        "share_of_every_non_painleve_case": round(sum(c.agrees for c in moving) / len(moving), 4),
+        "held_by_jamming_compared": len(held),
+        "held_by_jamming_and_simulated_jams": sum(c.simulated == "jams" for c in held),
+        "disagreements": listed,
+    }
+    if os.environ.get("KCHECK_RECORD_RESEAT"):
+        DISAGREEMENTS.write_text(json.dumps(document, indent=1) + "\n", encoding="utf-8")
+    recorded = json.loads(DISAGREEMENTS.read_text(encoding="utf-8"))
+    assert share >= MEASURED_SHARE
+    # Every disagreement now is one the file lists with its reason.
+    known = {(d["scene"], d["retracted"]) for d in recorded["disagreements"]}
+    assert {(d["scene"], d["retracted"]) for d in listed} <= known
+
+
+def premise(c: Compared) -> str | None:
+    """Why a case is not compared, or None: the analysis's premise fails in the simulation."""
+    if c.analytical == "ambiguous":
+        return "not compared: Painlevé, the rigid-body equations have no unique sliding answer"
+    if c.settle_speed > SEAT_AT_REST:
+        return "not compared: the simulated seat is not at rest after settling"
+    if c.seat_pressed < SEAT_PRESSED:
+        return (
+            "not compared: a support carries no force in the settled seat (the seat is not "
+            "stable to second order, or friction holds the body on fewer supports)"
+        )
+    return None
+
+
+#: A seat whose contact points still move faster than this (m/s) after settling is not at
+#: rest: the comparison of first motions assumes a body at rest.
+SEAT_AT_REST = 1e-4
+#: Every support must carry at least this share of the largest seated normal force.
+SEAT_PRESSED = 0.01
+#: The share measured on these scenes (the issue asks for 0.95).
+MEASURED_SHARE = 0.95
+
+
+def test_a_ramped_load_closes_later_than_a_step() -> None:
+    """`profile: ramp` lets the load go when the support backs off and raises it over half a
+    phase: the block needs longer to close onto the backed-off support than under the
+    constant load (it starts with no push), and still reseats."""
+    scene = load_scene(FIXTURES / "planar-block" / "block.kcheck.yaml")
+    assert scene.body is not None
+    mass = body_mass_properties(scene.body, scene.scale)
+    mu = scene.friction_range("kinetic")[1]
+    step = simulate(scene, mass, 2, mu, SHORT)
+    ramp = simulate(scene, mass, 2, mu, ReseatSettings(duration=0.2, profile="ramp"))
+    assert step.closed_after is not None and ramp.closed_after is not None
+    assert ramp.closed_after > step.closed_after
+    assert ramp.seat_error < 1e-6 and step.seat_error < 1e-6
+
+
+def test_a_friction_range_is_simulated_at_both_ends(tmp_path: Path, cli_json) -> None:
+    """Appendix A with μ from 0.05 to 0.3: every case at both ends; at the high end friction
+    holds y1's case (least holding μ 0.124), at the low end every case reseats."""
+    path = _fixture_copy(
+        tmp_path, "thesis-appendix-a", "friction: 0.1", "friction: {min: 0.05, max: 0.3}"
+    )
+    with path.open("a", encoding="utf-8") as f:
+        f.write("checks:\n  reseat: {duration_s: 0.2}\n")
+    code, doc = cli_json(str(path), "--select", "reseat")
+    check = doc["scenes"][0]["checks"][0]
+    outcomes = {c["retracted"]: c["outcome"] for c in check["cases"]}
+    assert set(outcomes) == {f"{s} (μ {e})" for s in ("y1", "y2", "x3") for e in ("low", "high")}
+    assert all(outcomes[f"{s} (μ low)"] == "reseats" for s in ("y1", "y2", "x3"))
+    assert outcomes["y1 (μ high)"] == "off_seat"
+    assert code == 1 and check["status"] == "fail"
+    assert check["findings"][0]["field"] == "supports[0]"
+
+
+def test_a_load_without_a_design_direction_is_skipped_saying_why(cli_json) -> None:
+    """Nothing is simulated on a default: a swept load has no one motion (thesis block 4.2)."""
+    _, doc = cli_json(str(FIXTURES / "thesis-block-4-2"), "--select", "reseat")
+    check = doc["scenes"][0]["checks"][0]
+    assert check["status"] == "skipped"
+    assert "design direction" in check["message"]
