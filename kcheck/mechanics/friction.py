@@ -206,19 +206,25 @@ def root_errors(a0: np.ndarray, a1: np.ndarray, roots: np.ndarray) -> np.ndarray
     roots stay NaN, and a root where the slope vanishes (a double root) gets its own size."""
     n = a0.shape[-1]
     bound = DET_ROUNDING * n * n * EPS
-    step = 1e-6 * np.maximum(1.0, np.abs(roots))
-
-    def normalised(mu: np.ndarray) -> np.ndarray:
-        m = a0[:, None] + np.nan_to_num(mu)[..., None, None] * a1[:, None]
-        with np.errstate(all="ignore"):
-            sign, logdet = np.linalg.slogdet(m)
-            rows = np.sum(np.log(np.sqrt(np.sum(m * m, axis=-1))), axis=-1)
-            return sign * np.exp(logdet - rows)
-
-    slope = np.abs(normalised(roots + step) - normalised(roots - step)) / (2.0 * step)
+    out = np.full(roots.shape, np.nan)
+    pencil, which = np.nonzero(np.isfinite(roots))
+    if not len(pencil):
+        return out
+    mu = roots[pencil, which]
+    step = 1e-6 * np.maximum(1.0, np.abs(mu))
+    # Both sides of every finite root in one batch (the NaN ones need none).
+    at = np.concatenate([mu + step, mu - step])
+    both = np.concatenate([pencil, pencil])
+    m = a0[both] + at[:, None, None] * a1[both]
     with np.errstate(all="ignore"):
-        out = np.where(slope > 0, bound / slope, np.maximum(1.0, np.abs(roots)))
-    return np.where(np.isfinite(roots), np.minimum(out, np.maximum(1.0, np.abs(roots))), np.nan)
+        sign, logdet = np.linalg.slogdet(m)
+        rows = np.sum(np.log(np.sqrt(np.sum(m * m, axis=-1))), axis=-1)
+        value = sign * np.exp(logdet - rows)
+        slope = np.abs(value[: len(mu)] - value[len(mu) :]) / (2.0 * step)
+        size = np.maximum(1.0, np.abs(mu))
+        error = np.where(slope > 0, bound / slope, size)
+    out[pencil, which] = np.minimum(error, size)
+    return out
 
 
 def _end_errors(
