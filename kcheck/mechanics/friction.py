@@ -316,9 +316,7 @@ def friction_intervals_many(
     c, n = k0.shape[0], k0.shape[-1]
     a0, a1 = _pencils(k0, big_f, rhs)
     all_a0, all_a1 = a0.reshape(-1, n, n), a1.reshape(-1, n, n)
-    roots = pencil_roots(all_a0, all_a1)
-    errors = root_errors(all_a0, all_a1, roots).reshape(c, n + 1, n)
-    roots = roots.reshape(c, n + 1, n)
+    roots = pencil_roots(all_a0, all_a1).reshape(c, n + 1, n)
     # Samples of every case, for closing (all roots) and for Painlevé (det K roots only).
     points, counts = _breakpoints(roots.reshape(c, -1))
     det_points, det_counts = _breakpoints(roots[:, 0])
@@ -332,16 +330,25 @@ def friction_intervals_many(
     )
     bounds = np.concatenate([[0], np.cumsum(counts + 1)])
     det_bounds = len(first) + np.concatenate([[0], np.cumsum(det_counts + 1)])
+    pieces = [_pieces(points[i, : counts[i]], closes[bounds[i] : bounds[i + 1]]) for i in range(c)]
+    # Error bounds only of the roots at an interval's end (the only ones _end_errors reads).
+    at_end = np.zeros(roots.shape, bool)
+    size = np.abs(roots)
+    for i, intervals in enumerate(pieces):
+        for end in {x for interval in intervals for x in interval if 0 < x < np.inf}:
+            at_end[i] |= np.abs(size[i] - end) <= SAME_ROOT_RTOL * end
+    errors = root_errors(all_a0, all_a1, np.where(at_end, roots, np.nan).reshape(-1, n)).reshape(
+        c, n + 1, n
+    )
     by_case = {}
     for i, case in enumerate(live):
-        pieces = _pieces(points[i, : counts[i]], closes[bounds[i] : bounds[i + 1]])
         by_case[id(case)] = FrictionIntervals(
-            pieces,
+            pieces[i],
             mu,
             outcome(case, direction)[0] == "closes",
             _pieces(det_points[i, : det_counts[i]], painleve[det_bounds[i] : det_bounds[i + 1]]),
             uniform,
-            _end_errors(pieces, roots[i], errors[i]),
+            _end_errors(pieces[i], roots[i], errors[i]),
         )
     return [by_case.get(id(c), FrictionIntervals((), mu, False, (), uniform)) for c in cases]
 
