@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -35,6 +36,9 @@ __all__ = [
     "format_direction",
     "format_point",
     "describe_sweep",
+    "MESH_DIGITS",
+    "COMPUTED_DIGITS",
+    "justified",
 ]
 
 FULL_TURN = 360.0
@@ -203,3 +207,36 @@ def rounded_bound(value: float, digits: int, up: bool) -> float:
     if up:
         return (math.floor(value * scale * (1 + 1e-6)) + 1) / scale
     return (math.ceil(value * scale * (1 - 1e-6)) - 1) / scale
+
+
+#: Significant digits a mesh carries, of its extent: STL and most CAD exports store float32
+#: coordinates (a 24-bit mantissa, 7.2 digits), one digit kept back for the sums that give
+#: mass properties. ``kcheck mass`` and ``kcheck init`` print no digit past these.
+MESH_DIGITS = 6
+#: Significant digits of a number computed in double precision from typed input, of its
+#: scale: arithmetic noise sits in the last two or three of a double's 16 digits (0.1 + 0.2
+#: is 0.30000000000000004). ``kcheck expand`` prints no digit past these.
+COMPUTED_DIGITS = 12
+
+
+def justified(
+    values: np.ndarray | Sequence[float] | float,
+    scale: float | None = None,
+    digits: int = COMPUTED_DIGITS,
+) -> Any:
+    """``values`` rounded to ``digits`` significant digits of ``scale`` (default: the largest
+    finite magnitude among them), so that they print with only the digits their input
+    justifies (0.1 + 0.2 prints 0.3); ``-0.0`` becomes ``0.0``. A float for a number, else a
+    nested list of floats (ready for JSON or YAML)."""
+    array = np.asarray(values, dtype=float)
+    finite = array[np.isfinite(array)]
+    if scale is None:
+        scale = float(np.abs(finite).max()) if finite.size else 0.0
+    if not math.isfinite(scale) or scale == 0.0:
+        return (array + 0.0).tolist()
+    decimals = digits - 1 - math.floor(math.log10(abs(scale)))
+    # Python's round is correctly rounded: the result is the double nearest the decimal.
+    rounded = [
+        round(float(v), decimals) + 0.0 if math.isfinite(v) else float(v) for v in array.flat
+    ]
+    return np.array(rounded).reshape(array.shape).tolist()

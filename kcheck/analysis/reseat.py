@@ -26,6 +26,7 @@ import numpy as np
 from kcheck.numerics.thresholds import (
     RESEAT_JAM_FACTOR,
     RESEAT_LOST_SHARE,
+    RESEAT_REST_SPEED,
     RESEAT_STICK_SHARE,
     RESEAT_WINDOW_SHARE,
 )
@@ -49,8 +50,12 @@ __all__ = [
 #: First-motion classes, in analytical-2d/3d's words (``jams``: friction holds the body).
 FIRST_MOTIONS = ("closes", "loses_contact", "opens", "opens_loses_contact", "jams")
 
-#: Settle time as a share of one phase.
+#: Settle time as a share of one phase ...
 SETTLE_SHARE = 0.2
+#: ... and at least this many contact time constants (a short phase still settles).
+SETTLE_TIME_CONSTANTS = 50
+#: A seat still moving after the settle settles on, in blocks of the settle, up to this (s).
+SETTLE_LIMIT = 1.0
 #: Return time of the support as a share of phase 2.
 RETURN_SHARE = 0.25
 #: Ball radius as a share of the supports' size (largest distance from their centroid).
@@ -250,7 +255,8 @@ def simulate(
     seats = points.copy()
     pair_of = {int(model.geom(f"ball{i}").id): i for i in range(k)}
     n_phase = max(1, round(settings.duration / dt))
-    n_settle = max(1, round(SETTLE_SHARE * settings.duration / dt))
+    settle = max(SETTLE_SHARE * settings.duration, SETTLE_TIME_CONSTANTS * settings.time_constant)
+    n_settle = max(1, round(settle / dt))
     chunk = max(1, n_phase // SAMPLES)
     force6 = np.zeros(6)
 
@@ -290,20 +296,36 @@ def simulate(
             done += n
             sample(t0 + done * dt)
 
+    # The settle is frictionless: with friction the body would stop wherever its sinking into
+    # the soft contacts first sticks, on forces the rigid seat does not have (often a support
+    # unloaded); frictionless it settles on the seat's determinate normal forces.
+    rough = model.pair_friction[:, :2].copy()
+    model.pair_friction[:, :2] = 0.0
     mujoco.mj_forward(model, data)
     data.xfrc_applied[body] = _wrench(scene, data.xipos[body], 1.0)
     accel = float(np.linalg.norm(data.xfrc_applied[body][:3])) / mass.mass
     accel += float(np.linalg.norm(scene.gravity[: scene.dim]))
     sample(-n_settle * dt)
-    run(n_settle, -n_settle * dt)
+    starts = [0]
+    while True:
+        run(n_settle, -n_settle * dt)
+        settle_speed = float(
+            np.max(np.linalg.norm(rows[-1][1] - rows[-2][1], axis=1)) / (rows[-1][0] - rows[-2][0])
+        )
+        if settle_speed <= RESEAT_REST_SPEED or len(starts) * n_settle * dt >= SETTLE_LIMIT:
+            break
+        starts.append(len(rows))
+    for b, first_row in enumerate(starts):  # blocks one after the other, the last ending at 0
+        shift = -(len(starts) - 1 - b) * n_settle * dt
+        last_row = starts[b + 1] if b + 1 < len(starts) else len(rows)
+        for j in range(first_row, last_row):
+            rows[j] = (rows[j][0] + shift, *rows[j][1:])
     seated_centres = rows[-1][1].copy()
-    settle_speed = float(
-        np.max(np.linalg.norm(rows[-1][1] - rows[-2][1], axis=1)) / (rows[-1][0] - rows[-2][0])
-    )
     seated_gaps = rows[-1][2].copy()
     seated_forces = rows[-1][3].copy()
     seated_com = rows[-1][4].copy()
     seated_quat = data.xquat[body].copy()
+    model.pair_friction[:, :2] = rough
     backed = seats[retracted] - settings.retraction * normals[retracted]
     data.mocap_pos[retracted] = backed
     mujoco.mj_forward(model, data)
@@ -368,7 +390,7 @@ def simulate(
             settings,
             accel,
         ),
-        steps=int(n_settle + 2 * n_phase),
+        steps=int(len(starts) * n_settle + 2 * n_phase),
         settle_speed=settle_speed,
         seat_forces=seated_forces,
     )

@@ -1,5 +1,6 @@
-"""The nearest friction that makes a scene pass: a scan downwards from the scene's coefficient,
-then bisection, each step judged by the check's own verdict (findings' ``hint``, issue 21).
+"""The nearest friction, or the least closing force, that makes a scene pass: a scan from the
+scene's value, then bisection, each step judged by the check's own verdict (findings' ``hint``,
+issue 21).
 
 Used where no closed form gives the bound (a margin the whole safe region must keep, the
 tolerated tilt of a gravity-only scene). The answer is rounded down to three significant
@@ -9,6 +10,7 @@ digits and judged once more at that value: only a coefficient that passes is ret
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -16,11 +18,24 @@ import numpy as np
 from kcheck.fmt import rounded_bound
 from kcheck.scene import Scene
 
-__all__ = ["with_friction", "passing_friction"]
+__all__ = [
+    "with_friction",
+    "passing_friction",
+    "ClosingForce",
+    "closing_force",
+    "with_closing_force",
+    "passing_closing_force",
+]
 
 #: Steps of the scan from the scene's coefficient down to zero, and bisection steps after it.
 SCAN_STEPS = 10
 BISECTIONS = 8
+
+#: The closing force is scanned over factors 2**k of the scene's, k = ±1 ... ±FORCE_OCTAVES,
+#: then bisected FORCE_BISECTIONS times (a relative width of 2**-12 of an octave: below the
+#: three significant digits the answer is written with).
+FORCE_OCTAVES = 10
+FORCE_BISECTIONS = 12
 
 
 def with_friction(scene: Scene, mu: float) -> Scene:
@@ -60,3 +75,87 @@ def passing_friction(scene: Scene, passes: Callable[[Scene], bool]) -> float | N
     if rounded > 0 and passes(with_friction(scene, rounded)):
         return rounded
     return good if passes(with_friction(scene, good)) else None
+
+
+@dataclasses.dataclass(frozen=True)
+class ClosingForce:
+    """What a designer can set to close a scene harder: the preloads (the largest one named,
+    the others in proportion) or, without preloads, the load magnitude (which only matters
+    beside the weight or a torque). ``value`` in N."""
+
+    kind: str  # "preload" or "load"
+    name: str  # the preload's name, or "load"
+    value: float
+    proportional: bool  # other preloads scaled with the named one
+
+
+def closing_force(scene: Scene) -> ClosingForce | None:
+    """The closing force whose magnitude can be changed, or None (no preload in the plane of
+    motion, and no load magnitude that has anything to be weighed against)."""
+    dim = scene.dim
+    pushing = [p for p in scene.preloads if np.any(p.force[:dim] != 0)]
+    if pushing:
+        top = max(pushing, key=lambda p: float(np.linalg.norm(p.force[:dim])))
+        return ClosingForce(
+            "preload", top.name, float(np.linalg.norm(top.force[:dim])), len(pushing) > 1
+        )
+    load = scene.load
+    if load is None or not load.magnitude > 0:
+        return None
+    torque = load.torque[2:] if dim == 2 else load.torque
+    if not np.any(scene.gravity[:dim]) and not np.any(torque):
+        return None  # the load alone: its magnitude does not change any verdict
+    return ClosingForce("load", "load", float(load.magnitude), False)
+
+
+def with_closing_force(scene: Scene, force: ClosingForce, value: float) -> Scene:
+    """The scene with the closing force ``force`` set to ``value`` N (preloads in proportion)."""
+    factor = value / force.value
+    if force.kind == "preload":
+        preloads = tuple(dataclasses.replace(p, force=p.force * factor) for p in scene.preloads)
+        return dataclasses.replace(scene, preloads=preloads)
+    assert scene.load is not None
+    return dataclasses.replace(scene, load=dataclasses.replace(scene.load, magnitude=value))
+
+
+def passing_closing_force(
+    scene: Scene, passes: Callable[[Scene], bool]
+) -> tuple[ClosingForce, float, str] | None:
+    """The closing force nearest the scene's at which ``passes`` holds: (the force, its value in
+    N, ``"at least"`` or ``"at most"``), rounded outward to three significant digits (up for a
+    least force, down for a most) and judged again there; None when no factor 2**±10 of the
+    scene's passes, or the scene has no closing force to change.
+
+    Upwards first: a coupling that loses contact or jams mostly wants more closing force. The
+    answer is bracketed between a failing and a passing value, so "at least" is the least to
+    the resolution of the bisection between them, not a claim about every larger value (more
+    force can jam): the value returned is judged to pass."""
+    force = closing_force(scene)
+    if force is None:
+        return None
+    base = force.value
+
+    def judged(value: float) -> bool:
+        return passes(with_closing_force(scene, force, value))
+
+    for sense, sign in (("at least", 1), ("at most", -1)):
+        fails = base
+        for k in range(1, FORCE_OCTAVES + 1):
+            value = base * 2.0 ** (sign * k)
+            if judged(value):
+                good = value
+                break
+            fails = value
+        else:
+            continue
+        for _ in range(FORCE_BISECTIONS):
+            middle = math.sqrt(good * fails)
+            if judged(middle):
+                good = middle
+            else:
+                fails = middle
+        rounded = rounded_bound(good, 3, up=sign > 0)
+        for candidate in (rounded, good):
+            if candidate > 0 and judged(candidate):
+                return force, candidate, sense
+    return None

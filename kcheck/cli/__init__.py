@@ -15,13 +15,13 @@ import types
 from collections.abc import Sequence
 
 from kcheck import __version__
-from kcheck.cli import check, config, expand, info, init, mass, suggest
+from kcheck.cli import check, config, contacts, expand, info, init, mass, study, suggest
 from kcheck.cli.common import ExitCode, Parser
 from kcheck.errors import KcheckError
 
 __all__ = ["ExitCode", "main"]
 
-COMMANDS = (check, config, init, expand, mass, suggest, info)
+COMMANDS = (check, config, init, contacts, expand, mass, suggest, study, info)
 
 #: Thread counts of the BLAS/OpenMP libraries numpy may load. kcheck's matrices are tiny
 #: (3x3 to 6x36): threads only add overhead, and parallelism comes from --jobs processes.

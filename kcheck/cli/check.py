@@ -275,7 +275,7 @@ def _check(args: argparse.Namespace, temporary: list[Path]) -> int:
 
     paths = [Path(p) for p in config["paths"]] or [Path(".")]
     exclude = _excluder(config)
-    accept = _acceptance(args, config)
+    accept, baseline = _acceptance(args, config)
     stdin: tuple[Path, str] | None = None
     if any(str(p) == "-" for p in args.paths or ()):
         if len(args.paths) != 1:
@@ -291,11 +291,13 @@ def _check(args: argparse.Namespace, temporary: list[Path]) -> int:
     if stdin is not None:
         pass  # the one scene, whatever --changed-only or the hook would say
     elif args.pre_commit:
-        files, missing = _hook_files(files, missing, args.paths, exclude)
+        files, missing = _hook_files(files, missing, args.paths, exclude, _inputs(args))
     elif args.changed_only or args.since:
         from kcheck.gate.vcs import changed_scenes
 
-        files = changed_scenes(files, args.since or "HEAD", since=args.since is not None)
+        files = changed_scenes(
+            files, args.since or "HEAD", since=args.since is not None, inputs=_inputs(args)
+        )
     options = ReportOptions(
         color=args.color,
         verbosity=1 if args.verbose else -1 if args.quiet else 0,
@@ -341,6 +343,7 @@ def _check(args: argparse.Namespace, temporary: list[Path]) -> int:
                 severities=plan.severities,
                 check_options=plan.options,
                 selected=plan.selected,
+                named=plan.named,
                 cache_dir=cache_folder(config),
                 jobs=config["jobs"] or _cores(),
                 timeout_s=config["timeout"],
@@ -367,6 +370,8 @@ def _check(args: argparse.Namespace, temporary: list[Path]) -> int:
         print(f"kcheck: error: {message}", file=sys.stderr)
     if args.statistics:
         _statistics(results, config["fail_on"])
+    if baseline is not None:
+        _stale_baseline(baseline, results, args.baseline)
     states = {r.status for r in results}
     if args.write_baseline is not None:
         from kcheck.gate.suppress import write_baseline
@@ -391,9 +396,10 @@ def _check(args: argparse.Namespace, temporary: list[Path]) -> int:
 
 def _acceptance(
     args: argparse.Namespace, config: Any
-) -> Callable[[SceneResult, tuple[Path, str] | None], SceneResult]:
+) -> tuple[Callable[[SceneResult, tuple[Path, str] | None], SceneResult], Any]:
     """What accepts failures (inline suppressions, per-path ignores, the baseline): a
-    function from a scene's result to its result with accepted failures set aside."""
+    function from a scene's result to its result with accepted failures set aside, and the
+    baseline with its root (None without ``--baseline``), to find its stale entries after."""
     from kcheck.gate.suppress import Baseline, PathIgnores
 
     baseline = None
@@ -433,7 +439,25 @@ def _acceptance(
             )
         return apply(result, inline, ignores, baseline, root)
 
-    return accept
+    return accept, None if baseline is None or root is None else (baseline, root)
+
+
+def _stale_baseline(baseline: Any, results: Sequence[SceneResult], source: Path) -> None:
+    """Warn once about baseline entries no failure matched: a fixed failure left in the file
+    would accept a new one of the same rule and field later."""
+    entries, root = baseline
+    stale = entries.stale(results, root)
+    if not stale:
+        return
+    shown = "; ".join(f"{path} {rule} ({field})" for path, rule, field in stale[:5])
+    more = f"; and {len(stale) - 5} more" if len(stale) > 5 else ""
+    print(
+        f"kcheck: warning: {len(stale)} baseline "
+        f"{'entry matches' if len(stale) == 1 else 'entries match'} no failure any more "
+        f"(fixed?): {shown}{more}; rewrite {source} with --write-baseline to drop "
+        f"{'it' if len(stale) == 1 else 'them'}",
+        file=sys.stderr,
+    )
 
 
 def _stdin_scene(name: Path | None) -> tuple[Path, str]:
@@ -484,8 +508,17 @@ def _excluder(config: Any) -> Excluder:
     return Excluder(patterns, config.root, gitignore=config["respect_gitignore"])
 
 
+def _inputs(args: argparse.Namespace) -> list[Path]:
+    """Files besides scenes, meshes and configuration whose change changes every verdict."""
+    return [args.baseline] if args.baseline is not None and args.write_baseline is None else []
+
+
 def _hook_files(
-    everything: list[Path], missing: list[SceneResult], given: Sequence[Path], exclude: Excluder
+    everything: list[Path],
+    missing: list[SceneResult],
+    given: Sequence[Path],
+    exclude: Excluder,
+    inputs: Sequence[Path] = (),
 ) -> tuple[list[Path], list[SceneResult]]:
     """The pre-commit hook's scenes: those a change against HEAD affects (among the
     configured paths), and those of the files pre-commit passed (``--all-files``, ``--files``)
@@ -496,7 +529,9 @@ def _hook_files(
     # `pre-commit run --from-ref A --to-ref B` (CI) says so in the environment: then the
     # change is the branch's, against the merge-base, as for --since.
     from_ref = os.environ.get("PRE_COMMIT_FROM_REF")
-    affected = set(changed_scenes(everything, from_ref or "HEAD", since=bool(from_ref)))
+    affected = set(
+        changed_scenes(everything, from_ref or "HEAD", since=bool(from_ref), inputs=inputs)
+    )
     given = [p for p in given if not exclude.forced(p)]
     named, named_missing = discover(given, exclude) if given else ([], [])
     wanted = affected | set(named)

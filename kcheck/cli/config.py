@@ -215,6 +215,8 @@ class CheckPlan:
     selected: frozenset[str]
     severities: Mapping[str, Severity]
     options: Mapping[str, Mapping[str, Any]]
+    #: the checks ``select`` names (they run even when opt-in)
+    named: frozenset[str] = frozenset()
 
 
 def _check_list(config: Config, key: str, known: set[str]) -> tuple[str, ...] | None:
@@ -247,14 +249,18 @@ def plan_checks(config: Config, checks: Sequence[LoadedCheck]) -> CheckPlan:
     known = set(by_id)
     select = _check_list(config, "select", known)
     ignore = _check_list(config, "ignore", known) or ()
-    defaults = {k for k in known if by_id[k].check.default_selected}
-    selected = frozenset(select if select is not None else defaults) - set(ignore)
+    # Every check not ignored may run: an opt-in one (``default_selected`` False) where a
+    # scene, the configuration or ``select`` names it (kcheck.gate.runner).
+    selected = frozenset(select if select is not None else known) - set(ignore)
+    asked = frozenset(
+        select if select is not None else (k for k in known if by_id[k].check.default_selected)
+    ) - set(ignore)
     if not selected:
         raise UsageError(
             f"no check left to run (select {', '.join(select or sorted(known))}, "
             f"ignore {', '.join(ignore)}); installed: {', '.join(sorted(known))}"
         )
-    for check_id in sorted(selected):
+    for check_id in sorted(asked):
         missing = by_id[check_id].check.missing_extra()
         if missing is not None:
             raise UsageError(f"check `{check_id}` cannot run here: {missing}")
@@ -285,7 +291,8 @@ def plan_checks(config: Config, checks: Sequence[LoadedCheck]) -> CheckPlan:
                 f"{config.where(f'checks.{key}')}: {describe_pydantic(err)}"
             ) from None
         options[check_id] = table
-    return CheckPlan(selected, severities, options)
+    named = frozenset(select or ()) - set(ignore)
+    return CheckPlan(selected, severities, options, named)
 
 
 def cache_folder(config: Config) -> Path | None:

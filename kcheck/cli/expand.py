@@ -71,6 +71,9 @@ def _contact(g: Any, scale: float) -> dict[str, Any] | None:
 
 def expanded_text(path: Path, *, allow_outside: bool = False) -> str:
     """The scene file's text with its couplings expanded (validated first)."""
+    import numpy as np
+
+    from kcheck.fmt import justified
     from kcheck.scene import load_scene
     from kcheck.scene.yamlio import dump_yaml, read_yaml
 
@@ -79,13 +82,18 @@ def expanded_text(path: Path, *, allow_outside: bool = False) -> str:
     raw_couplings = data.get("couplings") or []
     with_friction = {c["name"] for c in raw_couplings if "friction" in c}
     expanded = []
+    # Only the digits the input justifies: positions to COMPUTED_DIGITS of the supports' reach
+    # (0.3 - 0.1 is written 0.2, not 0.19999999999999998), unit normals of 1.
+    size = max((float(np.abs(s.position).max()) for s in scene.supports), default=0.0)
     for s in scene.supports:
         if s.geometry is None:
             continue
         entry: dict[str, Any] = {
             "name": s.name,
-            "position": [_in_units(float(v), scene.scale) for v in s.position],
-            "normal": [float(v) for v in s.normal],
+            "position": justified(
+                [_in_units(float(v), scene.scale) for v in s.position], size / scene.scale
+            ),
+            "normal": justified(s.normal, 1.0),
         }
         if s.geometry.coupling in with_friction:
             entry["friction"] = s.coefficients.to_yaml()

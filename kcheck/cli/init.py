@@ -79,6 +79,7 @@ def _mesh_body(mesh_path: Path, scene_path: Path, material: str) -> _Body:
     import numpy as np
 
     from kcheck.body.mass import load_mesh, mesh_mass_properties, step_length_unit
+    from kcheck.fmt import MESH_DIGITS, justified
     from kcheck.scene.materials import density_of
     from kcheck.scene.units import LENGTH_TO_M
 
@@ -104,8 +105,10 @@ def _mesh_body(mesh_path: Path, scene_path: Path, material: str) -> _Body:
         to_scene = 1 / LENGTH_TO_M[units]
     props = mesh_mass_properties(mesh, density, mesh_path, "mesh")
     assert props.bounds is not None  # a mesh's properties have its bounds
-    lo, hi = props.bounds * to_scene
-    com = props.center_of_mass * to_scene
+    # Only the digits a float32 mesh carries (a centre of mass of 3e-08 on a 140 mm part is 0).
+    size = max(extent * (1e3 if step else 1.0), float(np.abs(props.bounds * to_scene).max()))
+    lo, hi = np.array(justified(props.bounds * to_scene, size, MESH_DIGITS))
+    com = np.array(justified(props.center_of_mass * to_scene, size, MESH_DIGITS))
     try:
         relative = mesh_path.resolve().relative_to(scene_path.resolve().parent)
     except ValueError:

@@ -63,24 +63,25 @@ def add_parser(sub: Any) -> None:
 
 
 def _in_units(props: MassProperties, unit_m: float) -> dict[str, Any]:
-    """Mass properties with lengths in a unit of ``unit_m`` metres, noise cleaned."""
+    """Mass properties with lengths in a unit of ``unit_m`` metres, to the digits a mesh
+    justifies (:data:`kcheck.fmt.MESH_DIGITS` of each quantity's scale)."""
     from kcheck.body.mass import principal_axes
-    from kcheck.fmt import clean
+    from kcheck.fmt import MESH_DIGITS, justified
 
     inertia = props.inertia / unit_m**2
     moments, axes = principal_axes(props.inertia)
     size = None if props.bounds is None else float(abs(props.bounds).max()) / unit_m
     out: dict[str, Any] = {
-        "mass": props.mass,
-        "center_of_mass": clean(props.center_of_mass / unit_m, size),
-        "inertia": clean(inertia),
-        "principal_moments": clean(moments / unit_m**2),
-        "principal_axes": clean(axes.T),
+        "mass": justified(props.mass, digits=MESH_DIGITS),
+        "center_of_mass": justified(props.center_of_mass / unit_m, size, MESH_DIGITS),
+        "inertia": justified(inertia, digits=MESH_DIGITS),
+        "principal_moments": justified(moments / unit_m**2, digits=MESH_DIGITS),
+        "principal_axes": justified(axes.T, 1.0, MESH_DIGITS),
     }
     if props.volume is not None:
-        out["volume"] = props.volume / unit_m**3
+        out["volume"] = justified(props.volume / unit_m**3, digits=MESH_DIGITS)
     if props.bounds is not None:
-        out["bounds"] = clean(props.bounds / unit_m, size)
+        out["bounds"] = justified(props.bounds / unit_m, size, MESH_DIGITS)
     return out
 
 

@@ -326,26 +326,47 @@ def _from_payload(payload: Any) -> MassProperties | None:
     )
 
 
+#: Mass properties computed in this process, by body key (and mesh size limit), for callers
+#: that check many variants of one body (:mod:`kcheck.gate.study`): its meshes are read once.
+_MEMO: dict[tuple[str, int | None], MassProperties] = {}
+MEMO_ENTRIES = 16
+
+
 def body_mass_properties_cached(
-    body: Body, scale: float, folder: Path | None, max_mesh_bytes: int | None = None
+    body: Body,
+    scale: float,
+    folder: Path | None,
+    max_mesh_bytes: int | None = None,
+    memo: bool = False,
 ) -> MassProperties:
     """:func:`kcheck.body.mass.body_mass_properties`, through the cache in ``folder`` when the
-    body's mass properties come from meshes (None: no cache)."""
+    body's mass properties come from meshes (None: no cache), and with ``memo`` through this
+    process's memory first."""
     from kcheck.body.mass import body_mass_properties
     from kcheck.body.meshio import check_mesh_file
 
-    if folder is None or body.explicit is not None or not body.parts:
+    if (folder is None and not memo) or body.explicit is not None or not body.parts:
         return body_mass_properties(body, scale, max_mesh_bytes)
     for part in body.parts:  # before hashing it: a file past the limit is not read at all
         check_mesh_file(part.mesh, (*part.field, "mesh"), max_mesh_bytes)
-    cache = MassCache(folder)
     try:
         key = body_key(body, scale)
     except OSError:  # the mesh cannot be read: let the computation report it
         return body_mass_properties(body, scale, max_mesh_bytes)
-    hit = cache.get(key)
-    if hit is not None:
-        return hit
-    mass = body_mass_properties(body, scale, max_mesh_bytes)
-    cache.put(key, mass)
+    if memo and (key, max_mesh_bytes) in _MEMO:
+        return _MEMO[key, max_mesh_bytes]
+    if folder is None:
+        mass = body_mass_properties(body, scale, max_mesh_bytes)
+    else:
+        cache = MassCache(folder)
+        hit = cache.get(key)
+        if hit is not None:
+            mass = hit
+        else:
+            mass = body_mass_properties(body, scale, max_mesh_bytes)
+            cache.put(key, mass)
+    if memo:
+        if len(_MEMO) >= MEMO_ENTRIES:
+            _MEMO.pop(next(iter(_MEMO)))
+        _MEMO[key, max_mesh_bytes] = mass
     return mass

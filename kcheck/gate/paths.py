@@ -25,6 +25,7 @@ __all__ = [
     "Excluder",
     "walk_scenes",
     "discover_paths",
+    "discover_studies",
     "scenes_using",
     "search_root",
     "check_output_file",
@@ -161,10 +162,14 @@ def _scene_file(path: Path) -> None:
 
 
 def walk_scenes(
-    folder: Path, errors: list[DiscoveryError], exclude: Excluder | None = None
+    folder: Path,
+    errors: list[DiscoveryError],
+    exclude: Excluder | None = None,
+    suffix: str = SCENE_SUFFIX,
 ) -> Iterator[Path]:
-    """Scene files under a folder, depth first in sorted order; every folder that cannot be
-    read and every scene-named entry that cannot be used is appended to ``errors``.
+    """Scene files (names ending in ``suffix``) under a folder, depth first in sorted
+    order; every folder that cannot be read and every scene-named entry that cannot be
+    used is appended to ``errors``.
     Symbolic links to folders are followed once (a link back up is not walked again);
     folders and files ``exclude`` excludes (default: hidden folders and
     :data:`SKIPPED_FOLDERS`) are passed over. (Git's ignores: :meth:`Excluder.git_ignored`.)"""
@@ -194,7 +199,7 @@ def walk_scenes(
             if is_dir:
                 if not exclude.excluded(path, True):
                     yield from walk(path)
-            elif entry.name.endswith(SCENE_SUFFIX) and not exclude.excluded(path, False):
+            elif entry.name.endswith(suffix) and not exclude.excluded(path, False):
                 try:
                     _scene_file(path)
                 except DiscoveryError as exc:
@@ -239,6 +244,20 @@ def discover_paths(
         else:
             scenes.append(path)
     return scenes, meshes, errors
+
+
+def discover_studies(
+    folder: Path, exclude: Excluder | None = None
+) -> tuple[list[Path], list[DiscoveryError]]:
+    """Study files (``*.kcheck-study.yaml``) under a folder, found as scenes are: depth
+    first in sorted order, passing over what ``exclude`` excludes and git ignores."""
+    from kcheck.scene.study import STUDY_SUFFIX
+
+    exclude = exclude or Excluder()
+    errors: list[DiscoveryError] = []
+    found = list(walk_scenes(folder, errors, exclude, STUDY_SUFFIX))
+    ignored = exclude.git_ignored(folder, found)
+    return [f for f in found if f not in ignored], errors
 
 
 def _strings(data: object) -> Iterator[str]:

@@ -28,7 +28,14 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any, Generic, TypeVar, cast
 
-__all__ = ["available", "Budget", "BudgetExceeded", "run_in_workers"]
+__all__ = [
+    "available",
+    "Budget",
+    "BudgetExceeded",
+    "run_in_workers",
+    "resident_bytes",
+    "RECYCLE_RSS_BYTES",
+]
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -46,12 +53,33 @@ def available() -> bool:
     return hasattr(os, "fork") and sys.platform.startswith("linux")
 
 
+#: A worker whose resident memory has grown past this after a task is replaced by a fresh
+#: fork (bytes): drawing pictures leaves matplotlib's caches and the allocator's free lists
+#: behind, about 2 MB a scene (issue 22: 530 MB after 105 scenes). Freshly forked, a worker
+#: holds 150-250 MB; the issue bounds a worker at 400 MB. A result never depends on which
+#: worker computed it (every worker is the same fork of the parent), so recycling changes
+#: no answer. ``benchmarks/bench_picture_memory.py`` measures it (docs/performance.md).
+RECYCLE_RSS_BYTES = 300 * 2**20
+
+
 @dataclass(frozen=True)
 class Budget:
-    """Per-task limits: wall time in seconds and address space in bytes (None: no limit)."""
+    """Per-task limits: wall time in seconds and address space in bytes (None: no limit);
+    ``recycle_bytes``: the resident memory past which a worker is replaced after its task
+    (None: never)."""
 
     time_s: float | None = None
     memory_bytes: int | None = None
+    recycle_bytes: int | None = None
+
+
+def resident_bytes() -> int | None:
+    """This process's resident memory now (Linux ``/proc/self/statm``; None elsewhere)."""
+    try:
+        with open("/proc/self/statm", "rb") as fh:
+            return int(fh.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError):
+        return None
 
 
 @dataclass(frozen=True)
@@ -138,14 +166,29 @@ def _child(tasks: int, results: int, work: Callable[[T], R], budget: Budget) -> 
                 break
             index, task = cast("tuple[int, T]", message)  # what the parent writes
             try:
-                data = _dumps((index, "ok", work(task)))
+                outcome: tuple[str, object] = ("ok", work(task))
             except MemoryError:
-                data = _dumps((index, "memory", None))
-            except Exception as exc:  # a bug in the task or its result: say which
-                data = _dumps((index, "crashed", f"{type(exc).__name__}: {exc}"))
+                outcome = ("memory", None)
+            except Exception as exc:  # a bug in the task: say which
+                outcome = ("crashed", f"{type(exc).__name__}: {exc}")
+            # Past the threshold, say so with the result and end: the parent forks a fresh one.
+            rss = resident_bytes() if budget.recycle_bytes is not None else None
+            retire = (
+                rss is not None
+                and budget.recycle_bytes is not None
+                and (rss > budget.recycle_bytes)
+            )
+            try:
+                data = _dumps((index, *outcome, retire))
+            except MemoryError:
+                data = _dumps((index, "memory", None, retire))
+            except Exception as exc:  # a result that cannot be sent: say which
+                data = _dumps((index, "crashed", f"{type(exc).__name__}: {exc}", retire))
             view = memoryview(_HEADER.pack(len(data)) + data)
             while view:
                 view = view[os.write(results, view) :]
+            if retire:
+                break
     except BaseException:  # noqa: BLE001 - a worker must exit, never unwind into the parent's code
         code = 70
     finally:
@@ -298,8 +341,11 @@ def run_in_workers(
             ready, _, _ = select.select([w.results for w in busy], [], [], max(wait, 0))
             for worker in [w for w in busy if w.results in ready]:
                 try:
-                    # what _child writes: (index, status, work's result or why it has none)
-                    index, status, value = cast("tuple[int, str, object]", _read(worker.results))
+                    # what _child writes: (index, status, work's result or why it has none,
+                    # whether the worker ends after it: past its resident-memory threshold)
+                    index, status, value, retiring = cast(
+                        "tuple[int, str, object, bool]", _read(worker.results)
+                    )
                 except (EOFError, pickle.UnpicklingError, OSError):
                     assert worker.index is not None  # a busy worker
                     how = pool.retire(worker, kill=True)
@@ -312,11 +358,17 @@ def run_in_workers(
                 if status == "memory":
                     replace(worker, BudgetExceeded("memory", "it ran out of its memory budget"))
                     continue
-                if status == "crashed":
-                    done[index] = BudgetExceeded("crashed", str(value))
-                    assign(worker)
+                done[index] = (
+                    BudgetExceeded("crashed", str(value))
+                    if status == "crashed"
+                    else cast(R, value)  # status "ok": work's result
+                )
+                if retiring:  # it ends by itself: wait for it, fork a fresh one
+                    worker.index = None
+                    pool.retire(worker, kill=False)
+                    if pending:
+                        assign(pool.spawn())
                     continue
-                done[index] = cast(R, value)  # status "ok": work's result
                 assign(worker)
             now = time.monotonic()
             for worker in [w for w in pool.workers if w.index is not None and w.deadline <= now]:

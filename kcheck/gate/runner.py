@@ -44,11 +44,14 @@ class Settings:
     line); a scene's own ``checks: {id: {severity: ...}}`` wins over both.
     ``check_options`` are per-check option defaults (from configuration): a scene's own
     options win key by key. ``selected`` names the checks to run (None: every check given
-    that runs by default, ``Check.default_selected``: not the opt-in `reseat`);
+    that runs by default, ``Check.default_selected``, and the opt-in ones a scene names);
     options of the others are still validated, and are no error. ``cache_dir`` holds the
     mass-property cache (None: no cache). ``jobs`` is the number of worker processes (0: run
     in this process), each scene limited to ``timeout_s`` seconds and ``memory_bytes`` of
-    address space (None: no limit; limits need workers).
+    address space (None: no limit; limits need workers). ``named``: the checks asked for by
+    name (``select``), which run even when opt-in (``Check.default_selected`` False); an
+    opt-in check otherwise runs only where the scene's ``checks:`` or ``check_options`` name it.
+    ``memo_mass`` keeps mass properties in this process's memory (a study's variants).
     ``max_file_bytes`` is the largest scene file read (configuration ``max_file_size``),
     ``max_mesh_bytes`` the largest mesh file (``max_mesh_size``); None: the defaults.
     """
@@ -58,6 +61,7 @@ class Settings:
     severities: Mapping[str, Severity] = field(default_factory=dict)
     check_options: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
     selected: frozenset[str] | None = None
+    named: frozenset[str] = frozenset()
     cache_dir: Path | None = None
     jobs: int = 0
     timeout_s: float | None = None
@@ -65,6 +69,7 @@ class Settings:
     max_file_bytes: int | None = None
     max_mesh_bytes: int | None = None
     plot_formats: tuple[str, ...] = ("png",)
+    memo_mass: bool = False
 
 
 def discover(
@@ -134,6 +139,30 @@ def scene_status(checks: Sequence[CheckResult], warnings: Sequence[Finding] = ()
     return Status.PASS
 
 
+def _nothing_checked(results: Sequence[CheckResult]) -> tuple[Finding, ...]:
+    """A scene on which no check gave a verdict (each was n/a or not checked) is not a pass:
+    a warning saying so, so that its status is ``warn`` (never a pass on nothing)."""
+    if any(r.status is not Status.SKIPPED for r in results):
+        return ()
+    which = ", ".join(r.id for r in results) or "no check was selected for it"
+    return (
+        Finding(
+            f"nothing was checked: every check was n/a or not checked ({which})",
+            code="nothing-checked",
+            hint="give what the checks' n/a lines ask for, or select checks that apply to it",
+        ),
+    )
+
+
+def _opted_in(lc: LoadedCheck, scene: Scene, settings: Settings) -> bool:
+    """Whether a check runs on a scene as far as opting in goes: every default check; an
+    opt-in one when the scene, the configuration or ``select`` names it."""
+    name = lc.spec.name
+    if lc.check.default_selected:
+        return True
+    return name in scene.check_options or name in settings.check_options or name in settings.named
+
+
 def _options(
     scene: Scene, lc: LoadedCheck, defaults: Mapping[str, Any]
 ) -> tuple[Options, Severity | None]:
@@ -189,8 +218,11 @@ def check_scene(
     allow_outside: bool = False,
     plots: Path | None = None,
     settings: Settings | None = None,
+    load: Callable[[], Scene] | None = None,
 ) -> SceneResult:
-    """Load one scene and run every check on it; bad input becomes an error result."""
+    """Load one scene and run every check on it; bad input becomes an error result.
+    ``load`` builds the scene instead of reading ``path`` (a study's variant,
+    :mod:`kcheck.gate.study`); its errors are the scene's, as the file's would be."""
     from kcheck.gate.config import did_you_mean
 
     if settings is None:
@@ -202,7 +234,11 @@ def check_scene(
             if settings.max_file_bytes is None
             else dataclasses.replace(DEFAULT_LIMITS, max_bytes=settings.max_file_bytes)
         )
-        scene = load_scene(path, allow_outside=settings.allow_outside, limits=limits)
+        scene = (
+            load_scene(path, allow_outside=settings.allow_outside, limits=limits)
+            if load is None
+            else load()
+        )
         known = {lc.spec.name for lc in checks}
         wrong: list[SceneError] = []  # every check's options' errors, said together
         for check_id in scene.check_options:
@@ -222,10 +258,19 @@ def check_scene(
             except SceneError as exc:
                 wrong.extend(exc.all())
                 continue
-            if settings.selected is None and not lc.check.default_selected:
-                continue  # opt-in: runs only when selected
             if settings.selected is not None and lc.spec.name not in settings.selected:
                 continue  # its options are valid; it just does not run
+            if not _opted_in(lc, scene, settings):
+                continue  # an opt-in check nobody asked for: not run, not listed
+            missing = lc.check.missing_extra()
+            if missing is not None:  # an opt-in check the scene asks for, its extra absent
+                wrong.append(
+                    scene.error(
+                        ("checks", lc.spec.name),
+                        f"check `{lc.spec.name}` cannot run here: {missing}",
+                    )
+                )
+                continue
             severity = severity or settings.severities.get(lc.spec.name) or lc.check.severity
             plan.append((lc, options, severity, *_ask(lc, scene)))
         if wrong:
@@ -272,7 +317,9 @@ def check_scene(
         )
         results.append(result)
         drawn.append((lc, inputs, result))
-    warnings = _locate(scene, (*placement, *scene_warnings(scene, mass, results)))
+    warnings = _locate(
+        scene, (*placement, *scene_warnings(scene, mass, results), *_nothing_checked(results))
+    )
     status = scene_status(results, warnings)
     # Pictures after every check, so that each title carries the scene's verdict too.
     for lc, inputs, result in drawn if settings.plots is not None else ():
@@ -318,7 +365,11 @@ def _matter(
             )
         try:
             mass = body_mass_properties_cached(
-                scene.body, scene.scale, settings.cache_dir, settings.max_mesh_bytes
+                scene.body,
+                scene.scale,
+                settings.cache_dir,
+                settings.max_mesh_bytes,
+                memo=settings.memo_mass,
             )
         except SceneError as exc:
             where = exc.where or ("body",)
@@ -457,7 +508,14 @@ def run_batch(
     def work(path: Path) -> SceneResult:
         return check_scene(path, checks, settings=settings)
 
-    budget = pool.Budget(settings.timeout_s, settings.memory_bytes)
+    # Workers that draw pictures grow (matplotlib's caches): recycled past a threshold.
+    recycle = pool.RECYCLE_RSS_BYTES if settings.plots is not None else None
+    if recycle is not None:
+        # Imported once here, before the forks: a recycled worker starts with matplotlib and
+        # its font list loaded instead of loading them again.
+        import matplotlib.figure  # noqa: F401
+        from matplotlib.backends import backend_agg  # noqa: F401
+    budget = pool.Budget(settings.timeout_s, settings.memory_bytes, recycle)
     outcomes = pool.run_in_workers(files, work, jobs=settings.jobs, budget=budget, tick=tick)
     for path, outcome in zip(files, outcomes, strict=True):
         if isinstance(outcome, pool.BudgetExceeded):

@@ -235,6 +235,23 @@ class Baseline:
             counts[baseline_key(e["path"], e["rule"], e["field"])] += 1
         return cls(counts, str(path))
 
+    def stale(self, results: Iterable[SceneResult], root: Path) -> list[tuple[str, str, str]]:
+        """Entries that matched no failure of the scenes checked (call after the run): of a
+        scene whose checks ran, for a check that ran on it. Entries of scenes or checks this
+        run left out (``--changed-only``, ``--select``, a scene that did not load) are not
+        judged."""
+        ran: dict[str, set[str]] = {}
+        for scene in results:
+            if scene.checks:
+                checks = ran.setdefault(relative_path(scene.path, root), set())
+                checks.update(c.id for c in scene.checks)
+        return sorted(
+            key
+            for key, left in self.counts.items()
+            for _ in range(left)
+            if key[1].split("/")[0] in ran.get(key[0], ())
+        )
+
     def take(self, key: tuple[str, str, str]) -> bool:
         """Accept one failure of this key, if the baseline still holds one."""
         if self.counts[key] > 0:

@@ -4,9 +4,11 @@ so that an incremental run gives the verdict of the full run.
 A scene is affected when its file changed (or is untracked), when a mesh it names changed,
 was deleted or renamed away (the scene names the old path), and every scene is affected when
 the configuration changed: a ``kcheck.toml``, or the ``[tool.kcheck]`` table of a
-``pyproject.toml``. A scene that names a changed mesh in its text but cannot be parsed is
-affected too (checking it reports it). ``--since REF`` compares with the merge-base of REF
-and ``HEAD``, as a pull request does, so a branch behind REF is judged by its own changes.
+``pyproject.toml``, or the ``--baseline`` file (an entry dropped from it makes a failure
+count again; one added accepts it). A scene that names a changed mesh in its text but
+cannot be parsed is affected too (checking it reports it). ``--since REF`` compares with
+the merge-base of REF and ``HEAD``, as a pull request does, so a branch behind REF is judged
+by its own changes.
 """
 
 from __future__ import annotations
@@ -142,15 +144,20 @@ def config_changed(top: Path, base: str, changed: set[Path]) -> Path | None:
     return None
 
 
-def changed_scenes(files: Sequence[Path], ref: str, *, since: bool = False) -> list[Path]:
+def changed_scenes(
+    files: Sequence[Path], ref: str, *, since: bool = False, inputs: Sequence[Path] = ()
+) -> list[Path]:
     """The scenes among ``files`` that a change against ``ref`` affects (``since``: against
-    the merge-base of ``ref`` and ``HEAD``): see the module's documentation."""
+    the merge-base of ``ref`` and ``HEAD``): see the module's documentation. ``inputs``:
+    further files whose change affects every scene (the ``--baseline`` file)."""
     from kcheck.gate.paths import MESH_SUFFIXES, scenes_using
 
     _top()  # first: outside a repository, say so
     base = merge_base(ref) if since else _commit(ref)
     top, changed = changed_files(base)
     if config_changed(top, base, changed) is not None:
+        return list(files)
+    if any(_absolute(p) in changed for p in inputs):
         return list(files)
     meshes = [p for p in changed if p.suffix.lower() in MESH_SUFFIXES]
     users = {_absolute(s) for found in scenes_using(meshes, top).values() for s in found}

@@ -11,8 +11,9 @@ circle's, so the radial integrals are closed forms (:func:`_ray_integrals`), and
 over the ray's angle (smooth and periodic; the nodes graded towards the long axis, where a
 slender ellipse's rays turn fast) is taken by the trapezoidal rule, which converges spectrally.
 For a circle this is Johnson's eq. 3.46. The depth of each maximum is refined by
-parabolic interpolation on ever finer stencils. Everything is numpy, vectorised over
-contacts, SI units.
+parabolic interpolation on ever finer stencils. A 2D line contact (the ring of a ball in a
+cone) has its axis stresses in closed form (Johnson §4.3; :func:`line_subsurface_stress`).
+Everything is numpy, vectorised over contacts, SI units.
 """
 
 from __future__ import annotations
@@ -22,7 +23,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["SubsurfaceStress", "axis_stresses", "subsurface_stress"]
+__all__ = [
+    "SubsurfaceStress",
+    "axis_stresses",
+    "line_axis_stresses",
+    "line_subsurface_stress",
+    "subsurface_stress",
+]
 
 _PHI = 256  # trapezoid nodes (stresses to 1e-9 p0 down to b/a = 1/100)
 #: A contact with b/a above 1 - this is a circle (Johnson's eq. 3.46 directly); the ray average
@@ -132,25 +139,26 @@ def _maximum(
     b: np.ndarray,
     p0: np.ndarray,
     nu: np.ndarray,
+    stresses: Callable[..., np.ndarray] = _stresses,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Largest ``measure`` along the axis and its depth: a grid in ``z / b``, then parabolic
     steps around the best node."""
     grid = np.linspace(0.2, 1.2, 11)  # the maxima lie at 0.48 b (circle) to 0.79 b (line)
-    values = measure(_stresses(grid * b[..., None], a[..., None], b[..., None],
-                               p0[..., None], nu[..., None]))  # fmt: skip
+    values = measure(stresses(grid * b[..., None], a[..., None], b[..., None],
+                              p0[..., None], nu[..., None]))  # fmt: skip
     best = np.clip(np.argmax(values, axis=-1), 1, grid.size - 2)
     depth = grid[best] * b
     step = (grid[1] - grid[0]) * b
     for _ in range(_REFINEMENTS):
         # the vertex of the parabola through three points around the best depth so far
         z = depth[..., None] + step[..., None] * np.array([-1.0, 0.0, 1.0])
-        f = measure(_stresses(z, a[..., None], b[..., None], p0[..., None], nu[..., None]))
+        f = measure(stresses(z, a[..., None], b[..., None], p0[..., None], nu[..., None]))
         curve = f[..., 0] - 2.0 * f[..., 1] + f[..., 2]
         with np.errstate(divide="ignore", invalid="ignore"):
             shift = np.where(curve < 0, 0.5 * (f[..., 0] - f[..., 2]) / curve, 0.0)
         depth = depth + step * np.clip(shift, -1.0, 1.0)
         step = step / 8.0
-    return measure(_stresses(depth, a, b, p0, nu)), depth
+    return measure(stresses(depth, a, b, p0, nu)), depth
 
 
 def subsurface_stress(
@@ -179,4 +187,50 @@ def subsurface_stress(
         mises, mises_depth = _maximum(_von_mises, *args)
         for o, v in zip(out, (shear, shear_depth, mises, mises_depth), strict=True):
             o[group] = v
+    return SubsurfaceStress(*(o.reshape(shape) for o in out))
+
+
+def line_axis_stresses(
+    depth: np.ndarray | float,
+    half_width: np.ndarray | float,
+    max_pressure: np.ndarray | float,
+    poisson: np.ndarray | float,
+) -> np.ndarray:
+    """Principal stresses ``(sigma_x, sigma_y, sigma_z)`` (Pa, compression negative), shape
+    (..., 3), at ``depth`` (m) below the centre of a 2D Hertz line contact of half-width ``b``
+    (m, across the line along x; the line along y, plane strain) and peak pressure ``p0``:
+    Johnson §4.3, ``sigma_x = -(p0/b) ((b^2 + 2 z^2) / sqrt(b^2 + z^2) - 2 z)``, ``sigma_z =
+    -p0 b / sqrt(b^2 + z^2)``, ``sigma_y = nu (sigma_x + sigma_z)``."""
+    z, b, p0, nu = (np.asarray(v, dtype=float) for v in (depth, half_width, max_pressure, poisson))
+    root = np.sqrt(b * b + z * z)
+    sx = -(p0 / b) * ((b * b + 2.0 * z * z) / root - 2.0 * z)
+    sz = -p0 * b / root
+    return np.stack(np.broadcast_arrays(sx, nu * (sx + sz), sz), axis=-1)
+
+
+def _line(
+    z: np.ndarray, a: np.ndarray, b: np.ndarray, p0: np.ndarray, nu: np.ndarray
+) -> np.ndarray:
+    return line_axis_stresses(z, b, p0, nu)
+
+
+def line_subsurface_stress(
+    half_width: np.ndarray | float, max_pressure: np.ndarray | float, poisson: np.ndarray | float
+) -> SubsurfaceStress:
+    """Largest shear and von Mises stresses (Pa) below frictionless 2D Hertz line contacts and
+    their depths (m): half-width ``b`` (m), peak pressure (Pa), Poisson's ratio (for nu = 0.3:
+    ``0.30 p0`` at ``0.78 b`` and ``0.56 p0`` at ``0.70 b``). Zero width gives zeros."""
+    b, p0, nu = (
+        np.atleast_1d(np.asarray(v, dtype=float))
+        for v in np.broadcast_arrays(half_width, max_pressure, poisson)
+    )
+    shape = np.shape(np.broadcast_arrays(half_width, max_pressure, poisson)[0])
+    live = (b > 0) & (p0 > 0)
+    out = [np.zeros_like(b) for _ in range(4)]
+    if np.any(live):
+        args = (b[live], b[live], p0[live], nu[live])
+        shear, shear_depth = _maximum(_shear, *args, stresses=_line)
+        mises, mises_depth = _maximum(_von_mises, *args, stresses=_line)
+        for o, v in zip(out, (shear, shear_depth, mises, mises_depth), strict=True):
+            o[live] = v
     return SubsurfaceStress(*(o.reshape(shape) for o in out))

@@ -33,7 +33,7 @@ from kcheck.mechanics.dynamics import (
 )
 from kcheck.mechanics.kinematics import free_twist_arrays, wrenches
 
-__all__ = ["Perturbed", "perturb", "sample_margins", "CHUNK"]
+__all__ = ["Perturbed", "perturb", "unit_dimensions", "sample_margins", "CHUNK"]
 
 # Samples set up and solved per batch (bounds the memory: about 3 MB per 1000 spatial samples).
 CHUNK = 4096
@@ -82,16 +82,68 @@ def perturb(
     count: int,
     rng: np.random.Generator,
     independent: bool = False,
+    unit: np.ndarray | None = None,
 ) -> Perturbed:
     """``count`` made couplings around the problem's: positions within ``±position`` (m) per
     coordinate, normals within ``normal`` (rad), coefficients uniform along their ranges —
     together, as the analytical checks take a range (``low + t (high - low)``, one ``t`` per
-    sample), or each support on its own (``independent``)."""
+    sample), or each support on its own (``independent``). Drawn from ``rng``, or mapped
+    from ``unit`` points of ``[0, 1)^d`` (count, :func:`unit_dimensions`), e.g. a Latin
+    hypercube or Sobol design of :mod:`kcheck.numerics.design`."""
     k, dim = problem.points.shape
+    if unit is not None:
+        return _from_unit(problem, position, normal, friction_low, friction_high, unit)
     shift = rng.uniform(-1.0, 1.0, (count, k, dim)) * (position / problem.frame.length)
     normals = _tilts(problem.normals, normal, rng, count)
     span = np.asarray(friction_high, float) - np.asarray(friction_low, float)
     t = rng.uniform(0.0, 1.0, (count, k) if independent else (count, 1))
+    mu = np.asarray(friction_low, float) + t * span
+    return Perturbed(problem.points + shift, normals, mu)
+
+
+def unit_dimensions(k: int, dim: int, independent: bool) -> int:
+    """Columns of the unit points one sample of ``k`` supports takes: its shifts (k dim),
+    its tilts (3D: cosine and azimuth per support; 2D: the turn) and its coefficients (one
+    shared, or one per support)."""
+    return k * dim + (k if dim == 2 else 2 * k) + (k if independent else 1)
+
+
+def _from_unit(
+    problem: Problem,
+    position: float,
+    normal: float,
+    friction_low: np.ndarray,
+    friction_high: np.ndarray,
+    unit: np.ndarray,
+) -> Perturbed:
+    """The made couplings of :func:`perturb` at the given unit points (count, d): each
+    uniform quantity is its range's ``low + u (high - low)``."""
+    k, dim = problem.points.shape
+    count = len(unit)
+    u_shift = unit[:, : k * dim].reshape(count, k, dim)
+    shift = (2.0 * u_shift - 1.0) * (position / problem.frame.length)
+    tilt_cols = k if dim == 2 else 2 * k
+    u_tilt = unit[:, k * dim : k * dim + tilt_cols]
+    nominal = problem.normals
+    if normal <= 0:
+        normals = np.broadcast_to(nominal, (count, k, dim)).copy()
+    elif dim == 2:
+        turn = normal * (2.0 * u_tilt - 1.0)
+        c, s = np.cos(turn), np.sin(turn)
+        x, y = nominal[:, 0], nominal[:, 1]
+        normals = np.stack([c * x - s * y, s * x + c * y], axis=-1)
+    else:
+        cos_tilt = np.cos(normal) + u_tilt[:, :k] * (1.0 - np.cos(normal))
+        sin_tilt = np.sqrt(np.maximum(1.0 - cos_tilt**2, 0.0))
+        azimuth = 2.0 * np.pi * u_tilt[:, k:]
+        helper = np.where(np.abs(nominal[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+        e1 = np.cross(nominal, helper)
+        e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
+        e2 = np.cross(nominal, e1)
+        side = np.cos(azimuth)[..., None] * e1 + np.sin(azimuth)[..., None] * e2
+        normals = cos_tilt[..., None] * nominal + sin_tilt[..., None] * side
+    t = unit[:, k * dim + tilt_cols :]
+    span = np.asarray(friction_high, float) - np.asarray(friction_low, float)
     mu = np.asarray(friction_low, float) + t * span
     return Perturbed(problem.points + shift, normals, mu)
 
@@ -172,15 +224,50 @@ def _margins_chunk(
     return value.min(axis=-1)
 
 
-def sample_margins(problem: Problem, layouts: Perturbed, design: np.ndarray | None) -> np.ndarray:
+#: What forked workers read (set before the fork, so the layouts are not pickled).
+_SHARED: dict[str, object] = {}
+
+
+def _shared_chunk(start: int) -> np.ndarray:
+    """Margins of the batch starting at ``start`` of the layouts shared with the workers."""
+    problem, layouts, design, pivot = (
+        _SHARED[k] for k in ("problem", "layouts", "design", "pivot")
+    )
+    assert isinstance(layouts, Perturbed) and isinstance(problem, Problem)
+    part = slice(start, start + CHUNK)
+    batch = Perturbed(layouts.points[part], layouts.normals[part], layouts.friction[part])
+    return _margins_chunk(problem, batch, design, pivot)  # type: ignore[arg-type]
+
+
+def sample_margins(
+    problem: Problem, layouts: Perturbed, design: np.ndarray | None, workers: int = 1
+) -> np.ndarray:
     """Design margins (rad, (s,)) of sampled layouts, in batches of ``CHUNK``; ``pi`` /
     ``-pi`` for closing / not closing under the fixed wrench when there is no design
-    direction."""
+    direction. With ``workers`` > 1 (and fork, on Linux) the batches are solved in that many
+    forked processes: the batches are the same whatever the number of workers and each
+    sample's margin depends on its batch alone, so the margins are identical."""
+    import os
+    import sys
+
     count = len(layouts.points)
     out = np.empty(count)
     nominal, _, _ = free_twist_arrays(problem.points, problem.normals)
     pivot = np.argmax(np.abs(nominal), axis=-1)
-    for start in range(0, count, CHUNK):
+    starts = range(0, count, CHUNK)
+    if workers > 1 and len(starts) > 1 and hasattr(os, "fork") and sys.platform == "linux":
+        import multiprocessing
+
+        _SHARED.update(problem=problem, layouts=layouts, design=design, pivot=pivot)
+        try:
+            # Workers are forked when the pool is made, before its threads start.
+            with multiprocessing.get_context("fork").Pool(min(workers, len(starts))) as pool:
+                for start, margins in zip(starts, pool.imap(_shared_chunk, starts), strict=True):
+                    out[start : start + CHUNK] = margins
+        finally:
+            _SHARED.clear()
+        return out
+    for start in starts:
         part = slice(start, start + CHUNK)
         batch = Perturbed(layouts.points[part], layouts.normals[part], layouts.friction[part])
         out[part] = _margins_chunk(problem, batch, design, pivot)

@@ -107,6 +107,10 @@ __all__ = [
     "RESEAT_STICK_SHARE",
     "RESEAT_ESTIMATE_FACTOR",
     "RESEAT_SEAT_RESOLUTION",
+    "RESEAT_REST_SPEED",
+    "CONTACT_GAP_RTOL",
+    "SMOOTH_PATCH_DEG",
+    "SURFACE_FIT_RTOL",
 ]
 
 # --- floating point ----------------------------------------------------------------------
@@ -238,8 +242,8 @@ SAME_POINT_RTOL: float = 1e-9
 #: this fraction of the sampling step (nondimensional; a 5 mm step: 5 µm) ...
 POLISH_XTOL: float = 1e-3
 
-#: ... and its margins agree to this (rad, 6e-4°): two orders below the 0.05° the search
-#: promises against an exhaustive reference (docs/suggest.md).
+#: ... and its margins agree to this (rad) (1e-5 rad is 6e-4°): two orders below the 0.05°
+#: the search promises against an exhaustive reference (docs/suggest.md).
 POLISH_FTOL: float = 1e-5
 
 # --- cones and linear programmes ---------------------------------------------------------------
@@ -466,3 +470,23 @@ RESEAT_ESTIMATE_FACTOR: float = 2.0
 #: and changes with each contact's force), not converging with the step; halving the step
 #: changed fixtures' nm seat errors by up to 0.016 µm. 2 % of the default tolerance (1 µm).
 RESEAT_SEAT_RESOLUTION: float = 2e-8
+#: The settle goes on (in blocks of its own length, up to 1 s) until no contact point of the
+#: body moves faster than this (m/s): the first motion is compared from a body at rest, and a
+#: sliding body reaches 10 µm within a few ms (over 1e-2 m/s), 100 times faster.
+RESEAT_REST_SPEED: float = 1e-4
+
+# --- Contacts from the CAD (kcheck contacts) ---------------------------------------------------
+
+#: Default gap tolerance of ``kcheck contacts`` as a fraction of the assembly's size
+#: (nondimensional; of the diagonal of both parts' bounds): surfaces closer than this touch.
+#: Tessellating a 6 mm ball with 0.3 mm edges leaves gaps of about 0.002 mm; 1e-3 of a 100 mm
+#: assembly is 0.1 mm.
+CONTACT_GAP_RTOL: float = 1e-3
+#: Faces meeting at a dihedral angle below this (deg) belong to one smooth surface patch:
+#: above the facet angles of any usable tessellation of a ball or pin (an 8-sided pin has
+#: 45°, so coarser ones are not recognised), below the sharp edges of grooves and flats.
+SMOOTH_PATCH_DEG: float = 30.0
+#: A fitted plane, sphere or cylinder is accepted when the RMS distance of the patch's
+#: vertices from it is below this fraction of the patch's size (nondimensional): STL's float32
+#: coordinates and CAD tessellations put vertices on the surface to about 1e-7.
+SURFACE_FIT_RTOL: float = 1e-4

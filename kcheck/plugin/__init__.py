@@ -64,7 +64,10 @@ class Check:
       a check whose need depends on the scene overrides ``needs_mass_for``;
     * ``options``: a pydantic model of its options;
     * ``severity``: ``error`` (a failure fails the run) or ``warning`` (shown; fails the run
-      only with ``--strict``); scenes and configuration may override it per check.
+      only with ``--strict``); scenes and configuration may override it per check;
+    * ``default_selected``: False for an opt-in check, which runs only on scenes whose
+      ``checks:`` name it, when the configuration gives it options, or when ``--select``
+      names it (not even listed otherwise).
 
     ``run`` returns an immutable :class:`~kcheck.result.CheckResult` and never prints.
     """
@@ -75,14 +78,12 @@ class Check:
     needs_mass: ClassVar[bool] = False
     options: ClassVar[type[Options]] = Options
     severity: ClassVar[Severity] = "error"
+    default_selected: ClassVar[bool] = True
     #: ``"module:function"`` drawing this check's pictures, called as
     #: ``function(check, inputs, result, directory) -> paths``. A string, so that the check's
     #: module never imports its pictures or matplotlib: they are imported only when pictures
     #: are asked for.
     pictures: ClassVar[str | None] = None
-    #: Whether the check runs when no ``select`` names checks; a slow check sets False and
-    #: runs only when selected.
-    default_selected: ClassVar[bool] = True
 
     def missing_extra(self) -> str | None:
         """What to install for this check to run here (an optional extra whose packages

@@ -96,9 +96,14 @@ def _trustworthy() -> bool:
     def plain(method: Any) -> Any:
         return getattr(method, "__func__", method)
 
+    # Some hosts (a Dask worker) run with a PathFinder that has no find_distributions: then
+    # only importlib.metadata can say.
+    reference = getattr(PathFinder, "find_distributions", None)
+    if reference is None:
+        return False
     for finder in sys.meta_path:
         own = getattr(finder, "find_distributions", None)
-        if own is not None and plain(own) is not plain(PathFinder.find_distributions):
+        if own is not None and plain(own) is not plain(reference):
             return False  # a finder of its own that can list distributions
     return not any(os.path.isfile(entry or ".") for entry in sys.path)  # zip archives
 

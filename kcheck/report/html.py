@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import datetime
 import io
-import re
 import shutil
 import tempfile
 from collections.abc import Callable, Sequence
@@ -22,6 +21,7 @@ from typing import TextIO
 
 from kcheck import __version__
 from kcheck.report import ReportOptions, tables, views
+from kcheck.report.inline_svg import InlineSvg
 from kcheck.report.safe import printable
 from kcheck.result import CheckResult, SceneResult, Status
 
@@ -232,12 +232,17 @@ def write_page(
 ) -> None:
     """Write the page to ``stream`` a scene at a time: a page of a hundred scenes with
     pictures is some 70 MB, and joined whole it was held four times over (issue 13)."""
+    # The head holds the pictures' styles: a first pass finds them, holding no picture.
+    inline = InlineSvg()
+    for found in pictures:
+        for svg in found.values():
+            inline(svg)
 
     def sections(out: TextIO) -> None:
         for i, s in enumerate(scenes):
-            out.write(_scene(i, s, pictures[i]))
+            out.write(_scene(i, s, {name: inline(svg) for name, svg in pictures[i].items()}))
 
-    _write_page(stream, scenes, elapsed_s, sections)
+    _write_page(stream, scenes, elapsed_s, sections, inline.css())
 
 
 def _write_page(
@@ -245,8 +250,10 @@ def _write_page(
     scenes: Sequence[SceneResult],
     elapsed_s: float,
     sections: Callable[[TextIO], None],
+    picture_css: str = "",
 ) -> None:
-    """Head, summary, the scenes' sections (written by ``sections``), footer."""
+    """Head, summary, the scenes' sections (written by ``sections``), footer;
+    ``picture_css``: the pictures' styles (:meth:`InlineSvg.css`)."""
     n = views.counts(scenes)
     worst = next((k for k in ("error", "fail", "warn", "marginal") if n[k]), "pass")
     style = resources.files("kcheck.report").joinpath("report.css").read_text(encoding="utf-8")
@@ -257,7 +264,7 @@ def _write_page(
         f'<meta http-equiv="Content-Security-Policy" content="{CSP}">'
         '<meta name="viewport" content="width=device-width, initial-scale=1">'
         f"<title>kcheck report: {_e(views.run_line(scenes, elapsed_s))}</title>"
-        f"<style>{style}</style></head><body>"
+        f"<style>{style}{picture_css}</style></head><body>"
     )
     head = [
         "<main>",
@@ -289,6 +296,7 @@ class HtmlReporter:
         # Whole results: the ones Reporter.finish gets are slimmed (no cases, no tables).
         self.scenes: list[SceneResult] = []
         self._spool: TextIO | None = None
+        self._inline = InlineSvg()
 
     def start(self, total: int) -> None:
         """Nothing to write before the end (the summary comes first)."""
@@ -317,7 +325,7 @@ class HtmlReporter:
             if path.suffix == ".svg":
                 svg = _svg(path)
                 if svg is not None:
-                    found[path.name] = _unique_ids(svg, f"k{index}x{len(found)}")
+                    found[path.name] = self._inline(svg)
         self._sections().write(_scene(index, result, found))
 
     def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
@@ -330,25 +338,8 @@ class HtmlReporter:
                     spool.seek(0)
                     shutil.copyfileobj(spool, out, 1 << 20)
 
-            _write_page(self.stream, self.scenes, elapsed_s, sections)
+            _write_page(self.stream, self.scenes, elapsed_s, sections, self._inline.css())
         finally:
             if spool is not None:
                 spool.close()
                 self._spool = None
-
-
-_ID = re.compile(r'\bid="([^"]+)"')
-
-
-def _unique_ids(svg: str, prefix: str) -> str:
-    """Prefix every id of one SVG (and the references to it) so that several pictures inlined
-    in one page never pick up each other's clip paths, markers or glyphs."""
-    ids = set(_ID.findall(svg))
-    if not ids:
-        return svg
-
-    def swap(match: re.Match[str]) -> str:
-        name = match.group(2)
-        return f"{match.group(1)}{prefix}-{name}" if name in ids else match.group(0)
-
-    return re.sub(r'(id="|#)([^"\)\s]+)', swap, svg)

@@ -37,9 +37,16 @@ from kcheck.scene.types import (
 )
 from kcheck.scene.units import LENGTH_TO_M
 from kcheck.scene.validate import Problems, consequence_of, plain_value_problems, salvage
-from kcheck.scene.yamlio import DEFAULT_LIMITS, FieldPath, YamlLimits, format_path, read_yaml
+from kcheck.scene.yamlio import (
+    DEFAULT_LIMITS,
+    FieldPath,
+    YamlDocument,
+    YamlLimits,
+    format_path,
+    read_yaml,
+)
 
-__all__ = ["SCENE_GLOB", "load_scene", "rotation_matrix"]
+__all__ = ["SCENE_GLOB", "load_scene", "scene_from_document", "rotation_matrix"]
 
 SCENE_GLOB = "*.kcheck.yaml"
 
@@ -50,7 +57,15 @@ def load_scene(
     """Read and validate a scene file; raise SceneError (SceneErrors for several), each
     naming file, field, line and what was expected."""
     path = Path(path)
-    document = read_yaml(path, limits=limits)
+    return scene_from_document(path, read_yaml(path, limits=limits), allow_outside=allow_outside)
+
+
+def scene_from_document(
+    path: Path, document: YamlDocument, *, allow_outside: bool = False
+) -> Scene:
+    """Validate the plain data of a scene file read before (or changed since: a study's
+    variant, :mod:`kcheck.scene.variants`); errors are located in ``path`` by the document's
+    lines."""
     problems = Problems(path, document.lines, document.columns)
     data = document.data
     if not isinstance(data, dict):

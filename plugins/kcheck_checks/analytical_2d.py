@@ -12,7 +12,7 @@ from kcheck.analysis.friction_ranges import range_details
 from kcheck.fmt import format_angle
 from kcheck.mechanics.arcs import ArcSet, affine_arcs
 from kcheck.mechanics.dynamics import Affine
-from kcheck.numerics.thresholds import UNCERTAIN_DEG
+from kcheck.numerics.thresholds import FULL_TURN_SLACK_DEG, UNCERTAIN_DEG
 from kcheck.plugin import Check, Inputs
 from kcheck.result import CaseResult, CheckResult, Status
 from kcheck.scene import Scene
@@ -26,6 +26,7 @@ from kcheck_checks.wording import (
     load_field,
     merge_findings,
     verdict,
+    with_closing_force_way_out,
     with_friction_way_out,
 )
 
@@ -147,10 +148,59 @@ class Analytical2D(Check):
             return judged(scene, analyse(scene, mass)).status == Status.PASS
 
         result = with_friction_way_out(result, inputs.scene, passes)
+        result = with_closing_force_way_out(result, inputs.scene, passes)
         result = with_partial_ranges(result, analysis, inputs.scene)
         if result.error_estimate is None and analysis.trustworthy and inputs.scene.load is None:
             result = dataclasses.replace(result, error_estimate=_gravity_error_deg(analysis))
+        return with_tolerated_tilt(result, analysis, inputs.scene)
+
+
+def planar_tilt_words(scene: Scene) -> str:
+    """How a planar gravity-only scene's tilt is measured: "from level" when its gravity points
+    along −y (down in the plane of motion), else "from the installed attitude"."""
+    g = np.asarray(scene.gravity[:2], float)
+    n = float(np.linalg.norm(g))
+    if n > 0 and np.allclose(g / n, (0.0, -1.0), atol=1e-9):
+        return "from level"
+    return "from the installed attitude"
+
+
+def with_tolerated_tilt(result: CheckResult, analysis: Analysis, scene: Scene) -> CheckResult:
+    """A planar scene closed by gravity alone (no load magnitude): the tilt of the installation
+    in the plane it tolerates, ``tolerated_tilt_deg`` — the angle from the scene's gravity
+    direction to the nearest gravity direction at which a retraction no longer closes (its
+    magnitude kept; 180° when every direction closes, 0 when the installed one fails) — and,
+    on a pass, "safe for tilts up to 12.34° from level" in the message. Nobody turns gravity."""
+    from kcheck.analysis.cases import sweep_ranges
+
+    if scene.load is not None and scene.load.magnitude > 0:
         return result
+    if not analysis.trustworthy or not np.any(scene.gravity[:2]):
+        return result
+    e1, e2 = np.eye(2)
+    swept = sweep_ranges(analysis, e1, e2)
+    combined = swept.combined
+    if combined is None:
+        return result
+    full = len(combined) == 1 and np.degrees(combined[0][1] - combined[0][0]) >= (
+        360.0 - FULL_TURN_SLACK_DEG
+    )
+    if full:
+        tilt = 180.0
+    elif not combined or swept.design_margin_deg is None:
+        tilt = 0.0
+    else:
+        tilt = max(0.0, float(swept.design_margin_deg))
+    details = {**result.details, "tolerated_tilt_deg": tilt}
+    message = result.message
+    if result.status == Status.PASS:
+        words = (
+            "safe at any tilt in the plane"
+            if full
+            else (f"safe for tilts up to {format_angle(tilt)} {planar_tilt_words(scene)}")
+        )
+        message = f"{message}; {words}"
+    return dataclasses.replace(result, details=details, message=message)
 
 
 def _gravity_error_deg(analysis: Analysis) -> float | None:

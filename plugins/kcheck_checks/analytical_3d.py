@@ -34,6 +34,7 @@ from kcheck_checks.wording import (
     move_support_text,
     support_field,
     verdict,
+    with_closing_force_way_out,
     with_friction_way_out,
 )
 
@@ -396,4 +397,5 @@ class Analytical3D(Check):
             again = spatial_result(self.id, scene, analyse(scene, mass), options)[0]
             return again.status == Status.PASS
 
-        return with_friction_way_out(result, inputs.scene, passes)
+        result = with_friction_way_out(result, inputs.scene, passes)
+        return with_closing_force_way_out(result, inputs.scene, passes)

@@ -47,7 +47,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from pydantic import Field
 
 from kcheck.analysis.cases import describe_ranges, nearest_end, ranges_deg, support_layout
 from kcheck.analysis.friction_ranges import coefficients_used
@@ -74,9 +73,8 @@ from kcheck.mechanics.koster import (
     tilted_twist,
     virtual_power,
 )
-from kcheck.numerics.margins import MARGINAL_ANGLE_DEG
 from kcheck.numerics.thresholds import INFINITE_POLE
-from kcheck.plugin import Check, Inputs, Options
+from kcheck.plugin import Check, Inputs
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.graphical_attachment import (
@@ -87,6 +85,7 @@ from kcheck_checks.graphical_attachment import (
     needs_centre_of_mass,
 )
 from kcheck_checks.marginal import with_angle_margin
+from kcheck_checks.options import AnalyticalOptions
 from kcheck_checks.wording import (
     design_findings,
     empty_range_findings,
@@ -118,19 +117,8 @@ __all__ = [
 MASS_FREE = "mass-free: contact loss not checked"
 
 
-class GraphicalOptions(Options):
-    """Options of the ``graphical-2d`` check."""
-
-    min_margin_deg: float = Field(
-        0.0, ge=0, description="Least angular distance of the design direction from a boundary"
-    )
-    marginal_deg: float = Field(
-        MARGINAL_ANGLE_DEG,
-        ge=0,
-        le=180,
-        description="A pass whose design margin is below this (degrees) is marginal "
-        "(0: no marginal band)",
-    )
+class GraphicalOptions(AnalyticalOptions):
+    """Options of the ``graphical-2d`` check: the analytical checks' margin and marginal band."""
 
 
 def _pole_details(frame: Frame, twist: np.ndarray, prefix: str = "") -> dict[str, Any]:

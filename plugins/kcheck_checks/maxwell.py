@@ -11,16 +11,17 @@ import numpy as np
 from pydantic import Field
 
 from kcheck.analysis.cases import support_layout
-from kcheck.fmt import format_angle
+from kcheck.fmt import format_angle, format_number
 from kcheck.mechanics.kinematics import (
     RANK_RTOL,
     free_twist,
     layout_singular_values,
     maxwell_angle,
     maxwell_cos,
+    point_velocity,
 )
 from kcheck.numerics.margins import MARGINAL_COS
-from kcheck.numerics.thresholds import EPS, NEARLY_SINGULAR
+from kcheck.numerics.thresholds import EPS, NEARLY_SINGULAR, NOISE_RTOL
 from kcheck.plugin import Check, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck_checks.marginal import with_margin
@@ -38,6 +39,56 @@ class MaxwellOptions(Options):
         le=1,
         description="A pass whose smallest cos(theta) is below this is marginal (0: no "
         "marginal band)",
+    )
+
+
+#: Added to the turn a hint names (degrees), so that the normal written with four decimals still
+#: reaches the limit: a unit vector rounded to 1e-4 per component is off by < 0.01°.
+TURN_SLACK_DEG = 0.05
+
+
+def turned_normal(velocity: np.ndarray, normal: np.ndarray, min_cos: float) -> dict | None:
+    """The least turn of a support's normal, towards its freed motion ``velocity``, that makes
+    cos θ reach ``min_cos`` in its own case: ``{"by_deg", "normal"}`` (the turn, rounded up to
+    0.01° after ``TURN_SLACK_DEG``, and the new unit normal), None when no turn is needed or
+    the motion has no speed.
+
+    The freed motion of a retracted support depends only on the *other* supports, so turning
+    this normal by Δ in the plane of the normal and the motion makes θ' = θ − Δ exactly (the
+    other cases, where this support stays, change with it)."""
+    speed = float(np.linalg.norm(velocity))
+    if not speed > 0:
+        return None
+    along = float(normal @ velocity)
+    across = velocity - along * normal
+    size = float(np.linalg.norm(across))
+    theta = float(np.arctan2(size, abs(along)))
+    target = float(np.arccos(np.clip(min_cos, 0.0, 1.0)))
+    if theta <= target or not size > 0:
+        return None
+    by = min(np.ceil((np.degrees(theta - target) + TURN_SLACK_DEG) * 100) / 100, np.degrees(theta))
+    delta = np.radians(by)
+    sign = 1.0 if along >= 0 else -1.0
+    turned = np.cos(delta) * normal + np.sin(delta) * sign * across / size
+    turned = np.zeros(3) + np.pad(turned, (0, 3 - len(turned)))
+    return {"by_deg": float(by), "normal": (turned / np.linalg.norm(turned)).tolist()}
+
+
+def _turn_hint(case: CaseResult, min_cos: float, geometry: object = None) -> str:
+    """ "turn y1's normal 12.35° towards its freed motion, to (0.2139, 0.9769, 0): cos θ ≥ 0.7
+    in this case; ..." or, without a number, the advice to tilt the neighbours. A coupling's
+    contact (``geometry``) has its normal from its seat: the hint says so."""
+    turn = case.details.get("turn_normal")
+    if not isinstance(turn, dict):
+        return "tilt the neighbouring contacts so the freed motion meets this normal more squarely"
+    vector = ", ".join(format_number(round(float(x), 4) + 0.0, 4) for x in turn["normal"][:3])
+    coupling = getattr(geometry, "coupling", None)
+    seat = "" if coupling is None else f" (by turning coupling {coupling}'s seat or flank)"
+    return (
+        f"turn {case.retracted}'s normal {format_angle(turn['by_deg'])} towards its freed motion, "
+        f"to ({vector}){seat}: cos θ ≥ {min_cos:g} in this case (the cases where {case.retracted} "
+        "stays change with it: run again); or tilt the neighbouring contacts so the freed motion "
+        "meets this normal more squarely"
     )
 
 
@@ -68,6 +119,7 @@ class Maxwell(Check):
                 cases.append(CaseResult(support.name, "undetermined"))
                 continue
             cos = maxwell_cos(free, points[r], normals[r])
+            turn = turned_normal(point_velocity(free.twist, points[r]), normals[r], opts.min_cos)
             # The null vector is perturbed by about eps / (its singular-value gap).
             worst_error = max(worst_error, EPS / free.determinacy)
             outcome = "ok" if cos >= opts.min_cos else "poor"
@@ -77,7 +129,8 @@ class Maxwell(Check):
                     outcome,
                     cos_maxwell=cos,
                     details={
-                        "theta_deg": float(np.degrees(maxwell_angle(free, points[r], normals[r])))
+                        "theta_deg": float(np.degrees(maxwell_angle(free, points[r], normals[r]))),
+                        **({} if turn is None else {"turn_normal": turn}),
                     },
                 )
             )
@@ -105,7 +158,10 @@ class Maxwell(Check):
                 ),
             )
         poor = [c for c in cases if c.outcome != "ok"]
-        worst = min(cases, key=lambda c: c.cos_maxwell if c.cos_maxwell is not None else -1)
+        # The first of the worst: supports tied in cos θ (a symmetric coupling) within rounding
+        # noise are one tie, so the name does not depend on the last digits of the input.
+        cosines = [c.cos_maxwell if c.cos_maxwell is not None else -1.0 for c in cases]
+        worst = cases[next(k for k, v in enumerate(cosines) if v <= min(cosines) + NOISE_RTOL)]
         near = sigma < NEARLY_SINGULAR
         findings = tuple(
             Finding(
@@ -114,8 +170,7 @@ class Maxwell(Check):
                 f"(cos θ = {c.cos_maxwell:.3f}, below {opts.min_cos:g})",
                 code="maxwell",
                 field=scene.support_field(i),
-                hint="tilt the neighbouring contacts so the freed motion meets this normal "
-                "more squarely",
+                hint=_turn_hint(c, opts.min_cos, scene.supports[i].geometry),
             )
             for i, c in enumerate(cases)
             if c in poor and c.cos_maxwell is not None

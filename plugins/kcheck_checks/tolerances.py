@@ -17,7 +17,7 @@ when the scene asks for it.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from pydantic import Field
@@ -44,6 +44,11 @@ class TolerancesOptions(Options):
 
     samples: int = Field(10_000, ge=100, le=1_000_000, description="Monte Carlo samples")
     seed: int = Field(0, ge=0, description="Seed of the random numbers (results repeat)")
+    design: Literal["monte-carlo", "latin-hypercube", "sobol"] = Field(
+        "monte-carlo",
+        description="How the box is sampled: independent draws, or a Latin hypercube or "
+        "Sobol design (kcheck.numerics.design, as `kcheck study` samples)",
+    )
     confidence: float = Field(
         0.95, gt=0.5, lt=1.0, description="Confidence of the pass probability's bounds"
     )
@@ -54,6 +59,13 @@ class TolerancesOptions(Options):
         False,
         description="Draw each support's coefficient on its own (default: all move together "
         "along their ranges, as the analytical checks take them)",
+    )
+    workers: int = Field(
+        1,
+        ge=1,
+        le=256,
+        description="Processes solving the samples (batches of 4096; the results are the "
+        "same for any number)",
     )
     min_pass_probability: float | None = Field(
         None,
@@ -129,6 +141,14 @@ class Tolerances(Check):
             design = load.direction[: scene.dim]
         low, high = scene.friction_range("kinetic")
         rng = np.random.default_rng(opts.seed)
+        unit = None
+        if opts.design != "monte-carlo":  # monte-carlo keeps its own stream (results repeat)
+            from kcheck.mechanics.tolerance import unit_dimensions
+            from kcheck.numerics.design import unit_points
+
+            k, dim = problem.points.shape
+            d = unit_dimensions(k, dim, opts.independent_friction)
+            unit = unit_points(opts.design, opts.samples, d, opts.seed)
         layouts = perturb(
             problem,
             position=tol.position,
@@ -138,8 +158,9 @@ class Tolerances(Check):
             count=opts.samples,
             rng=rng,
             independent=opts.independent_friction,
+            unit=unit,
         )
-        margins = sample_margins(problem, layouts, design)
+        margins = sample_margins(problem, layouts, design, opts.workers)
         spread = float(np.radians(tol.load_direction_deg)) if design is not None else 0.0
         need = float(np.radians(opts.min_margin_deg))
         passes = (margins > 0) & (margins - spread >= need)
@@ -160,6 +181,8 @@ class Tolerances(Check):
             "pass_probability_bounds": [low_p, high_p],
             "confidence": opts.confidence,
         }
+        if unit is not None:  # named only when not the default, so recorded results stay
+            details["design"] = opts.design
         sample = _describe_sample(scene, problem.frame.length, layouts, problem, worst_index)
         findings: list[Finding] = []
         if design is not None:

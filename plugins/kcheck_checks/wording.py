@@ -32,6 +32,7 @@ __all__ = [
     "mu_text",
     "case_findings",
     "with_friction_way_out",
+    "with_closing_force_way_out",
     "friction_bound_text",
     "friction_way_out",
     "move_support_text",
@@ -203,11 +204,11 @@ def friction_way_out(analysis: Analysis) -> str | None:
 
 
 def move_support_text(names: Sequence[str], what: str | None = "direction") -> str:
-    """ "no direction reseats this case: move or turn support x1" (the supports named;
+    """ "no direction closes this case: move or turn support x1" (the supports named;
     ``what``: what was tried and does not help, None when nothing is claimed)."""
     which = " or ".join(names)
     noun = "support" if len(names) == 1 else "supports"
-    tried = "" if what is None else f"no {what} reseats this case: "
+    tried = "" if what is None else f"no {what} closes this case: "
     return f"{tried}move or turn {noun} {which}"
 
 
@@ -488,3 +489,50 @@ def with_friction_way_out(
             findings[i], hint=text if not hint else f"{hint}; or {text}"
         )
     return dataclasses.replace(result, findings=tuple(findings))
+
+
+#: Findings a stronger (or weaker) closing force can answer: a case that does not close, and
+#: the whole safe set.
+FORCE_ANSWERS = ("jams", "loses-contact", "opens", "opens-loses-contact", *CHECK_LEVEL)
+
+
+def closing_force_text(name: str, kind: str, value: float, sense: str, proportional: bool) -> str:
+    """ "the check passes with preload `spring` at least 0.983 N" (or the load magnitude)."""
+    what = "a load magnitude" if kind == "load" else f"preload `{name}`"
+    tail = " (the other preloads in proportion)" if proportional else ""
+    return f"the check passes with {what} {sense} {format_number(value, 7)} N{tail}"
+
+
+def with_closing_force_way_out(
+    result: CheckResult, scene: Scene, passes: Callable[[Scene], bool]
+) -> CheckResult:
+    """A failing result whose findings a closing force can answer (a support loses contact,
+    friction holds it, the safe set), with the least preload (or load magnitude) at which the
+    whole check passes added to their hints (:func:`kcheck.analysis.way_out.passing_closing_force`,
+    judged by ``passes``): "the check passes with preload `spring` at least 0.983 N"."""
+    wanting = [i for i, f in enumerate(result.findings) if f.code in FORCE_ANSWERS]
+    if result.status != Status.FAIL or not wanting:
+        return result
+    from kcheck.analysis.way_out import passing_closing_force
+
+    found = passing_closing_force(scene, passes)
+    if found is None:
+        return result
+    force, value, sense = found
+    text = closing_force_text(force.name, force.kind, value, sense, force.proportional)
+    findings = list(result.findings)
+    for i in wanting:
+        hint = findings[i].hint
+        findings[i] = dataclasses.replace(
+            findings[i], hint=text if not hint else f"{hint}; or {text}"
+        )
+    details = {
+        **result.details,
+        "passing_closing_force": {
+            "kind": force.kind,
+            "name": force.name,
+            "value": value,
+            "sense": sense,
+        },
+    }
+    return dataclasses.replace(result, findings=tuple(findings), details=details)

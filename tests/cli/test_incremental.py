@@ -175,6 +175,30 @@ def test_a_pyproject_change_outside_tool_kcheck_checks_nothing_more(tmp_path, mo
     ]
 
 
+def test_a_changed_baseline_rechecks_every_scene(tmp_path, monkeypatch, run):
+    """Like a configuration change: main accepts a failing scene through its baseline; the
+    branch drops the entry (the failure counts again) without touching the scene. The
+    incremental modes see the baseline change and give the full run's verdict."""
+    repo = make_repository(tmp_path)
+    monkeypatch.chdir(repo)
+    (repo / "couplings/point.kcheck.yaml").write_text(SCENE.replace("angle: 225", "angle: 45"))
+    assert run("--write-baseline", "baseline.json")[0] == 0
+    git(repo, "add", "-A")
+    git(repo, "commit", "-qm", "an accepted failure", "--no-verify")
+    assert run("--baseline", "baseline.json")[:2] == (0, [])
+    git(repo, "checkout", "-q", "-b", "feature")
+    (repo / "baseline.json").write_text('{"version": 1, "failures": []}\n')
+    git(repo, "add", "-A")
+    full = run("--baseline", "baseline.json")
+    assert full[:2] == (1, ["couplings/point.kcheck.yaml"]), full
+    for mode in (["--changed-only"], ["--pre-commit"]):
+        assert run(*mode, "--baseline", "baseline.json") == full, mode
+    git(repo, "commit", "-qm", "the baseline accepts nothing", "--no-verify")
+    assert run("--since", "main", "--baseline", "baseline.json") == full
+    # Without --baseline the file is not an input: an unchanged tree checks nothing.
+    assert run("--changed-only") == (0, [], [])
+
+
 def test_since_needs_a_common_ancestor(tmp_path, monkeypatch, cli):
     repo = make_repository(tmp_path)
     monkeypatch.chdir(repo)

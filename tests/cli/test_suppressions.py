@@ -193,6 +193,38 @@ def test_baseline_accepts_recorded_failures_and_fails_on_new_ones(cli, tmp_path,
     assert "other.kcheck.yaml" in out and "part.kcheck.yaml:" not in out
 
 
+def test_stale_baseline_entries_are_named_once(cli, tmp_path, monkeypatch):
+    """A baseline entry no failure matches any more (the design was fixed) is warned about,
+    once, with the count and which; entries of scenes or checks the run left out are not."""
+    monkeypatch.chdir(tmp_path)
+    scene = tmp_path / "part.kcheck.yaml"
+    scene.write_text("\n".join(_lines(FAILING)) + "\n")
+    other = tmp_path / "other.kcheck.yaml"
+    other.write_text("\n".join(_lines(FAILING)) + "\n")
+    code, _, err = cli("check", "--isolated", ".", "--write-baseline", "b.json", "--jobs", "1")
+    recorded = json.loads((tmp_path / "b.json").read_text())["failures"]
+    assert code == 0 and len(recorded) == 14
+    # Nothing fixed: no warning.
+    code, _, err = cli("check", "--isolated", ".", "--baseline", "b.json", "--jobs", "1")
+    assert code == 0 and "baseline" not in err
+    # part is fixed (the passing planar scene): its 7 entries are stale, other's are not.
+    scene.write_text("\n".join(_lines(PLANAR_SCENE)) + "\n")
+    code, _, err = cli("check", "--isolated", ".", "--baseline", "b.json", "--jobs", "1")
+    assert code == 0
+    warnings = [line for line in err.splitlines() if "baseline" in line]
+    assert len(warnings) == 1, err
+    stale = [e for e in recorded if e["path"] == "part.kcheck.yaml"]
+    assert "7 baseline entries match no failure" in warnings[0]
+    assert "part.kcheck.yaml analytical-2d/design-outside (load.angle)" in warnings[0]
+    assert "and 2 more" in warnings[0] and "other.kcheck.yaml" not in warnings[0]
+    assert "--write-baseline" in warnings[0] and len(stale) == 7
+    # Only other checked, or only maxwell selected: part's entries are not judged.
+    code, _, err = cli("check", "--isolated", "other.kcheck.yaml", "--baseline", "b.json")
+    assert code == 0 and "baseline" not in err
+    code, _, err = cli("check", "--isolated", ".", "--baseline", "b.json", "--select", "maxwell")
+    assert code == 0 and "baseline" not in err
+
+
 def test_a_bad_baseline_is_a_usage_error(cli, write_scene, tmp_path):
     path = str(write_scene(FAILING, "fail.kcheck.yaml"))
     code, _, err = cli("check", "--isolated", path, "--baseline", str(tmp_path / "none.json"))

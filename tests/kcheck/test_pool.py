@@ -104,3 +104,31 @@ def test_no_fork_while_a_thread_runs(tmp_path):
     result = json.loads(proc.stdout.splitlines()[-1])
     assert result["code"] in (0, 1)
     assert len(result["threads"]) == 2 and set(result["threads"]) == {1}, result
+
+
+_HELD: list[bytearray] = []
+
+
+def grow(task: int) -> tuple[int, int, int]:
+    """Keep 40 MB more per task (as a worker drawing pictures keeps caches); return the task's
+    own answer (its square), the worker and how many tasks that worker has held."""
+    _HELD.append(bytearray(40 * 2**20))
+    _HELD[-1][::4096] = b"\x01" * len(range(0, 40 * 2**20, 4096))  # resident, not just mapped
+    return task * task, os.getpid(), len(_HELD)
+
+
+def test_a_worker_past_its_resident_threshold_is_replaced_after_its_task():
+    from kcheck.gate.pool import resident_bytes
+
+    # A fresh worker's own resident memory (not the parent's: file pages are not shared).
+    (start,) = run_in_workers([None], lambda _: resident_bytes(), jobs=1, budget=Budget())
+    assert isinstance(start, int) and start > 0
+    # Past start + 100 MB: a worker retires after its third task (40 MB each).
+    budget = Budget(recycle_bytes=start + 100 * 2**20)
+    results = list(run_in_workers(list(range(10)), grow, jobs=2, budget=budget))
+    assert [r[0] for r in results] == [t * t for t in range(10)]  # every answer, in order
+    assert max(r[2] for r in results) == 3  # no worker held more than three tasks
+    assert len({r[1] for r in results}) >= 4  # so fresh workers took over
+    # Without a threshold, one worker keeps growing.
+    kept = list(run_in_workers(list(range(5)), grow, jobs=1, budget=Budget()))
+    assert [r[2] for r in kept] == [1, 2, 3, 4, 5] and len({r[1] for r in kept}) == 1

@@ -390,3 +390,40 @@ def test_a_file_name_that_is_not_utf8_in_every_format():
     assert uri == "parts/%FF%FE.kcheck.yaml"  # the file's own bytes, percent-encoded
     for fmt in FORMATS:
         assert "kcheck.yaml" in render(fmt, results=(odd,))
+
+
+def test_every_rule_links_to_its_section_of_the_docs():
+    """helpUri: the Documentation URL of kcheck's distribution (pyproject's [project.urls],
+    read back through importlib.metadata) plus the page and the anchor of the rule's section;
+    every built-in check and every kcheck rule has that anchor in its page."""
+    import sys
+    from pathlib import Path
+
+    from kcheck.report import sarif
+
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # a test dependency on 3.10 (pyproject's test extra)
+        import tomli as tomllib
+    from kcheck.report.issues import KCHECK_RULES
+
+    root = Path(__file__).resolve().parents[2]
+    project = tomllib.loads((root / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    documentation = project["urls"]["Documentation"]
+    assert sarif.docs_url() == documentation.rstrip("/") + "/", (
+        "the installed metadata differs from pyproject.toml: reinstall (pip install -e .)"
+    )
+    checks = list(project["entry-points"]["kcheck.checks"])
+    rule_ids = [*checks, *(f"{c}/some-code" for c in checks), *KCHECK_RULES]
+    for rule_id in rule_ids:
+        descriptor = sarif._rule(rule_id, {}, sarif.docs_url())
+        uri = descriptor["helpUri"]
+        assert uri.startswith(sarif.docs_url())
+        page, _, anchor = uri.removeprefix(sarif.docs_url()).partition("#")
+        assert anchor == (rule_id.split("/")[0] if page == "checks.md" else "rules"), rule_id
+        text = (root / "docs" / page).read_text(encoding="utf-8")
+        headings = {
+            re.sub(r"[^\w\- ]", "", h.strip().lower()).replace(" ", "-")
+            for h in re.findall(r"^#+ (.*)$", text, re.M)
+        }
+        assert f'<a id="{anchor}"></a>' in text or anchor in headings, (rule_id, page, anchor)

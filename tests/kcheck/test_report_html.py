@@ -236,3 +236,23 @@ def test_page_fits_the_screen(
     scroll_width, inner_width = int(found.group(1)), int(found.group(2))
     assert inner_width == width
     assert scroll_width <= inner_width, f"{scroll_width} px of content in a {width} px window"
+
+
+#: The fixtures' page may weigh this much (issue 22: it was 12.6 MB, then 4.7 MB).
+FIXTURES_PAGE_BYTES = 2_000_000
+
+
+@pytest.mark.slow
+def test_fixtures_page_is_light(tmp_path: Path) -> None:
+    """Every fixture with every picture, in one page of at most 2 MB (docs/report.md: vector
+    pictures with shared styles, heavy shading embedded as lossless WebP)."""
+    from kcheck.cli import main
+
+    html = tmp_path / "fixtures.html"
+    main(["check", str(FIXTURES), "--html", str(html), "-q"])
+    text = html.read_text(encoding="utf-8")
+    scenes = len(list(FIXTURES.rglob("*.kcheck.yaml")))
+    # Every scene is there with its pictures: the page is light, not empty.
+    assert text.count('<section class="scene') == scenes
+    assert text.count("<svg") >= 5 * scenes
+    assert html.stat().st_size <= FIXTURES_PAGE_BYTES, html.stat().st_size

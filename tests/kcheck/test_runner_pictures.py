@@ -8,6 +8,8 @@ import importlib.metadata
 from collections.abc import Sequence
 from pathlib import Path
 
+import pytest
+
 from kcheck.gate.runner import Settings, run_batch
 from kcheck.plugin import Check, CheckSpec, Inputs, LoadedCheck
 from kcheck.result import CheckResult, Status
@@ -121,3 +123,34 @@ def test_svg_keeps_text_vector_and_embeds_heavy_shading(tmp_path: Path) -> None:
     assert paths and not re.search(r"\d\.\d{3}", paths)  # coordinates to 0.01 pt
     assert "Bitstream Vera Sans" not in text
     assert light.stat().st_size < heavy.stat().st_size / 5
+
+
+@pytest.mark.slow
+def test_recycled_workers_give_the_same_answers(cli, tmp_path: Path, monkeypatch) -> None:
+    """Workers recycled after every scene (a threshold of one byte), two of them, give the
+    JSON answers of one worker that is never recycled: recycling changes no answer."""
+    import json
+
+    from kcheck.gate import pool
+    from tests.conftest import FIXTURES
+
+    if not pool.available() or pool.resident_bytes() is None:
+        pytest.skip("worker processes need fork; recycling reads /proc/self/statm")
+    scenes = [str(FIXTURES / n) for n in ("planar-block", "thesis-appendix-a", "kelvin")]
+
+    def answers(threshold: int | None, jobs: str, name: str) -> object:
+        monkeypatch.setattr(pool, "RECYCLE_RSS_BYTES", threshold)
+        code, out, err = cli(
+            "check", *scenes, "--plots", str(tmp_path / name), "--format", "json", "-j", jobs
+        )
+        assert code in (0, 1), err
+        doc = json.loads(out)
+        for scene in doc["scenes"]:
+            assert scene.pop("plots")  # pictures were drawn
+            scene.pop("runtime_s")
+            for check in scene["checks"]:
+                check.pop("runtime_s")
+        doc.pop("elapsed_s", None)
+        return doc
+
+    assert answers(1, "2", "recycled") == answers(None, "1", "kept")

@@ -24,7 +24,7 @@ SOURCES = sorted(
     p for d in ("kcheck", "plugins") for p in (ROOT / d).rglob("*.py") if p != THRESHOLDS
 )
 # Words that say in which units a threshold is, or that it has none.
-UNIT_WORDS = ("nondimensional", "(rad)", "(deg)", "(any unit)")
+UNIT_WORDS = ("nondimensional", "(rad)", "(deg)", "(m)", "(m/s)", "(any unit)")
 
 
 def _tree(path: Path) -> ast.Module:

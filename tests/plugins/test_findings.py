@@ -174,7 +174,7 @@ def test_contact_loss_at_every_angle_hints_at_the_load_point() -> None:
     assert "loses contact" in x3.message
     # The scene's load has no point: it acts at the centre of mass.
     assert x3.hint == (
-        "no direction reseats this case: move or turn support y1, or move the centre of mass "
+        "no direction closes this case: move or turn support y1, or move the centre of mass "
         "(where the force acts)"
     )
 

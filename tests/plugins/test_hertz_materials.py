@@ -332,3 +332,12 @@ def test_the_picture_names_the_materials(tmp_path, monkeypatch):
     result = Hertz().run(inputs)
     Hertz().plot(inputs, result, tmp_path / "plots")
     assert "materials: 440c balls on aluminium (as 6061-t6) seats" in titles[0]
+
+
+def test_headline_names_the_seat_material_too_when_balls_and_seats_are_unknown():
+    # the three-groove fixtures name no material at all: balls and seats both unknown
+    check = _hertz(FIXTURES / "three-groove-beta-45" / "coupling.kcheck.yaml")
+    assert check.status is Status.SKIPPED
+    assert {u["side"] for u in check.details["unknown_materials"]} == {"ball", "seat"}
+    assert "`ball_material`" in check.message
+    assert "`seat_material`" in check.message

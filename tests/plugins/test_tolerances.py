@@ -192,3 +192,92 @@ def test_clopper_pearson_against_scipy(x, n):
     low, high = clopper_pearson(x, n, 0.95)
     assert low == pytest.approx(stats.beta.ppf(0.025, x, n - x + 1) if x else 0.0, abs=1e-12)
     assert high == pytest.approx(stats.beta.ppf(0.975, x + 1, n - x) if x < n else 1.0, abs=1e-12)
+
+
+def test_workers_give_the_same_margins(write_scene):
+    """Batches solved in 2 forked workers give the margins (and the check's details) of the
+    same seed solved in this process, number for number: the batches are fixed by CHUNK."""
+    from kcheck.mechanics.tolerance import CHUNK
+
+    wide = PLANAR_SCENE + "tolerances: {position: 10, normal: 20}\n"
+    scene = load_scene(write_scene(wide))
+    mass = body_mass_properties(scene.body, scene.scale)
+    problem = problem_for(scene, mass)
+    layouts = perturb(
+        problem,
+        position=1e-3,
+        normal=np.radians(5.0),
+        friction_low=problem.friction,
+        friction_high=problem.friction * 2.0,
+        count=2 * CHUNK + 17,  # three batches, the last one short
+        rng=np.random.default_rng(3),
+    )
+    design = scene.load.direction[: scene.dim]
+    one = sample_margins(problem, layouts, design)
+    two = sample_margins(problem, layouts, design, workers=2)
+    np.testing.assert_array_equal(one, two)
+    assert np.any(one > 0) and np.any(one <= 0)  # both kinds occur
+    opts = TolerancesOptions(samples=CHUNK + 100, seed=5)
+    serial = Tolerances().run(Inputs(scene, mass, opts))
+    parallel = Tolerances().run(Inputs(scene, mass, opts.model_copy(update={"workers": 2})))
+    assert serial.details == parallel.details and serial.status == parallel.status
+
+
+@pytest.mark.parametrize("design", ["latin-hypercube", "sobol"])
+def test_stratified_designs_hit_the_friction_share(write_scene, design):
+    """A Latin hypercube or Sobol design of the box (kcheck.numerics.design, as studies
+    sample) with only friction uncertain: one coefficient column, so the pass fraction of
+    n samples is the exact share of the range (from the range analysis) to within a few
+    1/n — far inside plain Monte Carlo's ±1.5 % at this n — and repeats with its seed."""
+    text = (FIXTURES / "three-groove-beta-55" / "coupling.kcheck.yaml").read_text()
+    text = text.replace("friction: 0.1", "friction: {min: 0.1, max: 0.3}\ntolerances: {}")
+    scene = load_scene(write_scene(text))
+    mass = body_mass_properties(scene.body, scene.scale)
+    spans = [
+        r.details["friction_range"]["fails_for"]
+        for r in analyse(scene, mass).results
+        if r.details["friction_range"]["fails_for"]
+    ]
+    share = (min(lo for span in spans for lo, _ in span) - 0.1) / 0.2
+    opts = TolerancesOptions(samples=1024, seed=3, design=design)
+    result = Tolerances().run(Inputs(scene, mass, opts))
+    assert result.details["design"] == design
+    assert result.details["pass_probability"] == pytest.approx(share, abs=3 / 1024)
+    again = Tolerances().run(Inputs(scene, mass, opts))
+    assert again.details == result.details
+
+
+@pytest.mark.parametrize("fixture", ["planar", "spatial"])
+def test_unit_points_map_as_the_draws(write_scene, fixture):
+    """Unit points holding the very uniforms `perturb` draws from a generator (shifts, then
+    tilt cosines and azimuths or turns, then coefficients, in the order it draws them) give
+    the same made couplings: the design mapping is the Monte Carlo draw, point for point."""
+    from kcheck.mechanics.tolerance import unit_dimensions
+
+    text = PLANAR_SCENE if fixture == "planar" else None
+    scene = load_scene(write_scene(text)) if text else load_scene(THREE_GROOVE)
+    mass = body_mass_properties(scene.body, scene.scale)
+    problem = problem_for(scene, mass)
+    k, dim = problem.points.shape
+    box = dict(
+        position=1e-3,
+        normal=np.radians(4.0),
+        friction_low=problem.friction * 0.5,
+        friction_high=problem.friction * 2.0,
+        count=50,
+        independent=True,
+    )
+    drawn = perturb(problem, **box, rng=np.random.default_rng(11))
+    g = np.random.default_rng(11)
+    cols = [g.random((50, k, dim)).reshape(50, k * dim)]
+    cols += [g.random((50, k))] if dim == 2 else [g.random((50, k)), g.random((50, k))]
+    cols.append(g.random((50, k)))
+    unit = np.hstack(cols)
+    assert unit.shape[1] == unit_dimensions(k, dim, True)
+    mapped = perturb(problem, **box, rng=np.random.default_rng(0), unit=unit)
+    for a, b in zip(
+        (drawn.points, drawn.normals, drawn.friction),
+        (mapped.points, mapped.normals, mapped.friction),
+        strict=True,
+    ):
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)

@@ -4,6 +4,7 @@ matplotlib comes in through :mod:`kcheck.pictures.plotting`."""
 
 from __future__ import annotations
 
+from collections.abc import Set as AbstractSet
 from pathlib import Path
 from typing import Any
 
@@ -30,7 +31,8 @@ def plot_hertz(scene: Scene, result: CheckResult, directory: Path) -> list[Path]
     fig = figure(figsize=(5.2 * panels, 5.0))
     axes = fig.subplots(1, panels, width_ratios=[1.25] + [1] * (panels - 1))
     _pressure_panel(axes[0], contacts, float(result.details["safety_factor"]))
-    _ellipse_panel(axes[1], contacts)
+    rings = {r["coupling"] for r in result.details.get("rings", [])}
+    _ellipse_panel(axes[1], contacts, rings)
     if compliance is not None:
         axes[2].remove()
         polar = fig.add_subplot(1, panels, 3, projection="polar")
@@ -71,18 +73,33 @@ def _pressure_panel(ax: Any, contacts: list[dict[str, Any]], safety_factor: floa
         )
 
 
-def _ellipse_panel(ax: Any, contacts: list[dict[str, Any]]) -> None:
-    """Each contact ellipse to scale (µm), major axis horizontal, side by side."""
-    from matplotlib.patches import Ellipse
+def _ellipse_panel(
+    ax: Any, contacts: list[dict[str, Any]], rings: AbstractSet[str] = frozenset()
+) -> None:
+    """Each contact ellipse to scale (µm), major axis horizontal, side by side; a ring
+    support (ball in a cone, ``rings``: their couplings) as a band of its width running off
+    its slot (the circle is far longer than any ellipse)."""
+    from matplotlib.patches import Ellipse, Rectangle
 
     sizes = np.array([c["semi_axes"] for c in contacts]) * 1e6
+    line = np.array([c["coupling"] in rings for c in contacts])
+    # the scale from the ellipses and the rings' widths, not their lengths
+    shown = np.where(line[:, None], sizes[:, 1:2], sizes)
     # No contact carries load (every ellipse a point): a panel one micrometre tall.
-    top = float(sizes.max()) if sizes.max() > 0 else 1.0
+    top = float(shown.max()) if shown.max() > 0 else 1.0
     pitch = 2.6 * top
     for i, (c, (a, b)) in enumerate(zip(contacts, sizes, strict=True)):
-        ax.add_patch(
-            Ellipse((i * pitch, 0), 2 * a, 2 * b, color=palette.support_colour(i), alpha=0.6)
-        )
+        colour = palette.support_colour(i)
+        if line[i]:
+            half = 1.2 * top
+            ax.add_patch(
+                Rectangle((i * pitch - half, -b), 2 * half, 2 * b, color=colour, alpha=0.6)
+            )
+            ax.annotate(
+                f"{c['support']}\n(ring)", (i * pitch, -1.25 * top), ha="center", fontsize=7
+            )
+            continue
+        ax.add_patch(Ellipse((i * pitch, 0), 2 * a, 2 * b, color=colour, alpha=0.6))
         ax.annotate(c["support"], (i * pitch, -1.25 * top), ha="center", fontsize=7)
     # a scale bar of a round length about the largest semi-axis
     bar = 10 ** np.floor(np.log10(top))

@@ -1,10 +1,9 @@
 """The verdict words of every built-in picture's title, in one place.
 
-Each title carries its check's verdict (``PASS``, ``FAIL``, ``WARN``; ``MARGINAL`` once
-issue 21 adds it to :func:`kcheck.report.views.verdict`) with its margin, and, where the
-scene's verdict is worse, that verdict and why: the words come from
-:func:`kcheck.report.views.status_text` and :func:`~kcheck.report.views.scene_status_text`,
-fed the same result objects the text report uses; nothing is computed again.
+Each title carries its check's verdict (``PASS``, ``MARGINAL``, ``WARN``, ``FAIL``) with its
+margin, and, where the scene's verdict is worse, that verdict and why: the words come from
+:func:`kcheck.report.views.status_text` and :func:`~kcheck.report.views.scene_status_text`, fed
+the same result objects the text report uses; nothing is computed again.
 """
 
 from __future__ import annotations

@@ -1,0 +1,307 @@
+"""From fitted contact regions to a coupling's elements: which regions are point contacts (a
+ball on a plane, a pin or a ball; crossed pins), where each touches and its normal, and which
+contacts cannot be used (a line or an area touches: over-constraint; a near miss).
+
+Each ball's point contacts are recognised as a coupling shorthand of
+:mod:`kcheck.scene.couplings` (ball-flat, ball-vee, ball-trihedral, ball-cylinders,
+ball-sphere) when the shorthand's own expansion gives the same contacts; otherwise they stay
+explicit supports. Lengths in metres; normals point from the base into the body, as a scene's
+support normals do.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from kcheck.body.contact_regions import Region
+from kcheck.body.surface_fit import Primitive
+
+__all__ = ["PointContact", "Element", "Unusable", "Recognition", "recognise"]
+
+#: Shorthand expansions must reproduce the fitted contacts to this (relative to the ball).
+_MATCH_RTOL = 1e-9
+#: Two axes within this angle (degrees) are parallel: a pin on a pin along them is a line.
+_PARALLEL_DEG = 1.0
+
+
+@dataclass(frozen=True)
+class PointContact:
+    """A point contact: where (m), its unit normal from the base into the body, the gap of
+    the fitted surfaces there (m, negative where they overlap), the distance from the fitted
+    contact to the nearest touching point of the meshes (m), and what touches."""
+
+    point: np.ndarray
+    normal: np.ndarray
+    gap: float
+    to_mesh: float
+    ball: Primitive | None
+    ball_on: str
+    key: tuple[str, int]
+    mate: Primitive
+    region: Region
+
+
+@dataclass
+class Element:
+    """One coupling element: its ``kind`` (a shorthand type, ``cylinder-crossed`` or
+    ``supports``), the ball (if any) and which part carries it, its point contacts, and the
+    shorthand's fields in metres (None for explicit supports)."""
+
+    kind: str
+    name: str
+    ball: Primitive | None
+    ball_on: str
+    contacts: list[PointContact]
+    fields: dict[str, Any] | None = None
+
+
+@dataclass(frozen=True)
+class Unusable:
+    """A contact region that is not a point contact: ``what`` touches, ``why`` it cannot be
+    used, and how many constraints it imposes (0 for a near miss)."""
+
+    what: str
+    why: str
+    constraints: int
+    region: Region
+
+
+@dataclass
+class Recognition:
+    """The elements recognised and the regions that could not be used."""
+
+    elements: list[Element] = field(default_factory=list)
+    unusable: list[Unusable] = field(default_factory=list)
+
+    @property
+    def contact_count(self) -> int:
+        return sum(len(e.contacts) for e in self.elements)
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    return v / np.linalg.norm(v)
+
+
+def _name(p: Primitive | None) -> str:
+    if p is None:
+        return "an unrecognised surface"
+    if p.kind == "plane":
+        return "a plane"
+    concave = p.outward < 0
+    if p.kind == "sphere":
+        return "a spherical socket" if concave else "a ball"
+    return "a bore" if concave else "a cylinder"
+
+
+def _foot(point: np.ndarray, cylinder: Primitive) -> np.ndarray:
+    return cylinder.point + ((point - cylinder.point) @ cylinder.axis) * cylinder.axis
+
+
+def _ball_contact(
+    ball: Primitive, mate: Primitive, ball_on: str, region: Region, gap_tol: float
+) -> PointContact | Unusable:
+    """A ball against a plane, a convex cylinder or a convex sphere: one point contact."""
+    c, r = ball.point, ball.radius
+    what = f"{_name(ball)} (radius {r:.6g} m) on {_name(mate)}"
+    if mate.kind == "plane":
+        n = mate.axis if (c - mate.point) @ mate.axis >= 0 else -mate.axis
+        gap = float((c - mate.point) @ n - r)
+    elif mate.outward < 0:
+        conform = abs(mate.radius - r) <= gap_tol
+        if mate.kind == "sphere" and conform:
+            return Unusable(what, "an area contact (a ball in its socket)", 3, region)
+        return Unusable(
+            what,
+            "a ball inside a concave "
+            + ("cylinder (bore)" if mate.kind == "cylinder" else "sphere")
+            + (": a line contact" if conform and mate.kind == "cylinder" else "")
+            + " is not a supported element",
+            2 if conform else 1,
+            region,
+        )
+    elif mate.kind == "cylinder":
+        d = c - _foot(c, mate)
+        n = _unit(d)
+        gap = float(np.linalg.norm(d) - r - mate.radius)
+    else:
+        d = c - mate.point
+        n = _unit(d)
+        gap = float(np.linalg.norm(d) - r - mate.radius)
+    point = c - r * n
+    to_mesh = float(np.linalg.norm(region.points - point, axis=1).min())
+    normal = n if ball_on == "body" else -n
+    return PointContact(point, normal, gap, to_mesh, ball, ball_on, ("", 0), mate, region)
+
+
+def _crossed(body: Primitive, base: Primitive, region: Region) -> PointContact | Unusable:
+    """A convex cylinder on another: a point contact where their axes cross, a line where
+    they are parallel."""
+    what = f"a cylinder (radius {body.radius:.6g} m) on a cylinder (radius {base.radius:.6g} m)"
+    cross = np.cross(body.axis, base.axis)
+    if np.linalg.norm(cross) < math.sin(math.radians(_PARALLEL_DEG)):
+        return Unusable(what, "a line contact (parallel axes)", 2, region)
+    # The closest points of the two axes.
+    w = body.point - base.point
+    a, b, c = body.axis @ body.axis, body.axis @ base.axis, base.axis @ base.axis
+    d, e = body.axis @ w, base.axis @ w
+    den = a * c - b * b
+    s, t = (b * e - c * d) / den, (a * e - b * d) / den
+    p_body, p_base = body.point + s * body.axis, base.point + t * base.axis
+    n = _unit(p_body - p_base)
+    gap = float(np.linalg.norm(p_body - p_base) - body.radius - base.radius)
+    point = p_base + base.radius * n
+    to_mesh = float(np.linalg.norm(region.points - point, axis=1).min())
+    return PointContact(point, n, gap, to_mesh, None, "body", ("", 0), base, region)
+
+
+def _contact(region: Region, gap_tol: float) -> PointContact | Unusable | None:
+    """What a region is; None for surfaces that come near only at an edge (their fitted
+    surfaces meet beyond the meshes' faces, as a ball passing a groove's end face does)."""
+    found = _touch(region, gap_tol)
+    if region.least_distance <= gap_tol:
+        return found
+    if isinstance(found, PointContact) and found.gap > gap_tol:
+        return Unusable(
+            _what(region),
+            f"a gap with no contact: the surfaces come within {found.gap:.3g} m, more than "
+            f"the gap tolerance {gap_tol:.3g} m",
+            0,
+            region,
+        )
+    return None
+
+
+def _what(region: Region) -> str:
+    return f"{_name(region.body_fit)} on the body against {_name(region.base_fit)} on the base"
+
+
+def _touch(region: Region, gap_tol: float) -> PointContact | Unusable | None:
+    body, base = region.body_fit, region.base_fit
+    what = f"{_name(body)} on the body against {_name(base)} on the base"
+    if body is None or base is None:
+        side = "body" if body is None else "base"
+        fits = ", ".join(f"{f.kind} RMS {f.rms:.3g} m" for f in region.tried[side])
+        return Unusable(
+            what,
+            f"the {side}'s surface there is not a plane, sphere or cylinder ({fits})",
+            0,
+            region,
+        )
+    for ball, mate, ball_on in ((body, base, "body"), (base, body, "base")):
+        if ball.kind == "sphere" and ball.outward > 0:
+            if mate.kind == "sphere" and mate.outward > 0 and ball_on == "base":
+                continue  # ball on ball: the body's is the ball
+            found = _ball_contact(ball, mate, ball_on, region, gap_tol)
+            if isinstance(found, PointContact):
+                side = "body" if ball_on == "body" else "base"
+                key = (side, region.body_patch if ball_on == "body" else region.base_patch)
+                found = PointContact(**{**found.__dict__, "key": key})
+            return found
+    if body.kind == "plane" and base.kind == "plane":
+        if body.axis @ base.axis < -math.cos(math.radians(_PARALLEL_DEG)):
+            return Unusable(what, "an area contact (flat on flat)", 3, region)
+        return None  # a face's edge on another face: part of an area contact found beside
+    if {body.kind, base.kind} == {"plane", "cylinder"}:
+        cyl, plane = (body, base) if body.kind == "cylinder" else (base, body)
+        if abs(cyl.axis @ plane.axis) < math.sin(math.radians(_PARALLEL_DEG)):
+            return Unusable(what, "a line contact (a cylinder lying on a plane)", 2, region)
+    if body.kind == "cylinder" and base.kind == "cylinder":
+        if body.outward > 0 and base.outward > 0:
+            found = _crossed(body, base, region)
+            if isinstance(found, PointContact):
+                found = PointContact(**{**found.__dict__, "key": ("body", region.body_patch)})
+            return found
+        return Unusable(what, "a pin in a bore (a line or area contact)", 2, region)
+    return Unusable(what, "not a recognised pair of surfaces", 0, region)
+
+
+def _same(contacts: list[PointContact], expanded: list[Any], scale: float) -> bool:
+    """Whether a shorthand's expansion (its contacts' points and normals from the mate
+    towards the ball) gives exactly ``contacts``, in any order."""
+    if len(expanded) != len(contacts):
+        return False
+    left = list(expanded)
+    for c in contacts:
+        n = c.normal if c.ball_on == "body" else -c.normal
+        hit = [
+            k
+            for k, e in enumerate(left)
+            if np.linalg.norm(e.point - c.point) <= _MATCH_RTOL * scale
+            and np.linalg.norm(e.normal - n) <= _MATCH_RTOL * 10
+        ]
+        if not hit:
+            return False
+        left.pop(hit[0])
+    return True
+
+
+def _shorthand(contacts: list[PointContact]) -> tuple[str, dict[str, Any] | None]:
+    """The shorthand type and fields (m) that expand to a ball's contacts, or ``supports``."""
+    from kcheck.scene import couplings
+
+    ball = contacts[0].ball
+    assert ball is not None
+    c, r = ball.point, ball.radius
+    kinds = {x.mate.kind for x in contacts}
+    mates = [x.mate for x in contacts]
+    toward = [x.normal if x.ball_on == "body" else -x.normal for x in contacts]
+    base: dict[str, Any] = {"ball": {"center": c, "radius": r}}
+    try:
+        if kinds == {"plane"} and len(contacts) == 1:
+            fields = {**base, "normal": toward[0]}
+            if _same(contacts, couplings.ball_flat(c, r, toward[0]), r):
+                return "ball-flat", fields
+        elif kinds == {"plane"} and len(contacts) == 2:
+            axis = _unit(np.cross(toward[0], toward[1]))
+            up = _unit(toward[0] + toward[1])
+            half = math.degrees(math.acos(min(1.0, float(toward[0] @ up))))
+            fields = {**base, "groove": {"axis": axis, "up": up, "half_angle": half}}
+            if _same(contacts, couplings.ball_vee(c, r, axis, up, half), r):
+                return "ball-vee", fields
+        elif kinds == {"plane"} and len(contacts) == 3:
+            up = _unit(np.sum(toward, axis=0))
+            half = math.degrees(math.acos(min(1.0, float(toward[0] @ up))))
+            radial = toward[0] - (toward[0] @ up) * up
+            reference = -_unit(radial)
+            fields = {**base, "up": up, "half_angle": half, "reference": reference}
+            if _same(contacts, couplings.ball_trihedral(c, r, up, half, reference), r):
+                return "ball-trihedral", fields
+        elif kinds == {"cylinder"} and len(contacts) <= 3:
+            cyl = [(m.point, m.axis, m.radius) for m in mates]
+            fields = {**base, "cylinders": cyl}
+            if _same(contacts, couplings.ball_cylinders(c, r, cyl), r):
+                return "ball-cylinders", fields
+        elif kinds == {"sphere"} and len(contacts) <= 3:
+            sph = [(m.point, m.radius) for m in mates]
+            fields = {**base, "spheres": sph}
+            if _same(contacts, couplings.ball_spheres(c, r, sph), r):
+                return "ball-sphere", fields
+    except couplings.CouplingError:
+        pass
+    return "supports", None
+
+
+def recognise(regions: list[Region], gap_tol: float) -> Recognition:
+    """The coupling elements of the contact regions (``gap_tol`` in m)."""
+    out = Recognition()
+    groups: dict[tuple[str, int], list[PointContact]] = {}
+    for region in regions:
+        found = _contact(region, gap_tol)
+        if isinstance(found, Unusable):
+            out.unusable.append(found)
+        elif found is not None:
+            groups.setdefault(found.key, []).append(found)
+    ordered = sorted(groups.values(), key=lambda g: tuple(np.round(g[0].point, 9)))
+    for k, contacts in enumerate(ordered, start=1):
+        contacts.sort(key=lambda x: tuple(np.round(x.point, 9)))
+        first = contacts[0]
+        if first.ball is None:
+            out.elements.append(Element("cylinder-crossed", f"p{k}", None, "body", contacts, None))
+            continue
+        kind, fields = _shorthand(contacts)
+        out.elements.append(Element(kind, f"b{k}", first.ball, first.ball_on, contacts, fields))
+    return out

@@ -1,0 +1,293 @@
+"""``kcheck contacts``: a scene from an assembly: where the body touches its base, the fitted
+surfaces there, the coupling elements they make, written as a commented scene."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+from pathlib import Path
+from typing import Any
+
+from kcheck.cli.common import ExitCode, fail, write_text
+
+__all__ = ["add_parser", "run", "scene_text"]
+
+
+def add_parser(sub: Any) -> None:
+    """Register the ``contacts`` command."""
+    p = sub.add_parser(
+        "contacts",
+        help="find the contacts of a body seated on its base (two meshes in assembly position) "
+        "and write a scene",
+        description="Find where BODY touches BASE (meshes in assembly position), fit a plane, "
+        "sphere or cylinder to each side of each contact, recognise the coupling elements "
+        "(ball-vee, ball-flat, ball-trihedral, ball-cylinders, ball-sphere, crossed cylinders) "
+        "and write a commented scene that checks as written. The report goes to standard "
+        "error. Exit 2 on bad input (no contact, interpenetration, unreadable or open mesh); "
+        "exit 1 when the contacts found are not a kinematic coupling (a line or area contact, "
+        "not 6 point contacts): the report says why and no scene is written.",
+    )
+    p.add_argument("base", type=Path, help="the base's mesh (STL, OBJ, ...; STEP with the extra)")
+    p.add_argument("body", type=Path, help="the body's mesh, in the same coordinates")
+    p.add_argument(
+        "--units", default="m", help="length unit of both files and the scene (default: m)"
+    )
+    p.add_argument(
+        "--gap",
+        type=float,
+        help="gap tolerance in --units: surfaces closer than this touch (default: 1e-3 of the "
+        "assembly's size)",
+    )
+    p.add_argument(
+        "--material", default="aluminium", help="the body's material (default: aluminium)"
+    )
+    p.add_argument("--friction", type=float, default=0.1, help="Coulomb coefficient (default 0.1)")
+    p.add_argument("--output", "-o", type=Path, help="write the scene here (default: stdout)")
+    p.set_defaults(handler=run)
+
+
+def _num(x: float) -> str:
+    v = float(f"{x:.12g}")
+    return repr(v + 0.0)
+
+
+def _flow(obj: Any) -> str:
+    """YAML flow text of plain data (dicts, lists, numbers, strings)."""
+    import numpy as np
+
+    if isinstance(obj, dict):
+        return "{" + ", ".join(f"{k}: {_flow(v)}" for k, v in obj.items()) + "}"
+    if isinstance(obj, (list, tuple, np.ndarray)):
+        return "[" + ", ".join(_flow(v) for v in obj) + "]"
+    if isinstance(obj, str):
+        return obj
+    return _num(float(obj))
+
+
+def _scaled(obj: Any, scale: float, key: str = "") -> Any:
+    """A shorthand's fields (m) in scene units: lengths divided, directions and angles kept."""
+    import numpy as np
+
+    if isinstance(obj, dict):
+        return {k: _scaled(v, scale, k) for k, v in obj.items()}
+    if isinstance(obj, tuple):  # a cylinder (point, axis, radius) or sphere (centre, radius)
+        if len(obj) == 3:
+            return {"point": obj[0] / scale, "axis": obj[1], "radius": obj[2] / scale}
+        return {"center": obj[0] / scale, "radius": obj[1] / scale}
+    if isinstance(obj, list):
+        return [_scaled(v, scale, key) for v in obj]
+    if key in ("center", "radius", "point"):
+        return np.asarray(obj) / scale if isinstance(obj, np.ndarray) else obj / scale
+    return obj
+
+
+def _mm(x: float, scale: float, units: str) -> str:
+    return f"{x / scale:.4g} {units}"
+
+
+def report_lines(found: Any, scale: float, units: str) -> list[str]:
+    """The report: each element with its fits and contacts, then what could not be used."""
+    lines = []
+    for e in found.elements:
+        head = f"{e.name}: {e.kind}"
+        if e.ball is not None:
+            head += (
+                f", ball radius {_mm(e.ball.radius, scale, units)} on the {e.ball_on}"
+                f" (sphere fit RMS {_mm(e.ball.rms, scale, units)})"
+            )
+        lines.append(head)
+        for k, c in enumerate(e.contacts, start=1):
+            mate = c.mate
+            fit = f"{mate.kind} fit RMS {_mm(mate.rms, scale, units)}"
+            if mate.kind != "plane":
+                fit += f", radius {_mm(mate.radius, scale, units)}"
+            p = ", ".join(f"{v / scale:.6g}" for v in c.point)
+            n = ", ".join(f"{v:.6f}" for v in c.normal)
+            lines.append(
+                f"  contact {k}: at ({p}) {units}, normal ({n}); on {fit}; fitted gap "
+                f"{_mm(c.gap, scale, units)}; fitted contact to the meshes' nearest touch "
+                f"{_mm(c.to_mesh, scale, units)}"
+            )
+    for u in found.unusable:
+        where = ", ".join(f"{v / scale:.4g}" for v in u.region.points.mean(axis=0))
+        cost = f" (removes {u.constraints} freedoms)" if u.constraints else ""
+        lines.append(f"not used: {u.what} near ({where}) {units}: {u.why}{cost}")
+    return lines
+
+
+def scene_text(
+    found: Any,
+    mesh: str,
+    scale: float,
+    units: str,
+    material: str,
+    friction: float,
+    command: str,
+    notes: list[str],
+) -> str:
+    """A scene (commented YAML) from recognised elements."""
+    import numpy as np
+
+    out = [
+        f"# Written by `{command}`:",
+        "# the contacts found in the assembly, each side's surface fitted (plane, sphere,",
+        "# cylinder) and recognised as the elements below (lengths in the scene's units).",
+    ]
+    out += [f"#   {line}" for line in report_lines(found, scale, units) + notes]
+    out += [
+        "version: 1",
+        f"units: {units}",
+        f"body: {{mesh: {mesh}, material: {material}}}   # CHANGE the material if it differs",
+    ]
+    shorthands = [e for e in found.elements if e.fields is not None]
+    explicit = [e for e in found.elements if e.fields is None]
+    if explicit:
+        out.append("supports:")
+        for e in explicit:
+            what = "crossed cylinders" if e.kind == "cylinder-crossed" else "fitted contacts"
+            out.append(f"  # {e.name}: {what}, written out (no shorthand reproduces them)")
+            for k, c in enumerate(e.contacts, start=1):
+                out.append(
+                    f"  - {{name: {e.name}.{k}, position: {_flow(c.point / scale)}, "
+                    f"normal: {_flow(c.normal)}}}"
+                )
+    if shorthands:
+        out.append("couplings:")
+        for e in shorthands:
+            assert e.fields is not None
+            entry = {"name": e.name, "type": e.kind}
+            if e.ball_on == "base":
+                entry["ball_on"] = "base"
+            entry.update(_scaled(e.fields, scale))
+            out.append(f"  - {_flow(entry)}")
+    normals = np.array([c.normal for e in found.elements for c in e.contacts])
+    push = -normals.sum(axis=0)
+    push = push / np.linalg.norm(push) if np.linalg.norm(push) > 1e-9 else np.array([0, 0, -1.0])
+    out += [
+        f"friction: {_num(friction)}                 # CHANGE: Coulomb coefficient of the contacts",
+        "gravity: [0, 0, -9.81]        # CHANGE if the assembly's z is not up",
+        "load:                         # CHANGE: the closing force; this one pushes the body",
+        "  magnitude: 10               # into its seat (against the sum of the normals), N",
+        f"  direction: {_flow(push)}",
+    ]
+    return "\n".join(out) + "\n"
+
+
+def _mesh_field(body: Path, output: Path | None) -> str:
+    """The body's mesh as the scene names it: relative to the scene's folder (or the current
+    folder when the scene goes to stdout)."""
+    folder = output.parent if output is not None else Path.cwd()
+    return os.path.relpath(body.resolve(), folder.resolve()).replace(os.sep, "/")
+
+
+def run(args: argparse.Namespace) -> int:
+    from kcheck.body.contact_regions import contact_regions
+    from kcheck.body.coupling_elements import recognise
+    from kcheck.body.meshio import load_mesh, not_watertight
+    from kcheck.errors import MeshError
+    from kcheck.numerics.thresholds import CONTACT_GAP_RTOL
+    from kcheck.scene.materials import density_of, known_names
+    from kcheck.scene.units import LENGTH_TO_M as LENGTH_UNITS
+
+    units = args.units
+    if units not in LENGTH_UNITS:
+        return fail(f"--units {units}: expected one of {', '.join(LENGTH_UNITS)}")
+    if density_of(args.material) is None:
+        return fail(f"unknown material `{args.material}`; known: {known_names()}")
+    if not (math.isfinite(args.friction) and 0 <= args.friction <= 100):
+        return fail(f"--friction {args.friction}: expected a number from 0 to 100")
+    if args.gap is not None and not (math.isfinite(args.gap) and args.gap > 0):
+        return fail(f"--gap {args.gap}: expected a positive length in {units}")
+    scale = LENGTH_UNITS[units]
+    meshes = []
+    for path, what in ((args.base, "BASE"), (args.body, "BODY")):
+        try:
+            step = path.suffix.lower() in (".step", ".stp")
+            mesh = load_mesh(path, 1.0 if step else scale, what)
+            if not mesh.is_watertight:
+                raise not_watertight(mesh, path, what, scale, units)
+        except MeshError as exc:
+            return fail(str(exc))
+        meshes.append(mesh)
+    base, body = meshes
+    import numpy as np
+
+    size = float(np.linalg.norm(np.ptp(np.vstack([base.bounds, body.bounds]), axis=0)))
+    gap = args.gap * scale if args.gap is not None else CONTACT_GAP_RTOL * size
+    regions, depth = contact_regions(base, body, gap)
+    if depth > gap:
+        return fail(
+            f"{args.body} and {args.base} interpenetrate by {_mm(depth, scale, units)}, more "
+            f"than the gap tolerance {_mm(gap, scale, units)}: place the body on its seat "
+            "(touching, not overlapping), or raise --gap"
+        )
+    touching = [r for r in regions if r.least_distance <= gap]
+    if not touching:
+        near = min((r.least_distance for r in regions), default=math.inf)
+        said = f"they come within {_mm(near, scale, units)}" if regions else "they are farther"
+        return fail(
+            f"{args.body} does not touch {args.base}: {said} than the gap tolerance "
+            f"{_mm(gap, scale, units)} nowhere; export both in assembly position "
+            "(the body seated), or raise --gap"
+        )
+    found = recognise(regions, gap)
+    notes = _merged_parts(body, args.body, base, gap, scale, units)
+    report = report_lines(found, scale, units) + notes
+    count = found.contact_count
+    problems = []
+    over = [u for u in found.unusable if u.constraints]
+    if over:
+        removed = sum(u.constraints for u in over)
+        problems.append(
+            f"{len(over)} line or area contact(s), together removing {removed} freedoms: "
+            "over-constrained, not a kinematic coupling"
+        )
+    if count != 6:
+        problems.append(
+            f"{count} point contact(s) found; a spatial kinematic coupling has exactly 6"
+        )
+    print("\n".join(report), file=sys.stderr)
+    if problems:
+        print("kcheck: no scene written: " + "; ".join(problems), file=sys.stderr)
+        return ExitCode.CHECKS_FAILED
+    command = f"kcheck contacts {args.base} {args.body} --units {units}"
+    text = scene_text(
+        found,
+        _mesh_field(args.body, args.output),
+        scale,
+        units,
+        args.material,
+        args.friction,
+        command,
+        notes,
+    )
+    write_text(text, args.output)
+    return ExitCode.OK
+
+
+def _merged_parts(
+    body: Any, path: Path, base: Any, gap: float, scale: float, units: str
+) -> list[str]:
+    """Findings on a body mesh of several closed bodies: each named (volume, bounds), and
+    whether it looks like part of the base (:func:`kcheck.body.contact_regions.merged_pieces`)."""
+    from kcheck.body.contact_regions import merged_pieces
+
+    pieces = merged_pieces(body, base, gap)
+    if not pieces:
+        return []
+    lines = [f"{path.name}: {len(pieces)} disconnected closed bodies:"]
+    for k, (piece, swallowed) in enumerate(pieces, start=1):
+        lo = ", ".join(f"{v / scale:.4g}" for v in piece.bounds[0])
+        hi = ", ".join(f"{v / scale:.4g}" for v in piece.bounds[1])
+        line = (
+            f"  body {k}: volume {piece.volume / scale**3:.4g} {units}^3, bounds ({lo}) to ({hi})"
+        )
+        if swallowed:
+            line += (
+                ": it touches the base and sits in grooves of the rest of the body, so it looks "
+                "like part of the base exported with the body; its mass is counted as the body's"
+            )
+        lines.append(line)
+    return lines

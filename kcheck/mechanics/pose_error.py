@@ -1,0 +1,186 @@
+"""Seated pose error from manufacturing errors: small-displacement kinematics of a seated
+spatial coupling (docs/checks.md, `pose-error`).
+
+Six contacts with support normals ``n_i`` (pushing the body) at points ``p_i``. When a made
+coupling differs from the drawn one, each contact's surfaces end up ``delta_i`` (m) further
+apart along ``n_i`` than drawn, and the body, staying in contact everywhere, moves by the small
+twist ``t = (omega, v)`` (rotation rad, translation m of the seat's origin ``o``) with
+
+    J t = delta,    J rows = ((p_i - o) x n_i, n_i)
+
+— the contact wrench rows of :mod:`kcheck.mechanics.seat`, solved nondimensionally (positions
+over the layout size) with the equilibrated solve and condition number of
+:func:`kcheck.mechanics.dynamics.solve_affine`. The pose error at a body point ``q`` is
+``v + omega x (q - o)``.
+
+A part displaced rigidly by a small twist ``(w, d)`` about a reference point ``g`` moves its
+surface at the contact by ``d + w x (p_i - g)``, so it changes ``delta_i`` by the sign ``s_i``
+times ``n_i . (d + w x (p_i - g)) = ((p_i - g) x n_i, n_i) . (w, d)`` — the same wrench rows:
+``s_i = +1`` for a part on the base (a base surface moving along ``n_i`` pushes the body away),
+``-1`` for a part on the body. A ball's radius growing by ``dr`` adds ``dr`` wherever it
+touches. Every error source is therefore a linear map from drawn numbers to ``delta`` (a
+*sensitivity* matrix), and the pose error at ``q`` is one matrix product per source: the Monte
+Carlo is a matrix product, with no loop over samples.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from kcheck.mechanics.dynamics import ILL_CONDITIONED, solve_affine
+from kcheck.mechanics.kinematics import wrenches
+from kcheck.mechanics.seat import seat_layout
+from kcheck.numerics.thresholds import EPS, TINY
+
+__all__ = [
+    "PoseMap",
+    "part_rows",
+    "radius_rows",
+    "seat_pivots",
+    "pose_map",
+    "pose_errors",
+    "draw",
+    "sobol_draws",
+    "mean_bounds",
+    "quantile_bounds",
+]
+
+
+def part_rows(
+    points: np.ndarray,
+    normals: np.ndarray,
+    part: np.ndarray,
+    count: int,
+    sign: np.ndarray,
+    reference: np.ndarray,
+) -> np.ndarray:
+    """Sensitivity (k, 6 count) of the contact separations (m) to small rigid twists of
+    ``count`` parts, each ``(w rad, d m)`` about its contacts' ``reference`` points (k, 3) m:
+    contact ``i`` belongs to part ``part[i]`` (-1: none) on the side ``sign[i]`` (+1 base,
+    -1 body)."""
+    p = np.asarray(points, float)
+    n = np.asarray(normals, float)
+    rows = wrenches(p - np.asarray(reference, float), n) * np.asarray(sign, float)[:, None]
+    out = np.zeros((len(p), 6 * count))
+    for i, j in enumerate(np.asarray(part, int)):
+        if j >= 0:
+            out[i, 6 * j : 6 * j + 6] = rows[i]
+    return out
+
+
+def radius_rows(ball: np.ndarray, count: int) -> np.ndarray:
+    """Sensitivity (k, count) of the contact separations to the radii of ``count`` balls (each
+    contact touches ball ``ball[i]``, -1: none): 1 where a ball touches."""
+    b = np.asarray(ball, int)
+    return (b[:, None] == np.arange(count)[None, :]).astype(float)
+
+
+def seat_pivots(points: np.ndarray, normals: np.ndarray, seat: np.ndarray) -> np.ndarray:
+    """Per contact (k, 3) m, the point a seat's angle error turns its surface about: the point
+    nearest the contact on the intersection of the tangent planes of the seat's contacts (a
+    vee's root line, a trihedral's or a cone's apex); the contact itself for a lone flat."""
+    p = np.asarray(points, float)
+    n = np.asarray(normals, float)
+    s = np.asarray(seat, int)
+    out = p.copy()
+    for i in range(len(p)):
+        mates = np.flatnonzero(s == s[i]) if s[i] >= 0 else np.array([i])
+        planes = n[mates]
+        offsets = np.einsum("ij,ij->i", planes, p[mates] - p[i])
+        # the least-norm step from p_i onto every plane (least squares where they miss)
+        out[i] = p[i] + np.linalg.pinv(planes) @ offsets
+    return out
+
+
+@dataclass(frozen=True)
+class PoseMap:
+    """Linear maps from contact separations (k,) m to the pose error at the point of
+    interest: ``translation`` (3, k) m/m and ``rotation`` (3, k) rad/m; ``condition``: the
+    equilibrated condition number of the nondimensional contact matrix."""
+
+    translation: np.ndarray
+    rotation: np.ndarray
+    condition: float
+
+
+def pose_map(points: np.ndarray, normals: np.ndarray, point: np.ndarray) -> PoseMap | None:
+    """The seated body's pose error at ``point`` (3,) m per unit separation of each of six
+    contacts (points, normals (6, 3), SI); None when the layout does not fix the body."""
+    seat = seat_layout(np.asarray(points, float), np.asarray(normals, float), 3, 1.0)
+    k = len(seat.rows)
+    if seat.rows.shape != (6, 6):
+        return None
+    sol = solve_affine(seat.rows, np.zeros(k), np.eye(k))
+    if not sol.condition < ILL_CONDITIONED:
+        return None
+    length, origin = seat.frame.length, seat.frame.origin
+    rotation = sol.c[:3] / length  # the solve's unknowns are (L omega, v)
+    r = np.asarray(point, float) - origin
+    translation = sol.c[3:] - np.cross(r, rotation.T).T  # v + omega x r
+    return PoseMap(translation, rotation, float(sol.condition))
+
+
+def pose_errors(pose: PoseMap, separations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Translation (s, 3) m and rotation (s, 3) rad at the point for separations (s, k) m."""
+    d = np.asarray(separations, float)
+    # einsum, not matmul: for skinny products it beats a threaded BLAS call on a busy machine
+    return np.einsum("sk,ak->sa", d, pose.translation), np.einsum("sk,ak->sa", d, pose.rotation)
+
+
+def draw(rng: np.random.Generator, count: int, scale: np.ndarray, distribution: str) -> np.ndarray:
+    """``count`` draws (count, m) of independent errors: normal with standard deviations
+    ``scale`` (m,), or uniform within ``+-scale``."""
+    s = np.asarray(scale, float)
+    if distribution == "normal":
+        return rng.standard_normal((count, len(s))) * s
+    if distribution == "uniform":
+        return rng.uniform(-1.0, 1.0, (count, len(s))) * s
+    raise ValueError(f"unknown distribution {distribution!r}")
+
+
+def sobol_draws(
+    seed: int, count: int, scale: np.ndarray, distribution: str
+) -> tuple[np.ndarray, int]:
+    """Quasi-random draws like :func:`draw` from one scrambled Sobol sequence over all
+    ``len(scale)`` dimensions (seeded): ``count`` rounded up to a power of two (Sobol's
+    balance), returned with the count used."""
+    from scipy.stats import norm, qmc
+
+    s = np.asarray(scale, float)
+    m = max(int(np.ceil(np.log2(max(count, 2)))), 1)
+    u = qmc.Sobol(len(s), scramble=True, seed=seed).random_base2(m)
+    if distribution == "normal":
+        # scrambled points are never exactly 0 or 1, but keep ppf finite regardless
+        return norm.ppf(np.clip(u, TINY, 1.0 - EPS)) * s, len(u)
+    if distribution == "uniform":
+        return (2.0 * u - 1.0) * s, len(u)
+    raise ValueError(f"unknown distribution {distribution!r}")
+
+
+def mean_bounds(values: np.ndarray, z: float) -> tuple[float, float, float, float]:
+    """Sample mean, sample standard deviation and the central-limit bounds
+    ``mean -+ z s / sqrt(n)`` of the mean of ``values`` (n,)."""
+    v = np.asarray(values, float)
+    mean = float(v.mean())
+    std = float(v.std(ddof=1)) if len(v) > 1 else 0.0
+    half = z * std / np.sqrt(len(v))
+    return mean, std, mean - half, mean + half
+
+
+def quantile_bounds(values: np.ndarray, q: float, confidence: float) -> tuple[float, float, float]:
+    """The ``q`` sample quantile of ``values`` (n,) and distribution-free bounds on the true
+    quantile at ``confidence``: order statistics ``X_(l) <= xi_q <= X_(u)`` with ``l``, ``u``
+    from the binomial(n, q) distribution of how many draws fall below ``xi_q`` (central
+    interval; the ends clipped to the smallest and largest draw)."""
+    from scipy.stats import binom
+
+    v = np.sort(np.asarray(values, float))
+    n = len(v)
+    tail = (1.0 - confidence) / 2.0
+    lo = int(binom.ppf(tail, n, q))  # X_(lo) (1-based) <= xi_q with probability >= 1 - tail
+    hi = int(binom.ppf(1.0 - tail, n, q)) + 1
+    lo = min(max(lo, 1), n)
+    hi = min(max(hi, 1), n)
+    return float(np.quantile(v, q)), float(v[lo - 1]), float(v[hi - 1])

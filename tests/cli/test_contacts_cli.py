@@ -1,0 +1,219 @@
+"""kcheck contacts on the command line: a generated three-vee assembly gives a scene that
+checks exactly as the hand-written scene of the same coupling; refusals and bad input."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+trimesh = pytest.importorskip("trimesh")
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from contact_assemblies import (  # noqa: E402
+    THREE_VEE_CENTERS,
+    ball,
+    combine,
+    flat,
+    three_vee,
+    trihedral_normals,
+    unit,
+    vee,
+)
+
+from kcheck.cli import main  # noqa: E402
+
+HAND_WRITTEN = """\
+version: 1
+units: mm
+body: {mesh: body.stl, material: aluminium}
+couplings:
+%s
+friction: 0.1
+gravity: [0, 0, -9.81]
+load: {magnitude: 10, direction: [0, 0, -1]}
+"""
+
+
+def _write(tmp_path, base, body):
+    base.export(tmp_path / "base.stl")
+    body.export(tmp_path / "body.stl")
+
+
+def _checks(path, capsys):
+    assert main(["check", str(path), "--format", "json", "-j", "1"]) == 0
+    scene = json.loads(capsys.readouterr().out)["scenes"][0]
+    out = {}
+    for c in scene["checks"]:
+        # Cases are named by the supports they lift, and a groove's axis read either way round
+        # swaps its two contacts' names: the check-level results are compared.
+        c = {k: v for k, v in c.items() if k not in ("runtime_s", "cases")}
+        out[c["id"]] = c
+    return out
+
+
+def _close(a, b, path=""):
+    if isinstance(a, dict) and any("." in str(k) for k in a):
+        # Per-support values: a groove's axis read either way round swaps its two contacts'
+        # names, so compare each coupling's values as a set.
+        def grouped(d):
+            out = {}
+            for k, v in d.items():
+                out.setdefault(str(k).split(".")[0], []).append(v)
+            return {k: sorted(v, key=repr) for k, v in out.items()}
+
+        a, b = grouped(a), grouped(b)
+    if isinstance(a, dict):
+        assert a.keys() == b.keys(), path
+        for k in a:
+            if k not in ("line", "column"):  # where in each file: the files differ
+                _close(a[k], b[k], f"{path}.{k}")
+    elif isinstance(a, list):
+        assert len(a) == len(b), path
+        for i, (x, y) in enumerate(zip(a, b, strict=True)):
+            _close(x, y, f"{path}[{i}]")
+    elif isinstance(a, float):
+        assert a == pytest.approx(b, rel=1e-4, abs=1e-4), path
+    else:
+        assert a == b, path
+
+
+def test_three_vee_scene_checks_as_the_hand_written_one(tmp_path, capsys):
+    base, body = three_vee()
+    _write(tmp_path, base, body)
+    scene = tmp_path / "found.kcheck.yaml"
+    code = main(
+        [
+            "contacts",
+            str(tmp_path / "base.stl"),
+            str(tmp_path / "body.stl"),
+            "--units",
+            "mm",
+            "-o",
+            str(scene),
+        ]
+    )
+    assert code == 0, capsys.readouterr().err
+    assert "ball-vee" in capsys.readouterr().err
+    assert scene.read_text().count("type: ball-vee") == 3
+    # Named and ordered as kcheck contacts names them (by the first contact's x), so that
+    # support names in the results agree too.
+    order = sorted(range(3), key=lambda k: THREE_VEE_CENTERS[k][0])
+    entries = [
+        f"  - {{name: b{j + 1}, type: ball-vee, ball: {{center: {c.tolist()}, radius: 6}}, "
+        f"groove: {{axis: {unit([c[0], c[1], 0]).tolist()}, up: [0, 0, 1], half_angle: 45}}}}"
+        for j, c in enumerate(THREE_VEE_CENTERS[k] for k in order)
+    ]
+    hand = tmp_path / "hand.kcheck.yaml"
+    hand.write_text(HAND_WRITTEN % "\n".join(entries))
+    found, written = _checks(scene, capsys), _checks(hand, capsys)
+    assert found["analytical-3d"]["status"] == "pass"
+    _close(found, written)
+
+
+def _run(tmp_path, base, body, capsys):
+    _write(tmp_path, base, body)
+    code = main(
+        ["contacts", str(tmp_path / "base.stl"), str(tmp_path / "body.stl"), "--units", "mm"]
+    )
+    return code, capsys.readouterr()
+
+
+def test_five_contacts_refused(tmp_path, capsys):
+    # Two vees and a flat: 5 point contacts.
+    cs = THREE_VEE_CENTERS
+    base = combine([*vee(cs[0], [0, 1, 0]), *vee(cs[1], [1, 0, 0]), flat(cs[2], [0, 0, 1])])
+    body = combine([ball(c) for c in cs])
+    code, out = _run(tmp_path, base, body, capsys)
+    assert code == 1 and out.out == ""
+    assert "5 point contact(s) found" in out.err
+
+
+def test_seven_contacts_refused(tmp_path, capsys):
+    cs = THREE_VEE_CENTERS
+    base = combine(
+        [*vee(cs[0], [0, 1, 0]), *vee(cs[1], [1, 0, 0])]
+        + [flat(cs[2], n, side=6.0) for n in trihedral_normals()]
+    )
+    body = combine([ball(c) for c in cs])
+    code, out = _run(tmp_path, base, body, capsys)
+    assert code == 1 and "7 point contact(s) found" in out.err
+
+
+def test_area_contact_refused_with_its_constraints(tmp_path, capsys):
+    base = trimesh.creation.box(extents=[20, 20, 10]).apply_translation([0, 0, -5])
+    body = trimesh.creation.box(extents=[10, 10, 10]).apply_translation([0, 0, 5])
+    code, out = _run(tmp_path, base, body, capsys)
+    assert code == 1
+    assert "an area contact (flat on flat) (removes 3 freedoms)" in out.err
+
+
+def test_parts_not_in_contact(tmp_path, capsys):
+    base, body = three_vee(lift=5.0)
+    code, out = _run(tmp_path, base, body, capsys)
+    assert code == 2 and "does not touch" in out.err and "Traceback" not in out.err
+
+
+def test_interpenetrating_parts(tmp_path, capsys):
+    base, body = three_vee(lift=-1.0)
+    code, out = _run(tmp_path, base, body, capsys)
+    assert code == 2 and "interpenetrate by" in out.err
+
+
+def test_empty_and_open_meshes(tmp_path, capsys):
+    base, body = three_vee()
+    _write(tmp_path, base, body)
+    (tmp_path / "empty.stl").write_text("solid x\nendsolid x\n")
+    code = main(["contacts", str(tmp_path / "base.stl"), str(tmp_path / "empty.stl")])
+    assert code == 2 and "empty.stl" in capsys.readouterr().err
+    open_body = body.copy()
+    open_body.update_faces(np.arange(len(open_body.faces)) > 0)
+    open_body.export(tmp_path / "open.stl")
+    code = main(["contacts", str(tmp_path / "base.stl"), str(tmp_path / "open.stl")])
+    assert code == 2 and "not watertight" in capsys.readouterr().err
+
+
+def test_step_without_the_extra(tmp_path, capsys, monkeypatch):
+    base, body = three_vee()
+    _write(tmp_path, base, body)
+    (tmp_path / "body.step").write_text("ISO-10303-21;\nEND-ISO-10303-21;\n")
+    real = importlib.util.find_spec
+    monkeypatch.setattr(
+        importlib.util, "find_spec", lambda name, *a: None if name == "cascadio" else real(name, *a)
+    )
+    code = main(["contacts", str(tmp_path / "base.stl"), str(tmp_path / "body.step")])
+    assert code == 2 and "kcheck[step]" in capsys.readouterr().err
+
+
+def test_balls_of_the_base_merged_into_the_body_are_named(tmp_path, capsys):
+    # The base's balls exported inside the body's file: each sits in the body's own vee
+    # (opening downwards) and on a flat of the base.
+    cs = THREE_VEE_CENTERS
+    body = combine(
+        [part for c in cs for part in vee(c, unit([c[0], c[1], 0]), up=[0, 0, -1])]
+        + [ball(c) for c in cs]
+    )
+    base = combine([flat(c, [0, 0, 1]) for c in cs])
+    code, out = _run(tmp_path, base, body, capsys)
+    assert "looks like part of the base" in out.err
+    assert out.err.count("looks like part of the base") == 3
+    assert "volume 902.8 mm^3" in out.err  # the icosphere's, 4/3 pi 6^3 less its facets
+
+
+@pytest.mark.parametrize(
+    ("option", "said"),
+    [
+        (["--gap", "-1"], "--gap -1.0: expected a positive length"),
+        (["--units", "furlong"], "--units furlong: expected one of"),
+        (["--material", "cheese"], "unknown material `cheese`"),
+    ],
+)
+def test_bad_options(tmp_path, capsys, option, said):
+    base, body = three_vee()
+    _write(tmp_path, base, body)
+    code = main(["contacts", str(tmp_path / "base.stl"), str(tmp_path / "body.stl"), *option])
+    assert code == 2 and said in capsys.readouterr().err
