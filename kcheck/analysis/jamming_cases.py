@@ -44,7 +44,7 @@ from kcheck.mechanics.statics import (
     holds,
     holds_exactly,
 )
-from kcheck.numerics.thresholds import JAM_MU_RTOL, SLIVER, UNDETERMINED
+from kcheck.numerics.thresholds import FREE_CANDIDATE_TOL, JAM_MU_RTOL, SLIVER, UNDETERMINED
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 
@@ -65,6 +65,9 @@ __all__ = [
 ]
 
 Outcome = Literal["jams", "holds", "moves", "swept", "undetermined"]
+
+#: Directions measured exactly first, for a lower bound of the freest direction's depth.
+FREE_SAMPLE = 64
 
 
 # --- from a scene to its statics ------------------------------------------------------------
@@ -346,12 +349,21 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
     closing_all = np.ones(points, bool)
     held, inner = [], []
     band_width = 0.0
+    # Least facet slacks, exact down to -FREE_CANDIDATE_TOL, per case: circumscribed, inscribed.
+    slacks: tuple[list[np.ndarray], list[np.ndarray]] = ([], [])
     for case in analysis.cases:
         if not case.determined:
             continue
         assert case.held_inner is not None
-        outer_in = case.held.contains(dirs)
-        inner_in = case.held_inner.contains(dirs)
+        outer = case.held.least_slack(dirs, -FREE_CANDIDATE_TOL)
+        # The inscribed pyramids hold less than the circumscribed ones (a subset): only the
+        # directions the circumscribed ones hold, to far more than rounding, can be held.
+        maybe = np.flatnonzero(outer >= -FREE_CANDIDATE_TOL)
+        inner_slack = np.full(points, -np.inf)
+        inner_slack[maybe] = case.held_inner.least_slack(dirs[maybe], -FREE_CANDIDATE_TOL)
+        slacks[0].append(outer)
+        slacks[1].append(inner_slack)
+        outer_in, inner_in = outer >= 0, inner_slack >= 0
         band = outer_in & ~inner_in
         if np.any(band) and case.held.kind == "cone":
             band_width = max(
@@ -364,13 +376,12 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
         held.append(np.count_nonzero(outer_in) / points)
         inner.append(np.count_nonzero(inner_in) / points)
     freest, pyramids = None, None
-    for kind, sets in (
-        ("circumscribed", [c.held for c in analysis.cases if c.determined]),
-        ("inscribed", [c.held_inner for c in analysis.cases if c.determined]),
+    for kind, sets, slack in (
+        ("circumscribed", [c.held for c in analysis.cases if c.determined], slacks[0]),
+        ("inscribed", [c.held_inner for c in analysis.cases if c.determined], slacks[1]),
     ):
-        depth = _free_depth(sets, dirs)  # type: ignore[arg-type]
-        best = int(np.argmax(depth))
-        if depth[best] > 0 and np.isfinite(depth[best]):
+        best = _freest(sets, dirs, slack)  # type: ignore[arg-type]
+        if best is not None:
             freest, pyramids = dirs[best], kind
             break
     return JamMap(
@@ -401,3 +412,39 @@ def _free_depth(sets: list[Equilibria], dirs: np.ndarray) -> np.ndarray:
         if held.kind == "cone" and len(held.a):
             depth = np.minimum(depth, -cap_margin_matrix(held.a, held.c, dirs).min(axis=1))
     return depth
+
+
+def _freest(sets: list[Equilibria], dirs: np.ndarray, slacks: list[np.ndarray]) -> int | None:
+    """The index of the direction :func:`_free_depth` puts deepest (the first of equals) when
+    its depth is positive and finite, else None — computed exactly on a few directions only.
+
+    A direction is deeper than ``L`` in a case iff it lies outside some facet's circle by more
+    than ``L``: ``axis . d < cos(radius + L)``, a test without arccos. ``L`` is the best depth
+    among a sparse subset of the directions; only those passing the test in every case (with
+    a margin for rounding) are measured exactly, so the deepest is among them.
+    """
+    from kcheck.mechanics.arcs import cap_geometry
+
+    cones = [h for h in sets if h.kind == "cone" and len(h.a)]
+    if any(h.kind == "everywhere" for h in sets) or not cones:
+        return None  # -pi everywhere, or inf everywhere (nothing held): neither counts
+    free = np.ones(len(dirs), bool)
+    for slack in slacks:  # depth > 0 only outside every held set
+        free &= slack < FREE_CANDIDATE_TOL
+    candidates = np.flatnonzero(free)
+    if not len(candidates):
+        return None
+    sample = candidates[:: max(1, len(candidates) // FREE_SAMPLE)]
+    floor = float(_free_depth(sets, dirs[sample]).max())
+    if floor > 0:
+        for held in cones:
+            ratio, axes, radius = cap_geometry(held.a, held.c)
+            bound = np.cos(np.minimum(radius + floor, np.pi)) + FREE_CANDIDATE_TOL
+            bound = np.where(ratio >= 1.0, np.inf, np.where(ratio <= -1.0, -np.inf, bound))
+            deeper = np.any(dirs[candidates] @ axes.T <= bound, axis=1)
+            candidates = candidates[deeper]
+    depth = _free_depth(sets, dirs[candidates])
+    best = int(np.argmax(depth))
+    if depth[best] > 0 and np.isfinite(depth[best]):
+        return int(candidates[best])
+    return None

@@ -28,7 +28,13 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from kcheck.mechanics.kinematics import FreeTwist, free_twists, point_velocity, wrenches
+from kcheck.mechanics.kinematics import (
+    FreeTwist,
+    free_twists,
+    other_supports,
+    point_velocity,
+    wrenches,
+)
 from kcheck.mechanics.problem import Problem, build_problem, log_size, relative
 from kcheck.numerics.thresholds import EPS, ILL_CONDITIONED, SLIP_TOL, TINY, UNDETERMINED
 
@@ -240,19 +246,16 @@ def _solve_many(
             sol[good] = np.linalg.solve(scaled[good], scaled_rhs) * cols[good][:, :, None]
         except np.linalg.LinAlgError:
             good[:] = False
+    # Forward error: the condition number times the matrix's own relative error and the
+    # solve's rounding (LU with pivoting is backward stable: its residual is of that size).
+    built = np.zeros(len(matrices)) if matrix_error is None else np.asarray(matrix_error, float)
+    with np.errstate(all="ignore"):
+        errors = (condition * (EPS * ROUNDINGS + built))[:, None] * np.abs(sol).sum(axis=2)
+    errors[~good] = np.inf
+    conditions = np.where(good, condition, np.inf).tolist()
     for k, matrix in enumerate(matrices):
-        if not good[k]:
-            nan = np.full((n, rhs.shape[1]), np.nan)
-            out.append(Affine(matrix, nan[:, 0], nan[:, 1:], float("inf"), np.full(n, np.inf)))
-            continue
         x = sol[k]
-        scale = np.abs(x).sum(axis=1)
-        # Forward error: the condition number times the matrix's own relative error and the
-        # solve's rounding (LU with pivoting is backward stable: its residual is of that size).
-        cond = float(condition[k])
-        built = 0.0 if matrix_error is None else float(matrix_error[k])
-        error = cond * (EPS * ROUNDINGS + built) * scale
-        out.append(Affine(matrix, x[:, 0], x[:, 1:], cond, error))
+        out.append(Affine(matrix, x[:, 0], x[:, 1:], conditions[k], errors[k]))
     return out
 
 
@@ -288,30 +291,32 @@ def analyse_cases(problem: Problem, retracted: Sequence[int] | None = None) -> t
     k = len(problem.points)
     which = np.arange(k) if retracted is None else np.asarray(retracted, dtype=int)
     frees = free_twists(problem.points, problem.normals, which)
-    keeps = np.array([np.flatnonzero(np.arange(k) != r) for r in which])
+    keeps = other_supports(k)[which]
     twists = np.array([f.twist for f in frees])
     pattern, mu = problem.friction_pattern()
     k0, unit_f, sliding = _parts(problem, twists, keeps, pattern)
     big_f = mu * unit_f
-    cases = [
-        Case(int(r), keeps[i], frees[i], sliding[i], None, None, None, k0[i], unit_f[i])
-        for i, r in enumerate(which)
+    live = [
+        i for i, f in enumerate(frees) if f.determinacy > UNDETERMINED and f.closing > UNDETERMINED
     ]
-    live = [i for i, case in enumerate(cases) if case.determined]
-    if not live:
-        return tuple(cases)
-    b0, big_b = problem.load_basis()
-    stack = np.concatenate([k0[live] + big_f[live], k0[live] - big_f[live]])
-    # The free twist (a null vector) is off by about eps over its singular-value gap; the
-    # matrix built from it (inertial column, friction directions) inherits that.
-    twist_error = np.array([TWIST_ROUNDINGS * EPS / cases[i].free.determinacy for i in live])
-    solved = _solve_many(
-        stack, np.column_stack([b0, big_b]), np.concatenate([twist_error, twist_error])
-    )
-    masses = _effective_masses(k0[live], big_f[live])
-    for n, i in enumerate(live):
-        cases[i] = replace(
-            cases[i], forward=solved[n], backward=solved[len(live) + n], effective_mass=masses[n]
+    solved: dict[int, tuple[Affine | None, Affine | None, tuple[float, float] | None]] = {}
+    if live:
+        b0, big_b = problem.load_basis()
+        stack = np.concatenate([k0[live] + big_f[live], k0[live] - big_f[live]])
+        # The free twist (a null vector) is off by about eps over its singular-value gap; the
+        # matrix built from it (inertial column, friction directions) inherits that.
+        twist_error = np.array([TWIST_ROUNDINGS * EPS / frees[i].determinacy for i in live])
+        systems = _solve_many(
+            stack, np.column_stack([b0, big_b]), np.concatenate([twist_error, twist_error])
+        )
+        masses = _effective_masses(k0[live], big_f[live])
+        for n, i in enumerate(live):
+            solved[i] = (systems[n], systems[len(live) + n], masses[n])
+    cases = []
+    for i, r in enumerate(which):
+        forward, backward, mass = solved.get(i, (None, None, None))
+        cases.append(
+            Case(int(r), keeps[i], frees[i], sliding[i], forward, backward, mass, k0[i], unit_f[i])
         )
     return tuple(cases)
 

@@ -108,12 +108,15 @@ def _around(intervals: tuple[tuple[float, float], ...], mu: float) -> tuple[floa
     return None
 
 
-def _hadamard(matrices: np.ndarray) -> np.ndarray:
+def _hadamard(
+    matrices: np.ndarray, slogdet: tuple[np.ndarray, np.ndarray] | None = None
+) -> np.ndarray:
     """``|det A| / prod(row norms)`` in [0, 1] for a stack: 1 for orthogonal rows, 0 when
-    singular — a cheap (LU instead of SVD) measure of how far from singular a matrix is."""
+    singular — a cheap (LU instead of SVD) measure of how far from singular a matrix is.
+    ``slogdet``: the stack's ``numpy.linalg.slogdet``, when already computed."""
     with np.errstate(all="ignore"):
-        sign, logdet = np.linalg.slogdet(matrices)
-        rows = np.sum(np.log(np.sqrt(np.sum(matrices * matrices, axis=-1))), axis=-1)
+        sign, logdet = np.linalg.slogdet(matrices) if slogdet is None else slogdet
+        rows = 0.5 * np.sum(np.log(np.einsum("...ij,...ij->...i", matrices, matrices)), axis=-1)
         ratio = np.where(sign != 0, np.exp(logdet - rows), 0.0)
     return np.where(np.isfinite(ratio), ratio, 0.0)
 
@@ -157,33 +160,42 @@ def pencil_roots(a0: np.ndarray, a1: np.ndarray) -> np.ndarray:
 
 
 def _pencils(k0: np.ndarray, big_f: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``K`` and, per unknown, ``K`` with that column replaced by the right-hand side:
-    (n + 1, n, n) each."""
-    n = k0.shape[0]
-    a0 = np.repeat(k0[None], n + 1, axis=0)
-    a1 = np.repeat(big_f[None], n + 1, axis=0)
+    """Per case (..., n, n), ``K`` and, per unknown, ``K`` with that column replaced by the
+    right-hand side (n,): (..., n + 1, n, n) each."""
+    n = k0.shape[-1]
+    a0 = np.repeat(k0[..., None, :, :], n + 1, axis=-3)
+    a1 = np.repeat(big_f[..., None, :, :], n + 1, axis=-3)
     idx = np.arange(n)
-    a0[idx + 1, :, idx] = rhs
-    a1[idx + 1, :, idx] = 0.0
+    a0[..., idx + 1, :, idx] = rhs
+    a1[..., idx + 1, :, idx] = 0.0
     return a0, a1
 
 
-def _breakpoints(roots: np.ndarray) -> np.ndarray:
-    """Sorted distinct positive ``|root|`` values (roots of either sign matter: ``K(-mu)`` is
-    the backward system)."""
-    size = np.sort(np.abs(roots[np.isfinite(roots)]))
-    size = size[size > 0]
-    if not len(size):
-        return size
-    keep = np.append(True, np.diff(size) > SAME_ROOT_RTOL * size[1:])
-    return size[keep]
+def _breakpoints(roots: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per row of roots (c, m): the sorted distinct positive ``|root|`` values (roots of
+    either sign matter: ``K(-mu)`` is the backward system), padded with ``inf`` (c, m), and
+    how many there are (c,)."""
+    size = np.abs(roots)
+    size = np.sort(np.where(np.isfinite(size) & (size > 0), size, np.inf), axis=1)
+    with np.errstate(invalid="ignore"):
+        same = np.diff(size, axis=1) <= SAME_ROOT_RTOL * size[:, 1:]
+    size[:, 1:][same] = np.inf
+    size = np.sort(size, axis=1)
+    return size, np.sum(np.isfinite(size), axis=1)
 
 
-def _samples(points: np.ndarray) -> np.ndarray:
-    """One ``mu`` inside each piece between 0, the breakpoints and infinity."""
-    edges = np.concatenate([[0.0], points])
-    inner = 0.5 * (edges[:-1] + edges[1:])
-    return np.append(inner, 2.0 * edges[-1] + 1.0)
+def _samples(points: np.ndarray, counts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """One ``mu`` inside each piece between 0, the breakpoints (c, m; ``counts`` of them per
+    row) and infinity, all rows' in one array, and the row of each."""
+    c, m = points.shape
+    edges = np.concatenate([np.zeros((c, 1)), points], axis=1)
+    with np.errstate(invalid="ignore"):
+        inner = 0.5 * (edges[:, :-1] + edges[:, 1:])
+    rows = np.arange(c)
+    last = np.concatenate([inner, np.zeros((c, 1))], axis=1)
+    last[rows, counts] = 2.0 * edges[rows, counts] + 1.0
+    used = np.arange(m + 1)[None, :] <= counts[:, None]
+    return last[used], np.broadcast_to(rows[:, None], used.shape)[used]
 
 
 def root_errors(a0: np.ndarray, a1: np.ndarray, roots: np.ndarray) -> np.ndarray:
@@ -194,19 +206,25 @@ def root_errors(a0: np.ndarray, a1: np.ndarray, roots: np.ndarray) -> np.ndarray
     roots stay NaN, and a root where the slope vanishes (a double root) gets its own size."""
     n = a0.shape[-1]
     bound = DET_ROUNDING * n * n * EPS
-    step = 1e-6 * np.maximum(1.0, np.abs(roots))
-
-    def normalised(mu: np.ndarray) -> np.ndarray:
-        m = a0[:, None] + np.nan_to_num(mu)[..., None, None] * a1[:, None]
-        with np.errstate(all="ignore"):
-            sign, logdet = np.linalg.slogdet(m)
-            rows = np.sum(np.log(np.sqrt(np.sum(m * m, axis=-1))), axis=-1)
-            return sign * np.exp(logdet - rows)
-
-    with np.errstate(all="ignore"):  # extreme scales overflow to a non-finite slope: no bound
-        slope = np.abs(normalised(roots + step) - normalised(roots - step)) / (2.0 * step)
-        out = np.where(slope > 0, bound / slope, np.maximum(1.0, np.abs(roots)))
-    return np.where(np.isfinite(roots), np.minimum(out, np.maximum(1.0, np.abs(roots))), np.nan)
+    out = np.full(roots.shape, np.nan)
+    pencil, which = np.nonzero(np.isfinite(roots))
+    if not len(pencil):
+        return out
+    mu = roots[pencil, which]
+    step = 1e-6 * np.maximum(1.0, np.abs(mu))
+    # Both sides of every finite root in one batch (the NaN ones need none).
+    at = np.concatenate([mu + step, mu - step])
+    both = np.concatenate([pencil, pencil])
+    m = a0[both] + at[:, None, None] * a1[both]
+    with np.errstate(all="ignore"):
+        sign, logdet = np.linalg.slogdet(m)
+        rows = np.sum(np.log(np.sqrt(np.sum(m * m, axis=-1))), axis=-1)
+        value = sign * np.exp(logdet - rows)
+        slope = np.abs(value[: len(mu)] - value[len(mu) :]) / (2.0 * step)
+        size = np.maximum(1.0, np.abs(mu))
+        error = np.where(slope > 0, bound / slope, size)
+    out[pencil, which] = np.minimum(error, size)
+    return out
 
 
 def _end_errors(
@@ -228,42 +246,56 @@ def _end_errors(
 def _pieces(points: np.ndarray, flags: np.ndarray) -> tuple[tuple[float, float], ...]:
     """Closed intervals from the pieces ``[0, p1], [p1, p2], ..., [pm, inf)`` whose flag holds,
     adjacent ones merged."""
-    edges = np.concatenate([[0.0], points, [np.inf]])
+    edges = [0.0, *points.tolist(), np.inf]
     out: list[list[float]] = []
-    for i, flag in enumerate(flags):
+    for i, flag in enumerate(flags.tolist()):
         if not flag:
             continue
         if out and out[-1][1] == edges[i]:
-            out[-1][1] = float(edges[i + 1])
+            out[-1][1] = edges[i + 1]
         else:
-            out.append([float(edges[i]), float(edges[i + 1])])
+            out.append([edges[i], edges[i + 1]])
     return tuple((lo, hi) for lo, hi in out)
 
 
 def _evaluate(
-    k0: np.ndarray, big_f: np.ndarray, rhs: np.ndarray, mus: np.ndarray
+    k0: np.ndarray,
+    big_f: np.ndarray,
+    sign0: np.ndarray,
+    rhs: np.ndarray,
+    mus: np.ndarray,
+    solved: int,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """At each sample ``mu`` (m,) of a case (``k0``, ``big_f``, ``rhs`` (m, ...) stacked per
-    sample): whether the case closes uniquely, and whether it is Painlevé-type."""
+    """At each sample ``mu`` (m,) of a case (``k0``, ``big_f`` (m, n, n) stacked per sample,
+    ``sign0`` (m,) the sign of ``det k0``, ``rhs`` (n,)): whether the case closes uniquely
+    (only the first ``solved`` samples are solved for; the others' is False), and whether it
+    is Painlevé-type."""
     m = len(mus)
     signed = np.concatenate([mus, -mus])
-    k0_2, f_2, rhs_2 = (np.concatenate([x, x]) for x in (k0, big_f, rhs))
-    stack = k0_2 + signed[:, None, None] * f_2
+    stack = np.concatenate([k0, k0]) + signed[:, None, None] * np.concatenate([big_f, big_f])
     rows, cols = _equilibrate(stack)
     scaled = stack * rows[..., :, None] * cols[..., None, :]
+    closes = np.zeros(m, bool)
     with np.errstate(all="ignore"):
-        sign0, _ = np.linalg.slogdet(k0)
-        sign, _ = np.linalg.slogdet(scaled)
-        quality = _hadamard(scaled)
+        determinant = np.linalg.slogdet(scaled)
+        quality = _hadamard(scaled, determinant)
+        effective = determinant[0] * np.concatenate([sign0, sign0]) > 0
+        painleve = ~(effective[:m] & effective[m:])
+        if solved == 0:
+            return closes, painleve
         try:
-            x = np.linalg.solve(scaled, (rhs_2 * rows)[..., None])[..., 0] * cols
+            forward = (
+                np.linalg.solve(scaled[:solved], (rhs * rows[:solved])[..., None])[..., 0]
+                * cols[:solved]
+            )
         except np.linalg.LinAlgError:
-            return np.zeros(m, bool), np.zeros(m, bool)
-    effective = sign * np.concatenate([sign0, sign0]) > 0
-    painleve = ~(effective[:m] & effective[m:])
-    forward = x[:m]
-    trusted = (quality[:m] > 1.0 / ILL_CONDITIONED) & (quality[m:] > 1.0 / ILL_CONDITIONED)
-    closes = trusted & ~painleve & (forward[:, 0] > 0) & np.all(forward[:, 1:] > 0, axis=1)
+            return closes, np.zeros(m, bool)
+    trusted = (quality[:solved] > 1.0 / ILL_CONDITIONED) & (
+        quality[m : m + solved] > 1.0 / ILL_CONDITIONED
+    )
+    closes[:solved] = (
+        trusted & ~painleve[:solved] & (forward[:, 0] > 0) & np.all(forward[:, 1:] > 0, axis=1)
+    )
     return closes, painleve
 
 
@@ -281,33 +313,42 @@ def friction_intervals_many(
     rhs = problem.wrench(direction)
     k0 = np.stack([c.k0 for c in live])  # type: ignore[misc]
     big_f = np.stack([c.k_friction for c in live])  # type: ignore[misc]
-    n = k0.shape[-1]
-    pencils = [_pencils(a, b, rhs) for a, b in zip(k0, big_f, strict=True)]
-    all_a0 = np.concatenate([p[0] for p in pencils])
-    all_a1 = np.concatenate([p[1] for p in pencils])
-    roots = pencil_roots(all_a0, all_a1)
-    errors = root_errors(all_a0, all_a1, roots).reshape(len(live), n + 1, n)
-    roots = roots.reshape(len(live), n + 1, n)
+    c, n = k0.shape[0], k0.shape[-1]
+    a0, a1 = _pencils(k0, big_f, rhs)
+    all_a0, all_a1 = a0.reshape(-1, n, n), a1.reshape(-1, n, n)
+    roots = pencil_roots(all_a0, all_a1).reshape(c, n + 1, n)
     # Samples of every case, for closing (all roots) and for Painlevé (det K roots only).
-    points = [_breakpoints(r) for r in roots]
-    det_points = [_breakpoints(r[0]) for r in roots]
-    samples = [_samples(p) for p in points] + [_samples(p) for p in det_points]
-    owner = np.concatenate([np.full(len(x), i % len(live)) for i, x in enumerate(samples)])
-    mus = np.concatenate(samples)
-    closes, painleve = _evaluate(k0[owner], big_f[owner], np.broadcast_to(rhs, (len(mus), n)), mus)
-    bounds = np.cumsum([0] + [len(x) for x in samples])
+    points, counts = _breakpoints(roots.reshape(c, -1))
+    det_points, det_counts = _breakpoints(roots[:, 0])
+    first, first_owner = _samples(points, counts)
+    second, second_owner = _samples(det_points, det_counts)
+    owner = np.concatenate([first_owner, second_owner])
+    with np.errstate(all="ignore"):
+        sign0 = np.linalg.slogdet(k0)[0]
+    closes, painleve = _evaluate(
+        k0[owner], big_f[owner], sign0[owner], rhs, np.concatenate([first, second]), len(first)
+    )
+    bounds = np.concatenate([[0], np.cumsum(counts + 1)])
+    det_bounds = len(first) + np.concatenate([[0], np.cumsum(det_counts + 1)])
+    pieces = [_pieces(points[i, : counts[i]], closes[bounds[i] : bounds[i + 1]]) for i in range(c)]
+    # Error bounds only of the roots at an interval's end (the only ones _end_errors reads).
+    at_end = np.zeros(roots.shape, bool)
+    size = np.abs(roots)
+    for i, intervals in enumerate(pieces):
+        for end in {x for interval in intervals for x in interval if 0 < x < np.inf}:
+            at_end[i] |= np.abs(size[i] - end) <= SAME_ROOT_RTOL * end
+    errors = root_errors(all_a0, all_a1, np.where(at_end, roots, np.nan).reshape(-1, n)).reshape(
+        c, n + 1, n
+    )
     by_case = {}
     for i, case in enumerate(live):
-        first = slice(bounds[i], bounds[i + 1])
-        second = slice(bounds[len(live) + i], bounds[len(live) + i + 1])
-        pieces = _pieces(points[i], closes[first])
         by_case[id(case)] = FrictionIntervals(
-            pieces,
+            pieces[i],
             mu,
             outcome(case, direction)[0] == "closes",
-            _pieces(det_points[i], painleve[second]),
+            _pieces(det_points[i, : det_counts[i]], painleve[det_bounds[i] : det_bounds[i + 1]]),
             uniform,
-            _end_errors(pieces, roots[i], errors[i]),
+            _end_errors(pieces[i], roots[i], errors[i]),
         )
     return [by_case.get(id(c), FrictionIntervals((), mu, False, (), uniform)) for c in cases]
 

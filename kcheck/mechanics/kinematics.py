@@ -13,6 +13,7 @@ commensurate and singular values do not depend on mm versus m.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,6 +33,7 @@ __all__ = [
     "free_twists",
     "free_twist_arrays",
     "cross3",
+    "other_supports",
     "maxwell_cos",
     "maxwell_angle",
 ]
@@ -110,7 +112,11 @@ def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Cross product of 3-vectors (..., 3), broadcasting; ``np.cross`` without its overhead."""
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape), np.result_type(a, b, float))
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
 
 
 def moment(points: np.ndarray, forces: np.ndarray) -> np.ndarray:
@@ -151,6 +157,15 @@ def layout_singular_values(points: np.ndarray, normals: np.ndarray) -> np.ndarra
         return np.zeros(min(rows.shape))
 
 
+@functools.cache
+def other_supports(k: int) -> np.ndarray:
+    """Row ``r``: the indices of ``k`` supports other than ``r`` (k, k - 1), read-only."""
+    out = np.array([np.flatnonzero(np.arange(k) != r) for r in range(k)], dtype=int)
+    out = out.reshape(k, max(k - 1, 0))
+    out.setflags(write=False)
+    return out
+
+
 def free_twist_arrays(
     points: np.ndarray, normals: np.ndarray, retracted: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -160,7 +175,7 @@ def free_twist_arrays(
     k = points.shape[-2]
     which = np.arange(k) if retracted is None else np.asarray(retracted, dtype=int)
     rows = wrenches(points, normals)  # (..., k, n)
-    keep = np.array([np.flatnonzero(np.arange(k) != r) for r in which])
+    keep = other_supports(k)[which]
     try:
         _, s, vt = np.linalg.svd(rows[..., keep, :])
     except np.linalg.LinAlgError:  # only on non-finite input: no free motion to speak of

@@ -67,6 +67,7 @@ __all__ = [
     "LP_EQUALITY_SLACK",
     "ARC_ZERO_RTOL",
     "SLIVER",
+    "FREE_CANDIDATE_TOL",
     "FULL_TURN_SLACK_DEG",
     "NO_SAFE_DIRECTION_SLACK",
     "UNCERTAIN_DEG",
@@ -408,6 +409,11 @@ GOLDEN_XTOL: float = 1e-12
 #: an answer for a designer, and each step searches every candidate point.
 LEAST_FORCE_RTOL: float = 0.01
 
+#: A lattice direction inside a held set of the jamming map by more than this (nondimensional,
+#: the facet's ``a + c . d`` with unit-scale coefficients) is left out of the search for the
+#: freest direction (which lies outside every held set); far above rounding (1e-16), so no
+#: direction outside is left out.
+FREE_CANDIDATE_TOL: float = 1e-9
 #: Constant of the determinant's rounding bound (:func:`kcheck.mechanics.friction_range.
 #: determinant_error`, nondimensional): LU's backward error is ``γ |K|`` with ``γ`` a small
 #: multiple of ``n eps`` (the growth factor of partial pivoting, in practice a few); 4 covers

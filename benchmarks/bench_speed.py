@@ -1,0 +1,143 @@
+"""Issue 24's paired benchmark: this tree against a baseline commit, in the same run.
+
+Run: ``python benchmarks/bench_speed.py [--baseline f0391ad] [--count 50] [--rounds 5]``.
+
+The baseline commit is extracted (``git archive``) into a temporary folder and imported from
+there (its ``kcheck`` and ``plugins`` first on ``sys.path``); this tree is imported as
+installed. Rounds alternate baseline / new, each a fresh process measuring, per scene and in
+CPU time (``time.process_time``, less disturbed than wall time by other jobs on a shared
+machine), with mass properties computed beforehand and not timed:
+
+* ``analyse``: the six retraction cases (outcome, forces, friction intervals, safe ranges);
+* ``limiting friction``: the problem, the six cases and their friction intervals (what
+  ``benchmarks/bench_peer.py`` pairs with Patti & Vogels' method);
+* ``analytical-3d`` and ``jamming``: each check's ``run``;
+
+on the spatial fixtures with a load and on ``--count`` generated spatial scenes
+(``tests/spatial_scenes.py``). Printed: medians over rounds of the mean time per scene, and
+new / baseline.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+FIXTURES = [
+    "three-groove/coupling.kcheck.yaml",
+    *(f"three-groove-beta-{b}/coupling.kcheck.yaml" for b in (15, 25, 35, 45, 55, 65)),
+    "block-321/block.kcheck.yaml",
+    "kelvin/coupling.kcheck.yaml",
+    "tool-changer/tool.kcheck.yaml",
+]
+
+WORKER = r"""
+import json, sys, time
+from pathlib import Path
+import kcheck
+from kcheck.analysis import analyse
+from kcheck.analysis.cases import problem_for
+from kcheck.body.mass import body_mass_properties
+from kcheck.mechanics.dynamics import analyse_cases
+from kcheck.mechanics.friction import friction_intervals_many
+from kcheck.plugin import Inputs
+from kcheck.scene import load_scene
+from kcheck_checks.analytical_3d import Analytical3D
+from kcheck_checks.jamming import Jamming
+
+sys.path.append(TESTS)  # after kcheck: tests/kcheck would shadow it as a namespace package
+from spatial_scenes import write_spatial_scenes
+assert kcheck.__file__.startswith(EXPECT), kcheck.__file__
+sets = {"fixtures": [Path(ROOT) / "fixtures" / f for f in FIXTURES]}
+sets["generated"] = write_spatial_scenes(Path(TMP), range(COUNT))
+out = {}
+for name, paths in sets.items():
+    scenes = [load_scene(p) for p in paths]
+    scenes = [s for s in scenes if s.load is not None and s.load.direction is not None]
+    masses = [body_mass_properties(s.body, s.scale) for s in scenes]
+    def limiting(s, m):
+        p = problem_for(s, m)
+        return friction_intervals_many(p, analyse_cases(p), s.load.direction)
+    checks = {}
+    for check in (Analytical3D(), Jamming()):
+        checks[check.id] = (check, [
+            Inputs(s, m, check.options(**s.check_options.get(check.id, {})))
+            for s, m in zip(scenes, masses)
+        ])
+    def run_check(name):
+        check, inputs = checks[name]
+        return [check.run(i) for i in inputs]
+    runs = {
+        "analyse": lambda: [analyse(s, m) for s, m in zip(scenes, masses)],
+        "limiting friction": lambda: [limiting(s, m) for s, m in zip(scenes, masses)],
+        "analytical-3d": lambda: run_check("analytical-3d"),
+        "jamming": lambda: run_check("jamming"),
+    }
+    for what, fn in runs.items():
+        fn()  # warm-up (lazy imports, caches)
+        start = time.process_time()
+        fn()
+        out[f"{name}|{what}"] = (time.process_time() - start) / len(scenes)
+print(json.dumps(out))
+"""
+
+
+def measure(tree: Path | None, count: int, tmp: Path) -> dict[str, float]:
+    """One fresh process: mean CPU seconds per scene of each measurement."""
+    tmp.mkdir(exist_ok=True)
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    expect = str(ROOT / "kcheck")
+    if tree is not None:
+        env["PYTHONPATH"] = os.pathsep.join([str(tree), str(tree / "plugins")])
+        expect = str(tree / "kcheck")
+    header = (
+        f"TESTS = {str(ROOT / 'tests')!r}\nROOT = {str(ROOT)!r}\nFIXTURES = {FIXTURES!r}\n"
+        f"TMP = {str(tmp)!r}\nCOUNT = {count}\nEXPECT = {expect!r}\n"
+    )
+    run = subprocess.run(
+        [sys.executable, "-c", header + WORKER], capture_output=True, text=True, env=env, cwd=tmp
+    )
+    if run.returncode:
+        raise SystemExit(run.stderr)
+    return json.loads(run.stdout.strip().splitlines()[-1])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--baseline", default="f0391ad")
+    parser.add_argument("--count", type=int, default=50)
+    parser.add_argument("--rounds", type=int, default=5)
+    args = parser.parse_args()
+    print(f"load average before: {os.getloadavg()}")
+    with tempfile.TemporaryDirectory() as tmp:
+        base = Path(tmp) / "baseline"
+        base.mkdir()
+        archive = subprocess.run(
+            ["git", "archive", args.baseline], cwd=ROOT, capture_output=True, check=True
+        ).stdout
+        subprocess.run(["tar", "-x", "-C", str(base)], input=archive, check=True)
+        samples: dict[str, dict[str, list[float]]] = {"baseline": {}, "new": {}}
+        for _ in range(args.rounds):
+            for label, tree in (("baseline", base), ("new", None)):
+                for key, value in measure(tree, args.count, Path(tmp) / label).items():
+                    samples[label].setdefault(key, []).append(value)
+    print(f"load average after: {os.getloadavg()}")
+    print(f"| scenes | what | baseline ({args.baseline}) | new | new / baseline |")
+    print("| --- | --- | --- | --- | --- |")
+    for key in samples["new"]:
+        scenes, what = key.split("|")
+        old = statistics.median(samples["baseline"][key])
+        new = statistics.median(samples["new"][key])
+        print(f"| {scenes} | {what} | {old * 1e3:.2f} ms | {new * 1e3:.2f} ms | {new / old:.2f} |")
+
+
+if __name__ == "__main__":
+    main()
