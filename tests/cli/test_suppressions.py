@@ -265,7 +265,8 @@ def test_a_scene_on_standard_input(cli, tmp_path, monkeypatch):
     _stdin(monkeypatch, text)
     code, doc, err = _json(cli, "-")
     assert code == 2 and doc["scenes"][0]["path"] == "-"
-    assert doc["scenes"][0]["errors"][0]["line"] == 8 and "top-plate.stl" in err
+    body_line = next(k for k, line in enumerate(text.splitlines(), 1) if "top-plate.stl" in line)
+    assert doc["scenes"][0]["errors"][0]["line"] == body_line and "top-plate.stl" in err
     assert ".kcheck-stdin" not in err
     assert not list(tmp_path.glob(".kcheck-stdin-*"))
 
