@@ -167,7 +167,9 @@ def test_light_picture_looks_the_same_in_a_browser(tmp_path: Path) -> None:
     histogram = ImageChops.difference(a, b).histogram()
     # Not blank, and the same: only anti-aliased edges move (by < 0.2 px).
     assert sum(a.histogram()[:200]) > 0.02 * sum(histogram)
-    assert sum(histogram[64:]) < 1e-3 * sum(histogram)
+    # Under 0.1 % of pixels at the newest matplotlib; 0.12 % (784 of 630,000) at the lowest,
+    # 3.9, in CI's second stage (its SVGs are written differently): 2e-3 holds both.
+    assert sum(histogram[64:]) < 2e-3 * sum(histogram)
     assert sum(histogram[16:]) < 1e-2 * sum(histogram)
 
 
