@@ -73,13 +73,19 @@ class Budget:
     recycle_bytes: int | None = None
 
 
-def resident_bytes() -> int | None:
-    """This process's resident memory now (Linux ``/proc/self/statm``; None elsewhere)."""
+def _statm_bytes(field: int) -> int | None:
+    """Field ``field`` of Linux's ``/proc/self/statm`` (0: mapped size, 1: resident) in
+    bytes; None elsewhere."""
     try:
         with open("/proc/self/statm", "rb") as fh:
-            return int(fh.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+            return int(fh.read().split()[field]) * os.sysconf("SC_PAGE_SIZE")
     except (OSError, ValueError, IndexError):
         return None
+
+
+def resident_bytes() -> int | None:
+    """This process's resident memory now (Linux ``/proc/self/statm``; None elsewhere)."""
+    return _statm_bytes(1)
 
 
 @dataclass(frozen=True)
@@ -141,16 +147,6 @@ def _read(fd: int) -> object:
     return pickle.loads(body)
 
 
-def _inherited_address_space() -> int:
-    """This process's mapped address space (bytes) from /proc (Linux); 0 where unknown."""
-    try:
-        with open("/proc/self/statm", encoding="ascii") as statm:
-            pages = int(statm.read().split()[0])
-    except (OSError, ValueError, IndexError):
-        return 0
-    return pages * os.sysconf("SC_PAGE_SIZE")
-
-
 def _child(tasks: int, results: int, work: Callable[[T], R], budget: Budget) -> None:
     """The worker's loop; never returns."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
@@ -161,7 +157,7 @@ def _child(tasks: int, results: int, work: Callable[[T], R], budget: Budget) -> 
         # The budget is what a task may add to the address space the worker inherits: a
         # parent that has mapped much already (threads' stacks and arenas after a Dask
         # cluster ran in it, say) must not leave a forked worker over budget before its task.
-        wanted = _inherited_address_space() + budget.memory_bytes
+        wanted = (_statm_bytes(0) or 0) + budget.memory_bytes
         limit = wanted if hard == resource.RLIM_INFINITY else min(hard, wanted)
         if limit < MAX_ADDRESS_SPACE:  # a larger budget is no limit (and overflows rlim_t)
             resource.setrlimit(resource.RLIMIT_AS, (limit, hard))
