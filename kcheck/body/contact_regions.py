@@ -1,12 +1,14 @@
 """Where two meshes in assembly position touch: the vertices of each within a gap of the other's
 surface, grouped into contact regions by the smooth surface patches they lie on, and each
-patch fitted with a plane, sphere or cylinder (:mod:`kcheck.body.surface_fit`).
+patch fitted with a plane, sphere, cylinder, cone or torus (:mod:`kcheck.body.surface_fit`).
 
 Lengths are in metres (meshes from :func:`kcheck.body.meshio.load_mesh`). trimesh and scipy
 are imported inside the functions. The distance of a point from a mesh is exact (point to
-triangle); the triangles near a point are found through a KD-tree of points sampled on each
-triangle no farther apart than the triangles' median edge, so no spatial index beyond scipy's
-is needed.
+triangle) where it decides whether the parts touch; the triangles near a point are found
+through a KD-tree of points sampled on each triangle no farther apart than the triangles'
+median edge, after a filter on a grid of cubes drops the points far from the other part.
+Patches are the connected components (scipy's csgraph) of the faces sharing an edge at a
+small dihedral angle.
 """
 
 from __future__ import annotations
@@ -24,9 +26,11 @@ if TYPE_CHECKING:
 
 __all__ = [
     "Near",
+    "Faces",
     "Region",
     "ClosedBody",
     "surface_distances",
+    "face_pairs",
     "smooth_patches",
     "closed_bodies",
     "contact_regions",
@@ -77,132 +81,225 @@ class ClosedBody:
     bounds: np.ndarray
 
 
+@dataclass(frozen=True)
+class Faces:
+    """A mesh's triangles (n, 3, 3), outward unit normals (n, 3) and per-triangle bounds
+    (n, 3 each), read once from trimesh (whose cached properties re-hash the mesh per read)."""
+
+    triangles: np.ndarray
+    normals: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    areas: np.ndarray
+
+    @classmethod
+    def of(cls, mesh: trimesh.Trimesh) -> Faces:
+        vertices, f = np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces)
+        a, b, c = vertices[f[:, 0]], vertices[f[:, 1]], vertices[f[:, 2]]
+        cross = np.cross(b - a, c - a)
+        double = np.sqrt(np.einsum("ij,ij->i", cross, cross))
+        normals = cross / np.where(double > 0, double, 1.0)[:, None]
+        lo = np.minimum(np.minimum(a, b), c)
+        hi = np.maximum(np.maximum(a, b), c)
+        return cls(np.stack([a, b, c], axis=1), normals, lo, hi, double / 2)
+
+    def in_box(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """Ids of the triangles whose bounding boxes meet the box ``lo``..``hi``."""
+        return np.flatnonzero(np.all((self.hi >= lo) & (self.lo <= hi), axis=1))
+
+
 def _samples(
-    mesh: trimesh.Trimesh, spacing: float, faces: np.ndarray, most: int = MAX_SAMPLES
-) -> tuple[np.ndarray, np.ndarray]:
-    """Points on the triangles ``faces`` (ids) no farther than 2 ``spacing`` from any point of
-    them (a grid, the centroid alone for a small triangle), and their triangle
-    ids; the spacing widened when more than about ``most`` points would be needed."""
-    tri = mesh.triangles[faces]
+    faces: Faces, spacing: float, which: np.ndarray, most: int = MAX_SAMPLES
+) -> tuple[np.ndarray, np.ndarray, float]:
+    """Points on the triangles ``which`` (ids) no farther than 2 ``spacing`` from any point of
+    them (a grid, the centroid alone for a small triangle), their triangle ids, and how far
+    any point of those triangles may be from its nearest sample (the cover, m); the spacing
+    widened when more than about ``most`` points would be needed."""
+    tri = faces.triangles[which]
     if len(tri) == 0:
-        return np.zeros((0, 3)), np.zeros(0, int)
-    area = float(mesh.area_faces[faces].sum())
+        return np.zeros((0, 3)), np.zeros(0, int), 0.0
+    area = float(faces.areas[which].sum())
     spacing = max(spacing, float(np.sqrt(2 * area / most)))
     # Each triangle from the corner opposite its longest edge, along its two shorter edges:
     # a grid of n1 x n2 steps no longer than `spacing` (a long thin facet of a pin gets a row
     # of points, not a square grid), so every point of it is within 2 `spacing` of a sample.
     lengths = np.linalg.norm(np.roll(tri, -1, axis=1) - np.roll(tri, 1, axis=1), axis=2)
-    start = np.argmax(lengths, axis=1)
-    order = (start[:, None] + np.arange(3)) % 3
-    tri = np.take_along_axis(tri, order[:, :, None], axis=1)
-    e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
-    n1 = np.maximum(1, np.ceil(np.linalg.norm(e1, axis=1) / spacing)).astype(int)
-    n2 = np.maximum(1, np.ceil(np.linalg.norm(e2, axis=1) / spacing)).astype(int)
     small = lengths.max(axis=1) <= spacing
-    points = [tri[small].mean(axis=1)]
-    ids = [faces[small]]
-    grid = np.column_stack([n1, n2])[~small]
+    centres = tri[small].mean(axis=1)
+    points = [centres]
+    ids = [which[small]]
+    # A point of a triangle is at most its farthest corner's distance from the centroid.
+    cover = float(
+        np.sqrt(np.max(np.sum((tri[small] - centres[:, None]) ** 2, axis=2), initial=0.0))
+    )
     rest = np.flatnonzero(~small)
     if len(rest):
-        keys, inverse = np.unique(grid, axis=0, return_inverse=True)
+        tri, lengths = tri[rest], lengths[rest]
+        start = np.argmax(lengths, axis=1)
+        order = (start[:, None] + np.arange(3)) % 3
+        tri = np.take_along_axis(tri, order[:, :, None], axis=1)
+        e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+        n1 = np.maximum(1, np.ceil(np.linalg.norm(e1, axis=1) / spacing)).astype(int)
+        n2 = np.maximum(1, np.ceil(np.linalg.norm(e2, axis=1) / spacing)).astype(int)
+        # A point of a grid cell (a triangle of sides d1, d2, d2 - d1) is within the cell's
+        # longest side of one of its corners.
+        d1, d2 = e1 / n1[:, None], e2 / n2[:, None]
+        cell = np.linalg.norm(np.stack([d1, d2, d2 - d1]), axis=2).max()
+        cover = max(cover, float(cell))
+        keys, inverse = np.unique(np.column_stack([n1, n2]), axis=0, return_inverse=True)
         inverse = np.ravel(inverse)
         for g, (k1, k2) in enumerate(keys):
-            which = rest[inverse == g]
+            here = inverse == g
             i, j = np.meshgrid(np.arange(k1 + 1) / k1, np.arange(k2 + 1) / k2, indexing="ij")
             keep = i + j <= 1 + 1e-12
             u, v = i[keep], j[keep]
             pts = (
-                tri[which, 0][:, None]
-                + u[None, :, None] * e1[which][:, None]
-                + (v[None, :, None] * e2[which][:, None])
+                tri[here, 0][:, None]
+                + u[None, :, None] * e1[here][:, None]
+                + (v[None, :, None] * e2[here][:, None])
             )
             points.append(pts.reshape(-1, 3))
-            ids.append(np.repeat(faces[which], len(u)))
-    return np.concatenate(points), np.concatenate(ids)
+            ids.append(np.repeat(which[rest[here]], len(u)))
+    return np.concatenate(points), np.concatenate(ids), cover
 
 
-def _faces_in_box(mesh: trimesh.Trimesh, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """Ids of the triangles whose bounding boxes meet the box ``lo``..``hi``."""
-    tri = mesh.triangles
-    return np.flatnonzero(np.all((tri.max(axis=1) >= lo) & (tri.min(axis=1) <= hi), axis=1))
+def _to_triangles(
+    q: np.ndarray, faces: Faces, t: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Closest points of triangles ``t`` to points ``q`` (pairwise), the distances and the
+    signed distances (from the triangle's outward normal)."""
+    import trimesh
+
+    closest = trimesh.triangles.closest_point(faces.triangles[t], q)
+    d = np.linalg.norm(q - closest, axis=1)
+    signed = np.einsum("ij,ij->i", q - closest, faces.normals[t])
+    # On an edge or a corner the face normal gives no reliable sign: a point off the face's
+    # own plane by less than its distance is outside.
+    signed = np.where(np.abs(signed) < 0.999 * d, d, np.sign(signed) * d)
+    return closest, d, signed
+
+
+def _near_voxels(points: np.ndarray, samples: np.ndarray, reach: float) -> np.ndarray:
+    """Whether each point may be within ``reach`` of a sample: its cube of side ``reach`` is
+    one of the samples' cubes or next to one (a cheap filter before the KD-tree: most points
+    of a part are far from the other part)."""
+    origin = np.minimum(points.min(axis=0), samples.min(axis=0)) - 2 * reach
+    span = np.maximum(points.max(axis=0), samples.max(axis=0)) + 2 * reach - origin
+    shape = np.floor(span / reach).astype(np.int64) + 3
+    if float(np.prod(shape.astype(float))) > 2.0**62:
+        return np.ones(len(points), bool)
+
+    def keys(x: np.ndarray) -> np.ndarray:
+        cell = np.floor((x - origin) / reach).astype(np.int64)
+        return (cell[:, 0] * shape[1] + cell[:, 1]) * shape[2] + cell[:, 2]
+
+    occupied = np.unique(keys(samples))
+    step = np.array([shape[1] * shape[2], shape[2], 1])
+    offsets = (np.stack(np.meshgrid(*[[-1, 0, 1]] * 3, indexing="ij"), -1).reshape(-1, 3)) @ step
+    around = np.unique((occupied[:, None] + offsets[None, :]).ravel())
+    return np.isin(keys(points), around)
 
 
 def surface_distances(
-    points: np.ndarray, mesh: trimesh.Trimesh, radius: float, spacing: float
+    points: np.ndarray,
+    faces: Faces,
+    radius: float,
+    spacing: float,
+    exact_within: float | None = None,
 ) -> Near:
-    """Distances from ``points`` (n, 3) to ``mesh``'s surface, for the points within
-    ``radius`` of it; the sign from the closest triangle's outward normal.
+    """Distances from ``points`` (n, 3) to a mesh's surface (its ``faces``), for the points
+    within ``radius`` of it; the sign from the closest triangle's outward normal.
 
-    The triangles tried for a point are those of the :data:`NEIGHBOURS` samples (at most
-    ``spacing`` apart) nearest to it, and the distance to each is exact (point to triangle)."""
-    import trimesh
+    Each point's nearest sample (at most ``spacing`` apart) gives a triangle, and the exact
+    distance to it an upper bound. Points that may be within ``exact_within`` (default
+    ``radius``) of the surface, or inside it, are then measured exactly against the triangles
+    of their :data:`NEIGHBOURS` nearest samples; the others keep the bound, which exceeds the
+    true distance by less than twice the samples' cover."""
     from scipy.spatial import cKDTree
 
-    lo, hi = mesh.bounds[0] - radius, mesh.bounds[1] + radius
+    exact = radius if exact_within is None else exact_within
+    lo, hi = faces.lo.min(axis=0) - radius, faces.hi.max(axis=0) + radius
     inside = np.flatnonzero(np.all((points >= lo) & (points <= hi), axis=1))
     empty = Near(np.zeros(0, int), np.zeros(0), np.zeros((0, 3)), np.zeros(0, int))
     if len(inside) == 0:
         return empty
     box = points[inside]
-    faces = _faces_in_box(mesh, box.min(axis=0) - radius, box.max(axis=0) + radius)
-    samples, ids = _samples(mesh, spacing, faces)
+    which = faces.in_box(box.min(axis=0) - radius, box.max(axis=0) + radius)
+    samples, ids, cover = _samples(faces, spacing, which)
     if len(samples) == 0:
         return empty
-    tree = cKDTree(samples)
-    # Points with no sample within reach first (most of them), cheaply, with one neighbour.
-    first, _ = tree.query(box, k=1, distance_upper_bound=radius + 2 * spacing)
-    close = np.isfinite(first)
-    inside, box = inside[close], box[close]
+    near = _near_voxels(box, samples, radius + cover)
+    inside, box = inside[near], box[near]
     if len(box) == 0:
         return empty
-    k = min(NEIGHBOURS, len(samples))
-    dist, idx = tree.query(box, k=k, distance_upper_bound=radius + 2 * spacing)
-    dist, idx = dist.reshape(len(box), k), idx.reshape(len(box), k)
-    hit = np.isfinite(dist)
-    if not hit.any():
+    tree = cKDTree(samples)
+    # The closest point of the surface is within `cover` of a sample: a point with no sample
+    # within radius + cover is farther than radius.
+    first, nearest = tree.query(box, k=1, distance_upper_bound=radius + cover)
+    close = np.isfinite(first)
+    inside, box, first, nearest = inside[close], box[close], first[close], nearest[close]
+    if len(box) == 0:
         return empty
-    rows = np.broadcast_to(np.arange(len(box))[:, None], hit.shape)[hit]
-    # Unique (point, triangle) pairs, through one integer key (np.unique over rows is slow).
-    count = np.int64(len(mesh.faces))
-    key = np.unique(rows.astype(np.int64) * count + ids[idx[hit]])
-    candidates = np.column_stack([key // count, key % count])
-    tri = mesh.triangles
-    q = box[candidates[:, 0]]
-    closest = trimesh.triangles.closest_point(tri[candidates[:, 1]], q)
-    d = np.linalg.norm(q - closest, axis=1)
-    # The nearest triangle per point: sort by point, then distance.
-    order = np.lexsort((d, candidates[:, 0]))
-    first = order[np.r_[True, np.diff(candidates[order, 0]) != 0]]
-    keep = first[d[first] <= radius]
-    t = candidates[keep, 1]
-    signed = np.einsum("ij,ij->i", q[keep] - closest[keep], mesh.face_normals[t])
-    # On an edge or a corner the face normal gives no reliable sign: a point off the face's
-    # own plane by less than its distance is outside.
-    unsigned = d[keep]
-    signed = np.where(np.abs(signed) < 0.999 * unsigned, unsigned, np.sign(signed) * unsigned)
-    return Near(inside[candidates[keep, 0]], signed, closest[keep], t)
+    t = ids[nearest]
+    closest, d, signed = _to_triangles(box, faces, t)
+    again = np.flatnonzero((first - cover <= exact) | (signed < 0))
+    k = min(NEIGHBOURS, len(samples))
+    if len(again) and k > 1:
+        dist, idx = tree.query(box[again], k=k, distance_upper_bound=radius + cover)
+        # A sample farther than the bound plus the cover cannot stand for a closer triangle.
+        hit = np.isfinite(dist) & (dist <= (d[again] + cover)[:, None])
+        rows = np.broadcast_to(again[:, None], hit.shape)[hit]
+        # Unique (point, triangle) pairs, through one integer key (np.unique over rows is slow).
+        count = np.int64(len(faces.triangles))
+        key = np.unique(rows.astype(np.int64) * count + ids[idx[hit]])
+        pair_point, pair_tri = key // count, key % count
+        c2, d2, s2 = _to_triangles(box[pair_point], faces, pair_tri)
+        # The nearest triangle per point: sort by point, then distance.
+        order = np.lexsort((d2, pair_point))
+        best = order[np.r_[True, np.diff(pair_point[order]) != 0]]
+        p = pair_point[best]
+        better = d2[best] < d[p]
+        p, best = p[better], best[better]
+        closest[p], d[p], signed[p], t[p] = c2[best], d2[best], s2[best], pair_tri[best]
+    keep = d <= radius
+    return Near(inside[keep], signed[keep], closest[keep], t[keep])
 
 
-def smooth_patches(mesh: trimesh.Trimesh) -> np.ndarray:
+def face_pairs(faces: np.ndarray) -> np.ndarray:
+    """Pairs of faces (k, 2) sharing an edge (the same two vertex ids), from the faces'
+    vertex ids (n, 3); an edge of three or more faces chains them pairwise."""
+    f = faces.astype(np.int64)
+    first, second = f.ravel(), np.roll(f, -1, axis=1).ravel()
+    key = np.minimum(first, second) * (int(f.max(initial=0)) + 1) + np.maximum(first, second)
+    order = np.argsort(key)
+    same = key[order[1:]] == key[order[:-1]]
+    return np.column_stack([order[:-1][same] // 3, order[1:][same] // 3])
+
+
+def _components(pairs: np.ndarray, count: int) -> np.ndarray:
+    """A label per node of the graph of ``count`` nodes and edges ``pairs``."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    graph = coo_matrix((np.ones(len(pairs), bool), (pairs[:, 0], pairs[:, 1])), (count, count))
+    return np.asarray(connected_components(graph, directed=False)[1])
+
+
+def smooth_patches(mesh: trimesh.Trimesh, faces: Faces | None = None) -> np.ndarray:
     """A patch label per face: faces joined across edges whose dihedral angle is below
     :data:`SMOOTH_PATCH_DEG` (a tessellated ball or pin is one patch, a groove's flanks two)."""
-    import trimesh
-
-    adjacency = mesh.face_adjacency
-    smooth = mesh.face_adjacency_angles < np.radians(SMOOTH_PATCH_DEG)
-    return np.asarray(
-        trimesh.graph.connected_component_labels(adjacency[smooth], node_count=len(mesh.faces))
-    )
+    normals = (faces or Faces.of(mesh)).normals
+    pairs = face_pairs(np.asarray(mesh.faces))
+    cos = np.einsum("ij,ij->i", normals[pairs[:, 0]], normals[pairs[:, 1]])
+    smooth = cos > np.cos(np.radians(SMOOTH_PATCH_DEG))
+    return _components(pairs[smooth], len(normals))
 
 
 def closed_bodies(mesh: trimesh.Trimesh) -> list[ClosedBody]:
     """The mesh's edge-connected bodies, each with its volume and bounds."""
-    import trimesh
-
-    labels = trimesh.graph.connected_component_labels(
-        mesh.face_adjacency, node_count=len(mesh.faces)
-    )
-    tri = mesh.triangles
+    f = np.asarray(mesh.faces)
+    labels = _components(face_pairs(f), len(f))
+    tri = Faces.of(mesh).triangles
     per_face = np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])) / 6.0
     out = []
     for label in np.unique(labels):
@@ -215,13 +312,16 @@ def closed_bodies(mesh: trimesh.Trimesh) -> list[ClosedBody]:
 
 
 def patch_fit(
-    mesh: trimesh.Trimesh, labels: np.ndarray, patch: int
+    mesh: trimesh.Trimesh, labels: np.ndarray, patch: int, faces: Faces | None = None
 ) -> tuple[Primitive | None, list[Primitive]]:
     """The simplest surface fitting a patch's vertices (and every fit tried)."""
-    faces = np.flatnonzero(labels == patch)
-    vertices = np.unique(mesh.faces[faces])
+    f = faces or Faces.of(mesh)
+    which = np.flatnonzero(labels == patch)
+    vertices = np.unique(np.asarray(mesh.faces)[which])
     return fit_surface(
-        mesh.vertices[vertices], mesh.triangles_center[faces], mesh.face_normals[faces]
+        np.asarray(mesh.vertices, dtype=float)[vertices],
+        f.triangles[which].mean(axis=1),
+        f.normals[which],
     )
 
 
@@ -235,14 +335,15 @@ def contact_regions(
     point of two long facets crossing, as on tessellated pins, is not missed) within
     :data:`NEAR_GAPS` gaps of the other's surface are found; those within ``gap`` touch, the
     others are near misses (a region's ``least_distance`` says which)."""
-    body_labels = smooth_patches(body)
-    base_labels = smooth_patches(base)
+    body_faces, base_faces = Faces.of(body), Faces.of(base)
+    body_labels = smooth_patches(body, body_faces)
+    base_labels = smooth_patches(base, base_faces)
     reach = NEAR_GAPS * gap
     sides = []
-    for mesh, other in ((body, base), (base, body)):
-        lo, hi = other.bounds[0] - reach, other.bounds[1] + reach
-        points, faces = _samples(mesh, 3 * gap, _faces_in_box(mesh, lo, hi))
-        near = surface_distances(points, other, reach, 3 * gap)
+    for mine, other in ((body_faces, base_faces), (base_faces, body_faces)):
+        lo, hi = other.lo.min(axis=0) - reach, other.hi.max(axis=0) + reach
+        points, faces, _ = _samples(mine, 3 * gap, mine.in_box(lo, hi))
+        near = surface_distances(points, other, reach, 3 * gap, exact_within=gap)
         sides.append((points[near.index], faces[near.index], near))
     (pa, fa, a), (pb, fb, b) = sides
     depth = float(max(0.0, -min(a.signed.min(initial=0.0), b.signed.min(initial=0.0))))
@@ -257,13 +358,13 @@ def contact_regions(
     for k, (p_body, p_base) in enumerate(pairs):
         here = inverse == k
         region = Region(int(p_body), int(p_base), points[here], float(signed[here].min()))
-        for side, mesh, labels, patch in (
-            ("body", body, body_labels, region.body_patch),
-            ("base", base, base_labels, region.base_patch),
+        for side, mesh, labels, patch, surface in (
+            ("body", body, body_labels, region.body_patch, body_faces),
+            ("base", base, base_labels, region.base_patch, base_faces),
         ):
             key = (side, patch)
             if key not in fits:
-                fits[key] = patch_fit(mesh, labels, patch)
+                fits[key] = patch_fit(mesh, labels, patch, surface)
             fit, tried = fits[key]
             setattr(region, f"{side}_fit", fit)
             region.tried[side] = tried

@@ -28,8 +28,28 @@ def add_parser(sub: Any) -> None:
         "from its size (and the guess is said in a comment), and its bounds and centre of mass "
         "are filled in.",
     )
-    init.add_argument("--coupling", choices=COUPLINGS, default="maxwell", help="(default: maxwell)")
+    init.add_argument("--coupling", choices=COUPLINGS, help="(default: maxwell)")
     init.add_argument("--mesh", type=Path, help="the moving body's mesh (STL, OBJ, STEP, ...)")
+    init.add_argument(
+        "--assembly",
+        nargs=2,
+        type=Path,
+        metavar=("BASE", "BODY"),
+        help="instead of a template: the base's and the body's meshes in assembly position; "
+        "the contacts are found and fitted as `kcheck contacts BASE BODY` does",
+    )
+    init.add_argument(
+        "--units", default="m", help="with --assembly: the meshes' length unit (default: m)"
+    )
+    init.add_argument(
+        "--gap", type=float, help="with --assembly: the gap tolerance (see `kcheck contacts`)"
+    )
+    init.add_argument(
+        "--friction",
+        type=float,
+        default=0.1,
+        help="with --assembly: Coulomb coefficient (default 0.1)",
+    )
     init.add_argument(
         "--material", default="aluminium", help="material of the body (default: aluminium)"
     )
@@ -280,6 +300,10 @@ def run(args: argparse.Namespace) -> int:
     from kcheck.errors import MeshError
     from kcheck.scene.materials import density_of, known_names
 
+    if args.assembly is not None:
+        return _from_assembly(args)
+    if args.coupling is None:
+        args.coupling = "maxwell"
     if density_of(args.material) is None:
         return fail(f"unknown material `{args.material}`; known: {known_names()}")
     if args.mesh is not None and not args.mesh.is_file():
@@ -312,3 +336,37 @@ def run(args: argparse.Namespace) -> int:
         target.write_text(text, encoding="utf-8")
         print(f"wrote {target} ({args.coupling}); check it with `kcheck check {target}`")
     return ExitCode.OK
+
+
+def _from_assembly(args: argparse.Namespace) -> int:
+    """``kcheck init --assembly BASE BODY``: the scene of ``kcheck contacts BASE BODY``,
+    written where ``init`` writes (next to the body unless ``-o``; ``-`` for stdout)."""
+    from kcheck.cli import contacts
+
+    if args.mesh is not None or args.coupling is not None:
+        which = "--mesh" if args.mesh is not None else "--coupling"
+        return fail(f"{which} and --assembly exclude each other: --assembly finds the coupling")
+    base, body = args.assembly
+    if args.output == "-":
+        output = None
+    else:
+        output = (
+            Path(args.output)
+            if args.output is not None
+            else body.with_name(body.stem + ".kcheck.yaml")
+        )
+        if output.exists() and not args.force:
+            return fail(f"{output} exists; pass --force to overwrite it")
+    found = argparse.Namespace(
+        base=base,
+        body=body,
+        units=args.units,
+        gap=args.gap,
+        material=args.material,
+        friction=args.friction,
+        output=output,
+    )
+    code = contacts.run(found)
+    if code == ExitCode.OK and output is not None:
+        print(f"wrote {output}; check it with `kcheck check {output}`", file=sys.stderr)
+    return code

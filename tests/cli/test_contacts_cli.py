@@ -225,3 +225,26 @@ def test_bad_options(tmp_path, capsys, option, said):
     _write(tmp_path, base, body)
     code = main(["contacts", str(tmp_path / "base.stl"), str(tmp_path / "body.stl"), *option])
     assert code == 2 and said in capsys.readouterr().err
+
+
+def test_init_assembly_writes_the_contacts_scene(tmp_path, capsys):
+    base, body = three_vee()
+    _write(tmp_path, base, body)
+    parts = [str(tmp_path / "base.stl"), str(tmp_path / "body.stl")]
+    direct = tmp_path / "direct.kcheck.yaml"
+    assert main(["contacts", *parts, "--units", "mm", "-o", str(direct)]) == 0
+    capsys.readouterr()
+    # Without -o, init writes next to the body, as `init --mesh` does.
+    assert main(["init", "--assembly", *parts, "--units", "mm"]) == 0
+    assert "wrote" in capsys.readouterr().err
+    assert (tmp_path / "body.kcheck.yaml").read_text() == direct.read_text()
+    # An existing file is kept without --force; --mesh and --assembly exclude each other.
+    assert main(["init", "--assembly", *parts, "--units", "mm"]) == 2
+    assert "exists" in capsys.readouterr().err
+    assert main(["init", "--assembly", *parts, "--mesh", parts[1], "-o", "-"]) == 2
+    assert "exclude each other" in capsys.readouterr().err
+    # Bad input reaches the same refusal (exit 2) through init.
+    lifted_base, lifted_body = three_vee(lift=5.0)
+    lifted_body.export(tmp_path / "lifted.stl")
+    code = main(["init", "--assembly", parts[0], str(tmp_path / "lifted.stl"), "-o", "-"])
+    assert code == 2 and "does not touch" in capsys.readouterr().err
