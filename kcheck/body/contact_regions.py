@@ -288,11 +288,21 @@ def _components(pairs: np.ndarray, count: int) -> np.ndarray:
 def smooth_patches(mesh: trimesh.Trimesh, faces: Faces | None = None) -> np.ndarray:
     """A patch label per face: faces joined across edges whose dihedral angle is below
     :data:`SMOOTH_PATCH_DEG` (a tessellated ball or pin is one patch, a groove's flanks two)."""
-    normals = (faces or Faces.of(mesh)).normals
+    return _smooth(mesh, faces or Faces.of(mesh))[0]
+
+
+def _smooth(mesh: trimesh.Trimesh, faces: Faces) -> tuple[np.ndarray, np.ndarray]:
+    """The patch label per face, and per label the largest angle between two of its faces
+    sharing an edge (deg): the tessellation's own angular step there."""
+    normals = faces.normals
     pairs = face_pairs(np.asarray(mesh.faces))
     cos = np.einsum("ij,ij->i", normals[pairs[:, 0]], normals[pairs[:, 1]])
     smooth = cos > np.cos(np.radians(SMOOTH_PATCH_DEG))
-    return _components(pairs[smooth], len(normals))
+    labels = _components(pairs[smooth], len(normals))
+    facet = np.zeros(int(labels.max(initial=0)) + 1)
+    angle = np.degrees(np.arccos(np.clip(cos[smooth], -1.0, 1.0)))
+    np.maximum.at(facet, labels[pairs[smooth, 0]], angle)
+    return labels, facet
 
 
 def closed_bodies(mesh: trimesh.Trimesh) -> list[ClosedBody]:
@@ -312,9 +322,14 @@ def closed_bodies(mesh: trimesh.Trimesh) -> list[ClosedBody]:
 
 
 def patch_fit(
-    mesh: trimesh.Trimesh, labels: np.ndarray, patch: int, faces: Faces | None = None
+    mesh: trimesh.Trimesh,
+    labels: np.ndarray,
+    patch: int,
+    faces: Faces | None = None,
+    facet_deg: float | None = None,
 ) -> tuple[Primitive | None, list[Primitive]]:
-    """The simplest surface fitting a patch's vertices (and every fit tried)."""
+    """The simplest surface fitting a patch's vertices (and every fit tried); ``facet_deg``
+    as :func:`kcheck.body.surface_fit.fit_surface` takes it."""
     f = faces or Faces.of(mesh)
     which = np.flatnonzero(labels == patch)
     vertices = np.unique(np.asarray(mesh.faces)[which])
@@ -322,6 +337,7 @@ def patch_fit(
         np.asarray(mesh.vertices, dtype=float)[vertices],
         f.triangles[which].mean(axis=1),
         f.normals[which],
+        facet_deg,
     )
 
 
@@ -336,8 +352,8 @@ def contact_regions(
     :data:`NEAR_GAPS` gaps of the other's surface are found; those within ``gap`` touch, the
     others are near misses (a region's ``least_distance`` says which)."""
     body_faces, base_faces = Faces.of(body), Faces.of(base)
-    body_labels = smooth_patches(body, body_faces)
-    base_labels = smooth_patches(base, base_faces)
+    body_labels, body_facet = _smooth(body, body_faces)
+    base_labels, base_facet = _smooth(base, base_faces)
     reach = NEAR_GAPS * gap
     sides = []
     for mine, other in ((body_faces, base_faces), (base_faces, body_faces)):
@@ -358,13 +374,13 @@ def contact_regions(
     for k, (p_body, p_base) in enumerate(pairs):
         here = inverse == k
         region = Region(int(p_body), int(p_base), points[here], float(signed[here].min()))
-        for side, mesh, labels, patch, surface in (
-            ("body", body, body_labels, region.body_patch, body_faces),
-            ("base", base, base_labels, region.base_patch, base_faces),
+        for side, mesh, labels, patch, surface, facet in (
+            ("body", body, body_labels, region.body_patch, body_faces, body_facet),
+            ("base", base, base_labels, region.base_patch, base_faces, base_facet),
         ):
             key = (side, patch)
             if key not in fits:
-                fits[key] = patch_fit(mesh, labels, patch, surface)
+                fits[key] = patch_fit(mesh, labels, patch, surface, float(facet[patch]))
             fit, tried = fits[key]
             setattr(region, f"{side}_fit", fit)
             region.tried[side] = tried

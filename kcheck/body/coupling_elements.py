@@ -12,7 +12,7 @@ support normals do.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -43,6 +43,7 @@ class PointContact:
     key: tuple[str, int]
     mate: Primitive
     region: Region
+    canoe: Primitive | None = None
 
 
 @dataclass
@@ -94,6 +95,10 @@ def _name(p: Primitive | None) -> str:
     concave = p.outward < 0
     if p.kind == "sphere":
         return "a spherical socket" if concave else "a ball"
+    if p.kind == "cone":
+        return "a conical seat" if concave else "a cone"
+    if p.kind == "torus":
+        return "a toroidal groove" if concave else "a canoe ball (torus)"
     return "a bore" if concave else "a cylinder"
 
 
@@ -103,13 +108,18 @@ def _foot(point: np.ndarray, cylinder: Primitive) -> np.ndarray:
 
 def _ball_contact(
     ball: Primitive, mate: Primitive, ball_on: str, region: Region, gap_tol: float
-) -> PointContact | Unusable:
-    """A ball against a plane, a convex cylinder or a convex sphere: one point contact."""
+) -> PointContact | list[PointContact] | Unusable:
+    """A ball against a plane, a convex cylinder or a convex sphere: one point contact; in a
+    conical seat, the ``ball-cone`` shorthand's three."""
     c, r = ball.point, ball.radius
     what = f"{_name(ball)} (radius {r:.6g} m) on {_name(mate)}"
     if mate.kind == "plane":
         n = mate.axis if (c - mate.point) @ mate.axis >= 0 else -mate.axis
         gap = float((c - mate.point) @ n - r)
+    elif mate.kind == "cone" and mate.outward < 0:
+        return _ring(ball, mate, ball_on, region, gap_tol)
+    elif mate.kind in ("cone", "torus"):
+        return Unusable(what, f"a ball on {_name(mate)} is not a supported element", 0, region)
     elif mate.outward < 0:
         conform = abs(mate.radius - r) <= gap_tol
         if mate.kind == "sphere" and conform:
@@ -137,6 +147,56 @@ def _ball_contact(
     return PointContact(point, normal, gap, to_mesh, ball, ball_on, ("", 0), mate, region)
 
 
+def _ring(
+    ball: Primitive, cone: Primitive, ball_on: str, region: Region, gap_tol: float
+) -> list[PointContact] | Unusable:
+    """A ball in a conical seat: a circle of contact, written as the ``ball-cone`` shorthand
+    models it (three points 120 deg apart); the ball's centre must be on the cone's axis."""
+    from kcheck.scene import couplings
+
+    c, r = ball.point, ball.radius
+    what = f"{_name(ball)} (radius {r:.6g} m) in {_name(cone)}"
+    off = c - _foot(c, cone)
+    if np.linalg.norm(off) > gap_tol:
+        return Unusable(
+            what,
+            f"the ball's centre is {np.linalg.norm(off):.3g} m off the cone's axis: it touches "
+            "the seat at one point of its circle, not a kinematic seat",
+            0,
+            region,
+        )
+    # The seat opens along `up`, towards the ball; its normals lean in by 90 deg - half-angle.
+    up = cone.axis if (c - cone.point) @ cone.axis >= 0 else -cone.axis
+    half = 90.0 - math.degrees(cone.half_angle)
+    gap = float(((c - cone.point) @ up) * math.sin(cone.half_angle) - r)
+    out = []
+    for contact in couplings.ball_cone(c, r, up, half):
+        to_mesh = float(np.linalg.norm(region.points - contact.point, axis=1).min())
+        normal = contact.normal if ball_on == "body" else -contact.normal
+        out.append(
+            PointContact(contact.point, normal, gap, to_mesh, ball, ball_on, ("", 0), cone, region)
+        )
+    return out
+
+
+def _canoe(canoe: Primitive, plane: Primitive, on: str, region: Region) -> PointContact | Unusable:
+    """A canoe ball (the outside of a torus's tube) on a flat: one point contact, where the
+    torus's normal is opposite the flat's; its own ball is the tube's circle there."""
+    what = f"{_name(canoe)} (radii {canoe.radius:.6g} m, tube {canoe.tube:.6g} m) on {_name(plane)}"
+    n = plane.axis if (canoe.point - plane.point) @ plane.axis >= 0 else -plane.axis
+    m = -n  # the canoe's outward normal at the contact
+    across = m - (m @ canoe.axis) * canoe.axis
+    if np.linalg.norm(across) < math.sin(math.radians(_PARALLEL_DEG)):
+        return Unusable(what, "a line contact (the torus's circle on a flat)", 2, region)
+    tube = canoe.point + canoe.radius * _unit(across)
+    point = tube + canoe.tube * m
+    gap = float((tube - plane.point) @ n - canoe.tube)
+    to_mesh = float(np.linalg.norm(region.points - point, axis=1).min())
+    ball = Primitive("sphere", tube, np.zeros(3), canoe.tube, canoe.rms, canoe.size, 1.0)
+    normal = n if on == "body" else -n
+    return PointContact(point, normal, gap, to_mesh, ball, on, ("", 0), plane, region, canoe)
+
+
 def _crossed(body: Primitive, base: Primitive, region: Region) -> PointContact | Unusable:
     """A convex cylinder on another: a point contact where their axes cross, a line where
     they are parallel."""
@@ -158,16 +218,17 @@ def _crossed(body: Primitive, base: Primitive, region: Region) -> PointContact |
     return PointContact(point, n, gap, to_mesh, None, "body", ("", 0), base, region)
 
 
-def _contact(region: Region, gap_tol: float) -> PointContact | Unusable | None:
+def _contact(region: Region, gap_tol: float) -> PointContact | list[PointContact] | Unusable | None:
     """What a region is; None for surfaces that come near only at an edge (their fitted
     surfaces meet beyond the meshes' faces, as a ball passing a groove's end face does)."""
     found = _touch(region, gap_tol)
     if region.least_distance <= gap_tol:
         return found
-    if isinstance(found, PointContact) and found.gap > gap_tol:
+    first = found[0] if isinstance(found, list) else found
+    if isinstance(first, PointContact) and first.gap > gap_tol:
         return Unusable(
             _what(region),
-            f"a gap with no contact: the surfaces come within {found.gap:.3g} m, more than "
+            f"a gap with no contact: the surfaces come within {first.gap:.3g} m, more than "
             f"the gap tolerance {gap_tol:.3g} m",
             0,
             region,
@@ -179,7 +240,7 @@ def _what(region: Region) -> str:
     return f"{_name(region.body_fit)} on the body against {_name(region.base_fit)} on the base"
 
 
-def _touch(region: Region, gap_tol: float) -> PointContact | Unusable | None:
+def _touch(region: Region, gap_tol: float) -> PointContact | list[PointContact] | Unusable | None:
     body, base = region.body_fit, region.base_fit
     what = f"{_name(body)} on the body against {_name(base)} on the base"
     if body is None or base is None:
@@ -196,11 +257,10 @@ def _touch(region: Region, gap_tol: float) -> PointContact | Unusable | None:
             if mate.kind == "sphere" and mate.outward > 0 and ball_on == "base":
                 continue  # ball on ball: the body's is the ball
             found = _ball_contact(ball, mate, ball_on, region, gap_tol)
-            if isinstance(found, PointContact):
-                side = "body" if ball_on == "body" else "base"
-                key = (side, region.body_patch if ball_on == "body" else region.base_patch)
-                found = PointContact(**{**found.__dict__, "key": key})
-            return found
+            return _keyed(found, ball_on, region)
+    for canoe, mate, on in ((body, base, "body"), (base, body, "base")):
+        if canoe.kind == "torus" and canoe.outward > 0 and mate.kind == "plane":
+            return _keyed(_canoe(canoe, mate, on, region), on, region)
     if body.kind == "plane" and base.kind == "plane":
         if body.axis @ base.axis < -math.cos(math.radians(_PARALLEL_DEG)):
             return Unusable(what, "an area contact (flat on flat)", 3, region)
@@ -217,6 +277,18 @@ def _touch(region: Region, gap_tol: float) -> PointContact | Unusable | None:
             return found
         return Unusable(what, "a pin in a bore (a line or area contact)", 2, region)
     return Unusable(what, "not a recognised pair of surfaces", 0, region)
+
+
+def _keyed(
+    found: PointContact | list[PointContact] | Unusable, on: str, region: Region
+) -> PointContact | list[PointContact] | Unusable:
+    """The contacts keyed by the ball's patch (its contacts make one element)."""
+    key = (on, region.body_patch if on == "body" else region.base_patch)
+    if isinstance(found, PointContact):
+        return PointContact(**{**found.__dict__, "key": key})
+    if isinstance(found, list):
+        return [PointContact(**{**c.__dict__, "key": key}) for c in found]
+    return found
 
 
 def _same(contacts: list[PointContact], expanded: list[Any], scale: float) -> bool:
@@ -246,6 +318,17 @@ def _shorthand(contacts: list[PointContact]) -> tuple[str, dict[str, Any] | None
     ball = contacts[0].ball
     assert ball is not None
     c, r = ball.point, ball.radius
+    canoe = contacts[0].canoe
+    if canoe is not None:
+        # A canoe ball's contacts make a shorthand when their tube circles' points coincide
+        # (a flat, a vee or a trihedral seat square to the canoe) and so do its radii there.
+        surface = _canoe_surface(contacts, canoe, r)
+        if surface is None:
+            return "supports", None
+        kind, fields = _shorthand([replace(x, canoe=None) for x in contacts])
+        if fields is not None:
+            fields["ball"] = {**fields["ball"], **surface}
+        return kind, fields
     kinds = {x.mate.kind for x in contacts}
     mates = [x.mate for x in contacts]
     toward = [x.normal if x.ball_on == "body" else -x.normal for x in contacts]
@@ -275,6 +358,13 @@ def _shorthand(contacts: list[PointContact]) -> tuple[str, dict[str, Any] | None
             fields = {**base, "cylinders": cyl}
             if _same(contacts, couplings.ball_cylinders(c, r, cyl), r):
                 return "ball-cylinders", fields
+        elif kinds == {"cone"} and len(contacts) == 3:
+            cone = mates[0]
+            up = cone.axis if (c - cone.point) @ cone.axis >= 0 else -cone.axis
+            half = 90.0 - math.degrees(cone.half_angle)
+            fields = {**base, "up": up, "half_angle": half}
+            if _same(contacts, couplings.ball_cone(c, r, up, half), r):
+                return "ball-cone", fields
         elif kinds == {"sphere"} and len(contacts) <= 3:
             sph = [(m.point, m.radius) for m in mates]
             fields = {**base, "spheres": sph}
@@ -285,6 +375,30 @@ def _shorthand(contacts: list[PointContact]) -> tuple[str, dict[str, Any] | None
     return "supports", None
 
 
+def _canoe_surface(
+    contacts: list[PointContact], canoe: Primitive, r: float
+) -> dict[str, Any] | None:
+    """A canoe ball's ``surface_radii`` (m) and ``surface_direction`` where it touches: along
+    the tube circle (R + a cos v) / cos v, across it the tube's a (v the contact normal's
+    angle from the torus's plane); None when the contacts do not share one ball and one
+    surface."""
+    first = contacts[0]
+    assert first.ball is not None
+    radii, direction = [], None
+    for x in contacts:
+        assert x.ball is not None
+        if np.linalg.norm(x.ball.point - first.ball.point) > _MATCH_RTOL * 1e3 * r:
+            return None
+        m = -(x.normal if x.ball_on == "body" else -x.normal)  # the canoe's outward normal
+        across = _unit(m - (m @ canoe.axis) * canoe.axis)
+        cos_v = float(m @ across)
+        radii.append((canoe.radius + canoe.tube * cos_v) / cos_v)
+        direction = np.cross(canoe.axis, across) if direction is None else direction
+    if max(radii) - min(radii) > _MATCH_RTOL * 1e3 * max(radii):
+        return None
+    return {"surface_radii": [radii[0], canoe.tube], "surface_direction": direction}
+
+
 def recognise(regions: list[Region], gap_tol: float) -> Recognition:
     """The coupling elements of the contact regions (``gap_tol`` in m)."""
     out = Recognition()
@@ -293,6 +407,8 @@ def recognise(regions: list[Region], gap_tol: float) -> Recognition:
         found = _contact(region, gap_tol)
         if isinstance(found, Unusable):
             out.unusable.append(found)
+        elif isinstance(found, list):
+            groups.setdefault(found[0].key, []).extend(found)
         elif found is not None:
             groups.setdefault(found.key, []).append(found)
     ordered = sorted(groups.values(), key=lambda g: tuple(np.round(g[0].point, 9)))

@@ -22,8 +22,9 @@ def add_parser(sub: Any) -> None:
         help="find the contacts of a body seated on its base (two meshes in assembly position) "
         "and write a scene",
         description="Find where BODY touches BASE (meshes in assembly position), fit a plane, "
-        "sphere or cylinder to each side of each contact, recognise the coupling elements "
-        "(ball-vee, ball-flat, ball-trihedral, ball-cylinders, ball-sphere, crossed cylinders) "
+        "sphere, cylinder, cone or torus to each side of each contact, recognise the coupling "
+        "elements (ball-vee, ball-flat, ball-trihedral, ball-cone, ball-cylinders, ball-sphere, "
+        "canoe balls, crossed cylinders) "
         "and write a commented scene that checks as written. The report goes to standard "
         "error. Exit 2 on bad input (no contact, interpenetration, unreadable or open mesh); "
         "exit 1 when the contacts found are not a kinematic coupling (a line or area contact, "
@@ -78,7 +79,7 @@ def _scaled(obj: Any, scale: float, key: str = "") -> Any:
         return {"center": obj[0] / scale, "radius": obj[1] / scale}
     if isinstance(obj, list):
         return [_scaled(v, scale, key) for v in obj]
-    if key in ("center", "radius", "point"):
+    if key in ("center", "radius", "point", "surface_radii"):
         return np.asarray(obj) / scale if isinstance(obj, np.ndarray) else obj / scale
     return obj
 
@@ -92,7 +93,14 @@ def report_lines(found: Any, scale: float, units: str) -> list[str]:
     lines = []
     for e in found.elements:
         head = f"{e.name}: {e.kind}"
-        if e.ball is not None:
+        canoe = e.contacts[0].canoe if e.contacts else None
+        if canoe is not None:
+            head += (
+                f", canoe ball on the {e.ball_on} (torus fit RMS {_mm(canoe.rms, scale, units)}, "
+                f"circle radius {_mm(canoe.radius, scale, units)}, tube radius "
+                f"{_mm(canoe.tube, scale, units)})"
+            )
+        elif e.ball is not None:
             head += (
                 f", ball radius {_mm(e.ball.radius, scale, units)} on the {e.ball_on}"
                 f" (sphere fit RMS {_mm(e.ball.rms, scale, units)})"
@@ -101,7 +109,9 @@ def report_lines(found: Any, scale: float, units: str) -> list[str]:
         for k, c in enumerate(e.contacts, start=1):
             mate = c.mate
             fit = f"{mate.kind} fit RMS {_mm(mate.rms, scale, units)}"
-            if mate.kind != "plane":
+            if mate.kind == "cone":
+                fit += f", half-angle {math.degrees(mate.half_angle):.6g} deg"
+            elif mate.kind != "plane":
                 fit += f", radius {_mm(mate.radius, scale, units)}"
             p = ", ".join(f"{v / scale:.6g}" for v in c.point)
             n = ", ".join(f"{v:.6f}" for v in c.normal)

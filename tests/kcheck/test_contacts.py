@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-pytest.importorskip("trimesh")
+trimesh = pytest.importorskip("trimesh")
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from contact_assemblies import (  # noqa: E402
@@ -169,3 +169,64 @@ def test_near_miss_is_a_gap_with_no_contact():
     assert [e.kind for e in found.elements] == ["ball-flat"]
     assert [u.constraints for u in found.unusable] == [0]
     assert "gap with no contact" in found.unusable[0].why
+
+
+def test_ball_in_a_conical_seat_is_a_ball_cone():
+    # A 90 deg countersink (generator 45 deg from the axis, apex at z = -10): a ball of
+    # radius R touches it on a circle of radius R cos 45 around the axis, R sin 45 below its
+    # centre, which sits R / sin 45 above the apex; the seat's normal there leans 45 deg in.
+    profile = [[0, -12], [20, -12], [20, 0], [10, 0], [2, -8], [0, -8]]
+    seat = trimesh.creation.revolve(profile, sections=128)
+    h = np.radians(45.0)
+    c = np.array([0.0, 0.0, -10 + R / np.sin(h)])
+    found, _ = _found(seat, ball(c))
+    assert [e.kind for e in found.elements] == ["ball-cone"]
+    assert not found.unusable
+    e = found.elements[0]
+    assert np.linalg.norm(e.fields["ball"]["center"] - c) <= POSITION_TOL
+    assert _angle(e.fields["up"], [0, 0, 1]) <= ANGLE_TOL
+    assert abs(e.fields["half_angle"] - 45.0) <= ANGLE_TOL
+    assert len(e.contacts) == 3
+    for contact in e.contacts:
+        radial = contact.point[:2] - c[:2]
+        assert abs(np.linalg.norm(radial) - R * np.cos(h)) <= POSITION_TOL
+        assert abs(contact.point[2] - (c[2] - R * np.sin(h))) <= POSITION_TOL
+        u = np.append(radial / np.linalg.norm(radial), 0.0)
+        expected = -np.cos(h) * u + np.sin(h) * np.array([0, 0, 1.0])
+        assert _angle(contact.normal, expected) <= ANGLE_TOL
+
+
+def test_ball_off_the_cone_axis_is_refused():
+    profile = [[0, -12], [20, -12], [20, 0], [10, 0], [2, -8], [0, -8]]
+    seat = trimesh.creation.revolve(profile, sections=128)
+    # Moved 1 along +x and lowered onto that flank (x = z + 10 in the xz plane, at the
+    # distance (z + 9) / sqrt 2 = R from the centre): it touches one side of the circle only.
+    c = np.array([1.0, 0.0, R * np.sqrt(2) - 9])
+    found, _ = _found(seat, ball(c))
+    assert not found.elements
+    assert any("off the cone's axis" in u.why for u in found.unusable)
+
+
+def test_canoe_ball_in_a_vee():
+    # A canoe ball: the outside of a torus's tube (circle radius 40, tube 8, axis along y),
+    # its lowest tube section resting in a 90 deg vee along x. Its contacts are those of a
+    # ball of radius 8 centred on the tube's circle at the bottom (the origin); its surface
+    # radii there are 8 across the groove and (40 + 8 cos 45) / cos 45 along it (the torus's
+    # principal curvature cos v / (R + a cos v), v the normal's angle from the torus's plane).
+    canoe = trimesh.creation.torus(
+        major_radius=40.0, minor_radius=8.0, major_sections=512, minor_sections=128
+    )
+    canoe.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [1, 0, 0]))
+    canoe.apply_translation([0, 0, 40.0])
+    normals = vee_normals([1, 0, 0], [0, 0, 1], 45.0)
+    base = combine([flat([0, 0, 0], n, 8.0) for n in normals])
+    found, _ = _found(base, canoe)
+    assert [e.kind for e in found.elements] == ["ball-vee"]
+    assert not found.unusable
+    b = found.elements[0].fields["ball"]
+    assert np.linalg.norm(b["center"]) <= POSITION_TOL
+    assert abs(b["radius"] - 8.0) <= POSITION_TOL
+    along = (40 + 8 * np.cos(np.radians(45))) / np.cos(np.radians(45))
+    assert np.allclose(b["surface_radii"], [along, 8.0], atol=POSITION_TOL)
+    assert abs(abs(unit(b["surface_direction"]) @ [1, 0, 0]) - 1) < 1e-9
+    _match(found, [(-8.0 * n, n) for n in normals])
