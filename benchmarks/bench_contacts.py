@@ -13,6 +13,7 @@ meshes come close). Reading the files is not timed (``kcheck mass`` benchmarks c
 
 from __future__ import annotations
 
+import os
 import statistics
 import sys
 import time
@@ -58,17 +59,19 @@ def fresh(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
 
 
 def paired(fns: dict, base: trimesh.Trimesh, body: trimesh.Trimesh, repeats: int = 3) -> dict:
-    """Median time of each function on fresh copies of the meshes (nothing cached between
-    calls), the functions interleaved in each round (a shared machine's load falls on all of
-    them alike)."""
+    """Median wall and CPU time of each function on fresh copies of the meshes (nothing
+    cached between calls), the functions interleaved in each round (a shared machine's load
+    falls on all of them alike)."""
     times: dict = {name: [] for name in fns}
+    cpu: dict = {name: [] for name in fns}
     for _ in range(repeats):
         for name, fn in fns.items():
             a, b = fresh(base), fresh(body)
-            start = time.perf_counter()
+            start, start_cpu = time.perf_counter(), time.process_time()
             fn(a, b)
             times[name].append(time.perf_counter() - start)
-    return {name: statistics.median(t) for name, t in times.items()}
+            cpu[name].append(time.process_time() - start_cpu)
+    return {name: (statistics.median(times[name]), statistics.median(cpu[name])) for name in fns}
 
 
 def main() -> None:
@@ -97,9 +100,15 @@ def main() -> None:
     )
     print(f"largest difference of a contact point from the previous implementation: {worst:.3g} mm")
     t = paired({"now": ours, "before": before, "vertex": baseline}, base, body)
-    print(f"kcheck contacts core: {t['now']:.2f} s (median of 3)")
-    print(f"previous implementation: {t['before']:.2f} s (ratio {t['before'] / t['now']:.2f})")
-    print(f"baseline, KD-tree nearest vertex: {t['vertex']:.2f} s")
+    for name, what in (
+        ("now", "kcheck contacts core"),
+        ("before", "previous implementation"),
+        ("vertex", "baseline, KD-tree nearest vertex"),
+    ):
+        wall, cpu = t[name]
+        ratio = f", {t[name][0] / t['now'][0]:.2f}x the wall time" if name != "now" else ""
+        print(f"{what}: {wall:.2f} s wall, {cpu:.2f} s CPU (medians of 3{ratio})")
+    print(f"load average after: {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
 
 if __name__ == "__main__":
