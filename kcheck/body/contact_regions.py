@@ -217,7 +217,8 @@ def surface_distances(
     distance to it an upper bound. Points that may be within ``exact_within`` (default
     ``radius``) of the surface, or inside it, are then measured exactly against the triangles
     of their :data:`NEIGHBOURS` nearest samples; the others keep the bound, which exceeds the
-    true distance by less than twice the samples' cover."""
+    true distance by at most the samples' cover (their nearest sample is within the cover
+    of their closest point)."""
     from scipy.spatial import cKDTree
 
     exact = radius if exact_within is None else exact_within
@@ -416,16 +417,23 @@ def merged_pieces(
     if len(pieces) < 2:
         return []
     split = body.split(only_watertight=False)
+    base_faces = Faces.of(base)
     out = []
     for piece in pieces:
         tol = 1e-9 * float(np.ptp(piece.bounds, axis=0).max())
         mesh = next((m for m in split if np.allclose(m.bounds, piece.bounds, atol=tol)), None)
         swallowed = False
-        if mesh is not None and any(
-            r.least_distance <= gap for r in contact_regions(base, mesh, gap)[0]
-        ):
+        if mesh is not None and _touches(Faces.of(mesh), base_faces, gap):
             rest: Any = trimesh.util.concatenate([m for m in split if m is not mesh])
             seated = contact_regions(rest, mesh, gap)[0]
             swallowed = sum(r.least_distance <= gap for r in seated) >= 2
         out.append((piece, swallowed))
     return out
+
+
+def _touches(piece: Faces, base: Faces, gap: float) -> bool:
+    """Whether points sampled on ``piece`` (at most ``3 gap`` apart) come within ``gap`` of
+    ``base``'s surface."""
+    near = piece.in_box(base.bounds[0] - gap, base.bounds[1] + gap)
+    points, _, _ = _samples(piece, 3 * gap, near)
+    return len(surface_distances(points, base, gap, 3 * gap).index) > 0
