@@ -235,12 +235,17 @@ def run(args: argparse.Namespace) -> int:
         )
     touching = [r for r in regions if r.least_distance <= gap]
     if not touching:
-        near = min((r.least_distance for r in regions), default=math.inf)
-        said = f"they come within {_mm(near, scale, units)}" if regions else "they are farther"
+        from kcheck.body.contact_regions import NEAR_GAPS
+
+        if regions:
+            near = min(r.least_distance for r in regions)
+            said = f"they come no closer than {_mm(near, scale, units)}"
+        else:
+            said = f"they come nowhere within {_mm(NEAR_GAPS * gap, scale, units)} of each other"
         return fail(
-            f"{args.body} does not touch {args.base}: {said} than the gap tolerance "
-            f"{_mm(gap, scale, units)} nowhere; export both in assembly position "
-            "(the body seated), or raise --gap"
+            f"{args.body} does not touch {args.base}: {said}, and the gap tolerance is "
+            f"{_mm(gap, scale, units)}; export both in assembly position (the body seated), "
+            "or raise --gap"
         )
     found = recognise(regions, gap)
     notes = _merged_parts(body, args.body, base, gap, scale, units)

@@ -164,12 +164,27 @@ def test_parts_not_in_contact(tmp_path, capsys):
     base, body = three_vee(lift=5.0)
     code, out = _run(tmp_path, base, body, capsys)
     assert code == 2 and "does not touch" in out.err and "Traceback" not in out.err
+    assert "they come nowhere within" in out.err
+
+
+def test_parts_nearly_in_contact_say_how_near(tmp_path, capsys):
+    # Lifted 0.6 mm: each ball is 0.6 cos 45 = 0.424 mm off its flanks (closed form), a
+    # little more between the meshes (the icosphere's facets lie inside its sphere).
+    base, body = three_vee(lift=0.6)
+    code, out = _run(tmp_path, base, body, capsys)
+    assert code == 2 and "does not touch" in out.err
+    near = float(re.search(r"no closer than ([0-9.]+) mm", out.err).group(1))
+    assert 0.6 * np.cos(np.radians(45)) <= near <= 0.6 * np.cos(np.radians(45)) + 0.01
 
 
 def test_interpenetrating_parts(tmp_path, capsys):
     base, body = three_vee(lift=-1.0)
     code, out = _run(tmp_path, base, body, capsys)
     assert code == 2 and "interpenetrate by" in out.err
+    # Lowered 1 mm: 1 cos 45 = 0.707 mm into each flank (closed form), a little less for
+    # the icosphere's facets.
+    depth = float(re.search(r"interpenetrate by ([0-9.]+) mm", out.err).group(1))
+    assert np.cos(np.radians(45)) - 0.01 <= depth <= np.cos(np.radians(45))
 
 
 def test_empty_and_open_meshes(tmp_path, capsys):
@@ -177,7 +192,8 @@ def test_empty_and_open_meshes(tmp_path, capsys):
     _write(tmp_path, base, body)
     (tmp_path / "empty.stl").write_text("solid x\nendsolid x\n")
     code = main(["contacts", str(tmp_path / "base.stl"), str(tmp_path / "empty.stl")])
-    assert code == 2 and "empty.stl" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert code == 2 and "empty.stl" in err and "empty" in err.split("empty.stl", 1)[1]
     open_body = body.copy()
     open_body.update_faces(np.arange(len(open_body.faces)) > 0)
     open_body.export(tmp_path / "open.stl")
