@@ -325,7 +325,19 @@ def _shorthand(contacts: list[PointContact]) -> tuple[str, dict[str, Any] | None
         surface = _canoe_surface(contacts, canoe, r)
         if surface is None:
             return "supports", None
-        kind, fields = _shorthand([replace(x, canoe=None) for x in contacts])
+        # One ball for all: the tube circle's points agree to the fit's accuracy.
+        common = replace(ball, point=np.mean([x.ball.point for x in contacts if x.ball], axis=0))
+        kind, fields = _shorthand(
+            [
+                replace(
+                    x,
+                    canoe=None,
+                    ball=common,
+                    point=common.point - r * (x.normal if x.ball_on == "body" else -x.normal),
+                )
+                for x in contacts
+            ]
+        )
         if fields is not None:
             fields["ball"] = {**fields["ball"], **surface}
         return kind, fields
@@ -384,17 +396,19 @@ def _canoe_surface(
     surface."""
     first = contacts[0]
     assert first.ball is not None
+    # The tube circle's points must agree to the fit's accuracy (float32 exports: 1e-7).
+    tolerance = 10 * canoe.rms + _MATCH_RTOL * r
     radii, direction = [], None
     for x in contacts:
         assert x.ball is not None
-        if np.linalg.norm(x.ball.point - first.ball.point) > _MATCH_RTOL * 1e3 * r:
+        if np.linalg.norm(x.ball.point - first.ball.point) > tolerance:
             return None
         m = -(x.normal if x.ball_on == "body" else -x.normal)  # the canoe's outward normal
         across = _unit(m - (m @ canoe.axis) * canoe.axis)
         cos_v = float(m @ across)
         radii.append((canoe.radius + canoe.tube * cos_v) / cos_v)
         direction = np.cross(canoe.axis, across) if direction is None else direction
-    if max(radii) - min(radii) > _MATCH_RTOL * 1e3 * max(radii):
+    if max(radii) - min(radii) > tolerance * max(radii) / r:
         return None
     return {"surface_radii": [radii[0], canoe.tube], "surface_direction": direction}
 

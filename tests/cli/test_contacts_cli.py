@@ -17,6 +17,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from contact_assemblies import (  # noqa: E402
     THREE_VEE_CENTERS,
+    R,
     ball,
     combine,
     flat,
@@ -264,3 +265,45 @@ def test_init_assembly_writes_the_contacts_scene(tmp_path, capsys):
     lifted_body.export(tmp_path / "lifted.stl")
     code = main(["init", "--assembly", parts[0], str(tmp_path / "lifted.stl"), "-o", "-"])
     assert code == 2 and "does not touch" in capsys.readouterr().err
+
+
+def _canoe(center, axis, circle=20.0):
+    """A canoe ball: a torus (tube radius R) standing in the vertical plane of ``axis``, the
+    lowest point of its tube's circle at ``center``."""
+    side = np.cross([0, 0, 1.0], axis)
+    torus = trimesh.creation.torus(
+        major_radius=circle, minor_radius=R, major_sections=256, minor_sections=96
+    )
+    torus.apply_transform(trimesh.geometry.align_vectors([0, 0, 1], side))
+    return torus.apply_translation(np.asarray(center) + [0, 0, circle])
+
+
+def test_three_canoe_balls_scene_checks_as_the_hand_written_one(tmp_path, capsys):
+    # Three canoe balls (tube circle 20, tube R) in the three radial vees: the contacts are
+    # the three-vee's; along the groove the surface radius is 20 / cos 45 + R (the torus's
+    # principal curvature cos v / (20 + R cos v) at v = 45 deg), across it R.
+    base, _ = three_vee()
+    body = combine([_canoe(c, unit([c[0], c[1], 0])) for c in THREE_VEE_CENTERS])
+    _write(tmp_path, base, body)
+    scene = tmp_path / "found.kcheck.yaml"
+    parts = [str(tmp_path / "base.stl"), str(tmp_path / "body.stl")]
+    code = main(["contacts", *parts, "--units", "mm", "-o", str(scene)])
+    assert code == 0, capsys.readouterr().err
+    assert "canoe ball" in capsys.readouterr().err
+    assert scene.read_text().count("surface_radii") == 3
+    along = 20 / np.cos(np.radians(45)) + R
+    order = sorted(range(3), key=lambda k: THREE_VEE_CENTERS[k][0])
+    entries = []
+    for j, k in enumerate(order):
+        c = THREE_VEE_CENTERS[k]
+        a = unit([c[0], c[1], 0])
+        entries.append(
+            f"  - {{name: b{j + 1}, type: ball-vee, ball: {{center: {c.tolist()}, radius: {R}, "
+            f"surface_radii: [{along}, {R}], surface_direction: {a.tolist()}}}, "
+            f"groove: {{axis: {a.tolist()}, up: [0, 0, 1], half_angle: 45}}}}"
+        )
+    hand = tmp_path / "hand.kcheck.yaml"
+    hand.write_text(HAND_WRITTEN % "\n".join(entries))
+    found, written = _checks(scene, capsys), _checks(hand, capsys)
+    assert found["analytical-3d"]["status"] == "pass"
+    _close(found, written)
