@@ -17,8 +17,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from pydantic import ValidationError
-
 from kcheck.analysis.sanity import scene_warnings
 from kcheck.errors import SceneError, SceneErrors
 from kcheck.gate.paths import Excluder, discover_paths
@@ -173,6 +171,8 @@ def _options(
             ("checks", lc.spec.name, SEVERITY_KEY),
             f"expected `error` or `warning`, got {severity!r}",
         )
+    from pydantic import ValidationError  # loaded with the options' models (issue 24: lazy)
+
     try:
         return lc.check.options.model_validate(raw), severity
     except ValidationError as exc:

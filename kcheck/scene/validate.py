@@ -4,7 +4,6 @@ allowed range, and "did you mean" for a misspelt key)."""
 
 from __future__ import annotations
 
-import difflib
 import math
 import typing
 from collections.abc import Iterator, Mapping
@@ -232,6 +231,8 @@ def _resolve(loc: tuple[Any, ...], root: type[BaseModel]) -> tuple[FieldPath, An
 
 def did_you_mean(key: str, allowed: list[str]) -> str:
     """`` (did you mean `friction`?)`` for a close match, else the allowed keys."""
+    import difflib  # only for a bad key: not on the start-up path
+
     close = difflib.get_close_matches(key, allowed, n=1, cutoff=0.6)
     if close:
         return f"; did you mean `{close[0]}`?"
@@ -417,6 +418,8 @@ def pydantic_problems(exc: ValidationError, root: type[BaseModel], problems: Pro
         if err["type"] == "extra_forbidden" and path:
             _, (_, parents), _ = _resolve(tuple(err["loc"][:-1]), root)
             allowed = sorted({n for m in parents for n in m.model_fields})
+            import difflib  # only for a bad key: not on the start-up path
+
             close = difflib.get_close_matches(str(path[-1]), allowed, n=1, cutoff=0.6)
             if close:
                 meant.add((*path[:-1], close[0]))
