@@ -13,7 +13,7 @@ from kcheck.fmt import clean, format_ranges
 from kcheck.mechanics.arcs import FULL, ArcSet, contains, intersect, margin, to_degrees
 from kcheck.mechanics.dynamics import Case, Problem, analyse_cases_many, build_problem, with_load
 from kcheck.mechanics.friction import FrictionIntervals, friction_intervals_batch
-from kcheck.mechanics.kinematics import Frame, row_norms, unit_rows
+from kcheck.mechanics.kinematics import Frame, cross3, row_norms, unit_rows
 from kcheck.mechanics.outcomes import outcome, safe_arcs
 from kcheck.numerics.thresholds import IN_SWEEP_PLANE, INFINITE_POLE, NO_PITCH, UNDETERMINED
 from kcheck.result import CaseResult, MassProperties
@@ -106,7 +106,8 @@ def motion_details(problem: Problem, case: Case) -> dict[str, object]:
         }
     axis = unit_rows(clean(w / wn))
     pitch = float(w @ v) / wn**2
-    foot = clean(np.cross(w, v) / wn**2, 1.0 + float(row_norms(np.cross(w, v))) / wn**2)
+    moment = cross3(w, v)
+    foot = clean(moment / wn**2, 1.0 + float(row_norms(moment)) / wn**2)
     point = frame.origin + frame.length * foot
     if abs(pitch) <= NO_PITCH:
         return {"motion": "rotation", "axis": axis.tolist(), "axis_point": point.tolist()}
