@@ -111,3 +111,15 @@ def test_mechanics_batch_equals_one_problem_at_a_time(tmp_path: Path) -> None:
         one = analyse_cases(p)
         assert _same(c, one) == []
         assert _same(i, friction_intervals_many(p, one, d)) == []
+
+
+def test_one_singular_matrix_does_not_spoil_its_stack() -> None:
+    from kcheck.mechanics.dynamics import solve_each
+
+    # Closed form: diag(2, 4) x = (2, 4) gives x = (1, 1); the zero matrix has no solution.
+    stack = np.array([np.diag([2.0, 4.0]), np.zeros((2, 2)), np.diag([2.0, 4.0])])
+    rhs = np.array([[[2.0], [4.0]]] * 3)
+    x, ok = solve_each(stack, rhs)
+    assert ok.tolist() == [True, False, True]
+    assert x[0, :, 0].tolist() == [1.0, 1.0] and x[2, :, 0].tolist() == [1.0, 1.0]
+    assert np.all(np.isnan(x[1]))
