@@ -8,14 +8,16 @@ warnings, kcheck suggest).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
-from kcheck.analysis.cases import Analysis, analyse_fixed
+from kcheck.analysis.cases import Analysis, analyse_fixed, analyse_fixed_many
 from kcheck.analysis.friction_ranges import analyse_range
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 
-__all__ = ["analyse"]
+__all__ = ["analyse", "analyse_many"]
 
 
 def analyse(
@@ -36,3 +38,22 @@ def analyse(
         if not np.array_equal(low, high):
             return analyse_range(scene, mass, low, high, plane)
     return analyse_fixed(scene, mass, plane, friction)
+
+
+def analyse_many(scenes: Sequence[Scene], masses: Sequence[MassProperties]) -> list[Analysis]:
+    """:func:`analyse` of several scenes (e.g. the scenes of a worker's chunk, or a study's
+    variants): the cases' algebra of every scene at fixed coefficients is stacked and solved
+    in one batch of numpy calls (:func:`kcheck.analysis.cases.analyse_fixed_many`); scenes with
+    ranges of coefficients are analysed one by one. Each result equals :func:`analyse`'s."""
+    out: list[Analysis | None] = [None] * len(scenes)
+    fixed = []
+    for i, scene in enumerate(scenes):
+        low, high = scene.friction_range("kinetic")
+        if np.array_equal(low, high):
+            fixed.append(i)
+        else:
+            out[i] = analyse_range(scene, masses[i], low, high)
+    batch = analyse_fixed_many([scenes[i] for i in fixed], [masses[i] for i in fixed])
+    for i, analysis in zip(fixed, batch, strict=True):
+        out[i] = analysis
+    return [a for a in out if a is not None]

@@ -3,6 +3,7 @@ checks (planar and spatial use the same code, only ``dim`` differs)."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -10,9 +11,9 @@ import numpy as np
 
 from kcheck.fmt import clean, format_ranges
 from kcheck.mechanics.arcs import FULL, ArcSet, contains, intersect, margin, to_degrees
-from kcheck.mechanics.dynamics import Case, Problem, analyse_cases, build_problem, with_load
-from kcheck.mechanics.friction import FrictionIntervals, friction_intervals_many
-from kcheck.mechanics.kinematics import Frame, row_norms, unit_rows
+from kcheck.mechanics.dynamics import Case, Problem, analyse_cases_many, build_problem, with_load
+from kcheck.mechanics.friction import FrictionIntervals, friction_intervals_batch
+from kcheck.mechanics.kinematics import Frame, cross3, row_norms, unit_rows
 from kcheck.mechanics.outcomes import outcome, safe_arcs
 from kcheck.numerics.thresholds import IN_SWEEP_PLANE, INFINITE_POLE, NO_PITCH, UNDETERMINED
 from kcheck.result import CaseResult, MassProperties
@@ -25,6 +26,7 @@ __all__ = [
     "motion_details",
     "Analysis",
     "analyse_fixed",
+    "analyse_fixed_many",
     "swept_design",
     "sweep_ranges",
     "nearest_end",
@@ -104,7 +106,8 @@ def motion_details(problem: Problem, case: Case) -> dict[str, object]:
         }
     axis = unit_rows(clean(w / wn))
     pitch = float(w @ v) / wn**2
-    foot = clean(np.cross(w, v) / wn**2, 1.0 + float(row_norms(np.cross(w, v))) / wn**2)
+    moment = cross3(w, v)
+    foot = clean(moment / wn**2, 1.0 + float(row_norms(moment)) / wn**2)
     point = frame.origin + frame.length * foot
     if abs(pitch) <= NO_PITCH:
         return {"motion": "rotation", "axis": axis.tolist(), "axis_point": point.tolist()}
@@ -238,20 +241,62 @@ def analyse_fixed(
 
     ``plane`` (``e1, e2``, 3-vectors) overrides the scene's sweep plane for the ranges.
     """
-    problem = problem_for(scene, mass, friction)
+    return analyse_fixed_many([scene], [mass], plane, friction)[0]
+
+
+def _design(scene: Scene, dim: int) -> tuple[bool, np.ndarray | None]:
+    """Whether a load is swept, and the load's design direction (dim,) or None."""
     load = scene.load
     sweeping = load is not None and load.magnitude > 0
-    design = None
     if sweeping and load is not None and load.direction is not None:
-        design = load.direction[: problem.dim]
-    evaluate = design is not None or not sweeping
-    cases = analyse_cases(problem)
-    good = [c.determined and c.well_conditioned for c in cases]
-    case_friction: list[FrictionIntervals | None] = [None] * len(cases)
-    if evaluate:
-        chosen = [c for c, g in zip(cases, good, strict=True) if g]
-        found = iter(friction_intervals_many(problem, chosen, design))
-        case_friction = [next(found) if g else None for g in good]
+        return sweeping, load.direction[:dim]
+    return sweeping, None
+
+
+def analyse_fixed_many(
+    scenes: Sequence[Scene],
+    masses: Sequence[MassProperties],
+    plane: tuple[np.ndarray, np.ndarray] | None = None,
+    friction: np.ndarray | None = None,
+) -> list[Analysis]:
+    """:func:`analyse_fixed` of several scenes (e.g. a worker's chunk): the cases' algebra of
+    all of them (free twists, both friction systems, friction intervals) stacked in one batch
+    of numpy calls (:func:`~kcheck.mechanics.dynamics.analyse_cases_many`,
+    :func:`~kcheck.mechanics.friction.friction_intervals_batch`); every scene's values are
+    those it gets alone."""
+    problems = [problem_for(s, m, friction) for s, m in zip(scenes, masses, strict=True)]
+    designs = [_design(s, p.dim) for s, p in zip(scenes, problems, strict=True)]
+    all_cases = analyse_cases_many(problems)
+    goods = [[c.determined and c.well_conditioned for c in cases] for cases in all_cases]
+    chosen = [
+        [c for c, g in zip(cases, good, strict=True) if g]
+        if design is not None or not sweeping
+        else []
+        for cases, good, (sweeping, design) in zip(all_cases, goods, designs, strict=True)
+    ]
+    found = friction_intervals_batch(problems, chosen, [d for _, d in designs])
+    out = []
+    for scene, problem, cases, good, (sweeping, design), intervals in zip(
+        scenes, problems, all_cases, goods, designs, found, strict=True
+    ):
+        case_friction: list[FrictionIntervals | None] = [None] * len(cases)
+        if design is not None or not sweeping:
+            each = iter(intervals)
+            case_friction = [next(each) if g else None for g in good]
+        out.append(_assemble(scene, problem, cases, case_friction, design, sweeping, plane))
+    return out
+
+
+def _assemble(
+    scene: Scene,
+    problem: Problem,
+    cases: tuple[Case, ...],
+    case_friction: list[FrictionIntervals | None],
+    design: np.ndarray | None,
+    sweeping: bool,
+    plane: tuple[np.ndarray, np.ndarray] | None,
+) -> Analysis:
+    """The analysis of a scene from its solved cases and friction intervals."""
     results = []
     max_condition = 0.0
     names = problem.names

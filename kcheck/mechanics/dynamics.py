@@ -30,7 +30,7 @@ import numpy as np
 
 from kcheck.mechanics.kinematics import (
     FreeTwist,
-    free_twists,
+    free_twist_arrays,
     other_supports,
     point_velocity,
     wrenches,
@@ -55,6 +55,7 @@ __all__ = [
     "solve_affine",
     "analyse_case",
     "analyse_cases",
+    "analyse_cases_many",
     "with_load",
 ]
 
@@ -210,6 +211,23 @@ def system_matrix(
     return k0 + sense * big_f
 
 
+def solve_each(matrices: np.ndarray, rhs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``numpy.linalg.solve`` of a stack (s, n, n) with right-hand sides (s, n, m), and which
+    were solved (s,): a batch fails as a whole when LAPACK finds one matrix singular; then
+    each is solved alone, so one singular system does not spoil the others of a stack (NaN)."""
+    try:
+        return np.linalg.solve(matrices, rhs), np.ones(len(matrices), bool)
+    except np.linalg.LinAlgError:
+        out = np.full(rhs.shape, np.nan)
+        ok = np.zeros(len(matrices), bool)
+        for i, (a, b) in enumerate(zip(matrices, rhs, strict=True)):
+            try:
+                out[i], ok[i] = np.linalg.solve(a, b), True
+            except np.linalg.LinAlgError:
+                pass
+        return out, ok
+
+
 def _equilibrate(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Row and column scale factors (..., n) making every row and column's largest entry 1."""
     size = np.abs(matrices)
@@ -225,12 +243,14 @@ def _equilibrate(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def _solve_many(
     matrices: np.ndarray, rhs: np.ndarray, matrix_error: np.ndarray | None = None
 ) -> list[Affine]:
-    """:func:`solve_affine` for a stack of matrices (s, n, n) sharing one right-hand side
-    (n, 1 + dim), in one batch of numpy calls. ``matrix_error`` (s,): the relative error the
-    matrices carry from their construction (e.g. the free twist's), for the error estimate."""
+    """:func:`solve_affine` for a stack of matrices (s, n, n) with one right-hand side
+    (n, 1 + dim) or one each (s, n, 1 + dim), in one batch of numpy calls. ``matrix_error``
+    (s,): the relative error the matrices carry from their construction (e.g. the free
+    twist's), for the error estimate."""
     rows, cols = _equilibrate(matrices)
     scaled = matrices * rows[..., :, None] * cols[..., None, :]
-    n = rhs.shape[0]
+    n = rhs.shape[-2]
+    rhs = np.broadcast_to(rhs, (len(matrices), *rhs.shape[-2:]))
     with np.errstate(all="ignore"):
         try:
             singular = np.linalg.svd(scaled, compute_uv=False)
@@ -239,13 +259,12 @@ def _solve_many(
         condition = np.where(singular[..., -1] > 0, singular[..., 0] / singular[..., -1], np.inf)
     good = np.isfinite(condition) & (condition <= 1 / EPS)
     out: list[Affine] = []
-    sol = np.full((len(matrices), n, rhs.shape[1]), np.nan)
+    sol = np.full((len(matrices), n, rhs.shape[-1]), np.nan)
     if np.any(good):
-        scaled_rhs = rhs[None, :, :] * rows[good][:, :, None]
-        try:
-            sol[good] = np.linalg.solve(scaled[good], scaled_rhs) * cols[good][:, :, None]
-        except np.linalg.LinAlgError:
-            good[:] = False
+        scaled_rhs = rhs[good] * rows[good][:, :, None]
+        solved, ok = solve_each(scaled[good], scaled_rhs)
+        sol[good] = solved * cols[good][:, :, None]
+        good[good] = ok
     # Forward error: the condition number times the matrix's own relative error and the
     # solve's rounding (LU with pivoting is backward stable: its residual is of that size).
     built = np.zeros(len(matrices)) if matrix_error is None else np.asarray(matrix_error, float)
@@ -287,38 +306,101 @@ def _effective_masses(k0: np.ndarray, big_f: np.ndarray) -> list[tuple[float, fl
 
 def analyse_cases(problem: Problem, retracted: Sequence[int] | None = None) -> tuple[Case, ...]:
     """Free motion and both friction-assumption systems for each retracted support (default:
-    every support), in one batch of numpy calls."""
-    k = len(problem.points)
-    which = np.arange(k) if retracted is None else np.asarray(retracted, dtype=int)
-    frees = free_twists(problem.points, problem.normals, which)
-    keeps = other_supports(k)[which]
-    twists = np.array([f.twist for f in frees])
-    pattern, mu = problem.friction_pattern()
-    k0, unit_f, sliding = _parts(problem, twists, keeps, pattern)
-    big_f = mu * unit_f
-    live = [
-        i for i, f in enumerate(frees) if f.determinacy > UNDETERMINED and f.closing > UNDETERMINED
-    ]
-    solved: dict[int, tuple[Affine | None, Affine | None, tuple[float, float] | None]] = {}
-    if live:
-        b0, big_b = problem.load_basis()
-        stack = np.concatenate([k0[live] + big_f[live], k0[live] - big_f[live]])
+    every support), in one batch of numpy calls (:func:`analyse_cases_many` of one problem)."""
+    return analyse_cases_many([problem], retracted)[0]
+
+
+def analyse_cases_many(
+    problems: Sequence[Problem], retracted: Sequence[int] | None = None
+) -> list[tuple[Case, ...]]:
+    """:func:`analyse_cases` of several problems (e.g. the scenes of a worker's chunk): the
+    problems with the same number of supports and dimension are stacked and solved in one
+    batch of numpy calls (each matrix factorised on its own, so every problem's values are
+    those it gets alone)."""
+    out: list[tuple[Case, ...]] = [()] * len(problems)
+    groups: dict[tuple[int, int], list[int]] = {}
+    for i, problem in enumerate(problems):
+        groups.setdefault(problem.points.shape, []).append(i)
+    for (k, _), members in groups.items():
+        which = np.arange(k) if retracted is None else np.asarray(retracted, dtype=int)
+        solved = _cases_stacked([problems[i] for i in members], which)
+        for i, cases in zip(members, solved, strict=True):
+            out[i] = cases
+    return out
+
+
+def _stacked_matrices(
+    twists: np.ndarray,
+    points: np.ndarray,
+    normals: np.ndarray,
+    mu: np.ndarray,
+    com: np.ndarray,
+    inertia: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`contact_matrices` with a centre of mass (P, dim) and inertia (P, nw, nw) per
+    problem: twists (P, c, n), points and normals (P, c, k-1, dim), coefficients (P, c, k-1)."""
+    nw = 1 if points.shape[-1] == 2 else 3
+    u = point_velocity(twists[..., None, :], points)
+    speed = np.sqrt(np.sum(u * u, axis=-1))
+    sliding = speed > SLIP_TOL
+    t = np.where(sliding[..., None], -u / np.where(sliding, speed, 1.0)[..., None], 0.0)
+    lever = points - com[:, None, None, :]
+    normal = -wrenches(lever, normals)  # (P, c, k-1, n)
+    friction = -wrenches(lever, mu[..., None] * t)
+    # I w per case, row by row (the same sums whatever the stack).
+    spin = np.sum(inertia[:, None, :, :] * twists[..., None, :nw], axis=-1)
+    inertial = np.concatenate([spin, point_velocity(twists, com[:, None, :])], axis=-1)
+    k0 = np.concatenate([inertial[..., :, None], np.swapaxes(normal, -1, -2)], axis=-1)
+    zero = np.zeros_like(inertial)[..., :, None]
+    big_f = np.concatenate([zero, np.swapaxes(friction, -1, -2)], axis=-1)
+    return k0, big_f, sliding
+
+
+def _cases_stacked(problems: Sequence[Problem], which: np.ndarray) -> list[tuple[Case, ...]]:
+    """:func:`analyse_cases_many` of problems with the same number of supports and dimension."""
+    k = len(problems[0].points)
+    points = np.stack([p.points for p in problems])  # (P, k, dim)
+    normals = np.stack([p.normals for p in problems])
+    twists, determinacy, closing = free_twist_arrays(points, normals, which)  # (P, c, ...)
+    keeps = other_supports(k)[which]  # (c, k-1)
+    patterns = [p.friction_pattern() for p in problems]
+    pattern = np.stack([pat for pat, _ in patterns])  # (P, k)
+    mu = np.array([m for _, m in patterns])
+    com = np.stack([p.com for p in problems])
+    inertia = np.stack([p.inertia for p in problems])
+    k0, unit_f, sliding = _stacked_matrices(
+        twists, points[:, keeps], normals[:, keeps], pattern[:, keeps], com, inertia
+    )
+    big_f = mu[:, None, None, None] * unit_f
+    live = (determinacy > UNDETERMINED) & (closing > UNDETERMINED)  # (P, c)
+    owner, case = np.nonzero(live)
+    solved: dict[tuple[int, int], tuple[Affine, Affine, tuple[float, float] | None]] = {}
+    if len(owner):
+        bases = [p.load_basis() for p in problems]
+        rhs = np.stack([np.column_stack([b0, big_b]) for b0, big_b in bases])  # (P, n, 1+dim)
+        k0l, fl = k0[owner, case], big_f[owner, case]
         # The free twist (a null vector) is off by about eps over its singular-value gap; the
         # matrix built from it (inertial column, friction directions) inherits that.
-        twist_error = np.array([TWIST_ROUNDINGS * EPS / frees[i].determinacy for i in live])
+        twist_error = TWIST_ROUNDINGS * EPS / determinacy[owner, case]
         systems = _solve_many(
-            stack, np.column_stack([b0, big_b]), np.concatenate([twist_error, twist_error])
+            np.concatenate([k0l + fl, k0l - fl]),
+            np.concatenate([rhs[owner], rhs[owner]]),
+            np.concatenate([twist_error, twist_error]),
         )
-        masses = _effective_masses(k0[live], big_f[live])
-        for n, i in enumerate(live):
-            solved[i] = (systems[n], systems[len(live) + n], masses[n])
-    cases = []
-    for i, r in enumerate(which):
-        forward, backward, mass = solved.get(i, (None, None, None))
-        cases.append(
-            Case(int(r), keeps[i], frees[i], sliding[i], forward, backward, mass, k0[i], unit_f[i])
-        )
-    return tuple(cases)
+        masses = _effective_masses(k0l, fl)
+        m = len(owner)
+        for n, key in enumerate(zip(owner.tolist(), case.tolist(), strict=True)):
+            solved[key] = (systems[n], systems[m + n], masses[n])
+    out = []
+    for p in range(len(problems)):
+        cases = []
+        for i, r in enumerate(which.tolist()):
+            free = FreeTwist(twists[p, i], float(determinacy[p, i]), float(closing[p, i]))
+            forward, backward, mass = solved.get((p, i), (None, None, None))
+            matrices = k0[p, i], unit_f[p, i]
+            cases.append(Case(r, keeps[i], free, sliding[p, i], forward, backward, mass, *matrices))
+        out.append(tuple(cases))
+    return out
 
 
 def analyse_case(problem: Problem, retracted: int) -> Case:

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from kcheck.fmt import format_number
-from kcheck.mechanics.dynamics import ILL_CONDITIONED, Case, Problem, _equilibrate
+from kcheck.mechanics.dynamics import ILL_CONDITIONED, Case, Problem, _equilibrate, solve_each
 from kcheck.mechanics.outcomes import outcome
 from kcheck.numerics.thresholds import (
     DET_ROUNDING,
@@ -41,6 +41,7 @@ __all__ = [
     "friction_intervals",
     "limiting_friction",
     "friction_intervals_many",
+    "friction_intervals_batch",
     "pencil_roots",
     "root_errors",
     "describe_friction",
@@ -121,6 +122,21 @@ def _hadamard(
     return np.where(np.isfinite(ratio), ratio, 0.0)
 
 
+def _eigvals_each(base: np.ndarray, a1: np.ndarray) -> np.ndarray:
+    """Eigenvalues of ``base^-1 a1`` for a stack (p, n, n); NaN for a pencil LAPACK fails on
+    (a batch fails as a whole; then each is solved alone, so one does not spoil a stack)."""
+    try:
+        return np.linalg.eigvals(np.linalg.solve(base, a1))
+    except np.linalg.LinAlgError:
+        out = np.full(base.shape[:-1], np.nan, complex)
+        for i, (b, a) in enumerate(zip(base, a1, strict=True)):
+            try:
+                out[i] = np.linalg.eigvals(np.linalg.solve(b, a))
+            except np.linalg.LinAlgError:
+                pass
+        return out
+
+
 def pencil_roots(a0: np.ndarray, a1: np.ndarray) -> np.ndarray:
     """Real roots ``mu`` of ``det(A0 + mu A1)`` for a stack of pencils (p, n, n): (p, n), NaN
     where a pencil has fewer.
@@ -145,10 +161,7 @@ def pencil_roots(a0: np.ndarray, a1: np.ndarray) -> np.ndarray:
     base = shifted[best[picked], picked]
     shift = SHIFTS[best[picked]]
     with np.errstate(all="ignore"):
-        try:
-            values = np.linalg.eigvals(np.linalg.solve(base, a1[picked]))
-        except np.linalg.LinAlgError:
-            return out
+        values = _eigvals_each(base, a1[picked])
         size = np.abs(values).max(axis=1, keepdims=True)
         finite = np.abs(values) > PENCIL_INFINITE_RTOL * np.where(size > 0, size, 1.0)
         roots = shift[:, None] - 1.0 / np.where(finite, values, 1.0)
@@ -267,7 +280,7 @@ def _evaluate(
     solved: int,
 ) -> tuple[np.ndarray, np.ndarray]:
     """At each sample ``mu`` (m,) of a case (``k0``, ``big_f`` (m, n, n) stacked per sample,
-    ``sign0`` (m,) the sign of ``det k0``, ``rhs`` (n,)): whether the case closes uniquely
+    ``sign0`` (m,) the sign of ``det k0``, ``rhs`` (m, n)): whether the case closes uniquely
     (only the first ``solved`` samples are solved for; the others' is False), and whether it
     is Painlevé-type."""
     m = len(mus)
@@ -283,13 +296,10 @@ def _evaluate(
         painleve = ~(effective[:m] & effective[m:])
         if solved == 0:
             return closes, painleve
-        try:
-            forward = (
-                np.linalg.solve(scaled[:solved], (rhs * rows[:solved])[..., None])[..., 0]
-                * cols[:solved]
-            )
-        except np.linalg.LinAlgError:
-            return closes, np.zeros(m, bool)
+        forward = (
+            solve_each(scaled[:solved], (rhs[:solved] * rows[:solved])[..., None])[0][..., 0]
+            * cols[:solved]
+        )
     trusted = (quality[:solved] > 1.0 / ILL_CONDITIONED) & (
         quality[m : m + solved] > 1.0 / ILL_CONDITIONED
     )
@@ -303,14 +313,52 @@ def friction_intervals_many(
     problem: Problem, cases: Sequence[Case], direction: np.ndarray | None
 ) -> list[FrictionIntervals]:
     """:func:`friction_intervals` for several cases of one problem, in one batch of numpy
-    calls."""
-    _, mu = problem.friction_pattern()
-    rough = problem.friction[problem.friction > 0]
-    uniform = bool(len(rough) == 0 or np.ptp(rough) <= SAME_FRICTION_RTOL * rough.max())
-    live = [c for c in cases if c.determined and c.k0 is not None and c.k_friction is not None]
-    if not live:
-        return [FrictionIntervals((), mu, False, (), uniform) for _ in cases]
-    rhs = problem.wrench(direction)
+    calls (:func:`friction_intervals_batch` of one problem)."""
+    return friction_intervals_batch([problem], [cases], [direction])[0]
+
+
+def friction_intervals_batch(
+    problems: Sequence[Problem],
+    cases: Sequence[Sequence[Case]],
+    directions: Sequence[np.ndarray | None],
+) -> list[list[FrictionIntervals]]:
+    """:func:`friction_intervals_many` of several problems (e.g. the scenes of a worker's
+    chunk; per problem its cases and force direction): every case of every problem with
+    systems of one size is stacked and solved in one batch of numpy calls. Each matrix is
+    factorised on its own, so every case gets the values it gets alone."""
+    out: list[list[FrictionIntervals]] = []
+    live: dict[int, list[tuple[int, int]]] = {}  # by system size: (problem, case index)
+    for p, (problem, chosen) in enumerate(zip(problems, cases, strict=True)):
+        _, mu = problem.friction_pattern()
+        rough = problem.friction[problem.friction > 0]
+        uniform = bool(len(rough) == 0 or np.ptp(rough) <= SAME_FRICTION_RTOL * rough.max())
+        out.append([FrictionIntervals((), mu, False, (), uniform) for _ in chosen])
+        for i, one in enumerate(chosen):
+            if one.determined and one.k0 is not None and one.k_friction is not None:
+                live.setdefault(one.k0.shape[-1], []).append((p, i))
+    used = {p for members in live.values() for p, _ in members}
+    wrench = {p: problems[p].wrench(directions[p]) for p in used}
+    for members in live.values():
+        found = _intervals_stacked(
+            [cases[p][i] for p, i in members],
+            np.stack([wrench[p] for p, _ in members]),
+            [directions[p] for p, _ in members],
+            [out[p][i] for p, i in members],
+        )
+        for (p, i), intervals in zip(members, found, strict=True):
+            out[p][i] = intervals
+    return out
+
+
+def _intervals_stacked(
+    live: Sequence[Case],
+    rhs: np.ndarray,
+    directions: Sequence[np.ndarray | None],
+    empty: Sequence[FrictionIntervals],
+) -> list[FrictionIntervals]:
+    """The friction intervals of determined cases with systems of one size, each with its
+    right-hand side (c, n), force direction and problem's coefficient (``empty``: the
+    intervals of a case that closes for no ``mu``)."""
     k0 = np.stack([c.k0 for c in live])  # type: ignore[misc]
     big_f = np.stack([c.k_friction for c in live])  # type: ignore[misc]
     c, n = k0.shape[0], k0.shape[-1]
@@ -326,7 +374,12 @@ def friction_intervals_many(
     with np.errstate(all="ignore"):
         sign0 = np.linalg.slogdet(k0)[0]
     closes, painleve = _evaluate(
-        k0[owner], big_f[owner], sign0[owner], rhs, np.concatenate([first, second]), len(first)
+        k0[owner],
+        big_f[owner],
+        sign0[owner],
+        rhs[owner],
+        np.concatenate([first, second]),
+        len(first),
     )
     bounds = np.concatenate([[0], np.cumsum(counts + 1)])
     det_bounds = len(first) + np.concatenate([[0], np.cumsum(det_counts + 1)])
@@ -340,17 +393,17 @@ def friction_intervals_many(
     errors = root_errors(all_a0, all_a1, np.where(at_end, roots, np.nan).reshape(-1, n)).reshape(
         c, n + 1, n
     )
-    by_case = {}
-    for i, case in enumerate(live):
-        by_case[id(case)] = FrictionIntervals(
+    return [
+        FrictionIntervals(
             pieces[i],
-            mu,
-            outcome(case, direction)[0] == "closes",
+            empty[i].mu,
+            outcome(case, directions[i])[0] == "closes",
             _pieces(det_points[i, : det_counts[i]], painleve[det_bounds[i] : det_bounds[i + 1]]),
-            uniform,
+            empty[i].uniform,
             _end_errors(pieces[i], roots[i], errors[i]),
         )
-    return [by_case.get(id(c), FrictionIntervals((), mu, False, (), uniform)) for c in cases]
+        for i, case in enumerate(live)
+    ]
 
 
 def friction_intervals(
