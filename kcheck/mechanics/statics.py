@@ -394,7 +394,6 @@ def _solve_conic(
     :func:`kcheck.mechanics.least_friction.least_friction_exactly`), and ``s``. None unless clarabel
     solves it."""
     import clarabel
-    from scipy import sparse
 
     k, n = len(mu), len(wrench)
     extra = 0 if shrink is None else 1
@@ -422,15 +421,44 @@ def _solve_conic(
     settings = clarabel.DefaultSettings()
     settings.verbose = False
     solver = clarabel.DefaultSolver(
-        sparse.csc_matrix((size, size)),
-        cost,
-        sparse.csc_matrix(np.vstack([equal, cone_rows])),
-        rhs,
-        cones,
-        settings,
+        _Csc.empty(size), cost, _Csc.of(np.vstack([equal, cone_rows])), rhs, cones, settings
     )
     solution = solver.solve()
     if str(solution.status) not in ("Solved", "AlmostSolved"):
         return None
     x = np.asarray(solution.x)
     return x[: 3 * k].reshape(k, 3), float(x[-1]) if extra else 0.0
+
+
+@dataclass(frozen=True)
+class _Csc:
+    """A compressed-sparse-column matrix as clarabel reads it (the attributes of scipy's
+    ``csc_matrix``): the same nonzeros in the same order as ``csc_matrix(dense)``, without
+    scipy's validation, which cost more than clarabel's solve."""
+
+    shape: tuple[int, int]
+    indptr: np.ndarray
+    indices: np.ndarray
+    data: np.ndarray
+    format: str = "csc"
+    has_canonical_format: bool = True
+    has_sorted_indices: bool = True
+
+    @property
+    def nnz(self) -> int:
+        """Stored nonzeros."""
+        return len(self.data)
+
+    @classmethod
+    def of(cls, dense: np.ndarray) -> _Csc:
+        """The nonzeros of ``dense`` by column, rows ascending within each."""
+        cols, rows = np.nonzero(dense.T)
+        indptr = np.zeros(dense.shape[1] + 1, np.int64)
+        np.cumsum(np.bincount(cols, minlength=dense.shape[1]), out=indptr[1:])
+        return cls(dense.shape, indptr, rows.astype(np.int64), dense.T[cols, rows])
+
+    @classmethod
+    def empty(cls, size: int) -> _Csc:
+        """The ``size`` x ``size`` zero matrix."""
+        zero = np.zeros(0, np.int64)
+        return cls((size, size), np.zeros(size + 1, np.int64), zero, np.zeros(0))
