@@ -27,6 +27,7 @@ import numpy as np
 
 from kcheck.mechanics.arcs import ArcSet, complement, intersect, positive_arc
 from kcheck.mechanics.kinematics import FreeTwist, free_twist
+from kcheck.mechanics.lattice_cells import LatticeCells, bounded_slack, lattice_cells
 from kcheck.mechanics.least_friction import (
     friction_candidates,
     least_friction,
@@ -341,9 +342,10 @@ class JamMap:
 def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
     """Classify ``points`` Fibonacci directions per case: one matrix product per cone."""
     from kcheck.mechanics.arcs import cap_margins
-    from kcheck.mechanics.sphere import fibonacci_sphere, grid_spacing
+    from kcheck.mechanics.sphere import grid_spacing
 
-    dirs = fibonacci_sphere(points)
+    cells = lattice_cells(points)
+    dirs = cells.fine
     held_any = np.zeros(points, bool)
     inner_any = np.zeros(points, bool)
     closing_all = np.ones(points, bool)
@@ -355,12 +357,11 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
         if not case.determined:
             continue
         assert case.held_inner is not None
-        outer = case.held.least_slack(dirs, -FREE_CANDIDATE_TOL)
+        outer = _lattice_slack(case.held, cells)
         # The inscribed pyramids hold less than the circumscribed ones (a subset): only the
         # directions the circumscribed ones hold, to far more than rounding, can be held.
-        maybe = np.flatnonzero(outer >= -FREE_CANDIDATE_TOL)
-        inner_slack = np.full(points, -np.inf)
-        inner_slack[maybe] = case.held_inner.least_slack(dirs[maybe], -FREE_CANDIDATE_TOL)
+        maybe = outer >= -FREE_CANDIDATE_TOL
+        inner_slack = np.where(maybe, _lattice_slack(case.held_inner, cells, maybe), -np.inf)
         slacks[0].append(outer)
         slacks[1].append(inner_slack)
         outer_in, inner_in = outer >= 0, inner_slack >= 0
@@ -396,6 +397,24 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
         freest=freest,
         freest_pyramids=pyramids,  # type: ignore[arg-type]
     )
+
+
+def _lattice_slack(
+    held: Equilibria, cells: LatticeCells, where: np.ndarray | None = None
+) -> np.ndarray:
+    """:meth:`Equilibria.least_slack` at every lattice direction (floor
+    ``-FREE_CANDIDATE_TOL``), exact wherever it lies within ``FREE_CANDIDATE_TOL`` of 0 (all
+    that the map compares it with): whole cells of the lattice beyond that band on either
+    side are decided by one bound each (:mod:`kcheck.mechanics.lattice_cells`). ``where``:
+    only those directions need an answer."""
+    floor = -FREE_CANDIDATE_TOL
+    if held.kind != "cone" or not len(held.a):
+        return held.least_slack(cells.fine, floor)
+    slack, open_ = bounded_slack(held.a, held.c, cells, floor, FREE_CANDIDATE_TOL, where)
+    slack[open_] = held.least_slack(cells.fine[open_], floor)
+    if where is not None:
+        slack[~where] = -np.inf
+    return slack
 
 
 def _free_depth(sets: list[Equilibria], dirs: np.ndarray) -> np.ndarray:
