@@ -69,6 +69,8 @@ Outcome = Literal["jams", "holds", "moves", "swept", "undetermined"]
 
 #: Directions measured exactly first, for a lower bound of the freest direction's depth.
 FREE_SAMPLE = 64
+#: Absolute guard on per-cell bounds of unit-vector products against rounding (1e-16).
+CELL_GUARD = 1e-12
 
 
 # --- from a scene to its statics ------------------------------------------------------------
@@ -381,7 +383,7 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
         ("circumscribed", [c.held for c in analysis.cases if c.determined], slacks[0]),
         ("inscribed", [c.held_inner for c in analysis.cases if c.determined], slacks[1]),
     ):
-        best = _freest(sets, dirs, slack)  # type: ignore[arg-type]
+        best = _freest(sets, cells, slack)  # type: ignore[arg-type]
         if best is not None:
             freest, pyramids = dirs[best], kind
             break
@@ -433,7 +435,7 @@ def _free_depth(sets: list[Equilibria], dirs: np.ndarray) -> np.ndarray:
     return depth
 
 
-def _freest(sets: list[Equilibria], dirs: np.ndarray, slacks: list[np.ndarray]) -> int | None:
+def _freest(sets: list[Equilibria], cells: LatticeCells, slacks: list[np.ndarray]) -> int | None:
     """The index of the direction :func:`_free_depth` puts deepest (the first of equals) when
     its depth is positive and finite, else None — computed exactly on a few directions only.
 
@@ -444,6 +446,7 @@ def _freest(sets: list[Equilibria], dirs: np.ndarray, slacks: list[np.ndarray]) 
     """
     from kcheck.mechanics.arcs import cap_geometry
 
+    dirs = cells.fine
     cones = [h for h in sets if h.kind == "cone" and len(h.a)]
     if any(h.kind == "everywhere" for h in sets) or not cones:
         return None  # -pi everywhere, or inf everywhere (nothing held): neither counts
@@ -460,10 +463,26 @@ def _freest(sets: list[Equilibria], dirs: np.ndarray, slacks: list[np.ndarray]) 
             ratio, axes, radius = cap_geometry(held.a, held.c)
             bound = np.cos(np.minimum(radius + floor, np.pi)) + FREE_CANDIDATE_TOL
             bound = np.where(ratio >= 1.0, np.inf, np.where(ratio <= -1.0, -np.inf, bound))
-            deeper = np.any(dirs[candidates] @ axes.T <= bound, axis=1)
-            candidates = candidates[deeper]
+            candidates = candidates[_any_below(cells, candidates, axes, bound)]
     depth = _free_depth(sets, dirs[candidates])
     best = int(np.argmax(depth))
     if depth[best] > 0 and np.isfinite(depth[best]):
         return int(candidates[best])
     return None
+
+
+def _any_below(
+    cells: LatticeCells, candidates: np.ndarray, axes: np.ndarray, bound: np.ndarray
+) -> np.ndarray:
+    """Per candidate lattice direction ``d``, whether ``axes_f . d <= bound_f`` for some ``f``
+    (axes unit or zero): decided per cell where its centre's values, give or take the cell's
+    radius, decide every member alike; direction by direction elsewhere."""
+    width = cells.radius[:, None] * np.linalg.norm(axes, axis=1) + CELL_GUARD
+    at_centre = cells.coarse @ axes.T
+    every = np.any(at_centre + width <= bound, axis=1)
+    none = np.all(at_centre - width > bound, axis=1)
+    owner = cells.owner[candidates]
+    below = every[owner]
+    open_ = np.flatnonzero(~below & ~none[owner])
+    below[open_] = np.any(cells.fine[candidates[open_]] @ axes.T <= bound, axis=1)
+    return below
