@@ -33,6 +33,7 @@ import numpy as np
 
 from kcheck.mechanics.arcs import FULL, ArcSet, affine_arcs
 from kcheck.mechanics.cones import FACET_TOL, cone_facets, essential_rows
+from kcheck.mechanics.csc import Csc
 from kcheck.mechanics.dynamics import friction_directions
 from kcheck.mechanics.kinematics import Frame, wrenches
 from kcheck.numerics.arrays import unique_rows
@@ -385,7 +386,32 @@ def _contact_axes(statics: Statics, keep: np.ndarray) -> tuple[np.ndarray, np.nd
     return axes, columns
 
 
+# The last few conic programmes and their answers: the jamming check decides the design
+# direction at the scene's friction after the least holding friction solved the same one.
+_RECENT: dict[bytes, tuple[np.ndarray, float] | None] = {}
+RECENT_SOLVES = 16
+
+
 def _solve_conic(
+    columns: np.ndarray, wrench: np.ndarray, mu: np.ndarray, shrink: np.ndarray | None
+) -> tuple[np.ndarray, float] | None:
+    """:func:`_solve_conic_anew`, or its answer to the same programme when that is one of the
+    last RECENT_SOLVES (the solver is deterministic: the same answer)."""
+    parts = [np.ascontiguousarray(x, float) for x in (columns, wrench, mu)]
+    if shrink is not None:
+        parts.append(np.ascontiguousarray(shrink, float))
+    key = b"|".join([repr(columns.shape).encode(), *(x.tobytes() for x in parts)])
+    if key in _RECENT:
+        found = _RECENT[key]
+        return None if found is None else (found[0].copy(), found[1])
+    found = _solve_conic_anew(columns, wrench, mu, shrink)
+    if len(_RECENT) >= RECENT_SOLVES:
+        del _RECENT[next(iter(_RECENT))]
+    _RECENT[key] = None if found is None else (found[0].copy(), found[1])
+    return found
+
+
+def _solve_conic_anew(
     columns: np.ndarray, wrench: np.ndarray, mu: np.ndarray, shrink: np.ndarray | None
 ) -> tuple[np.ndarray, float] | None:
     """Forces in the contacts' axes (k, 3) balancing ``wrench`` with ``|f_t| <= mu f_n``; or,
@@ -421,44 +447,10 @@ def _solve_conic(
     settings = clarabel.DefaultSettings()
     settings.verbose = False
     solver = clarabel.DefaultSolver(
-        _Csc.empty(size), cost, _Csc.of(np.vstack([equal, cone_rows])), rhs, cones, settings
+        Csc.empty(size), cost, Csc.of(np.vstack([equal, cone_rows])), rhs, cones, settings
     )
     solution = solver.solve()
     if str(solution.status) not in ("Solved", "AlmostSolved"):
         return None
     x = np.asarray(solution.x)
     return x[: 3 * k].reshape(k, 3), float(x[-1]) if extra else 0.0
-
-
-@dataclass(frozen=True)
-class _Csc:
-    """A compressed-sparse-column matrix as clarabel reads it (the attributes of scipy's
-    ``csc_matrix``): the same nonzeros in the same order as ``csc_matrix(dense)``, without
-    scipy's validation, which cost more than clarabel's solve."""
-
-    shape: tuple[int, int]
-    indptr: np.ndarray
-    indices: np.ndarray
-    data: np.ndarray
-    format: str = "csc"
-    has_canonical_format: bool = True
-    has_sorted_indices: bool = True
-
-    @property
-    def nnz(self) -> int:
-        """Stored nonzeros."""
-        return len(self.data)
-
-    @classmethod
-    def of(cls, dense: np.ndarray) -> _Csc:
-        """The nonzeros of ``dense`` by column, rows ascending within each."""
-        cols, rows = np.nonzero(dense.T)
-        indptr = np.zeros(dense.shape[1] + 1, np.int64)
-        np.cumsum(np.bincount(cols, minlength=dense.shape[1]), out=indptr[1:])
-        return cls(dense.shape, indptr, rows.astype(np.int64), dense.T[cols, rows])
-
-    @classmethod
-    def empty(cls, size: int) -> _Csc:
-        """The ``size`` x ``size`` zero matrix."""
-        zero = np.zeros(0, np.int64)
-        return cls((size, size), np.zeros(size + 1, np.int64), zero, np.zeros(0))
