@@ -35,7 +35,7 @@ from kcheck.mechanics.arcs import FULL, ArcSet, affine_arcs
 from kcheck.mechanics.cones import FACET_TOL, cone_facets, essential_rows
 from kcheck.mechanics.csc import Csc
 from kcheck.mechanics.dynamics import friction_directions
-from kcheck.mechanics.kinematics import Frame, wrenches
+from kcheck.mechanics.kinematics import Frame, cross3, wrenches
 from kcheck.numerics.arrays import unique_rows
 from kcheck.numerics.thresholds import EPS, SAME_FACET
 
@@ -146,9 +146,9 @@ def tangent_frames(normals: np.ndarray) -> np.ndarray:
     if normals.shape[1] == 2:
         return np.stack([-normals[:, 1], normals[:, 0]], axis=-1)[:, None, :]
     helper = np.where(np.abs(normals[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
-    t1 = np.cross(normals, helper)
+    t1 = cross3(normals, helper)
     t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
-    return np.stack([t1, np.cross(normals, t1)], axis=1)
+    return np.stack([t1, cross3(normals, t1)], axis=1)
 
 
 def friction_edges(
