@@ -2,10 +2,17 @@
 
 Run: ``python benchmarks/bench_jamming.py`` (medians of repeated runs, warm). Prints the tables
 recorded in docs/performance.md.
+
+``python benchmarks/bench_jamming.py --paired [--baseline main] [--count 30] [--rounds 3]``:
+the jamming check of this tree against a baseline commit in the same run (issue 24), rounds
+alternating baseline / new, each a fresh process (:mod:`bench_speed`'s ``git archive``
+extraction), CPU per scene on the spatial fixtures with a load and ``--count`` generated
+spatial scenes; prints medians and new / baseline.
 """
 
 from __future__ import annotations
 
+import json
 import statistics
 import subprocess
 import sys
@@ -135,9 +142,99 @@ def import_times() -> None:
         print(f"| import {module} | {1e3 * statistics.median(runs):.0f} ms |")
 
 
+PAIRED_WORKER = r"""
+import json, sys, time
+from pathlib import Path
+import kcheck
+from kcheck.body.mass import body_mass_properties
+from kcheck.plugin import Inputs
+from kcheck.scene import load_scene
+from kcheck_checks.jamming import Jamming
+
+sys.path.append(TESTS)
+from spatial_scenes import write_spatial_scenes
+assert kcheck.__file__.startswith(EXPECT), kcheck.__file__
+sets = {"fixtures": [Path(ROOT) / "fixtures" / f for f in FIXTURES]}
+sets["generated"] = write_spatial_scenes(Path(TMP), range(COUNT))
+out = {}
+check = Jamming()
+for name, paths in sets.items():
+    scenes = [load_scene(p) for p in paths]
+    scenes = [s for s in scenes if s.load is not None and s.load.direction is not None]
+    inputs = [
+        Inputs(s, body_mass_properties(s.body, s.scale),
+               check.options(**s.check_options.get(check.id, {})))
+        for s in scenes
+    ]
+    [check.run(i) for i in inputs]  # warm-up (lazy imports, caches)
+    start = time.process_time()
+    [check.run(i) for i in inputs]
+    out[name] = (time.process_time() - start) / len(inputs)
+print(json.dumps(out))
+"""
+
+
+def paired(baseline: str, count: int, rounds: int) -> None:
+    """The jamming check of this tree against ``baseline``, alternating fresh processes."""
+    import os
+    import tempfile
+
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from bench_speed import FIXTURES
+
+    print(f"load average before: {os.getloadavg()}")
+    samples: dict[str, dict[str, list[float]]] = {"baseline": {}, "new": {}}
+    with tempfile.TemporaryDirectory() as tmp:
+        base = Path(tmp) / "baseline"
+        base.mkdir()
+        archive = subprocess.run(
+            ["git", "archive", baseline], cwd=ROOT, capture_output=True, check=True
+        ).stdout
+        subprocess.run(["tar", "-x", "-C", str(base)], input=archive, check=True)
+        for _ in range(rounds):
+            for label, tree in (("baseline", base), ("new", None)):
+                env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+                expect = str(ROOT / "kcheck")
+                if tree is not None:
+                    env["PYTHONPATH"] = os.pathsep.join([str(tree), str(tree / "plugins")])
+                    expect = str(tree / "kcheck")
+                folder = Path(tmp) / label
+                folder.mkdir(exist_ok=True)
+                header = (
+                    f"TESTS = {str(ROOT / 'tests')!r}\nROOT = {str(ROOT)!r}\n"
+                    f"FIXTURES = {FIXTURES!r}\nTMP = {str(folder)!r}\nCOUNT = {count}\n"
+                    f"EXPECT = {expect!r}\n"
+                )
+                run = subprocess.run(
+                    [sys.executable, "-c", header + PAIRED_WORKER],
+                    capture_output=True, text=True, env=env, cwd=folder,
+                )  # fmt: skip
+                if run.returncode:
+                    raise SystemExit(run.stderr)
+                for key, value in json.loads(run.stdout.strip().splitlines()[-1]).items():
+                    samples[label].setdefault(key, []).append(value)
+    print(f"load average after: {os.getloadavg()}")
+    print(f"| scenes | jamming, baseline ({baseline}) | new | new / baseline |")
+    print("| --- | --- | --- | --- |")
+    for key in samples["new"]:
+        old = statistics.median(samples["baseline"][key])
+        new = statistics.median(samples["new"][key])
+        print(f"| {key} | {old * 1e3:.1f} ms | {new * 1e3:.1f} ms | {new / old:.2f} |")
+
+
 if __name__ == "__main__":
+    import argparse
     import os
 
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--paired", action="store_true")
+    parser.add_argument("--baseline", default="main")
+    parser.add_argument("--count", type=int, default=30)
+    parser.add_argument("--rounds", type=int, default=3)
+    args = parser.parse_args()
+    if args.paired:
+        paired(args.baseline, args.count, args.rounds)
+        raise SystemExit
     print(f"load average {os.getloadavg()[0]:.2f}")
     check_cost()
     print()

@@ -27,6 +27,7 @@ import numpy as np
 
 from kcheck.mechanics.arcs import ArcSet, complement, intersect, positive_arc
 from kcheck.mechanics.kinematics import FreeTwist, free_twist
+from kcheck.mechanics.lattice_cells import LatticeCells, bounded_slack, lattice_cells
 from kcheck.mechanics.least_friction import (
     friction_candidates,
     least_friction,
@@ -68,6 +69,8 @@ Outcome = Literal["jams", "holds", "moves", "swept", "undetermined"]
 
 #: Directions measured exactly first, for a lower bound of the freest direction's depth.
 FREE_SAMPLE = 64
+#: Absolute guard on per-cell bounds of unit-vector products against rounding (1e-16).
+CELL_GUARD = 1e-12
 
 
 # --- from a scene to its statics ------------------------------------------------------------
@@ -341,9 +344,10 @@ class JamMap:
 def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
     """Classify ``points`` Fibonacci directions per case: one matrix product per cone."""
     from kcheck.mechanics.arcs import cap_margins
-    from kcheck.mechanics.sphere import fibonacci_sphere, grid_spacing
+    from kcheck.mechanics.sphere import grid_spacing
 
-    dirs = fibonacci_sphere(points)
+    cells = lattice_cells(points)
+    dirs = cells.fine
     held_any = np.zeros(points, bool)
     inner_any = np.zeros(points, bool)
     closing_all = np.ones(points, bool)
@@ -355,12 +359,11 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
         if not case.determined:
             continue
         assert case.held_inner is not None
-        outer = case.held.least_slack(dirs, -FREE_CANDIDATE_TOL)
+        outer = _lattice_slack(case.held, cells)
         # The inscribed pyramids hold less than the circumscribed ones (a subset): only the
         # directions the circumscribed ones hold, to far more than rounding, can be held.
-        maybe = np.flatnonzero(outer >= -FREE_CANDIDATE_TOL)
-        inner_slack = np.full(points, -np.inf)
-        inner_slack[maybe] = case.held_inner.least_slack(dirs[maybe], -FREE_CANDIDATE_TOL)
+        maybe = outer >= -FREE_CANDIDATE_TOL
+        inner_slack = np.where(maybe, _lattice_slack(case.held_inner, cells, maybe), -np.inf)
         slacks[0].append(outer)
         slacks[1].append(inner_slack)
         outer_in, inner_in = outer >= 0, inner_slack >= 0
@@ -380,7 +383,7 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
         ("circumscribed", [c.held for c in analysis.cases if c.determined], slacks[0]),
         ("inscribed", [c.held_inner for c in analysis.cases if c.determined], slacks[1]),
     ):
-        best = _freest(sets, dirs, slack)  # type: ignore[arg-type]
+        best = _freest(sets, cells, slack)  # type: ignore[arg-type]
         if best is not None:
             freest, pyramids = dirs[best], kind
             break
@@ -396,6 +399,24 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
         freest=freest,
         freest_pyramids=pyramids,  # type: ignore[arg-type]
     )
+
+
+def _lattice_slack(
+    held: Equilibria, cells: LatticeCells, where: np.ndarray | None = None
+) -> np.ndarray:
+    """:meth:`Equilibria.least_slack` at every lattice direction (floor
+    ``-FREE_CANDIDATE_TOL``), exact wherever it lies within ``FREE_CANDIDATE_TOL`` of 0 (all
+    that the map compares it with): whole cells of the lattice beyond that band on either
+    side are decided by one bound each (:mod:`kcheck.mechanics.lattice_cells`). ``where``:
+    only those directions need an answer."""
+    floor = -FREE_CANDIDATE_TOL
+    if held.kind != "cone" or not len(held.a):
+        return held.least_slack(cells.fine, floor)
+    slack, open_ = bounded_slack(held.a, held.c, cells, floor, FREE_CANDIDATE_TOL, where)
+    slack[open_] = held.least_slack(cells.fine[open_], floor)
+    if where is not None:
+        slack[~where] = -np.inf
+    return slack
 
 
 def _free_depth(sets: list[Equilibria], dirs: np.ndarray) -> np.ndarray:
@@ -414,7 +435,7 @@ def _free_depth(sets: list[Equilibria], dirs: np.ndarray) -> np.ndarray:
     return depth
 
 
-def _freest(sets: list[Equilibria], dirs: np.ndarray, slacks: list[np.ndarray]) -> int | None:
+def _freest(sets: list[Equilibria], cells: LatticeCells, slacks: list[np.ndarray]) -> int | None:
     """The index of the direction :func:`_free_depth` puts deepest (the first of equals) when
     its depth is positive and finite, else None — computed exactly on a few directions only.
 
@@ -425,6 +446,7 @@ def _freest(sets: list[Equilibria], dirs: np.ndarray, slacks: list[np.ndarray]) 
     """
     from kcheck.mechanics.arcs import cap_geometry
 
+    dirs = cells.fine
     cones = [h for h in sets if h.kind == "cone" and len(h.a)]
     if any(h.kind == "everywhere" for h in sets) or not cones:
         return None  # -pi everywhere, or inf everywhere (nothing held): neither counts
@@ -441,10 +463,26 @@ def _freest(sets: list[Equilibria], dirs: np.ndarray, slacks: list[np.ndarray]) 
             ratio, axes, radius = cap_geometry(held.a, held.c)
             bound = np.cos(np.minimum(radius + floor, np.pi)) + FREE_CANDIDATE_TOL
             bound = np.where(ratio >= 1.0, np.inf, np.where(ratio <= -1.0, -np.inf, bound))
-            deeper = np.any(dirs[candidates] @ axes.T <= bound, axis=1)
-            candidates = candidates[deeper]
+            candidates = candidates[_any_below(cells, candidates, axes, bound)]
     depth = _free_depth(sets, dirs[candidates])
     best = int(np.argmax(depth))
     if depth[best] > 0 and np.isfinite(depth[best]):
         return int(candidates[best])
     return None
+
+
+def _any_below(
+    cells: LatticeCells, candidates: np.ndarray, axes: np.ndarray, bound: np.ndarray
+) -> np.ndarray:
+    """Per candidate lattice direction ``d``, whether ``axes_f . d <= bound_f`` for some ``f``
+    (axes unit or zero): decided per cell where its centre's values, give or take the cell's
+    radius, decide every member alike; direction by direction elsewhere."""
+    width = cells.radius[:, None] * np.linalg.norm(axes, axis=1) + CELL_GUARD
+    at_centre = cells.coarse @ axes.T
+    every = np.any(at_centre + width <= bound, axis=1)
+    none = np.all(at_centre - width > bound, axis=1)
+    owner = cells.owner[candidates]
+    below = every[owner]
+    open_ = np.flatnonzero(~below & ~none[owner])
+    below[open_] = np.any(cells.fine[candidates[open_]] @ axes.T <= bound, axis=1)
+    return below

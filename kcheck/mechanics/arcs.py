@@ -25,6 +25,7 @@ __all__ = [
     "positive_arc",
     "affine_arcs",
     "intersect",
+    "intersect_single",
     "complement",
     "union",
     "contains",
@@ -94,9 +95,7 @@ def affine_arcs(
         bounded = ratio > -1.0
         half = np.arccos(np.clip(ratio[bounded], -1.0, 1.0))
         start = (np.arctan2(s[bounded], b[bounded]) - half) % TAU
-        arcs = intersect(
-            *(((float(x), float(x + 2.0 * h)),) for x, h in zip(start, half, strict=True))
-        )
+        arcs = intersect_single(start, start + 2.0 * half)
     if error is None or not arcs or arcs == FULL:
         return arcs, None
     ends = boundary_angles(arcs)
@@ -177,6 +176,27 @@ def intersect(*sets: ArcSet) -> ArcSet:
                     nxt.append((s, e))
         current = nxt
     return _from_intervals(current)
+
+
+def intersect_single(start: np.ndarray, end: np.ndarray) -> ArcSet:
+    """Intersection of single arcs ``(start_k, end_k)`` (``0 <= start < 2 pi``,
+    ``start < end <= start + 2 pi``), the same as :func:`intersect` of them, at once.
+
+    The ends (split at 2 pi, as :func:`intersect` splits them) cut [0, 2 pi] into elementary
+    intervals, each wholly inside or outside every arc; the inside ones are merged. The
+    result's ends are the same floats."""
+    if len(start) <= 1:
+        return intersect(*(((float(x), float(y)),) for x, y in zip(start, end, strict=True)))
+    wraps = end > TAU
+    cuts = np.unique(
+        np.concatenate([[0.0, TAU], start, np.where(wraps, TAU, end), end[wraps] - TAU])
+    )
+    lo, hi = cuts[:-1], cuts[1:]
+    # Per elementary interval and arc: inside the piece up to 2 pi or the piece from 0.
+    first = (start[None, :] <= lo[:, None]) & (hi[:, None] <= np.minimum(end, TAU)[None, :])
+    second = wraps[None, :] & (hi[:, None] <= (end - TAU)[None, :])
+    inside = np.all(first | second, axis=1)
+    return _from_intervals(list(zip(lo[inside].tolist(), hi[inside].tolist(), strict=True)))
 
 
 def complement(arcs: ArcSet) -> ArcSet:

@@ -95,15 +95,16 @@ def pointing(vectors: np.ndarray) -> np.ndarray | None:
 def _solve_lp(cost: np.ndarray, rows: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
     """Minimise ``cost . x`` subject to ``rows @ x <= rhs`` with clarabel; None unless solved."""
     import clarabel
-    from scipy import sparse
+
+    from kcheck.mechanics.csc import Csc
 
     settings = clarabel.DefaultSettings()
     settings.verbose = False
     n = len(cost)
     solver = clarabel.DefaultSolver(
-        sparse.csc_matrix((n, n)),
+        Csc.empty(n),
         cost,
-        sparse.csc_matrix(rows),
+        Csc.of(rows),
         rhs,
         [clarabel.NonnegativeConeT(len(rhs))],
         settings,

@@ -22,7 +22,6 @@ from kcheck.mechanics.statics import (
     Statics,
     _contact_axes,
     _solve_conic,
-    equilibrium_forces,
     tangent_frames,
 )
 from kcheck.numerics.arrays import unique
@@ -80,13 +79,14 @@ def least_friction_exactly(
     bisection below it decides). About 7 conic solves instead of bisection's 17.
     """
     scale = np.asarray(scale, float)
+    # The contacts' axes once (equilibrium_forces would rebuild them per coefficient).
+    _, columns = _contact_axes(statics, keep)
 
     def feasible(mu: float) -> bool:
-        return equilibrium_forces(statics, keep, wrench, mu * scale) is not None
+        return _solve_conic(columns, wrench, mu * scale[keep], None) is not None
 
     if feasible(0.0):
         return 0.0
-    axes, columns = _contact_axes(statics, keep)
     mu = max(upper, 1e-3)
     while (found := _solve_conic(columns, wrench, mu * scale[keep], None)) is None:
         if mu >= largest:

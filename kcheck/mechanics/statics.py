@@ -33,8 +33,9 @@ import numpy as np
 
 from kcheck.mechanics.arcs import FULL, ArcSet, affine_arcs
 from kcheck.mechanics.cones import FACET_TOL, cone_facets, essential_rows
+from kcheck.mechanics.csc import Csc
 from kcheck.mechanics.dynamics import friction_directions
-from kcheck.mechanics.kinematics import Frame, wrenches
+from kcheck.mechanics.kinematics import Frame, cross3, wrenches
 from kcheck.numerics.arrays import unique_rows
 from kcheck.numerics.thresholds import EPS, SAME_FACET
 
@@ -145,9 +146,9 @@ def tangent_frames(normals: np.ndarray) -> np.ndarray:
     if normals.shape[1] == 2:
         return np.stack([-normals[:, 1], normals[:, 0]], axis=-1)[:, None, :]
     helper = np.where(np.abs(normals[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
-    t1 = np.cross(normals, helper)
+    t1 = cross3(normals, helper)
     t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
-    return np.stack([t1, np.cross(normals, t1)], axis=1)
+    return np.stack([t1, cross3(normals, t1)], axis=1)
 
 
 def friction_edges(
@@ -385,7 +386,32 @@ def _contact_axes(statics: Statics, keep: np.ndarray) -> tuple[np.ndarray, np.nd
     return axes, columns
 
 
+# The last few conic programmes and their answers: the jamming check decides the design
+# direction at the scene's friction after the least holding friction solved the same one.
+_RECENT: dict[bytes, tuple[np.ndarray, float] | None] = {}
+RECENT_SOLVES = 16
+
+
 def _solve_conic(
+    columns: np.ndarray, wrench: np.ndarray, mu: np.ndarray, shrink: np.ndarray | None
+) -> tuple[np.ndarray, float] | None:
+    """:func:`_solve_conic_anew`, or its answer to the same programme when that is one of the
+    last RECENT_SOLVES (the solver is deterministic: the same answer)."""
+    parts = [np.ascontiguousarray(x, float) for x in (columns, wrench, mu)]
+    if shrink is not None:
+        parts.append(np.ascontiguousarray(shrink, float))
+    key = b"|".join([repr(columns.shape).encode(), *(x.tobytes() for x in parts)])
+    if key in _RECENT:
+        found = _RECENT[key]
+        return None if found is None else (found[0].copy(), found[1])
+    found = _solve_conic_anew(columns, wrench, mu, shrink)
+    if len(_RECENT) >= RECENT_SOLVES:
+        del _RECENT[next(iter(_RECENT))]
+    _RECENT[key] = None if found is None else (found[0].copy(), found[1])
+    return found
+
+
+def _solve_conic_anew(
     columns: np.ndarray, wrench: np.ndarray, mu: np.ndarray, shrink: np.ndarray | None
 ) -> tuple[np.ndarray, float] | None:
     """Forces in the contacts' axes (k, 3) balancing ``wrench`` with ``|f_t| <= mu f_n``; or,
@@ -394,7 +420,6 @@ def _solve_conic(
     :func:`kcheck.mechanics.least_friction.least_friction_exactly`), and ``s``. None unless clarabel
     solves it."""
     import clarabel
-    from scipy import sparse
 
     k, n = len(mu), len(wrench)
     extra = 0 if shrink is None else 1
@@ -422,12 +447,7 @@ def _solve_conic(
     settings = clarabel.DefaultSettings()
     settings.verbose = False
     solver = clarabel.DefaultSolver(
-        sparse.csc_matrix((size, size)),
-        cost,
-        sparse.csc_matrix(np.vstack([equal, cone_rows])),
-        rhs,
-        cones,
-        settings,
+        Csc.empty(size), cost, Csc.of(np.vstack([equal, cone_rows])), rhs, cones, settings
     )
     solution = solver.solve()
     if str(solution.status) not in ("Solved", "AlmostSolved"):

@@ -1,0 +1,67 @@
+"""Coarse-to-fine lattice tests (issue 24): the cells decide exactly what every direction's
+own evaluation decides, and the sparse matrices handed to clarabel are scipy's."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from kcheck.mechanics.arcs import TAU, intersect, intersect_single
+from kcheck.mechanics.csc import Csc
+from kcheck.mechanics.lattice_cells import bounded_slack, lattice_cells
+from kcheck.mechanics.sphere import fibonacci_sphere
+
+
+def test_cells_cover_the_lattice_with_their_largest_chord():
+    cells = lattice_cells(2000)
+    fine = fibonacci_sphere(2000)
+    assert np.array_equal(cells.fine, fine)
+    # Independent: each direction's nearest coarse direction by brute force.
+    nearest = np.argmin(np.linalg.norm(fine[:, None, :] - cells.coarse[None], axis=2), axis=1)
+    chord = np.linalg.norm(fine - cells.coarse[nearest], axis=1)
+    assert np.allclose(np.linalg.norm(fine - cells.coarse[cells.owner], axis=1), chord)
+    for cell in range(len(cells.coarse)):
+        members = cells.owner == cell
+        if np.any(members):
+            assert cells.radius[cell] == pytest.approx(chord[members].max())
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_bounded_slack_decides_as_every_direction_does(seed):
+    rng = np.random.default_rng(seed)
+    cells = lattice_cells(4000)
+    # A spherical polygon: caps about nearby axes, as a held set's facets.
+    axis = rng.normal(size=3)
+    axis /= np.linalg.norm(axis)
+    c = axis + 0.6 * rng.normal(size=(40, 3))
+    a = -np.linalg.norm(c, axis=1) * np.cos(rng.uniform(0.2, 1.2, 40))
+    exact = np.min(a + cells.fine @ c.T, axis=1)  # every direction, every facet
+    tol = 1e-9
+    slack, open_ = bounded_slack(a, c, cells, -tol, tol)
+    decided = np.setdiff1d(np.arange(len(exact)), open_)
+    assert np.all(np.isnan(slack[open_]))
+    for threshold in (-tol, 0.0, tol):
+        assert np.array_equal(slack[decided] >= threshold, exact[decided] >= threshold)
+    # Cells decide most of the sphere: only directions near the boundary stay open.
+    assert len(open_) < 0.5 * len(exact)
+
+
+def test_intersect_single_is_intersect():
+    rng = np.random.default_rng(3)
+    for trial in range(2000):
+        k = int(rng.integers(2, 10))
+        start = rng.uniform(0, TAU, k) if trial % 2 else rng.choice(rng.uniform(0, TAU, 3), k)
+        end = start + 2.0 * rng.choice([0.5, 1.5, 2.9, rng.uniform(0, np.pi)], k)
+        reference = intersect(*(((float(s), float(e)),) for s, e in zip(start, end, strict=True)))
+        assert intersect_single(start, end) == reference
+
+
+def test_csc_matches_scipy():
+    sparse = pytest.importorskip("scipy.sparse")
+    dense = np.random.default_rng(1).normal(size=(9, 13))
+    dense[dense < 0.4] = 0.0
+    ours, theirs = Csc.of(dense), sparse.csc_matrix(dense)
+    assert np.array_equal(ours.indptr, theirs.indptr)
+    assert np.array_equal(ours.indices, theirs.indices)
+    assert np.array_equal(ours.data, theirs.data)
+    assert ours.shape == theirs.shape and ours.nnz == theirs.nnz
