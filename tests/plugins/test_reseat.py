@@ -159,6 +159,22 @@ def test_picture_is_written(tmp_path: Path) -> None:
     assert motion.count("<animate ") == 2 * 3
 
 
+def test_a_lost_contact_is_linked_to_the_analysis(tmp_path: Path, cli_json) -> None:
+    """Appendix A, x3 retracted: analytical-2d says y1 loses contact (its normal force
+    -0.087 N, negative); the simulation shows y1 lift and the body reseat, and the message
+    links the two."""
+    path = _fixture_copy(tmp_path, "thesis-appendix-a", "friction: 0.1", "friction: 0.1")
+    with path.open("a", encoding="utf-8") as f:
+        f.write("checks:\n  reseat: {duration_s: 0.2}\n")
+    _, doc = cli_json(str(path), "--select", "reseat")
+    check = doc["scenes"][0]["checks"][0]
+    x3 = next(c for c in check["cases"] if c["retracted"] == "x3")
+    assert x3["outcome"] == "reseats"
+    assert x3["largest_gap_um"]["y1"] > 1.0
+    assert "retract x3: y1 lifts" in check["message"]
+    assert "as analytical-2d predicts, then the body reseats" in check["message"]
+
+
 def test_bad_option_is_a_located_input_error(cli, write_scene) -> None:
     """Options are validated like every check's: an unknown profile is exit 2, no traceback."""
     path = write_scene(
