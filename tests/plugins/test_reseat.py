@@ -285,9 +285,10 @@ def premise(c: Compared) -> str | None:
 
 #: Every support must carry at least this share of the largest seated normal force.
 SEAT_PRESSED = 0.01
-#: The share of compared cases measured on these scenes, every disagreement counted: 0.892
-#: (the issue's 0.95 is asserted on the cases without a physical reason to differ: 0.952).
-MEASURED_SHARE = 0.89
+#: The share of compared cases measured on these scenes, every disagreement counted: 0.909
+#: (0.892 before the stiffer first-motion contacts and noslip; the issue's 0.95 is asserted on
+#: the cases without a physical reason to differ).
+MEASURED_SHARE = 0.905
 
 #: Reasons a first motion may differ from the rigid analysis's class for physical reasons.
 PHYSICAL = ("Painlevé", "analytical jams within", "friction can hold", "at the resolution limit")
