@@ -14,10 +14,11 @@ from kcheck.analysis import analyse
 from kcheck.analysis.jamming_cases import analyse_jamming, held_at, jam_statics
 from kcheck.analysis.reseat import ReseatSettings, simulate
 from kcheck.body.mass import body_mass_properties
+from kcheck.result import CaseResult
 from kcheck.scene import load_scene
 from tests.plugins.reseat_scenes import random_scene
 
-__all__ = ["Compared", "compare_scene", "generated", "reason"]
+__all__ = ["Compared", "compare_scene", "generated", "reason", "unresolved"]
 
 #: Phase length for the first motion: the window ends within a few ms. Contacts four times
 #: stiffer than the check's default (0.5 ms time constant): at 2 ms a contact the analysis says
@@ -43,6 +44,7 @@ class Compared:
     mu: float
     settle_speed: float
     seat_pressed: float  # the smallest seated normal force over the largest, simulated
+    unresolved: bool = False  # the analysis itself reports the case unresolved
 
     @property
     def agrees(self) -> bool:
@@ -112,7 +114,17 @@ def compare_scene(path: Path, settings: ReseatSettings = FIRST_MOTION) -> Iterat
             float(mu.max()),
             run.settle_speed,
             _pressed(run.seat_forces),
+            unresolved(result),
         )
+
+
+def unresolved(result: CaseResult) -> bool:
+    """Whether analytical-2d/3d itself reports the case unresolved: its outcome undetermined or
+    ill-conditioned, a friction interval it could not resolve, or a kept contact whose friction
+    direction it could not determine."""
+    return result.outcome in ("undetermined", "ill_conditioned") or any(
+        key in result.details for key in ("friction_intervals_unresolved", "friction_undetermined")
+    )
 
 
 def _pressed(forces: np.ndarray | None) -> float:

@@ -204,7 +204,10 @@ def test_first_motion_agrees_with_the_analytical_outcome(tmp_path: Path) -> None
 
     Compared are the cases where the analysis's premise holds in the simulation: not
     Painlevé (the rigid equations have no unique answer), and a settled seat at rest that
-    presses every support. Every other case, and every disagreement, is written with its
+    presses every support. A case at the resolution limit is left out only when the analysis
+    itself reports it unresolved (outcome undetermined or ill-conditioned, a friction interval
+    or direction it could not resolve); every other case counts. Every other case, and every
+    disagreement, is written with its
     reason to tests/plugins/data/reseat_disagreements.json (checked against the recording;
     rewritten with KCHECK_RECORD_RESEAT=1). Measured: docs/validation.md."""
     import os
@@ -260,6 +263,8 @@ def test_first_motion_agrees_with_the_analytical_outcome(tmp_path: Path) -> None
     recorded = json.loads(DISAGREEMENTS.read_text(encoding="utf-8"))
     assert share >= MEASURED_SHARE
     assert judged_share >= 0.95
+    # Held stays held: measured 136 of 148 (not all, the issue's aim; docs/validation.md).
+    assert sum(c.simulated == "jams" for c in held) >= MEASURED_HELD
     # Every disagreement now is one the file lists with its reason.
     known = {(d["scene"], d["retracted"]) for d in recorded["disagreements"]}
     assert {(d["scene"], d["retracted"]) for d in listed} <= known
@@ -269,6 +274,11 @@ def premise(c: Compared) -> str | None:
     """Why a case is not compared, or None: the analysis's premise fails in the simulation."""
     if c.analytical == "ambiguous":
         return "not compared: Painlevé, the rigid-body equations have no unique sliding answer"
+    if c.unresolved:
+        return (
+            "not compared: the analysis itself reports the case unresolved (undetermined, "
+            "ill-conditioned, or a friction interval or direction it could not resolve)"
+        )
     if c.settle_speed > RESEAT_REST_SPEED:
         return (
             "not compared: the simulated seat is not at rest after settling for 1 s (a "
@@ -289,9 +299,14 @@ SEAT_PRESSED = 0.01
 #: (0.892 before the stiffer first-motion contacts and noslip; the issue's 0.95 is asserted on
 #: the cases without a physical reason to differ).
 MEASURED_SHARE = 0.905
+#: Compared cases `jamming` says friction holds that stay held in the simulation (of 148).
+MEASURED_HELD = 136
 
-#: Reasons a first motion may differ from the rigid analysis's class for physical reasons.
-PHYSICAL = ("Painlevé", "analytical jams within", "friction can hold", "at the resolution limit")
+#: Reasons a first motion may differ from the rigid analysis's class for physical reasons: the
+#: rigid model has no or a second consistent answer. A force near zero ("at the resolution
+#: limit") is not among them: a case is left out for resolution only when the analysis itself
+#: reports it unresolved (premise), and none of these scenes' cases is.
+PHYSICAL = ("Painlevé", "analytical jams within", "friction can hold")
 
 
 def physical(why: str) -> bool:
