@@ -69,7 +69,8 @@ def main() -> None:
         old = cpu_time(lambda s=scene, m=mass, f=mu: simulate(s, m, 0, f, before), 5)
         k = len(scene.supports)
         print(
-            f"| {folder} | {k} | {1e3 * one:.0f} ms | {1e3 * slip:.0f} ms | {1e3 * fm:.1f} ms (before: {1e3 * old:.1f} ms) | "
+            f"| {folder} | {k} | {1e3 * one:.0f} ms | {1e3 * slip:.0f} ms | "
+            f"{1e3 * fm:.1f} ms (before: {1e3 * old:.1f} ms) | "
             f"{1e3 * base:.1f} ms ({analytical.id}, all {k} cases) | {whole:.2f} s |"
         )
 
