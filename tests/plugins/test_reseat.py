@@ -299,8 +299,9 @@ SEAT_PRESSED = 0.01
 #: (0.892 before the stiffer first-motion contacts, noslip and the halved step; the issue's
 #: 0.95 is asserted on the cases without a physical reason to differ: 0.969).
 MEASURED_SHARE = 0.91
-#: Compared cases `jamming` says friction holds that stay held in the simulation (of 148).
-MEASURED_HELD = 137
+#: Compared cases `jamming` says friction holds that stay held in the simulation: 137 of 148
+#: measured, one case of margin (as MEASURED_SHARE's) for another platform's MuJoCo build.
+MEASURED_HELD = 136
 
 #: Reasons a first motion may differ from the rigid analysis's class for physical reasons: the
 #: rigid model has no or a second consistent answer. A force near zero ("at the resolution
