@@ -4,12 +4,17 @@ One retraction case, 1 s simulated (0.5 s retract + 0.5 s return, plus the 0.1 s
 the default time step 1e-4 s, CPU time (``time.process_time``, median of 5 after a warm-up)
 of :func:`kcheck.analysis.reseat.simulate`, paired with the `analytical-2d` check's whole run
 on the same scene (every case at the instant of retraction). Then the whole `reseat` check
-(every case, at the time step and at half of it). Scenes: the Appendix A block (planar, 3
-supports) and the Maxwell three-vee (spatial, 6 supports). Run from the project's root.
+(every case, at the time step and at half of it). Also one case at 1 s simulated with MuJoCo's
+noslip pass on (10 iterations), and one first-motion run of the agreement test
+(tests/plugins/reseat_agreement.py: 50 ms phase, 0.5 ms contacts, noslip, no return) paired
+with the run it replaced (2 ms contacts, no noslip, with the return). Scenes:
+the Appendix A block (planar, 3 supports) and the Maxwell three-vee (spatial, 6 supports).
+Run from the project's root.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import statistics
 import sys
 import time
@@ -48,6 +53,9 @@ def cpu_time(work: Callable[[], object], repeats: int) -> float:
 def main() -> None:
     """Print the table rows (docs/performance.md)."""
     settings = settings_of(ReseatOptions())
+    noslip = dataclasses.replace(settings, noslip_iterations=10)
+    first = dataclasses.replace(noslip, duration=0.05, time_constant=5e-4)
+    before = dataclasses.replace(settings, duration=0.05)  # the agreement test's run before
     for folder, name, analytical in SCENES:
         scene = load_scene(ROOT / "fixtures" / folder / name)
         assert scene.body is not None
@@ -56,10 +64,14 @@ def main() -> None:
         one = cpu_time(lambda s=scene, m=mass, f=mu: simulate(s, m, 0, f, settings), 5)
         base = cpu_time(lambda s=scene, m=mass, a=analytical: a().run(Inputs(s, m, a.options())), 5)
         whole = cpu_time(lambda s=scene, m=mass: Reseat().run(Inputs(s, m, ReseatOptions())), 1)
+        slip = cpu_time(lambda s=scene, m=mass, f=mu: simulate(s, m, 0, f, noslip), 5)
+        fm = cpu_time(lambda s=scene, m=mass, f=mu: simulate(s, m, 0, f, first, returns=False), 5)
+        old = cpu_time(lambda s=scene, m=mass, f=mu: simulate(s, m, 0, f, before), 5)
         k = len(scene.supports)
         print(
-            f"| {folder} | {k} | {1e3 * one:.0f} ms | {1e3 * base:.1f} ms "
-            f"({analytical.id}, all {k} cases) | {whole:.2f} s |"
+            f"| {folder} | {k} | {1e3 * one:.0f} ms | {1e3 * slip:.0f} ms | "
+            f"{1e3 * fm:.1f} ms (before: {1e3 * old:.1f} ms) | "
+            f"{1e3 * base:.1f} ms ({analytical.id}, all {k} cases) | {whole:.2f} s |"
         )
 
 

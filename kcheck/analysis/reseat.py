@@ -70,7 +70,8 @@ class ReseatSettings:
     constant; ``ramp``: the load falls to zero when the support backs off and rises linearly to
     full over the first half of phase 1), duration of each phase (s), time step (s), contact
     time constant (s) and damping ratio (MuJoCo ``solref``), impedance (``solimp``), seat
-    tolerance (m, on the largest contact-point displacement)."""
+    tolerance (m, on the largest contact-point displacement), and MuJoCo's noslip iterations
+    (0: off; on, a sticking contact does not creep in the soft friction cone)."""
 
     retraction: float = 1e-4
     profile: str = "step"
@@ -80,6 +81,7 @@ class ReseatSettings:
     damping_ratio: float = 1.0
     impedance: float = 0.99
     tolerance: float = 1e-6
+    noslip_iterations: int = 0
 
 
 @dataclass(frozen=True)
@@ -194,6 +196,7 @@ def scene_xml(
     return (
         "<mujoco>"
         f'<option timestep="{dt!r}" gravity="{_fmt(gravity)}" cone="elliptic" '
+        f'noslip_iterations="{settings.noslip_iterations}" '
         'integrator="implicitfast" iterations="100" tolerance="1e-12">'
         '<flag refsafe="disable"/></option>'
         '<default><geom contype="0" conaffinity="0"/></default>'
@@ -239,8 +242,11 @@ def simulate(
     friction: np.ndarray,
     settings: ReseatSettings,
     dt: float | None = None,
+    returns: bool = True,
 ) -> ReseatRun:
-    """Simulate one retraction case (settle, retract, return) and measure it."""
+    """Simulate one retraction case (settle, retract, return) and measure it. With
+    ``returns`` False the return is not simulated (the first motion alone: the seat error and
+    times then describe the end of phase 1)."""
     import mujoco
 
     dt = settings.time_step if dt is None else dt
@@ -333,7 +339,8 @@ def simulate(
     start = len(rows) - 1
     run(n_phase, 0.0)
     end1 = len(rows) - 1
-    run(n_phase, n_phase * dt, support=backed)
+    if returns:
+        run(n_phase, n_phase * dt, support=backed)
 
     time = np.array([row[0] for row in rows])
     centres = np.array([row[1] for row in rows])
@@ -390,7 +397,7 @@ def simulate(
             settings,
             accel,
         ),
-        steps=int(len(starts) * n_settle + 2 * n_phase),
+        steps=int(len(starts) * n_settle + (2 if returns else 1) * n_phase),
         settle_speed=settle_speed,
         seat_forces=seated_forces,
     )

@@ -159,6 +159,22 @@ def test_picture_is_written(tmp_path: Path) -> None:
     assert motion.count("<animate ") == 2 * 3
 
 
+def test_a_lost_contact_is_linked_to_the_analysis(tmp_path: Path, cli_json) -> None:
+    """Appendix A, x3 retracted: analytical-2d says y1 loses contact (its normal force
+    -0.087 N, negative); the simulation shows y1 lift and the body reseat, and the message
+    links the two."""
+    path = _fixture_copy(tmp_path, "thesis-appendix-a", "friction: 0.1", "friction: 0.1")
+    with path.open("a", encoding="utf-8") as f:
+        f.write("checks:\n  reseat: {duration_s: 0.2}\n")
+    _, doc = cli_json(str(path), "--select", "reseat")
+    check = doc["scenes"][0]["checks"][0]
+    x3 = next(c for c in check["cases"] if c["retracted"] == "x3")
+    assert x3["outcome"] == "reseats"
+    assert x3["largest_gap_um"]["y1"] > 1.0
+    assert "retract x3: y1 lifts" in check["message"]
+    assert "as analytical-2d predicts, then the body reseats" in check["message"]
+
+
 def test_bad_option_is_a_located_input_error(cli, write_scene) -> None:
     """Options are validated like every check's: an unknown profile is exit 2, no traceback."""
     path = write_scene(
@@ -188,7 +204,10 @@ def test_first_motion_agrees_with_the_analytical_outcome(tmp_path: Path) -> None
 
     Compared are the cases where the analysis's premise holds in the simulation: not
     Painlevé (the rigid equations have no unique answer), and a settled seat at rest that
-    presses every support. Every other case, and every disagreement, is written with its
+    presses every support. A case at the resolution limit is left out only when the analysis
+    itself reports it unresolved (outcome undetermined or ill-conditioned, a friction interval
+    or direction it could not resolve); every other case counts. Every other case, and every
+    disagreement, is written with its
     reason to tests/plugins/data/reseat_disagreements.json (checked against the recording;
     rewritten with KCHECK_RECORD_RESEAT=1). Measured: docs/validation.md."""
     import os
@@ -244,6 +263,8 @@ def test_first_motion_agrees_with_the_analytical_outcome(tmp_path: Path) -> None
     recorded = json.loads(DISAGREEMENTS.read_text(encoding="utf-8"))
     assert share >= MEASURED_SHARE
     assert judged_share >= 0.95
+    # Held stays held: measured 137 of 148 (not all, the issue's aim; docs/validation.md).
+    assert sum(c.simulated == "jams" for c in held) >= MEASURED_HELD
     # Every disagreement now is one the file lists with its reason.
     known = {(d["scene"], d["retracted"]) for d in recorded["disagreements"]}
     assert {(d["scene"], d["retracted"]) for d in listed} <= known
@@ -253,6 +274,11 @@ def premise(c: Compared) -> str | None:
     """Why a case is not compared, or None: the analysis's premise fails in the simulation."""
     if c.analytical == "ambiguous":
         return "not compared: Painlevé, the rigid-body equations have no unique sliding answer"
+    if c.unresolved:
+        return (
+            "not compared: the analysis itself reports the case unresolved (undetermined, "
+            "ill-conditioned, or a friction interval or direction it could not resolve)"
+        )
     if c.settle_speed > RESEAT_REST_SPEED:
         return (
             "not compared: the simulated seat is not at rest after settling for 1 s (a "
@@ -269,12 +295,19 @@ def premise(c: Compared) -> str | None:
 
 #: Every support must carry at least this share of the largest seated normal force.
 SEAT_PRESSED = 0.01
-#: The share of compared cases measured on these scenes, every disagreement counted: 0.892
-#: (the issue's 0.95 is asserted on the cases without a physical reason to differ: 0.952).
-MEASURED_SHARE = 0.89
+#: The share of compared cases measured on these scenes, every disagreement counted: 0.914
+#: (0.892 before the stiffer first-motion contacts, noslip and the halved step; the issue's
+#: 0.95 is asserted on the cases without a physical reason to differ: 0.969).
+MEASURED_SHARE = 0.91
+#: Compared cases `jamming` says friction holds that stay held in the simulation: 137 of 148
+#: measured, one case of margin (as MEASURED_SHARE's) for another platform's MuJoCo build.
+MEASURED_HELD = 136
 
-#: Reasons a first motion may differ from the rigid analysis's class for physical reasons.
-PHYSICAL = ("Painlevé", "analytical jams within", "friction can hold", "at the resolution limit")
+#: Reasons a first motion may differ from the rigid analysis's class for physical reasons: the
+#: rigid model has no or a second consistent answer. A force near zero ("at the resolution
+#: limit") is not among them: a case is left out for resolution only when the analysis itself
+#: reports it unresolved (premise), and none of these scenes' cases is.
+PHYSICAL = ("Painlevé", "analytical jams within", "friction can hold")
 
 
 def physical(why: str) -> bool:

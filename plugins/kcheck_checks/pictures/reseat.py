@@ -59,6 +59,12 @@ def draw(check: Check, inputs: Inputs, result: CheckResult, directory: Path) -> 
         ax.legend(fontsize=7)
     axes[0].set_ylabel("gap from the seat, µm (dashed: retracted)")
     axes[0].set_title("gaps", fontsize=10)
+    axes[0].axhline(0, color=colours.FAINT, lw=0.8)
+    # A negative gap is the soft contact pressed deeper than in the settled seat (penetration).
+    axes[0].text(
+        0.01, 0.01, "below 0: pressed deeper than in the seat (soft-contact penetration)",
+        transform=axes[0].transAxes, fontsize=7, color=colours.FAINT, va="bottom",
+    )  # fmt: skip
     axes[1].set_ylabel("normal force, N")
     axes[1].set_title("contact forces", fontsize=10)
     _trajectory(axes[2], trace.reference, trace.time, scene.kind == "planar")
