@@ -394,7 +394,14 @@ class Analytical3D(Check):
         result = spatial_result(self.id, inputs.scene, analysis, options)[0]
 
         def passes(scene: Scene) -> bool:
-            again = spatial_result(self.id, scene, analyse(scene, mass), options)[0]
+            trial = analyse(scene, mass)
+            # Exact shortcut: a case that does not close (or an untrustworthy analysis) fails
+            # the check whatever the sphere map finds, as spatial_result keeps every case
+            # finding; only the rest need the map (a failing scene's closing-force search
+            # judged ~23 trial forces, each with a sphere map: 250-520 ms instead of 13 ms).
+            if not trial.trustworthy or case_findings(scene, trial):
+                return False
+            again = spatial_result(self.id, scene, trial, options)[0]
             return again.status == Status.PASS
 
         result = with_friction_way_out(result, inputs.scene, passes)
