@@ -45,7 +45,7 @@ def main() -> None:
         and np.array_equal(x[0].bounds, y[0].bounds)
         for x, y in zip(a, b, strict=True)
     )
-    print(f"body {len(body.faces):,} faces in {len(a)} closed bodies; same answer as before: {same}")
+    print(f"body {len(body.faces):,} faces, {len(a)} closed bodies; same answer as before: {same}")
     t = paired({"now": now, "before": before}, base, body)
     for name, what in (("now", "merged-parts finding"), ("before", "previous implementation")):
         wall, cpu = t[name]
