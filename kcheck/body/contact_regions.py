@@ -367,7 +367,10 @@ def patch_fit(
 
 
 def contact_regions(
-    base: trimesh.Trimesh, body: trimesh.Trimesh, gap: float
+    base: trimesh.Trimesh,
+    body: trimesh.Trimesh,
+    gap: float,
+    faces: tuple[Faces, Faces] | None = None,
 ) -> tuple[list[Region], float]:
     """The contact regions of ``body`` on ``base``, each with its patches fitted; and the
     deepest interpenetration found (m, ≥ 0).
@@ -375,8 +378,9 @@ def contact_regions(
     Points sampled on each mesh's triangles (at most ``3 gap`` apart, so that the touching
     point of two long facets crossing, as on tessellated pins, is not missed) within
     :data:`NEAR_GAPS` gaps of the other's surface are found; those within ``gap`` touch, the
-    others are near misses (a region's ``least_distance`` says which)."""
-    body_faces, base_faces = Faces.of(body), Faces.of(base)
+    others are near misses (a region's ``least_distance`` says which). ``faces``: the base's
+    and the body's :class:`Faces`, when the caller has them."""
+    base_faces, body_faces = faces or (Faces.of(base), Faces.of(body))
     near = _near_patches(base, body, base_faces, body_faces, gap)
     regions = []
     fits: dict[tuple[str, int], tuple[Primitive | None, list[Primitive]]] = {}
@@ -445,7 +449,10 @@ def _near_patches(
 
 
 def merged_pieces(
-    body: trimesh.Trimesh, base: trimesh.Trimesh, gap: float
+    body: trimesh.Trimesh,
+    base: trimesh.Trimesh,
+    gap: float,
+    faces: tuple[Faces, Faces] | None = None,
 ) -> list[tuple[ClosedBody, bool]]:
     """Each closed body of a body mesh made of several, and whether it looks like part of the
     base: it touches the base and sits in two or more grooves of the rest of the body file
@@ -453,28 +460,28 @@ def merged_pieces(
 
     The body is labelled once; each piece is tried on the base by distances alone, and a
     piece that touches it against only the rest's faces within reach of it (the others
-    cannot come within :data:`NEAR_GAPS` gaps), with no fitting."""
+    cannot come within :data:`NEAR_GAPS` gaps), with no fitting. ``faces``: the base's and
+    the body's :class:`Faces`, when the caller has them."""
     import trimesh
 
-    faces = Faces.of(body)
-    pieces, labels = _split(body, faces)
+    base_faces, body_faces = faces or (Faces.of(base), Faces.of(body))
+    pieces, labels = _split(body, body_faces)
     if len(pieces) < 2:
         return []
-    base_faces = Faces.of(base)
     f = np.asarray(body.faces)
     reach = NEAR_GAPS * gap
     out = []
     for k, piece in enumerate(pieces):
         mine = np.flatnonzero(labels == k)
         swallowed = False
-        if _touches(faces.subset(mine), base_faces, gap):
-            others = faces.in_box(piece.bounds[0] - reach, piece.bounds[1] + reach)
+        if _touches(body_faces.subset(mine), base_faces, gap):
+            others = body_faces.in_box(piece.bounds[0] - reach, piece.bounds[1] + reach)
             others = others[labels[others] != k]
             if len(others):
                 rest = trimesh.Trimesh(body.vertices, f[others], process=False)
                 mesh = trimesh.Trimesh(body.vertices, f[mine], process=False)
                 seated = _near_patches(
-                    rest, mesh, faces.subset(others), faces.subset(mine), gap
+                    rest, mesh, body_faces.subset(others), body_faces.subset(mine), gap
                 ).regions
                 swallowed = sum(r.least_distance <= gap for r in seated) >= 2
         out.append((piece, swallowed))

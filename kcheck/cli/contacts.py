@@ -193,7 +193,7 @@ def _mesh_field(body: Path, output: Path | None) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from kcheck.body.contact_regions import contact_regions
+    from kcheck.body.contact_regions import Faces, contact_regions
     from kcheck.body.coupling_elements import recognise
     from kcheck.body.meshio import load_mesh, not_watertight
     from kcheck.errors import MeshError
@@ -226,7 +226,8 @@ def run(args: argparse.Namespace) -> int:
 
     size = float(np.linalg.norm(np.ptp(np.vstack([base.bounds, body.bounds]), axis=0)))
     gap = args.gap * scale if args.gap is not None else CONTACT_GAP_RTOL * size
-    regions, depth = contact_regions(base, body, gap)
+    faces = (Faces.of(base), Faces.of(body))  # read once, for the finding and merged parts
+    regions, depth = contact_regions(base, body, gap, faces)
     if depth > gap:
         return fail(
             f"{args.body} and {args.base} interpenetrate by {_mm(depth, scale, units)}, more "
@@ -248,7 +249,7 @@ def run(args: argparse.Namespace) -> int:
             "or raise --gap"
         )
     found = recognise(regions, gap)
-    notes = _merged_parts(body, args.body, base, gap, scale, units)
+    notes = _merged_parts(body, args.body, base, gap, scale, units, faces)
     report = report_lines(found, scale, units) + notes
     count = found.contact_count
     problems = []
@@ -283,13 +284,13 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _merged_parts(
-    body: Any, path: Path, base: Any, gap: float, scale: float, units: str
+    body: Any, path: Path, base: Any, gap: float, scale: float, units: str, faces: Any = None
 ) -> list[str]:
     """Findings on a body mesh of several closed bodies: each named (volume, bounds), and
     whether it looks like part of the base (:func:`kcheck.body.contact_regions.merged_pieces`)."""
     from kcheck.body.contact_regions import merged_pieces
 
-    pieces = merged_pieces(body, base, gap)
+    pieces = merged_pieces(body, base, gap, faces)
     if not pieces:
         return []
     lines = [f"{path.name}: {len(pieces)} disconnected closed bodies:"]
