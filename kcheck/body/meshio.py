@@ -160,7 +160,9 @@ def _size(n: int) -> str:
     return f"{n / 2**20:.1f} MiB" if n >= 2**20 else f"{n} bytes"
 
 
-def _read(path: Path, field: FieldPath | str, max_bytes: int | None = None) -> trimesh.Trimesh:
+def _read(
+    path: Path, field: FieldPath | str, max_bytes: int | None = None, part: str | None = None
+) -> trimesh.Trimesh:
     import trimesh
 
     check_mesh_file(path, field, max_bytes)
@@ -179,7 +181,10 @@ def _read(path: Path, field: FieldPath | str, max_bytes: int | None = None) -> t
             # in the file are cast as read; NaN ones (a damaged file) would warn, and kcheck
             # never uses them.
             with np.errstate(invalid="ignore", over="ignore"):
-                mesh = _single_mesh(trimesh.load_scene(str(path), process=False))
+                scene = trimesh.load_scene(str(path), process=False)
+            mesh = _single_mesh(scene) if part is None else _named_part(scene, part)
+    except MeshError as exc:
+        raise MeshError(path, exc.message, field=field) from None
     except Exception as exc:  # trimesh raises many types for unreadable files
         if step:
             # OpenCASCADE writes its reason to the terminal and trimesh then fails to
@@ -216,6 +221,29 @@ def _single_mesh(scene: trimesh.Scene) -> trimesh.Trimesh:
     return scene.to_mesh()
 
 
+def _named_part(scene: trimesh.Scene, name: str) -> trimesh.Trimesh:
+    """The part called ``name`` in an assembly (a node's or its geometry's name: STEP,
+    glTF, 3MF), every instance of it moved by its transform and baked into one mesh;
+    MeshError listing the names there are when none is called so."""
+    import trimesh
+
+    graph = scene.graph
+    nodes = [n for n in graph.nodes_geometry if name in (n, graph[n][1])]
+    if not nodes:
+        names = sorted({str(g) for g in scene.geometry} | set(graph.nodes_geometry))
+        raise MeshError("", f"no part named `{name}`; the parts are: {', '.join(names)}")
+    meshes = []
+    for node in nodes:
+        transform, geometry = graph[node]
+        mesh = scene.geometry[geometry]
+        if isinstance(mesh, trimesh.Trimesh):
+            meshes.append(mesh.copy().apply_transform(transform))
+    if not meshes:
+        raise MeshError("", f"the part `{name}` has no triangles")
+    baked: Any = meshes[0] if len(meshes) == 1 else trimesh.util.concatenate(meshes)
+    return baked
+
+
 @contextlib.contextmanager
 def _captured_output() -> Iterator[io.StringIO]:
     """Capture what native code writes to the process's standard output and error (file
@@ -249,12 +277,18 @@ def _occ_reason(text: str) -> str:
 
 
 def load_mesh(
-    path: Path, scale: float, field: FieldPath | str, *, max_bytes: int | None = None
+    path: Path,
+    scale: float,
+    field: FieldPath | str,
+    *,
+    max_bytes: int | None = None,
+    part: str | None = None,
 ) -> trimesh.Trimesh:
     """Load a mesh file as one Trimesh scaled to metres (``scale`` metres per file unit), with
     vertices closer than ``MERGE_RTOL`` of its size merged; MeshError if it is unusable or
-    larger than ``max_bytes`` (default :data:`MAX_MESH_BYTES`)."""
-    mesh = _read(path, field, max_bytes)
+    larger than ``max_bytes`` (default :data:`MAX_MESH_BYTES`). With ``part``, only the part
+    of that name in an assembly file, placed by its transform (:func:`_named_part`)."""
+    mesh = _read(path, field, max_bytes, part)
     if not np.all(np.isfinite(mesh.vertices)):
         raise MeshError(path, "the mesh has non-finite vertex coordinates", field=field)
     with np.errstate(over="ignore"):
