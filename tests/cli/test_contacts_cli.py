@@ -361,3 +361,35 @@ def test_assembly_part_names(tmp_path, capsys):
     assert code == 2 and "no part named `lid`" in err and "plate, seat" in err
     assert main(["contacts", path, "--base-part", "seat"]) == 2
     assert "--body-part" in capsys.readouterr().err
+
+
+def test_step_assembly_with_named_parts_gives_the_two_files_scene(tmp_path, capsys):
+    # A STEP assembly of two named products in millimetres (written by tests/step_writer.py,
+    # read through the step extra, which converts to metres): the same couplings as the two
+    # STLs of the same meshes, within the float32 the conversion passes through.
+    pytest.importorskip("cascadio")
+    from step_writer import step_text
+
+    base = combine([p for c in THREE_VEE_CENTERS for p in vee(c, axis=unit([c[0], c[1], 0]))])
+    balls = [
+        trimesh.creation.icosphere(subdivisions=2, radius=R).apply_translation(c)
+        for c in THREE_VEE_CENTERS
+    ]
+    plate = trimesh.creation.box(extents=[130, 130, 6]).apply_translation([0, 0, 9])
+    body = combine([*balls, plate])
+    _write(tmp_path, base, body)
+    (tmp_path / "assembly.step").write_text(step_text([("seat", base), ("carrier", body)]))
+    two, one = tmp_path / "two.kcheck.yaml", tmp_path / "one.kcheck.yaml"
+    parts = [str(tmp_path / "base.stl"), str(tmp_path / "body.stl")]
+    assert main(["contacts", *parts, "--units", "mm", "-o", str(two)]) == 0
+    step = [str(tmp_path / "assembly.step"), "--base-part", "seat", "--body-part", "carrier"]
+    assert main(["contacts", *step, "--units", "mm", "-o", str(one)]) == 0, capsys.readouterr().err
+    assert "mesh: assembly.carrier.stl" in one.read_text()
+    a, b = _couplings(two.read_text()), _couplings(one.read_text())
+    assert len(a) == 3 and len(b) == 3
+    number = r"-?\d+\.?\d*(?:e-?\d+)?"
+    x = np.concatenate([[float(v) for v in re.findall(number, line)] for line in a])
+    y = np.concatenate([[float(v) for v in re.findall(number, line)] for line in b])
+    assert np.allclose(x, y, atol=1e-5)
+    verdicts = {k: c["status"] for k, c in _checks(one, capsys).items()}
+    assert verdicts == {k: c["status"] for k, c in _checks(two, capsys).items()}
