@@ -338,6 +338,11 @@ def test_one_assembly_file_with_named_parts_gives_the_two_files_scene(tmp_path, 
     )
     assert code == 0, capsys.readouterr().err
     assert "mesh: assembly.plate.stl" in one.read_text()
+    # init --assembly with one file writes the same scene next to the assembly.
+    assert (
+        main(["init", "--assembly", str(tmp_path / "assembly.glb"), *named, "--units", "mm"]) == 0
+    )
+    assert (tmp_path / "assembly.kcheck.yaml").read_text() == one.read_text()
     a, b = _couplings(two.read_text()), _couplings(one.read_text())
     assert len(a) == 3 and len(a) == len(b)
     numbers = [[float(x) for x in re.findall(r"-?\d+\.?\d*(?:e-?\d+)?", line)] for line in a]
