@@ -14,7 +14,7 @@ small dihedral angle.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -104,6 +104,12 @@ class Faces:
         hi = np.maximum(np.maximum(a, b), c)
         bounds = np.array([lo.min(axis=0, initial=np.inf), hi.max(axis=0, initial=-np.inf)])
         return cls(np.stack([a, b, c], axis=1), normals, lo, hi, double / 2, bounds)
+
+    def subset(self, which: np.ndarray) -> Faces:
+        """The triangles ``which`` (ids) alone."""
+        lo, hi = self.lo[which], self.hi[which]
+        bounds = np.array([lo.min(axis=0, initial=np.inf), hi.max(axis=0, initial=-np.inf)])
+        return Faces(self.triangles[which], self.normals[which], lo, hi, self.areas[which], bounds)
 
     def in_box(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """Ids of the triangles whose bounding boxes meet the box ``lo``..``hi``."""
@@ -320,18 +326,24 @@ def _smooth(
 
 def closed_bodies(mesh: trimesh.Trimesh) -> list[ClosedBody]:
     """The mesh's edge-connected bodies, each with its volume and bounds."""
+    return _split(mesh, Faces.of(mesh))[0]
+
+
+def _split(mesh: trimesh.Trimesh, faces: Faces) -> tuple[list[ClosedBody], np.ndarray]:
+    """The mesh's edge-connected bodies (volume, bounds) and the body label of each face,
+    from one labelling and per-label sums (no submeshes)."""
     f = np.asarray(mesh.faces)
     labels = _components(face_pairs(f), len(f))
-    tri = Faces.of(mesh).triangles
+    tri = faces.triangles
     per_face = np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])) / 6.0
-    out = []
-    for label in np.unique(labels):
-        faces = labels == label
-        pts = tri[faces].reshape(-1, 3)
-        out.append(
-            ClosedBody(float(per_face[faces].sum()), np.array([pts.min(axis=0), pts.max(axis=0)]))
-        )
-    return out
+    count = int(labels.max(initial=-1)) + 1
+    volume = np.bincount(labels, weights=per_face, minlength=count)
+    lo = np.full((count, 3), np.inf)
+    hi = np.full((count, 3), -np.inf)
+    np.minimum.at(lo, labels, faces.lo)
+    np.maximum.at(hi, labels, faces.hi)
+    bodies = [ClosedBody(float(volume[k]), np.array([lo[k], hi[k]])) for k in range(count)]
+    return bodies, labels
 
 
 def patch_fit(
@@ -355,7 +367,10 @@ def patch_fit(
 
 
 def contact_regions(
-    base: trimesh.Trimesh, body: trimesh.Trimesh, gap: float
+    base: trimesh.Trimesh,
+    body: trimesh.Trimesh,
+    gap: float,
+    faces: tuple[Faces, Faces] | None = None,
 ) -> tuple[list[Region], float]:
     """The contact regions of ``body`` on ``base``, each with its patches fitted; and the
     deepest interpenetration found (m, ≥ 0).
@@ -363,8 +378,48 @@ def contact_regions(
     Points sampled on each mesh's triangles (at most ``3 gap`` apart, so that the touching
     point of two long facets crossing, as on tessellated pins, is not missed) within
     :data:`NEAR_GAPS` gaps of the other's surface are found; those within ``gap`` touch, the
-    others are near misses (a region's ``least_distance`` says which)."""
-    body_faces, base_faces = Faces.of(body), Faces.of(base)
+    others are near misses (a region's ``least_distance`` says which). ``faces``: the base's
+    and the body's :class:`Faces`, when the caller has them."""
+    base_faces, body_faces = faces or (Faces.of(base), Faces.of(body))
+    near = _near_patches(base, body, base_faces, body_faces, gap)
+    regions = []
+    fits: dict[tuple[str, int], tuple[Primitive | None, list[Primitive]]] = {}
+    for region in near.regions:
+        for side, mesh, labels, patch, surface, facet in (
+            ("body", body, near.body_labels, region.body_patch, body_faces, near.body_facet),
+            ("base", base, near.base_labels, region.base_patch, base_faces, near.base_facet),
+        ):
+            key = (side, patch)
+            if key not in fits:
+                fits[key] = patch_fit(mesh, labels, patch, surface, float(facet[patch]))
+            fit, tried = fits[key]
+            setattr(region, f"{side}_fit", fit)
+            region.tried[side] = tried
+        regions.append(region)
+    return regions, near.depth
+
+
+@dataclass(frozen=True)
+class _NearPatches:
+    """The regions (not yet fitted), each side's patch labels and facet angles, the depth."""
+
+    regions: list[Region]
+    body_labels: np.ndarray
+    body_facet: np.ndarray
+    base_labels: np.ndarray
+    base_facet: np.ndarray
+    depth: float
+
+
+def _near_patches(
+    base: trimesh.Trimesh,
+    body: trimesh.Trimesh,
+    base_faces: Faces,
+    body_faces: Faces,
+    gap: float,
+) -> _NearPatches:
+    """Where the two meshes come within :data:`NEAR_GAPS` gaps, by distances alone: the
+    regions (pairs of smooth patches) with their points and least distances, unfitted."""
     reach = NEAR_GAPS * gap
     # Only the faces within reach of the other part's bounds can touch it: the patches are
     # the smooth pieces of those (a ball's cap in a groove, not the whole plate it is on).
@@ -387,46 +442,48 @@ def contact_regions(
     regions = []
     pairs, inverse = np.unique(np.column_stack([body_side, base_side]), axis=0, return_inverse=True)
     inverse = np.ravel(inverse)
-    fits: dict[tuple[str, int], tuple[Primitive | None, list[Primitive]]] = {}
     for k, (p_body, p_base) in enumerate(pairs):
         here = inverse == k
-        region = Region(int(p_body), int(p_base), points[here], float(signed[here].min()))
-        for side, mesh, labels, patch, surface, facet in (
-            ("body", body, body_labels, region.body_patch, body_faces, body_facet),
-            ("base", base, base_labels, region.base_patch, base_faces, base_facet),
-        ):
-            key = (side, patch)
-            if key not in fits:
-                fits[key] = patch_fit(mesh, labels, patch, surface, float(facet[patch]))
-            fit, tried = fits[key]
-            setattr(region, f"{side}_fit", fit)
-            region.tried[side] = tried
-        regions.append(region)
-    return regions, depth
+        regions.append(Region(int(p_body), int(p_base), points[here], float(signed[here].min())))
+    return _NearPatches(regions, body_labels, body_facet, base_labels, base_facet, depth)
 
 
 def merged_pieces(
-    body: trimesh.Trimesh, base: trimesh.Trimesh, gap: float
+    body: trimesh.Trimesh,
+    base: trimesh.Trimesh,
+    gap: float,
+    faces: tuple[Faces, Faces] | None = None,
 ) -> list[tuple[ClosedBody, bool]]:
     """Each closed body of a body mesh made of several, and whether it looks like part of the
     base: it touches the base and sits in two or more grooves of the rest of the body file
-    (the base's balls exported inside the plate's file). An empty list for a single body."""
+    (the base's balls exported inside the plate's file). An empty list for a single body.
+
+    The body is labelled once; each piece is tried on the base by distances alone, and a
+    piece that touches it against only the rest's faces within reach of it (the others
+    cannot come within :data:`NEAR_GAPS` gaps), with no fitting. ``faces``: the base's and
+    the body's :class:`Faces`, when the caller has them."""
     import trimesh
 
-    pieces = closed_bodies(body)
+    base_faces, body_faces = faces or (Faces.of(base), Faces.of(body))
+    pieces, labels = _split(body, body_faces)
     if len(pieces) < 2:
         return []
-    split = body.split(only_watertight=False)
-    base_faces = Faces.of(base)
+    f = np.asarray(body.faces)
+    reach = NEAR_GAPS * gap
     out = []
-    for piece in pieces:
-        tol = 1e-9 * float(np.ptp(piece.bounds, axis=0).max())
-        mesh = next((m for m in split if np.allclose(m.bounds, piece.bounds, atol=tol)), None)
+    for k, piece in enumerate(pieces):
+        mine = np.flatnonzero(labels == k)
         swallowed = False
-        if mesh is not None and _touches(Faces.of(mesh), base_faces, gap):
-            rest: Any = trimesh.util.concatenate([m for m in split if m is not mesh])
-            seated = contact_regions(rest, mesh, gap)[0]
-            swallowed = sum(r.least_distance <= gap for r in seated) >= 2
+        if _touches(body_faces.subset(mine), base_faces, gap):
+            others = body_faces.in_box(piece.bounds[0] - reach, piece.bounds[1] + reach)
+            others = others[labels[others] != k]
+            if len(others):
+                rest = trimesh.Trimesh(body.vertices, f[others], process=False)
+                mesh = trimesh.Trimesh(body.vertices, f[mine], process=False)
+                seated = _near_patches(
+                    rest, mesh, body_faces.subset(others), body_faces.subset(mine), gap
+                ).regions
+                swallowed = sum(r.least_distance <= gap for r in seated) >= 2
         out.append((piece, swallowed))
     return out
 

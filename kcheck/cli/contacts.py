@@ -30,8 +30,19 @@ def add_parser(sub: Any) -> None:
         "exit 1 when the contacts found are not a kinematic coupling (a line or area contact, "
         "not 6 point contacts): the report says why and no scene is written.",
     )
-    p.add_argument("base", type=Path, help="the base's mesh (STL, OBJ, ...; STEP with the extra)")
-    p.add_argument("body", type=Path, help="the body's mesh, in the same coordinates")
+    p.add_argument(
+        "base",
+        type=Path,
+        help="the base's mesh (STL, OBJ, ...; STEP with the extra), or the assembly file that "
+        "holds both parts (with --base-part and --body-part)",
+    )
+    p.add_argument("body", type=Path, nargs="?", help="the body's mesh, in the same coordinates")
+    p.add_argument(
+        "--base-part",
+        metavar="NAME",
+        help="the base's part in an assembly file (STEP, glTF, 3MF): its name there",
+    )
+    p.add_argument("--body-part", metavar="NAME", help="the body's part in an assembly file")
     p.add_argument(
         "--units", default="m", help="length unit of both files and the scene (default: m)"
     )
@@ -193,7 +204,7 @@ def _mesh_field(body: Path, output: Path | None) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from kcheck.body.contact_regions import contact_regions
+    from kcheck.body.contact_regions import Faces, contact_regions
     from kcheck.body.coupling_elements import recognise
     from kcheck.body.meshio import load_mesh, not_watertight
     from kcheck.errors import MeshError
@@ -211,11 +222,27 @@ def run(args: argparse.Namespace) -> int:
     if args.gap is not None and not (math.isfinite(args.gap) and args.gap > 0):
         return fail(f"--gap {args.gap}: expected a positive length in {units}")
     scale = LENGTH_UNITS[units]
+    parts = (getattr(args, "base_part", None), getattr(args, "body_part", None))
+    if args.body is None:
+        if None in parts:
+            return fail(
+                "give BASE and BODY files, or one assembly file with --base-part NAME and "
+                "--body-part NAME"
+            )
+        sources = ((args.base, "BASE", parts[0]), (args.base, "BODY", parts[1]))
+        # The parts by name in what is said and in the scene's command line.
+        args.base, args.body = (Path(f"{args.base}#{name}") for name in parts)
+    elif parts != (None, None):
+        return fail(
+            "--base-part and --body-part name the parts of one assembly file: give one file"
+        )
+    else:
+        sources = ((args.base, "BASE", None), (args.body, "BODY", None))
     meshes = []
-    for path, what in ((args.base, "BASE"), (args.body, "BODY")):
+    for path, what, part in sources:
         try:
             step = path.suffix.lower() in (".step", ".stp")
-            mesh = load_mesh(path, 1.0 if step else scale, what)
+            mesh = load_mesh(path, 1.0 if step else scale, what, part=part)
             if not mesh.is_watertight:
                 raise not_watertight(mesh, path, what, scale, units)
         except MeshError as exc:
@@ -226,7 +253,8 @@ def run(args: argparse.Namespace) -> int:
 
     size = float(np.linalg.norm(np.ptp(np.vstack([base.bounds, body.bounds]), axis=0)))
     gap = args.gap * scale if args.gap is not None else CONTACT_GAP_RTOL * size
-    regions, depth = contact_regions(base, body, gap)
+    faces = (Faces.of(base), Faces.of(body))  # read once, for the finding and merged parts
+    regions, depth = contact_regions(base, body, gap, faces)
     if depth > gap:
         return fail(
             f"{args.body} and {args.base} interpenetrate by {_mm(depth, scale, units)}, more "
@@ -248,7 +276,7 @@ def run(args: argparse.Namespace) -> int:
             "or raise --gap"
         )
     found = recognise(regions, gap)
-    notes = _merged_parts(body, args.body, base, gap, scale, units)
+    notes = _merged_parts(body, args.body, base, gap, scale, units, faces)
     report = report_lines(found, scale, units) + notes
     count = found.contact_count
     problems = []
@@ -268,9 +296,20 @@ def run(args: argparse.Namespace) -> int:
         print("kcheck: no scene written: " + "; ".join(problems), file=sys.stderr)
         return ExitCode.CHECKS_FAILED
     command = f"kcheck contacts {args.base} {args.body} --units {units}"
+    body_file = args.body
+    if parts[1] is not None:
+        # A scene's mesh is a file of its own: the body's part written beside the scene (in
+        # the scene's units), so that the scene checks as written.
+        folder = args.output.parent if args.output is not None else Path.cwd()
+        body_file = folder / f"{sources[1][0].stem}.{parts[1]}.stl"
+        try:
+            body.copy().apply_scale(1.0 / scale).export(body_file)
+        except OSError as exc:
+            return fail(f"cannot write the body's mesh {body_file}: {exc.strerror}")
+        print(f"kcheck: wrote the body's part `{parts[1]}` to {body_file}", file=sys.stderr)
     text = scene_text(
         found,
-        _mesh_field(args.body, args.output),
+        _mesh_field(body_file, args.output),
         scale,
         units,
         args.material,
@@ -283,13 +322,13 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _merged_parts(
-    body: Any, path: Path, base: Any, gap: float, scale: float, units: str
+    body: Any, path: Path, base: Any, gap: float, scale: float, units: str, faces: Any = None
 ) -> list[str]:
     """Findings on a body mesh of several closed bodies: each named (volume, bounds), and
     whether it looks like part of the base (:func:`kcheck.body.contact_regions.merged_pieces`)."""
     from kcheck.body.contact_regions import merged_pieces
 
-    pieces = merged_pieces(body, base, gap)
+    pieces = merged_pieces(body, base, gap, faces)
     if not pieces:
         return []
     lines = [f"{path.name}: {len(pieces)} disconnected closed bodies:"]

@@ -32,12 +32,15 @@ def add_parser(sub: Any) -> None:
     init.add_argument("--mesh", type=Path, help="the moving body's mesh (STL, OBJ, STEP, ...)")
     init.add_argument(
         "--assembly",
-        nargs=2,
+        nargs="+",
         type=Path,
-        metavar=("BASE", "BODY"),
-        help="instead of a template: the base's and the body's meshes in assembly position; "
-        "the contacts are found and fitted as `kcheck contacts BASE BODY` does",
+        metavar="FILE",
+        help="instead of a template: the base's and the body's meshes in assembly position "
+        "(BASE BODY), or one assembly file with --base-part and --body-part; the contacts are "
+        "found and fitted as `kcheck contacts` does",
     )
+    init.add_argument("--base-part", metavar="NAME", help="with --assembly FILE: the base's part")
+    init.add_argument("--body-part", metavar="NAME", help="with --assembly FILE: the body's part")
     init.add_argument(
         "--units", default="m", help="with --assembly: the meshes' length unit (default: m)"
     )
@@ -346,20 +349,25 @@ def _from_assembly(args: argparse.Namespace) -> int:
     if args.mesh is not None or args.coupling is not None:
         which = "--mesh" if args.mesh is not None else "--coupling"
         return fail(f"{which} and --assembly exclude each other: --assembly finds the coupling")
-    base, body = args.assembly
+    if len(args.assembly) > 2:
+        return fail("--assembly takes BASE BODY, or one assembly file with --base-part/--body-part")
+    base, body = (*args.assembly, None) if len(args.assembly) == 1 else args.assembly
     if args.output == "-":
         output = None
     else:
+        named = body if body is not None else base  # next to the body, or the assembly
         output = (
             Path(args.output)
             if args.output is not None
-            else body.with_name(body.stem + ".kcheck.yaml")
+            else named.with_name(named.stem + ".kcheck.yaml")
         )
         if output.exists() and not args.force:
             return fail(f"{output} exists; pass --force to overwrite it")
     found = argparse.Namespace(
         base=base,
         body=body,
+        base_part=args.base_part,
+        body_part=args.body_part,
         units=args.units,
         gap=args.gap,
         material=args.material,

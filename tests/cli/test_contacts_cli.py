@@ -307,3 +307,94 @@ def test_three_canoe_balls_scene_checks_as_the_hand_written_one(tmp_path, capsys
     found, written = _checks(scene, capsys), _checks(hand, capsys)
     assert found["analytical-3d"]["status"] == "pass"
     _close(found, written)
+
+
+def _couplings(text):
+    """The scene's couplings block (the fitted geometry), without the comments."""
+    lines = text.split("couplings:\n", 1)[1].splitlines()
+    return [line for line in lines if line.startswith("  - ")]
+
+
+def test_one_assembly_file_with_named_parts_gives_the_two_files_scene(tmp_path, capsys):
+    # The same assembly as one glTF file of two named parts, the body's vertices kept in its
+    # own frame and placed by its node's transform (a quarter turn about z and a shift): the
+    # scene must be the two STLs' one, with the body's part written beside it.
+    base, body = three_vee()
+    _write(tmp_path, base, body)
+    place = trimesh.transformations.rotation_matrix(np.pi / 2, [0, 0, 1])
+    place[:3, 3] = [7.0, -3.0, 2.0]
+    local = body.copy().apply_transform(np.linalg.inv(place))
+    scene = trimesh.Scene()
+    scene.add_geometry(base, node_name="seat", geom_name="seat")
+    scene.add_geometry(local, node_name="plate", geom_name="plate", transform=place)
+    scene.export(tmp_path / "assembly.glb")
+    two = tmp_path / "two.kcheck.yaml"
+    parts = [str(tmp_path / "base.stl"), str(tmp_path / "body.stl")]
+    assert main(["contacts", *parts, "--units", "mm", "-o", str(two)]) == 0
+    one = tmp_path / "one.kcheck.yaml"
+    named = ["--base-part", "seat", "--body-part", "plate"]
+    code = main(
+        ["contacts", str(tmp_path / "assembly.glb"), *named, "--units", "mm", "-o", str(one)]
+    )
+    assert code == 0, capsys.readouterr().err
+    assert "mesh: assembly.plate.stl" in one.read_text()
+    # init --assembly with one file writes the same scene next to the assembly.
+    assert (
+        main(["init", "--assembly", str(tmp_path / "assembly.glb"), *named, "--units", "mm"]) == 0
+    )
+    assert (tmp_path / "assembly.kcheck.yaml").read_text() == one.read_text()
+    a, b = _couplings(two.read_text()), _couplings(one.read_text())
+    assert len(a) == 3 and len(a) == len(b)
+    numbers = [[float(x) for x in re.findall(r"-?\d+\.?\d*(?:e-?\d+)?", line)] for line in a]
+    again = [[float(x) for x in re.findall(r"-?\d+\.?\d*(?:e-?\d+)?", line)] for line in b]
+    # glTF stores float32 coordinates: the fits agree within its rounding (1e-6 mm here).
+    assert np.allclose(np.concatenate(numbers), np.concatenate(again), atol=1e-5)
+    # The same verdicts (the body's mass differs in float32's last digits).
+    verdicts = {k: c["status"] for k, c in _checks(one, capsys).items()}
+    assert verdicts == {k: c["status"] for k, c in _checks(two, capsys).items()}
+
+
+def test_assembly_part_names(tmp_path, capsys):
+    base, body = three_vee()
+    scene = trimesh.Scene()
+    scene.add_geometry(base, node_name="seat", geom_name="seat")
+    scene.add_geometry(body, node_name="plate", geom_name="plate")
+    scene.export(tmp_path / "assembly.glb")
+    path = str(tmp_path / "assembly.glb")
+    code = main(["contacts", path, "--base-part", "seat", "--body-part", "lid"])
+    err = capsys.readouterr().err
+    assert code == 2 and "no part named `lid`" in err and "plate, seat" in err
+    assert main(["contacts", path, "--base-part", "seat"]) == 2
+    assert "--body-part" in capsys.readouterr().err
+
+
+def test_step_assembly_with_named_parts_gives_the_two_files_scene(tmp_path, capsys):
+    # A STEP assembly of two named products in millimetres (written by tests/step_writer.py,
+    # read through the step extra, which converts to metres): the same couplings as the two
+    # STLs of the same meshes, within the float32 the conversion passes through.
+    pytest.importorskip("cascadio")
+    from step_writer import step_text
+
+    base = combine([p for c in THREE_VEE_CENTERS for p in vee(c, axis=unit([c[0], c[1], 0]))])
+    balls = [
+        trimesh.creation.icosphere(subdivisions=2, radius=R).apply_translation(c)
+        for c in THREE_VEE_CENTERS
+    ]
+    plate = trimesh.creation.box(extents=[130, 130, 6]).apply_translation([0, 0, 9])
+    body = combine([*balls, plate])
+    _write(tmp_path, base, body)
+    (tmp_path / "assembly.step").write_text(step_text([("seat", base), ("carrier", body)]))
+    two, one = tmp_path / "two.kcheck.yaml", tmp_path / "one.kcheck.yaml"
+    parts = [str(tmp_path / "base.stl"), str(tmp_path / "body.stl")]
+    assert main(["contacts", *parts, "--units", "mm", "-o", str(two)]) == 0
+    step = [str(tmp_path / "assembly.step"), "--base-part", "seat", "--body-part", "carrier"]
+    assert main(["contacts", *step, "--units", "mm", "-o", str(one)]) == 0, capsys.readouterr().err
+    assert "mesh: assembly.carrier.stl" in one.read_text()
+    a, b = _couplings(two.read_text()), _couplings(one.read_text())
+    assert len(a) == 3 and len(b) == 3
+    number = r"-?\d+\.?\d*(?:e-?\d+)?"
+    x = np.concatenate([[float(v) for v in re.findall(number, line)] for line in a])
+    y = np.concatenate([[float(v) for v in re.findall(number, line)] for line in b])
+    assert np.allclose(x, y, atol=1e-5)
+    verdicts = {k: c["status"] for k, c in _checks(one, capsys).items()}
+    assert verdicts == {k: c["status"] for k, c in _checks(two, capsys).items()}

@@ -172,3 +172,23 @@ def test_signalling_nan_face_normals_in_a_binary_stl_are_read_without_a_warning(
         warnings.simplefilter("error")
         mesh = load_mesh(path, 1e-3, ("body", "mesh"))
     assert mesh.faces.shape == (12, 3) and np.allclose(mesh.extents, 0.01)
+
+
+def test_stl_vertex_merge_is_trimeshs():
+    # kcheck merges an STL's vertices itself (faster): the reference is trimesh's own
+    # process() on the same soup, which must give the same vertices in the same order.
+    from kcheck.body.meshio import _merge_equal
+
+    rng = np.random.default_rng(29)
+    sphere = trimesh.creation.icosphere(subdivisions=2)
+    soup = sphere.vertices[sphere.faces[rng.permutation(len(sphere.faces))]].reshape(-1, 3)
+    soup[::7] += 1e-10  # within trimesh's 1e-8 rounding: joined
+    soup = np.vstack([soup, [[5.0, 5.0, 5.0]]])  # not referenced by a face: dropped
+    faces = np.arange(len(soup) - 1).reshape(-1, 3)
+    ours = trimesh.Trimesh(soup.copy(), faces.copy(), process=False)
+    _merge_equal(ours)
+    theirs = trimesh.Trimesh(soup.copy(), faces.copy(), process=False).process()
+    assert len(ours.vertices) == len(sphere.vertices)
+    assert np.array_equal(ours.vertices, theirs.vertices)
+    assert np.array_equal(ours.faces, theirs.faces)
+    assert ours.is_watertight

@@ -1,0 +1,441 @@
+# Frozen copy of kcheck/body/contact_regions.py at 03dc445, before the merged-parts finding
+# split the body once; for benchmarks/bench_merged_parts.py (paired against the new code).
+"""Where two meshes in assembly position touch: the vertices of each within a gap of the other's
+surface, grouped into contact regions by the smooth surface patches they lie on, and each
+patch fitted with a plane, sphere, cylinder, cone or torus (:mod:`kcheck.body.surface_fit`).
+
+Lengths are in metres (meshes from :func:`kcheck.body.meshio.load_mesh`). trimesh and scipy
+are imported inside the functions. The distance of a point from a mesh is exact (point to
+triangle) where it decides whether the parts touch; the triangles near a point are found
+through a KD-tree of points sampled on each triangle no farther apart than the triangles'
+median edge, after a filter on a grid of cubes drops the points far from the other part.
+Patches are the connected components (scipy's csgraph) of the faces sharing an edge at a
+small dihedral angle.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from kcheck.body.surface_fit import Primitive, fit_surface
+from kcheck.numerics.thresholds import SMOOTH_PATCH_DEG
+
+if TYPE_CHECKING:
+    import trimesh
+
+__all__ = [
+    "Near",
+    "Faces",
+    "Region",
+    "ClosedBody",
+    "surface_distances",
+    "face_pairs",
+    "smooth_patches",
+    "closed_bodies",
+    "contact_regions",
+    "patch_fit",
+    "merged_pieces",
+]
+
+#: Most sample points per mesh for the triangle search (memory: 24 bytes each, plus the tree).
+MAX_SAMPLES = 4_000_000
+#: Points within this many gaps of the other surface are near: those beyond one gap are near
+#: misses (a gap with no contact), those inside by more than one, interpenetration.
+NEAR_GAPS = 5.0
+#: Samples of the other surface whose triangles are tried for each point.
+NEIGHBOURS = 8
+
+
+@dataclass(frozen=True)
+class Near:
+    """Vertices of one mesh near the other's surface: vertex ``index``, signed distance
+    (negative inside the other mesh), the closest point and its triangle on the other."""
+
+    index: np.ndarray
+    signed: np.ndarray
+    closest: np.ndarray
+    triangle: np.ndarray
+
+
+@dataclass
+class Region:
+    """One contact region: the smooth patch on the body and on the base that touch there,
+    the near points found (midpoints of vertex and closest point, m) and the smallest
+    signed distance between the surfaces there (m)."""
+
+    body_patch: int
+    base_patch: int
+    points: np.ndarray
+    least_distance: float
+    body_fit: Primitive | None = None
+    base_fit: Primitive | None = None
+    tried: dict[str, list[Primitive]] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class ClosedBody:
+    """One edge-connected closed body of a mesh: its volume (m³) and bounds (2×3, m)."""
+
+    volume: float
+    bounds: np.ndarray
+
+
+@dataclass(frozen=True)
+class Faces:
+    """A mesh's triangles (n, 3, 3), outward unit normals (n, 3) and per-triangle bounds
+    (n, 3 each), read once from trimesh (whose cached properties re-hash the mesh per read)."""
+
+    triangles: np.ndarray
+    normals: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    areas: np.ndarray
+    bounds: np.ndarray
+
+    @classmethod
+    def of(cls, mesh: trimesh.Trimesh) -> Faces:
+        vertices, f = np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces)
+        a, b, c = vertices[f[:, 0]], vertices[f[:, 1]], vertices[f[:, 2]]
+        cross = np.cross(b - a, c - a)
+        double = np.sqrt(np.einsum("ij,ij->i", cross, cross))
+        normals = cross / np.where(double > 0, double, 1.0)[:, None]
+        lo = np.minimum(np.minimum(a, b), c)
+        hi = np.maximum(np.maximum(a, b), c)
+        bounds = np.array([lo.min(axis=0, initial=np.inf), hi.max(axis=0, initial=-np.inf)])
+        return cls(np.stack([a, b, c], axis=1), normals, lo, hi, double / 2, bounds)
+
+    def in_box(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """Ids of the triangles whose bounding boxes meet the box ``lo``..``hi``."""
+        return np.flatnonzero(np.all((self.hi >= lo) & (self.lo <= hi), axis=1))
+
+
+def _samples(
+    faces: Faces, spacing: float, which: np.ndarray, most: int = MAX_SAMPLES
+) -> tuple[np.ndarray, np.ndarray, float]:
+    """Points on the triangles ``which`` (ids) no farther than 2 ``spacing`` from any point of
+    them (a grid, the centroid alone for a small triangle), their triangle ids, and how far
+    any point of those triangles may be from its nearest sample (the cover, m); the spacing
+    widened when more than about ``most`` points would be needed."""
+    tri = faces.triangles[which]
+    if len(tri) == 0:
+        return np.zeros((0, 3)), np.zeros(0, int), 0.0
+    area = float(faces.areas[which].sum())
+    spacing = max(spacing, float(np.sqrt(2 * area / most)))
+    # Each triangle from the corner opposite its longest edge, along its two shorter edges:
+    # a grid of n1 x n2 steps no longer than `spacing` (a long thin facet of a pin gets a row
+    # of points, not a square grid), so every point of it is within 2 `spacing` of a sample.
+    # The edge opposite each corner.
+    edges = np.stack([tri[:, 2] - tri[:, 1], tri[:, 0] - tri[:, 2], tri[:, 1] - tri[:, 0]], 1)
+    lengths = np.sqrt(np.einsum("ijk,ijk->ij", edges, edges))
+    small = lengths.max(axis=1) <= spacing
+    corners = tri[small]
+    centres = (corners[:, 0] + corners[:, 1] + corners[:, 2]) / 3
+    points = [centres]
+    ids = [which[small]]
+    # A point of a triangle is at most its farthest corner's distance from the centroid.
+    cover = float(np.sqrt(np.max(np.sum((corners - centres[:, None]) ** 2, axis=2), initial=0.0)))
+    rest = np.flatnonzero(~small)
+    if len(rest):
+        tri, lengths = tri[rest], lengths[rest]
+        start = np.argmax(lengths, axis=1)
+        order = (start[:, None] + np.arange(3)) % 3
+        tri = np.take_along_axis(tri, order[:, :, None], axis=1)
+        e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+        n1 = np.maximum(1, np.ceil(np.linalg.norm(e1, axis=1) / spacing)).astype(int)
+        n2 = np.maximum(1, np.ceil(np.linalg.norm(e2, axis=1) / spacing)).astype(int)
+        # A point of a grid cell (a triangle of sides d1, d2, d2 - d1) is within the cell's
+        # longest side of one of its corners.
+        d1, d2 = e1 / n1[:, None], e2 / n2[:, None]
+        cell = np.linalg.norm(np.stack([d1, d2, d2 - d1]), axis=2).max()
+        cover = max(cover, float(cell))
+        keys, inverse = np.unique(np.column_stack([n1, n2]), axis=0, return_inverse=True)
+        inverse = np.ravel(inverse)
+        for g, (k1, k2) in enumerate(keys):
+            here = inverse == g
+            i, j = np.meshgrid(np.arange(k1 + 1) / k1, np.arange(k2 + 1) / k2, indexing="ij")
+            keep = i + j <= 1 + 1e-12
+            u, v = i[keep], j[keep]
+            pts = (
+                tri[here, 0][:, None]
+                + u[None, :, None] * e1[here][:, None]
+                + (v[None, :, None] * e2[here][:, None])
+            )
+            points.append(pts.reshape(-1, 3))
+            ids.append(np.repeat(which[rest[here]], len(u)))
+    return np.concatenate(points), np.concatenate(ids), cover
+
+
+def _to_triangles(
+    q: np.ndarray, faces: Faces, t: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Closest points of triangles ``t`` to points ``q`` (pairwise), the distances and the
+    signed distances (from the triangle's outward normal)."""
+    import trimesh
+
+    closest = trimesh.triangles.closest_point(faces.triangles[t], q)
+    d = np.linalg.norm(q - closest, axis=1)
+    signed = np.einsum("ij,ij->i", q - closest, faces.normals[t])
+    # On an edge or a corner the face normal gives no reliable sign: a point off the face's
+    # own plane by less than its distance is outside.
+    signed = np.where(np.abs(signed) < 0.999 * d, d, np.sign(signed) * d)
+    return closest, d, signed
+
+
+def _near_voxels(points: np.ndarray, samples: np.ndarray, reach: float) -> np.ndarray:
+    """Whether each point may be within ``reach`` of a sample: its cube of side ``reach`` is
+    one of the samples' cubes or next to one (a cheap filter before the KD-tree: most points
+    of a part are far from the other part)."""
+    origin = np.minimum(points.min(axis=0), samples.min(axis=0)) - 2 * reach
+    span = np.maximum(points.max(axis=0), samples.max(axis=0)) + 2 * reach - origin
+    shape = np.floor(span / reach).astype(np.int64) + 3
+    if float(np.prod(shape.astype(float))) > 2.0**62:
+        return np.ones(len(points), bool)
+
+    def keys(x: np.ndarray) -> np.ndarray:
+        cell = np.floor((x - origin) / reach).astype(np.int64)
+        return (cell[:, 0] * shape[1] + cell[:, 1]) * shape[2] + cell[:, 2]
+
+    occupied = np.unique(keys(samples))
+    step = np.array([shape[1] * shape[2], shape[2], 1])
+    offsets = (np.stack(np.meshgrid(*[[-1, 0, 1]] * 3, indexing="ij"), -1).reshape(-1, 3)) @ step
+    around = np.unique((occupied[:, None] + offsets[None, :]).ravel())
+    return np.isin(keys(points), around)
+
+
+def surface_distances(
+    points: np.ndarray,
+    faces: Faces,
+    radius: float,
+    spacing: float,
+    exact_within: float | None = None,
+) -> Near:
+    """Distances from ``points`` (n, 3) to a mesh's surface (its ``faces``), for the points
+    within ``radius`` of it; the sign from the closest triangle's outward normal.
+
+    Each point's nearest sample (at most ``spacing`` apart) gives a triangle, and the exact
+    distance to it an upper bound. Points that may be within ``exact_within`` (default
+    ``radius``) of the surface, or inside it, are then measured exactly against the triangles
+    of their :data:`NEIGHBOURS` nearest samples; the others keep the bound, which exceeds the
+    true distance by at most the samples' cover (their nearest sample is within the cover
+    of their closest point)."""
+    from scipy.spatial import cKDTree
+
+    exact = radius if exact_within is None else exact_within
+    lo, hi = faces.bounds[0] - radius, faces.bounds[1] + radius
+    inside = np.flatnonzero(np.all((points >= lo) & (points <= hi), axis=1))
+    empty = Near(np.zeros(0, int), np.zeros(0), np.zeros((0, 3)), np.zeros(0, int))
+    if len(inside) == 0:
+        return empty
+    box = points[inside]
+    which = faces.in_box(box.min(axis=0) - radius, box.max(axis=0) + radius)
+    samples, ids, cover = _samples(faces, spacing, which)
+    if len(samples) == 0:
+        return empty
+    near = _near_voxels(box, samples, radius + cover)
+    inside, box = inside[near], box[near]
+    if len(box) == 0:
+        return empty
+    # Sliding-midpoint splits without shrinking the boxes: built and queried about twice as
+    # fast on surface samples as the default median splits, same answers.
+    tree = cKDTree(samples, balanced_tree=False, compact_nodes=False)
+    # The closest point of the surface is within `cover` of a sample: a point with no sample
+    # within radius + cover is farther than radius.
+    first, nearest = tree.query(box, k=1, distance_upper_bound=radius + cover)
+    close = np.isfinite(first)
+    inside, box, first, nearest = inside[close], box[close], first[close], nearest[close]
+    if len(box) == 0:
+        return empty
+    t = ids[nearest]
+    closest, d, signed = _to_triangles(box, faces, t)
+    again = np.flatnonzero((first - cover <= exact) | (signed < 0))
+    k = min(NEIGHBOURS, len(samples))
+    if len(again) and k > 1:
+        dist, idx = tree.query(box[again], k=k, distance_upper_bound=radius + cover)
+        # A sample farther than the bound plus the cover cannot stand for a closer triangle.
+        hit = np.isfinite(dist) & (dist <= (d[again] + cover)[:, None])
+        rows = np.broadcast_to(again[:, None], hit.shape)[hit]
+        # Unique (point, triangle) pairs, through one integer key (np.unique over rows is slow).
+        count = np.int64(len(faces.triangles))
+        key = np.unique(rows.astype(np.int64) * count + ids[idx[hit]])
+        pair_point, pair_tri = key // count, key % count
+        c2, d2, s2 = _to_triangles(box[pair_point], faces, pair_tri)
+        # The nearest triangle per point: sort by point, then distance.
+        order = np.lexsort((d2, pair_point))
+        best = order[np.r_[True, np.diff(pair_point[order]) != 0]]
+        p = pair_point[best]
+        better = d2[best] < d[p]
+        p, best = p[better], best[better]
+        closest[p], d[p], signed[p], t[p] = c2[best], d2[best], s2[best], pair_tri[best]
+    keep = d <= radius
+    return Near(inside[keep], signed[keep], closest[keep], t[keep])
+
+
+def face_pairs(faces: np.ndarray) -> np.ndarray:
+    """Pairs of faces (k, 2) sharing an edge (the same two vertex ids), from the faces'
+    vertex ids (n, 3); an edge of three or more faces chains them pairwise."""
+    f = faces.astype(np.int64)
+    first, second = f.ravel(), np.roll(f, -1, axis=1).ravel()
+    key = np.minimum(first, second) * (int(f.max(initial=0)) + 1) + np.maximum(first, second)
+    order = np.argsort(key)
+    same = key[order[1:]] == key[order[:-1]]
+    return np.column_stack([order[:-1][same] // 3, order[1:][same] // 3])
+
+
+def _components(pairs: np.ndarray, count: int) -> np.ndarray:
+    """A label per node of the graph of ``count`` nodes and edges ``pairs``."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    graph = coo_matrix((np.ones(len(pairs), bool), (pairs[:, 0], pairs[:, 1])), (count, count))
+    return np.asarray(connected_components(graph, directed=False)[1])
+
+
+def smooth_patches(mesh: trimesh.Trimesh, faces: Faces | None = None) -> np.ndarray:
+    """A patch label per face: faces joined across edges whose dihedral angle is below
+    :data:`SMOOTH_PATCH_DEG` (a tessellated ball or pin is one patch, a groove's flanks two)."""
+    return _smooth(mesh, faces or Faces.of(mesh))[0]
+
+
+def _smooth(
+    mesh: trimesh.Trimesh, faces: Faces, which: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The patch label per face (-1 for faces not in ``which``, default all), and per label
+    the largest angle between two of its faces sharing an edge (deg): the tessellation's own
+    angular step there."""
+    count = len(faces.normals)
+    which = np.arange(count) if which is None else which
+    normals = faces.normals[which]
+    pairs = face_pairs(np.asarray(mesh.faces)[which])
+    cos = np.einsum("ij,ij->i", normals[pairs[:, 0]], normals[pairs[:, 1]])
+    smooth = cos > np.cos(np.radians(SMOOTH_PATCH_DEG))
+    local = _components(pairs[smooth], len(which))
+    facet = np.zeros(int(local.max(initial=0)) + 1)
+    angle = np.degrees(np.arccos(np.clip(cos[smooth], -1.0, 1.0)))
+    np.maximum.at(facet, local[pairs[smooth, 0]], angle)
+    labels = np.full(count, -1, dtype=np.int64)
+    labels[which] = local
+    return labels, facet
+
+
+def closed_bodies(mesh: trimesh.Trimesh) -> list[ClosedBody]:
+    """The mesh's edge-connected bodies, each with its volume and bounds."""
+    f = np.asarray(mesh.faces)
+    labels = _components(face_pairs(f), len(f))
+    tri = Faces.of(mesh).triangles
+    per_face = np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])) / 6.0
+    out = []
+    for label in np.unique(labels):
+        faces = labels == label
+        pts = tri[faces].reshape(-1, 3)
+        out.append(
+            ClosedBody(float(per_face[faces].sum()), np.array([pts.min(axis=0), pts.max(axis=0)]))
+        )
+    return out
+
+
+def patch_fit(
+    mesh: trimesh.Trimesh,
+    labels: np.ndarray,
+    patch: int,
+    faces: Faces | None = None,
+    facet_deg: float | None = None,
+) -> tuple[Primitive | None, list[Primitive]]:
+    """The simplest surface fitting a patch's vertices (and every fit tried); ``facet_deg``
+    as :func:`kcheck.body.surface_fit.fit_surface` takes it."""
+    f = faces or Faces.of(mesh)
+    which = np.flatnonzero(labels == patch)
+    vertices = np.unique(np.asarray(mesh.faces)[which])
+    return fit_surface(
+        np.asarray(mesh.vertices, dtype=float)[vertices],
+        f.triangles[which].sum(axis=1) / 3,
+        f.normals[which],
+        facet_deg,
+    )
+
+
+def contact_regions(
+    base: trimesh.Trimesh, body: trimesh.Trimesh, gap: float
+) -> tuple[list[Region], float]:
+    """The contact regions of ``body`` on ``base``, each with its patches fitted; and the
+    deepest interpenetration found (m, ≥ 0).
+
+    Points sampled on each mesh's triangles (at most ``3 gap`` apart, so that the touching
+    point of two long facets crossing, as on tessellated pins, is not missed) within
+    :data:`NEAR_GAPS` gaps of the other's surface are found; those within ``gap`` touch, the
+    others are near misses (a region's ``least_distance`` says which)."""
+    body_faces, base_faces = Faces.of(body), Faces.of(base)
+    reach = NEAR_GAPS * gap
+    # Only the faces within reach of the other part's bounds can touch it: the patches are
+    # the smooth pieces of those (a ball's cap in a groove, not the whole plate it is on).
+    body_near = body_faces.in_box(base_faces.bounds[0] - reach, base_faces.bounds[1] + reach)
+    base_near = base_faces.in_box(body_faces.bounds[0] - reach, body_faces.bounds[1] + reach)
+    body_labels, body_facet = _smooth(body, body_faces, body_near)
+    base_labels, base_facet = _smooth(base, base_faces, base_near)
+    sides = []
+    for mine, near_other in ((body_faces, body_near), (base_faces, base_near)):
+        other = base_faces if mine is body_faces else body_faces
+        points, faces, _ = _samples(mine, 3 * gap, near_other)
+        near = surface_distances(points, other, reach, 3 * gap, exact_within=gap)
+        sides.append((points[near.index], faces[near.index], near))
+    (pa, fa, a), (pb, fb, b) = sides
+    depth = float(max(0.0, -min(a.signed.min(initial=0.0), b.signed.min(initial=0.0))))
+    body_side = np.concatenate([body_labels[fa], body_labels[b.triangle]])
+    base_side = np.concatenate([base_labels[a.triangle], base_labels[fb]])
+    points = np.concatenate([(pa + a.closest) / 2, (pb + b.closest) / 2])
+    signed = np.concatenate([a.signed, b.signed])
+    regions = []
+    pairs, inverse = np.unique(np.column_stack([body_side, base_side]), axis=0, return_inverse=True)
+    inverse = np.ravel(inverse)
+    fits: dict[tuple[str, int], tuple[Primitive | None, list[Primitive]]] = {}
+    for k, (p_body, p_base) in enumerate(pairs):
+        here = inverse == k
+        region = Region(int(p_body), int(p_base), points[here], float(signed[here].min()))
+        for side, mesh, labels, patch, surface, facet in (
+            ("body", body, body_labels, region.body_patch, body_faces, body_facet),
+            ("base", base, base_labels, region.base_patch, base_faces, base_facet),
+        ):
+            key = (side, patch)
+            if key not in fits:
+                fits[key] = patch_fit(mesh, labels, patch, surface, float(facet[patch]))
+            fit, tried = fits[key]
+            setattr(region, f"{side}_fit", fit)
+            region.tried[side] = tried
+        regions.append(region)
+    return regions, depth
+
+
+def merged_pieces(
+    body: trimesh.Trimesh, base: trimesh.Trimesh, gap: float
+) -> list[tuple[ClosedBody, bool]]:
+    """Each closed body of a body mesh made of several, and whether it looks like part of the
+    base: it touches the base and sits in two or more grooves of the rest of the body file
+    (the base's balls exported inside the plate's file). An empty list for a single body."""
+    import trimesh
+
+    pieces = closed_bodies(body)
+    if len(pieces) < 2:
+        return []
+    split = body.split(only_watertight=False)
+    base_faces = Faces.of(base)
+    out = []
+    for piece in pieces:
+        tol = 1e-9 * float(np.ptp(piece.bounds, axis=0).max())
+        mesh = next((m for m in split if np.allclose(m.bounds, piece.bounds, atol=tol)), None)
+        swallowed = False
+        if mesh is not None and _touches(Faces.of(mesh), base_faces, gap):
+            rest: Any = trimesh.util.concatenate([m for m in split if m is not mesh])
+            seated = contact_regions(rest, mesh, gap)[0]
+            swallowed = sum(r.least_distance <= gap for r in seated) >= 2
+        out.append((piece, swallowed))
+    return out
+
+
+def _touches(piece: Faces, base: Faces, gap: float) -> bool:
+    """Whether points sampled on ``piece`` (at most ``3 gap`` apart) come within ``gap`` of
+    ``base``'s surface."""
+    near = piece.in_box(base.bounds[0] - gap, base.bounds[1] + gap)
+    points, _, _ = _samples(piece, 3 * gap, near)
+    return len(surface_distances(points, base, gap, 3 * gap).index) > 0
