@@ -106,7 +106,7 @@ def inside(triangles: np.ndarray, points: np.ndarray) -> np.ndarray:
     """Whether each point lies inside a closed outward-wound surface (or a union of such
     parts, overlapping or not): the signed count of the triangles a ray from it crosses
     (Möller–Trumbore), the majority of three rays; only the triangles whose shadow along the
-    ray covers the point are tested."""
+    ray covers the point are tested, all points' at once."""
     points = np.asarray(points, dtype=float)
     votes = np.zeros(len(points), dtype=int)
     for ray in _RAYS:
@@ -116,19 +116,24 @@ def inside(triangles: np.ndarray, points: np.ndarray) -> np.ndarray:
         e2 = np.cross(d, e1)
         uv = np.stack([triangles @ e1, triangles @ e2], axis=-1)  # (F, 3, 2)
         lo, hi = uv.min(axis=1), uv.max(axis=1)
-        for i, p in enumerate(points):
-            pu = np.array([p @ e1, p @ e2])
-            near = np.flatnonzero(np.all((lo <= pu) & (pu <= hi), axis=1))
-            if len(near) == 0:
-                continue
-            votes[i] += int(_crossings(triangles[near], p, d) > 0)
+        pu = np.stack([points @ e1, points @ e2], axis=-1)  # (P, 2)
+        winding = np.zeros(len(points), dtype=int)
+        step = max(1, _BLOCK // max(len(triangles), 1))  # points per block of the masks
+        for k in range(0, len(points), step):
+            rows = pu[k : k + step, None, :]
+            owner, near = np.nonzero(np.all((lo <= rows) & (rows <= hi), axis=2))
+            owner += k
+            hits = _crossings(triangles[near], points[owner], d)
+            np.add.at(winding, owner, hits)
+        votes += winding > 0
     return np.asarray(votes >= 2)
 
 
-def _crossings(tri: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> int:
-    """The winding number along the ray ``origin + t direction`` (t > 0): the triangles it
-    leaves through less those it enters through (outward-wound closed parts: 1 inside one
-    part, 2 where two overlap, 0 outside)."""
+def _crossings(tri: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """Per triangle, its share of the winding number along the ray ``origin + t direction``
+    (t > 0; ``origin`` one row per triangle): +1 where the ray leaves through it, -1 where it
+    enters, 0 where it misses (outward-wound closed parts: summed, 1 inside one part, 2
+    where two overlap, 0 outside)."""
     a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
     e1, e2 = b - a, c - a
     h = np.cross(direction, e2)
@@ -141,7 +146,7 @@ def _crossings(tri: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> in
     v = inv * (q @ direction)
     t = inv * np.einsum("ij,ij->i", e2, q)
     hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
-    return int(-np.sign(det[hit]).sum())  # det = -direction · (outward normal)
+    return np.where(hit, -np.sign(det), 0.0).astype(int)  # det = -direction · (outward normal)
 
 
 def _blocks(count: int) -> list[slice]:
