@@ -181,7 +181,7 @@ def closest_on_triangles(
 
 def _closest_block(tri: np.ndarray, p: np.ndarray) -> np.ndarray:
     """Closest points (P, F, 3) of each point on each triangle, by Voronoi region."""
-    return _closest(*(tri[None, :, i, :] for i in range(3)), p[:, None, :])
+    return _closest(tri[None, :, 0, :], tri[None, :, 1, :], tri[None, :, 2, :], p[:, None, :])
 
 
 def _closest(a: np.ndarray, b: np.ndarray, c: np.ndarray, p: np.ndarray) -> np.ndarray:
