@@ -51,6 +51,36 @@ def _pss_kb(pid: int) -> int:
     return 0
 
 
+def _tree(pid: int) -> list[int]:
+    """A process and its descendants (from /proc)."""
+    children: dict[int, list[int]] = {}
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry}/stat") as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+            children.setdefault(int(fields[1]), []).append(int(entry))
+        except (OSError, IndexError, ValueError):
+            continue
+    out, todo = [], [pid]
+    while todo:
+        p = todo.pop()
+        out.append(p)
+        todo += children.get(p, [])
+    return out
+
+
+def _cpu_s(pid: int) -> float:
+    """User and system CPU seconds of one process so far (0 when it is gone)."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            fields = f.read().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except (OSError, IndexError, ValueError):
+        return 0.0
+
+
 def _tree_rss_mb(pid: int) -> float:
     """Memory of a process and its descendants, MB: the sum of their PSS (from /proc)."""
     children: dict[int, list[int]] = {}
@@ -92,13 +122,21 @@ def run(n: int, executor: list[str], chunk: int, folder: Path) -> tuple[float, l
         stdout=subprocess.DEVNULL,
     )
     peaks = [0.0, 0.0, 0.0, 0.0]
+    # CPU seconds of every process of the tree, the last sample of each: Dask's workers are
+    # not waited for by kcheck, so RUSAGE_CHILDREN misses them.
+    seen: dict[int, float] = {}
     while proc.poll() is None:
         done = len(list(parts.glob("chunk-*"))) if parts.exists() else chunks
         quarter = min(3, 4 * done // max(chunks, 1))
         peaks[quarter] = max(peaks[quarter], _tree_rss_mb(proc.pid))
+        for p in _tree(proc.pid):
+            seen[p] = max(seen.get(p, 0.0), _cpu_s(p))
         time.sleep(0.2)
     assert proc.returncode == 0, proc.returncode
-    return time.perf_counter() - start, peaks, _children_cpu_s() - cpu
+    wall = time.perf_counter() - start
+    waited = _children_cpu_s() - cpu
+    # the processes kcheck waited for are in `waited`; Dask's workers only in the samples
+    return wall, peaks, max(waited, sum(seen.values()))
 
 
 def main() -> None:
@@ -107,38 +145,54 @@ def main() -> None:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--chunk", type=int, default=64)
     ap.add_argument("--dask", type=int, default=0, help="variants for the Dask 1-vs-2 run")
+    ap.add_argument("--rounds", type=int, default=1, help="alternations of the Dask run")
+    ap.add_argument("--skip-local", action="store_true", help="only the Dask run")
     args = ap.parse_args()
     print(f"load average before: {os.getloadavg()}")
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
-        wall, peaks, cpu = run(args.variants, ["-j", str(args.jobs)], args.chunk, folder)
-        rate = args.variants / wall
-        print(
-            f"{args.variants} variants, -j {args.jobs}: {wall:.1f} s, {rate:.1f} variants/s, "
-            f"{1000 * wall / args.variants:.2f} ms per variant; 100,000 would take "
-            f"{100_000 / rate / 60:.1f} min at this rate"
-        )
-        per = cpu / args.variants
-        print(
-            f"CPU time {cpu:.1f} s = {1000 * per:.1f} ms per variant (start-up included): on "
-            f"{os.cpu_count()} idle cores 100,000 would take about "
-            f"{100_000 * per / (os.cpu_count() or 1) / 60:.1f} min"
-        )
-        print(
-            "memory (PSS) of kcheck and its workers by quarter of the run (MB): "
-            + ", ".join(f"{p:.0f}" for p in peaks)
-        )
+        if not args.skip_local:
+            wall, peaks, cpu = run(args.variants, ["-j", str(args.jobs)], args.chunk, folder)
+            rate = args.variants / wall
+            print(
+                f"{args.variants} variants, -j {args.jobs}: {wall:.1f} s, {rate:.1f} variants/s, "
+                f"{1000 * wall / args.variants:.2f} ms per variant; 100,000 would take "
+                f"{100_000 / rate / 60:.1f} min at this rate"
+            )
+            per = cpu / args.variants
+            print(
+                f"CPU time {cpu:.1f} s = {1000 * per:.1f} ms per variant (start-up included): on "
+                f"{os.cpu_count()} idle cores 100,000 would take about "
+                f"{100_000 * per / (os.cpu_count() or 1) / 60:.1f} min"
+            )
+            print(
+                "memory (PSS) of kcheck and its workers by quarter of the run (MB): "
+                + ", ".join(f"{p:.0f}" for p in peaks)
+            )
         if args.dask:
-            walls = {}
-            for workers in (1, 2):
-                walls[workers], _, _ = run(
-                    args.dask, ["--dask-local", str(workers)], args.chunk, folder
-                )
-                print(
-                    f"Dask LocalCluster, {workers} worker(s): {args.dask} variants in "
-                    f"{walls[workers]:.1f} s ({args.dask / walls[workers]:.1f} variants/s)"
-                )
-            print(f"throughput 2 workers / 1 worker: {walls[1] / walls[2]:.2f}x")
+            # paired: 1 and 2 workers alternate, `--rounds` times, so a change in the
+            # machine's load falls on both
+            walls: dict[int, list[float]] = {1: [], 2: []}
+            cpus: dict[int, list[float]] = {1: [], 2: []}
+            for _ in range(args.rounds):
+                for workers in (1, 2):
+                    w, _, c = run(args.dask, ["--dask-local", str(workers)], args.chunk, folder)
+                    walls[workers].append(w)
+                    cpus[workers].append(c)
+                    print(
+                        f"Dask LocalCluster, {workers} worker(s): {args.dask} variants in "
+                        f"{w:.1f} s ({args.dask / w:.1f} variants/s), CPU {c:.1f} s "
+                        f"({c / w:.2f} cores busy on average), load {os.getloadavg()[0]:.1f}"
+                    )
+            w1, w2 = (sum(walls[k]) for k in (1, 2))
+            c1, c2 = (sum(cpus[k]) for k in (1, 2))
+            print(f"throughput 2 workers / 1 worker (wall): {w1 / w2:.2f}x")
+            print(
+                f"CPU per variant 2 workers / 1 worker: {c2 / c1:.2f} (1.00: no Dask overhead "
+                f"from the second worker); cores busy {c1 / w1:.2f} (1 worker), {c2 / w2:.2f} "
+                f"(2 workers): on 2 idle cores the 2-worker throughput would be about "
+                f"{2 * c1 / c2:.2f}x"
+            )
     print(f"load average after: {os.getloadavg()}")
 
 

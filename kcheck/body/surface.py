@@ -73,12 +73,6 @@ def body_surface(body: Body, max_mesh_bytes: int | None = None) -> Surface | Non
     return Surface(np.concatenate(triangles), closed)
 
 
-def _box_distance(lo: np.ndarray, hi: np.ndarray, point: np.ndarray) -> np.ndarray:
-    """A lower bound of each triangle's distance (m) to a point: its bounding box's (rows of
-    ``lo`` and ``hi``)."""
-    return np.asarray(np.linalg.norm(np.maximum(np.maximum(lo - point, point - hi), 0), axis=1))
-
-
 def closest_point(triangles: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, ...]:
     """:func:`closest_on_triangles`, measuring only the triangles whose bounding box is no
     farther than the nearest vertex (the others cannot hold the closest point): for a large
@@ -89,11 +83,20 @@ def closest_point(triangles: np.ndarray, points: np.ndarray) -> tuple[np.ndarray
     q = np.zeros_like(points)
     d = np.zeros(len(points))
     f = np.zeros(len(points), dtype=int)
-    for i, p in enumerate(points):
-        nearest_vertex = float(np.sqrt(np.min(np.einsum("ij,ij->i", vertices - p, vertices - p))))
-        near = np.flatnonzero(_box_distance(lo, hi, p) <= nearest_vertex * (1 + 1e-9) + 1e-300)
-        qi, di, fi = closest_on_triangles(triangles[near], p[None])
-        q[i], d[i], f[i] = qi[0], di[0], near[fi[0]]
+    step = max(1, _BLOCK // max(len(triangles), 1))  # points per block of the (P, F) arrays
+    for k in range(0, len(points), step):
+        p = points[k : k + step]
+        to_vertex = vertices[None] - p[:, None]
+        nearest_vertex = np.sqrt(np.min(np.einsum("pij,pij->pi", to_vertex, to_vertex), axis=1))
+        box = np.linalg.norm(np.maximum(np.maximum(lo - p[:, None], p[:, None] - hi), 0), axis=2)
+        owner, near = np.nonzero(box <= nearest_vertex[:, None] * (1 + 1e-9) + 1e-300)
+        tri = triangles[near]
+        qs = _closest(tri[:, 0], tri[:, 1], tri[:, 2], p[owner])
+        ds = np.linalg.norm(qs - p[owner], axis=1)
+        for i in range(len(p)):
+            mine = np.flatnonzero(owner == i)  # in ascending face order, as one point's query
+            best = mine[np.argmin(ds[mine])]
+            q[k + i], d[k + i], f[k + i] = qs[best], ds[best], near[best]
     return q, d, f
 
 
@@ -106,7 +109,7 @@ def inside(triangles: np.ndarray, points: np.ndarray) -> np.ndarray:
     """Whether each point lies inside a closed outward-wound surface (or a union of such
     parts, overlapping or not): the signed count of the triangles a ray from it crosses
     (Möller–Trumbore), the majority of three rays; only the triangles whose shadow along the
-    ray covers the point are tested."""
+    ray covers the point are tested, all points' at once."""
     points = np.asarray(points, dtype=float)
     votes = np.zeros(len(points), dtype=int)
     for ray in _RAYS:
@@ -116,19 +119,25 @@ def inside(triangles: np.ndarray, points: np.ndarray) -> np.ndarray:
         e2 = np.cross(d, e1)
         uv = np.stack([triangles @ e1, triangles @ e2], axis=-1)  # (F, 3, 2)
         lo, hi = uv.min(axis=1), uv.max(axis=1)
-        for i, p in enumerate(points):
-            pu = np.array([p @ e1, p @ e2])
-            near = np.flatnonzero(np.all((lo <= pu) & (pu <= hi), axis=1))
-            if len(near) == 0:
-                continue
-            votes[i] += int(_crossings(triangles[near], p, d) > 0)
+        # each point's own dot products, as one point's query rounds them
+        pu = np.array([[p @ e1, p @ e2] for p in points]).reshape(-1, 2)  # (P, 2)
+        winding = np.zeros(len(points), dtype=int)
+        step = max(1, _BLOCK // max(len(triangles), 1))  # points per block of the masks
+        for k in range(0, len(points), step):
+            rows = pu[k : k + step, None, :]
+            owner, near = np.nonzero(np.all((lo <= rows) & (rows <= hi), axis=2))
+            owner += k
+            hits = _crossings(triangles[near], points[owner], d)
+            np.add.at(winding, owner, hits)
+        votes += winding > 0
     return np.asarray(votes >= 2)
 
 
-def _crossings(tri: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> int:
-    """The winding number along the ray ``origin + t direction`` (t > 0): the triangles it
-    leaves through less those it enters through (outward-wound closed parts: 1 inside one
-    part, 2 where two overlap, 0 outside)."""
+def _crossings(tri: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """Per triangle, its share of the winding number along the ray ``origin + t direction``
+    (t > 0; ``origin`` one row per triangle): +1 where the ray leaves through it, -1 where it
+    enters, 0 where it misses (outward-wound closed parts: summed, 1 inside one part, 2
+    where two overlap, 0 outside)."""
     a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
     e1, e2 = b - a, c - a
     h = np.cross(direction, e2)
@@ -141,7 +150,7 @@ def _crossings(tri: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> in
     v = inv * (q @ direction)
     t = inv * np.einsum("ij,ij->i", e2, q)
     hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
-    return int(-np.sign(det[hit]).sum())  # det = -direction · (outward normal)
+    return np.where(hit, -np.sign(det), 0.0).astype(int)  # det = -direction · (outward normal)
 
 
 def _blocks(count: int) -> list[slice]:
@@ -172,8 +181,12 @@ def closest_on_triangles(
 
 def _closest_block(tri: np.ndarray, p: np.ndarray) -> np.ndarray:
     """Closest points (P, F, 3) of each point on each triangle, by Voronoi region."""
-    a, b, c = (tri[None, :, i, :] for i in range(3))
-    p = p[:, None, :]
+    return _closest(tri[None, :, 0, :], tri[None, :, 1, :], tri[None, :, 2, :], p[:, None, :])
+
+
+def _closest(a: np.ndarray, b: np.ndarray, c: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Closest points of points ``p`` on triangles ``a b c`` (vertex arrays, ``(..., 3)``,
+    broadcast against each other), by Voronoi region (Ericson §5.1.5)."""
     ab, ac, ap = b - a, c - a, p - a
 
     def dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:

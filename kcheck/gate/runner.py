@@ -49,7 +49,8 @@ class Settings:
     address space (None: no limit; limits need workers). ``named``: the checks asked for by
     name (``select``), which run even when opt-in (``Check.default_selected`` False); an
     opt-in check otherwise runs only where the scene's ``checks:`` or ``check_options`` name it.
-    ``memo_mass`` keeps mass properties in this process's memory (a study's variants).
+    ``memo_mass`` keeps mass properties and body surfaces in this process's memory (a study's
+    variants).
     ``max_file_bytes`` is the largest scene file read (configuration ``max_file_size``),
     ``max_mesh_bytes`` the largest mesh file (``max_mesh_size``); None: the defaults.
     """
@@ -394,7 +395,9 @@ def _placement(scene: Scene, settings: Settings) -> tuple[Finding, ...]:
     from kcheck.body.surface import body_surface
 
     try:
-        surface = body_surface(scene.body, settings.max_mesh_bytes)
+        surface = _surface(scene, settings) if settings.memo_mass else None
+        if surface is None:
+            surface = body_surface(scene.body, settings.max_mesh_bytes)
     except SceneError as exc:
         where = exc.where or ("body",)
         raise scene.error(where, f"{exc.path}: {exc.message}") from exc
@@ -409,6 +412,29 @@ def _placement(scene: Scene, settings: Settings) -> tuple[Finding, ...]:
             ]
         )
     return found.warnings
+
+
+#: Body surfaces built in this process, by body key (and mesh size limit): a study's variants
+#: of one body read and place its meshes once (as their mass properties, ``memo_mass``).
+_SURFACES: dict[tuple[str, int | None], Any] = {}
+
+
+def _surface(scene: Scene, settings: Settings) -> Any:
+    """The body's surface through :data:`_SURFACES` (None: its meshes cannot be keyed; the
+    caller builds it and reports why)."""
+    from kcheck.body.surface import body_surface
+    from kcheck.gate.cache import MEMO_ENTRIES, body_key
+
+    assert scene.body is not None
+    try:
+        key = (body_key(scene.body, scene.scale), settings.max_mesh_bytes)
+    except OSError:
+        return None
+    if key not in _SURFACES:
+        if len(_SURFACES) >= MEMO_ENTRIES:
+            _SURFACES.pop(next(iter(_SURFACES)))
+        _SURFACES[key] = body_surface(scene.body, settings.max_mesh_bytes)
+    return _SURFACES[key]
 
 
 #: Codes of the error results of a scene whose worker ran out of a budget, died or crashed:

@@ -32,6 +32,9 @@ __all__ = ["Summary", "columns", "run_variants", "run_study", "summarise", "read
 
 #: Columns every table has before the parameters and figures.
 FIXED = ("variant", "status", "error")
+#: The column saying why a figure of a row is empty (a check that did not run, a case that
+#: closes at no μ), so an empty cell is never silent.
+MISSING = "figures_missing"
 
 
 def columns(study: Study, check_ids: Sequence[str]) -> list[tuple[str, str]]:
@@ -41,28 +44,53 @@ def columns(study: Study, check_ids: Sequence[str]) -> list[tuple[str, str]]:
     cols += [("status", "str"), ("error", "str")]
     cols += [(f"{c}.status", "str") for c in check_ids]
     cols += [(f, "float") for f in study.figures]
+    cols += [(MISSING, "str")]
     return cols
 
 
-def _figure(result: SceneResult, name: str) -> float | None:
-    """A figure of one check's result: ``CHECK.limiting_friction`` (the least over its
-    cases; None when a case does not close at the scene's μ), or a number among its details
-    (``CHECK.design_margin_deg``)."""
+def _figure(result: SceneResult, name: str) -> tuple[float | None, str | None]:
+    """A figure of one check's result and, when it has none, why: ``CHECK.limiting_friction``
+    (:func:`_limiting_friction`) or a number among its details (``CHECK.design_margin_deg``)."""
     check_id, key = name.split(".", 1)
     for c in result.checks:
-        if c.id != check_id or c.status not in (Status.PASS, Status.MARGINAL, Status.FAIL):
+        if c.id != check_id:
             continue
+        if c.status not in (Status.PASS, Status.MARGINAL, Status.FAIL):
+            return None, f"{check_id} {c.status.value}"
         if key == "limiting_friction":
-            # A case that does not close at the scene's μ has none: then no μ closes every
-            # case, and the least over the others would mislead.
-            mus = [k.limiting_friction for k in c.cases]
-            if not mus or any(m is None for m in mus):
-                return None
-            return float(min(m for m in mus if m is not None))
+            return _limiting_friction(c, result)
         value = c.details.get(key)
         if isinstance(value, (int, float)) and not isinstance(value, bool):
-            return float(value)
-    return None
+            return float(value), None
+        if c.status is Status.FAIL:  # a failing check's details may lack its margins
+            return None, f"{check_id} fails: {c.message.split(';')[0]}"
+        return None, f"{check_id} reports no `{key}`"
+    return None, f"{check_id} did not run" if result.status is not Status.ERROR else None
+
+
+def _limiting_friction(check: Any, result: SceneResult) -> tuple[float | None, str | None]:
+    """The least over the check's retraction cases of each case's limiting friction: the
+    upper end of the interval of μ holding the variant's μ in which the case closes or, when
+    it does not close at the variant's μ, of the nearest such interval below it (the μ the
+    variant's friction must come down to). So a failing variant has a value too, and the
+    figure depends on the geometry, not on where the variant's own μ falls (μ_lim(β) of the
+    worked example). None, with why, when a case closes for no μ up to the variant's."""
+    mu = max((float(s.get("friction") or 0.0) for s in result.supports), default=0.0)
+    limits = []
+    for k in check.cases:
+        if k.limiting_friction is not None:
+            limits.append(float(k.limiting_friction))
+            continue
+        intervals = k.details.get("friction_intervals")
+        if intervals is None:
+            return None, f"retracting `{k.retracted}` is {k.outcome}: no friction intervals"
+        below = [hi for _, hi in intervals if hi is not None and hi < mu]
+        if not below:
+            return None, f"retracting `{k.retracted}` closes for no μ up to the variant's {mu:g}"
+        limits.append(float(max(below)))
+    if not limits:
+        return None, "no retraction case"
+    return min(limits), None
 
 
 def _row(
@@ -83,8 +111,12 @@ def _row(
     by_id = {c.id: c.status.value for c in result.checks}
     for c in check_ids:
         row[f"{c}.status"] = by_id.get(c)
+    missing = []
     for f in study.figures:
-        row[f] = _figure(result, f)
+        row[f], why = _figure(result, f)
+        if row[f] is None and why is not None:
+            missing.append(f"{f}: {why}")
+    row[MISSING] = "; ".join(missing) or None
     return row
 
 
