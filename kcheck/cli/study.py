@@ -226,7 +226,9 @@ def _run_one(
     from kcheck.gate.runner import Settings
 
     selected = None if study.checks is None else frozenset(study.checks)
-    settings = Settings(selected=selected, allow_outside=True, memo_mass=True)
+    # hints=False: a study's table holds verdicts and figures, never a finding's hint, and
+    # the way-out searches cost a failing spatial variant several times its check.
+    settings = Settings(selected=selected, allow_outside=True, memo_mass=True, hints=False)
     check_ids = [c.spec.name for c in checks if selected is None or c.spec.name in selected]
     client = None
     if args.dask_local is not None or args.scheduler is not None:

@@ -50,7 +50,8 @@ class Settings:
     name (``select``), which run even when opt-in (``Check.default_selected`` False); an
     opt-in check otherwise runs only where the scene's ``checks:`` or ``check_options`` name it.
     ``memo_mass`` keeps mass properties and body surfaces in this process's memory (a study's
-    variants).
+    variants). ``hints`` False skips the way-out searches behind failing findings' hints
+    (:class:`kcheck.plugin.Inputs`; a study reads verdicts and figures only).
     ``max_file_bytes`` is the largest scene file read (configuration ``max_file_size``),
     ``max_mesh_bytes`` the largest mesh file (``max_mesh_size``); None: the defaults.
     """
@@ -69,6 +70,7 @@ class Settings:
     max_mesh_bytes: int | None = None
     plot_formats: tuple[str, ...] = ("png",)
     memo_mass: bool = False
+    hints: bool = True
 
 
 def discover(
@@ -300,7 +302,7 @@ def check_scene(
         if reason is not None:
             results.append(CheckResult(lc.spec.name, Status.SKIPPED, reason, severity=severity))
             continue
-        inputs = Inputs(scene, mass if needs_mass else None, options)
+        inputs = Inputs(scene, mass if needs_mass else None, options, hints=settings.hints)
         start = time.perf_counter()
         try:
             result = lc.check.run(inputs)

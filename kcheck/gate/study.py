@@ -323,7 +323,9 @@ def _dask_chunk(
     key = selected or ()
     if key not in _WORKER_CHECKS:
         _WORKER_CHECKS[key] = load_checks()
-    settings = Settings(selected=None if selected is None else frozenset(selected), memo_mass=True)
+    settings = Settings(
+        selected=None if selected is None else frozenset(selected), memo_mass=True, hints=False
+    )
     return run_variants(study, _WORKER_CHECKS[key], settings, start, stop, values, start)
 
 

@@ -47,11 +47,14 @@ class Options(BaseModel):
 @dataclass(frozen=True)
 class Inputs:
     """What a check receives: the scene, mass properties if it declared it needs them, and
-    its validated options."""
+    its validated options. ``hints`` False: the caller reads only verdicts and figures (a
+    study's variants), so a check may skip the searches behind a failing finding's way-out
+    hint (the least passing closing force or friction); verdicts and figures are the same."""
 
     scene: Scene
     mass: MassProperties | None
     options: Options
+    hints: bool = True
 
 
 class Check:

@@ -147,8 +147,9 @@ class Analytical2D(Check):
         def passes(scene: Scene) -> bool:
             return judged(scene, analyse(scene, mass)).status == Status.PASS
 
-        result = with_friction_way_out(result, inputs.scene, passes)
-        result = with_closing_force_way_out(result, inputs.scene, passes)
+        if inputs.hints:
+            result = with_friction_way_out(result, inputs.scene, passes)
+            result = with_closing_force_way_out(result, inputs.scene, passes)
         result = with_partial_ranges(result, analysis, inputs.scene)
         if result.error_estimate is None and analysis.trustworthy and inputs.scene.load is None:
             result = dataclasses.replace(result, error_estimate=_gravity_error_deg(analysis))

@@ -104,3 +104,46 @@ def test_without_a_preload_the_load_magnitude_is_the_closing_force(tmp_path, cli
     assert value >= MU * MASS * G
     assert _loaded(tmp_path, cli_json, value)["status"] == "pass"
     assert _loaded(tmp_path, cli_json, MU * MASS * G * 0.995)["status"] == "fail"
+
+
+@pytest.mark.parametrize("spatial", [False, True])
+def test_without_hints_the_verdict_and_figures_are_the_same(tmp_path, spatial) -> None:
+    """``Inputs.hints`` False (a study's variants) skips only the way-out searches: the same
+    status, message, margin, cases and findings, less the hints and their details."""
+    import dataclasses
+    import sys
+
+    from kcheck.body.mass import body_mass_properties
+    from kcheck.plugin import Inputs
+    from kcheck.scene import load_scene
+
+    if spatial:
+        sys.path.append(str(Path(__file__).resolve().parents[1]))
+        from spatial_scenes import write_spatial_scenes
+        from kcheck_checks.analytical_3d import Analytical3D as Check
+
+        paths = write_spatial_scenes(tmp_path, range(8))
+    else:
+        from kcheck_checks.analytical_2d import Analytical2D as Check
+
+        paths = [tmp_path / "block.kcheck.yaml"]
+        paths[0].write_text(SCENE.format(mass=MASS, g=G, mu=MU, force=0.5), encoding="utf-8")
+    check, failing = Check(), 0
+    for path in paths:
+        scene = load_scene(path)
+        if check.skip_reason(scene) is not None:
+            continue
+        inputs = Inputs(scene, body_mass_properties(scene.body, scene.scale), check.options())
+        full = check.run(inputs)
+        bare = check.run(dataclasses.replace(inputs, hints=False))
+        failing += any(f.hint and "passes with" in f.hint for f in full.findings)
+        assert _without_hints(bare.to_json()) == _without_hints(full.to_json())
+        assert not any(f.hint and "passes with" in f.hint for f in bare.findings)
+    assert failing  # the way-out search found a passing force or friction somewhere
+
+
+def _without_hints(doc: dict) -> dict:
+    """A result's JSON less run time, the way-out searches' answers and the findings' hints."""
+    out = {k: v for k, v in doc.items() if not k.startswith("passing_") and "time" not in k}
+    out["findings"] = [{k: v for k, v in f.items() if k != "hint"} for f in doc["findings"]]
+    return out
