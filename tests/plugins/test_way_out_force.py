@@ -119,8 +119,8 @@ def test_without_hints_the_verdict_and_figures_are_the_same(tmp_path, spatial) -
 
     if spatial:
         sys.path.append(str(Path(__file__).resolve().parents[1]))
-        from spatial_scenes import write_spatial_scenes
         from kcheck_checks.analytical_3d import Analytical3D as Check
+        from spatial_scenes import write_spatial_scenes
 
         paths = write_spatial_scenes(tmp_path, range(8))
     else:
