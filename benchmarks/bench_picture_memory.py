@@ -1,5 +1,6 @@
 """Peak resident memory of a worker drawing pictures, with and without recycling:
-``python benchmarks/bench_picture_memory.py [--scenes N] [--jobs J]``.
+``python benchmarks/bench_picture_memory.py [--scenes N] [--jobs J] [--fixtures GLOB]
+[--baseline-scenes M]``.
 
 N scenes (copies of the fixtures, in turn: 2D and 3D, meshes and explicit mass properties)
 are checked with ``--plots`` and ``--html`` in one ``kcheck check`` run, twice, paired in the
@@ -8,6 +9,11 @@ and with that threshold set to None (before it). Each run is a fresh process; it
 peak resident memory is ``ru_maxrss`` of its waited-for children (the largest worker's peak),
 the parent's its own ``ru_maxrss``. The two runs' JSON reports must agree (apart from run
 times): recycling changes no answer. Run it at low priority (``nice``) on a shared machine.
+
+``--fixtures planar-block`` copies only the fixtures whose folder matches the glob (cheap
+planar scenes make 1000 scenes affordable on a shared machine); ``--baseline-scenes M`` runs
+the never-recycled baseline on the first M scenes only (0: none), its growth per scene being
+what the long recycled run is bounded against; the JSON answers are then compared on those M.
 """
 
 from __future__ import annotations
@@ -41,9 +47,11 @@ print(json.dumps({"code": int(code), "worker_kib": children, "parent_kib": paren
 """
 
 
-def make_scenes(folder: Path, n: int) -> None:
-    """``n`` scene folders, copies of the fixtures in turn."""
-    fixtures = sorted(p.parent for p in (ROOT / "fixtures").glob("*/*.kcheck.yaml"))
+def make_scenes(folder: Path, n: int, pattern: str = "*") -> None:
+    """``n`` scene folders, copies of the fixtures (folders matching ``pattern``) in turn."""
+    fixtures = sorted(p.parent for p in (ROOT / "fixtures").glob(f"{pattern}/*.kcheck.yaml"))
+    if not fixtures:
+        raise SystemExit(f"no fixture folder matches {pattern!r}")
     for i in range(n):
         shutil.copytree(
             fixtures[i % len(fixtures)], folder / f"{i:04d}-{fixtures[i % len(fixtures)].name}"
@@ -114,6 +122,13 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scenes", type=int, default=200, help="number of scenes (default 200)")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    parser.add_argument("--fixtures", default="*", help="glob of fixture folders (default *)")
+    parser.add_argument(
+        "--baseline-scenes",
+        type=int,
+        default=None,
+        help="scenes of the never-recycled baseline (default: as many; 0: no baseline)",
+    )
     args = parser.parse_args()
     from kcheck.gate.pool import RECYCLE_RSS_BYTES
 
@@ -122,29 +137,43 @@ def main() -> None:
         f"{datetime.date.today()}; {platform.processor() or platform.machine()}, "
         f"{os.cpu_count()} cores; Python {platform.python_version()}; load average "
         f"{os.getloadavg()[0]:.2f}; {args.scenes} scenes, --jobs {args.jobs}, "
-        f"--plots and --html; recycling threshold {fixed} MiB"
+        f"--plots and --html; fixtures {args.fixtures}; recycling threshold {fixed} MiB"
     )
+    base_n = args.scenes if args.baseline_scenes is None else args.baseline_scenes
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         scenes = work / "scenes"
         scenes.mkdir()
-        make_scenes(scenes, args.scenes)
+        make_scenes(scenes, args.scenes, args.fixtures)
         # The mass-property cache warmed once, so both runs do the same work.
         subprocess.run(
             [sys.executable, "-m", "kcheck", "check", str(scenes), "-q", "--cache-dir",
              str(work / "cache"), "--jobs", str(args.jobs)],
             capture_output=True,
         )  # fmt: skip
-        rows = [("recycled (the fix)", run(scenes, work, fixed, args.jobs))]
-        rows.append(("never recycled (before)", run(scenes, work, "none", args.jobs)))
-        difference = first_difference(answers(rows[0][1]["report"]), answers(rows[1][1]["report"]))
-    print("| workers | peak RSS of a worker | parent's peak RSS | wall | exit |")
-    print("| --- | --- | --- | --- | --- |")
-    for name, r in rows:
+        rows = [("recycled (the fix)", args.scenes, run(scenes, work, fixed, args.jobs))]
+        difference = None
+        if base_n:
+            few = scenes
+            if base_n != args.scenes:
+                few = work / "baseline-scenes"
+                few.mkdir()
+                make_scenes(few, base_n, args.fixtures)
+            rows.append(("never recycled (before)", base_n, run(few, work, "none", args.jobs)))
+            if base_n == args.scenes:
+                difference = first_difference(
+                    answers(str(rows[0][2]["report"])), answers(str(rows[1][2]["report"]))
+                )
+    print("| workers | scenes | peak RSS of a worker | parent's peak RSS | wall | exit |")
+    print("| --- | ---: | --- | --- | --- | --- |")
+    for name, n, r in rows:
         print(
-            f"| {name} | {r['worker']:.0f} MiB | {r['parent']:.0f} MiB | {r['wall']:.0f} s "
+            f"| {name} | {n} | {r['worker']:.0f} MiB | {r['parent']:.0f} MiB | {r['wall']:.0f} s "
             f"| {r['code']} |"
         )
+    if len(rows) == 1 or base_n != args.scenes:
+        print("same JSON answers in both runs: not compared (different scene counts)")
+        return
     print(f"same JSON answers in both runs: {difference is None}")
     if difference is not None:
         raise SystemExit(f"the answers differ at {difference}")

@@ -199,6 +199,13 @@ class CaseResult:
         return out
 
 
+#: How the message of a check that could not run for want of input begins ("not checked:
+#: material of v1's ball unknown", "not checked, because ..."): status ``skipped``, but unlike
+#: a check that does not apply (``n/a``) it says what to supply. Reports print it as "not
+#: checked" with its reason (:attr:`CheckResult.not_checked`).
+NOT_CHECKED = "not checked"
+
+
 @dataclass(frozen=True)
 class CheckResult:
     """Result of one check on one scene.
@@ -228,6 +235,12 @@ class CheckResult:
         object.__setattr__(self, "cases", tuple(self.cases))
         object.__setattr__(self, "findings", tuple(self.findings))
         object.__setattr__(self, "suppressed", tuple(self.suppressed))
+
+    @property
+    def not_checked(self) -> bool:
+        """Skipped for want of input (its message says what to supply: :data:`NOT_CHECKED`),
+        as opposed to a check that does not apply to the scene."""
+        return self.status is Status.SKIPPED and self.message.startswith(NOT_CHECKED)
 
     def to_json(self) -> dict[str, Any]:
         """JSON form; fields the check has no use for are omitted."""

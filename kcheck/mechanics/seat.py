@@ -43,6 +43,7 @@ __all__ = [
     "contact_forces",
     "stiffness_matrix",
     "tangential_stiffness_matrix",
+    "directed_stiffness_matrix",
     "twist_from_approach",
     "point_translation",
     "point_compliance",
@@ -169,6 +170,27 @@ def tangential_stiffness_matrix(
             t = t[:dim] / np.linalg.norm(t[:dim])
             w = wrenches(points[i : i + 1], t[None, :])[0]
             total += k_t * np.outer(w, w)
+    s = seat.scale()
+    return total * s[:, None] * s[None, :]
+
+
+def directed_stiffness_matrix(
+    seat: Seat, positions: np.ndarray, directions: np.ndarray, stiffness: np.ndarray
+) -> np.ndarray:
+    """The stiffness matrix (n, n) of springs ``stiffness`` (N/m) at ``positions`` along given
+    unit ``directions`` (k, 3), SI like :func:`stiffness_matrix`: ``sum_i k_i w_i w_i^T`` with
+    ``w_i`` the wrench of direction ``i`` (a ring contact's tangents: across and along its
+    line, each with its own stiffness). Zero stiffness adds nothing."""
+    frame, dim = seat.frame, seat.dim
+    total = np.zeros((seat.rows.shape[1],) * 2)
+    points = frame.point(np.asarray(positions, float))
+    d = np.asarray(directions, float)
+    for i, k in enumerate(np.asarray(stiffness, float)):
+        if k == 0.0:
+            continue
+        t = d[i, :dim] / np.linalg.norm(d[i, :dim])
+        w = wrenches(points[i : i + 1], t[None, :])[0]
+        total += k * np.outer(w, w)
     s = seat.scale()
     return total * s[:, None] * s[None, :]
 

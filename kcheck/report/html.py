@@ -37,7 +37,7 @@ def _e(text: object) -> str:
 
 
 def _badge(word: str) -> str:
-    css = "na" if word == "n/a" else word
+    css = "na" if word in ("n/a", "not checked") else word
     return f'<span class="badge {css}">{_e(word)}</span>'
 
 
@@ -97,11 +97,11 @@ def _reasons(check: CheckResult) -> str:
 
 def _check(scene: SceneResult, check: CheckResult, pictures: list[tuple[str, str]]) -> str:
     word = views.verdict(check)
-    css = "na" if word == "n/a" else word
+    css = "na" if word in ("n/a", "not checked") else word
     if check.status is Status.SKIPPED:
         return (
             f'<article class="check na"><h3>{_badge(word)} {_e(check.id)}'
-            f' <span class="muted small">{_e(check.message)}</span></h3></article>'
+            f' <span class="muted small">{_e(views.message(check))}</span></h3></article>'
         )
     parts = [f'<article class="check {css}" id="{_e(scene.path)}::{_e(check.id)}">']
     parts.append(f"<h3>{_badge(word)} {_e(check.id)}</h3>")

@@ -16,7 +16,14 @@ from typing import TYPE_CHECKING, TextIO
 
 from kcheck.fmt import format_number, format_percent, format_share
 from kcheck.report.issues import CollectingReporter, Issue, clean_text, summary_line
-from kcheck.report.views import GOOD_OUTCOMES, headline, margin_figure, margin_text, verdict
+from kcheck.report.views import (
+    GOOD_OUTCOMES,
+    headline,
+    margin_figure,
+    margin_text,
+    skipped_counts,
+    verdict,
+)
 from kcheck.result import SceneResult, Status
 
 if TYPE_CHECKING:
@@ -57,9 +64,7 @@ def _checks_cell(scene: SceneResult) -> str:
         if c.status is not Status.SKIPPED:
             # A failed check of severity warning warns: ⚠️, as the text says "warn".
             parts.append(f"{escape(c.id)} {MARK[Status(verdict(c))].split(' ')[0]}")
-    skipped = sum(1 for c in scene.checks if c.status is Status.SKIPPED)
-    if skipped:
-        parts.append(f"{skipped} n/a")
+    parts += [escape(p) for p in skipped_counts(scene.checks)]
     return ", ".join(parts)
 
 
@@ -73,12 +78,20 @@ def _issue_line(issue: Issue) -> str:
     return line
 
 
+def _not_checked(scene: SceneResult, indent: str = "") -> list[str]:
+    """One list item per check not checked for want of input, with its reason (what to
+    supply): ``- **hertz** not checked: material of v1's ball unknown ...``."""
+    return [
+        f"{indent}- **{escape(c.id)}** {escape(c.message)}" for c in scene.checks if c.not_checked
+    ]
+
+
 def _numbers(scene: SceneResult) -> list[str]:
     """The numbers a reviewer needs for a scene that did not pass, one list item per check
     that failed or warned: its design margin, the smallest safe share, the stress
     utilisation, and per case that does not close its outcome and limiting μ (the way out
     is in the failure lines' hints)."""
-    out = []
+    out = _not_checked(scene)
     for check in scene.checks:
         word = verdict(check)
         if word not in ("fail", "warn", "marginal"):
@@ -141,6 +154,7 @@ class MarkdownReporter(CollectingReporter):
             if self.total <= MAX_TABLE_ROWS:  # as the table: a long batch lists no passing scene
                 said = headline(result)
                 self.passing.append(f"- ✅ {name}" + (f" — {escape(said)}" if said else ""))
+                self.passing += _not_checked(result, "  ")
         elif result.checks and len(self.numbers) < MAX_TABLE_ROWS:
             lines = _numbers(result)
             if lines:

@@ -16,6 +16,7 @@ import re
 from collections.abc import Sequence
 from typing import Any, TextIO
 
+from rich.cells import cell_len, chop_cells
 from rich.console import Console
 from rich.padding import Padding
 from rich.table import Table
@@ -35,6 +36,7 @@ STYLE = {
     "fail": "bold red",
     "error": "bold magenta",
     "n/a": "dim",
+    "not checked": "yellow",
 }
 OUTCOME_STYLE = {o: "green" for o in views.GOOD_OUTCOMES} | {"swept": "cyan"}
 # Width of a console that never wraps (pipes, files): lines stay whole.
@@ -98,17 +100,60 @@ def _indented(console: Console, text: Text, indent: int) -> None:
     console.print(Padding(text, (0, 0, 0, indent), expand=False))
 
 
+#: Blanks a line never breaks at: between a number and its unit (``0.0866 N``, ``4.2 GPa``,
+#: ``28.8 %``) and in a relation with a number (``μ = 0.122``, ``N = -0.0866``).
+_GLUED = re.compile(
+    r"(?<=\d) (?=[A-Za-zµμ°%Ω][\w·/^²³µμ°%]{0,7}(?!\w))|(?<=[=≤≥<>≈~]) (?=[-−+]?\d)"
+    r"|(?<=\w) (?=[=≤≥≈] [-−+]?\d)"
+)
+
+
+def wrap_offsets(text: str, width: int) -> list[int]:
+    """Offsets at which to break ``text`` into lines of at most ``width`` cells: at blanks,
+    never at a glued one (:data:`_GLUED`); a word wider than ``width`` is cut."""
+    glued = {m.start() for m in _GLUED.finditer(text)}
+    # Tokens: runs of characters up to and including a breakable blank.
+    tokens: list[tuple[int, int]] = []
+    start = 0
+    for i, ch in enumerate(text):
+        if ch == " " and i not in glued and (i + 1 < len(text) and text[i + 1] != " "):
+            tokens.append((start, i + 1))
+            start = i + 1
+    tokens.append((start, len(text)))
+    breaks: list[int] = []
+    line = 0
+    for a, b in tokens:
+        size = cell_len(text[a:b].rstrip(" "))
+        if line and line + size > width:
+            breaks.append(a)
+            line = 0
+        while size > width:  # a word wider than the line: cut it
+            cut = a + len(chop_cells(text[a:b], width)[0])
+            breaks.append(cut)
+            a, size = cut, cell_len(text[cut:b].rstrip(" "))
+        line += cell_len(text[a:b])
+    return breaks
+
+
+def _wrapped(right: Text, width: int) -> list[Text]:
+    """``right`` in lines of at most ``width`` cells (:func:`wrap_offsets`), blanks at the
+    breaks taken off."""
+    lines = right.divide(wrap_offsets(right.plain, max(width, 10))) if right.plain else [right]
+    for line in lines:
+        line.rstrip()
+    return list(lines)
+
+
 def _hanging(console: Console, indent: int, left: Text, right: Text) -> None:
-    """``left`` then ``right``; on a terminal, lines of ``right`` that wrap start under it."""
+    """``left`` then ``right``; on a terminal, lines of ``right`` that wrap start under it,
+    never between a number and its unit."""
     if console.width >= UNWRAPPED:
         console.print(Text(" " * indent).append_text(left).append_text(right))
         return
     left = Text(" " * indent).append_text(left)
-    grid = Table.grid(padding=0, pad_edge=False)
-    grid.add_column(no_wrap=True)
-    grid.add_column()
-    grid.add_row(left, right)
-    console.print(grid)
+    pad = " " * left.cell_len
+    for i, line in enumerate(_wrapped(right, console.width - left.cell_len)):
+        console.print((left.copy() if i == 0 else Text(pad)).append_text(line), soft_wrap=True)
 
 
 def _word(word: str) -> Text:
@@ -177,7 +222,7 @@ def _check_line(console: Console, scene: SceneResult, check: CheckResult) -> Non
     """The verdict of one check, then why (findings and hints) and where checks disagree."""
     word = views.verdict(check)
     line = Text(check.id, style="bold")
-    line.append(f"  {check.message}")
+    line.append(f"  {views.message(check)}")
     for limit in views.limitations(check):
         line.append(f" ({limit})", style="yellow")
     _hanging(console, 2, _word(word).append(" "), line)
@@ -263,9 +308,11 @@ def render_scene(
         _hanging(console, 2, _word("warn").append(" "), what)
     for warning in scene.warnings:
         _reason(console, "warn", warning.message, warning.line, warning.hint)
-    skipped = [c for c in scene.checks if c.status is Status.SKIPPED]
+    # A check not checked for want of input always shows, with what to supply; one that
+    # does not apply only with -v.
+    skipped = [c for c in scene.checks if c.status is Status.SKIPPED and not c.not_checked]
     for check in scene.checks:
-        if check.status is Status.SKIPPED and not verbose:
+        if check in skipped and not verbose:
             continue
         _check_line(console, scene, check)
         if verbose:

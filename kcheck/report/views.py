@@ -28,7 +28,7 @@ from kcheck.fmt import (
     format_ranges,
     format_share_bounds,
 )
-from kcheck.result import CheckResult, Finding, SceneResult, Status
+from kcheck.result import NOT_CHECKED, CheckResult, Finding, SceneResult, Status
 
 __all__ = [
     "ANGLE_CONVENTION",
@@ -67,7 +67,7 @@ ANGLE_CONVENTION = (
 VERDICTS = ("pass", "marginal", "warn", "fail", "error")
 #: Every verdict word from best to worst: ``marginal`` is a passing check closer to its
 #: failure line than its minimum margin (docs/checks.md, "Marginal results").
-SEVERITY_ORDER = ("n/a", "pass", "marginal", "warn", "fail", "error")
+SEVERITY_ORDER = ("n/a", "not checked", "pass", "marginal", "warn", "fail", "error")
 
 # Case outcomes that are good news: the case closes (analytical, graphical), the layout is
 # fine (maxwell), only ranges were asked for, or friction cannot hold the body (jamming).
@@ -75,13 +75,30 @@ GOOD_OUTCOMES = ("closes", "ok", "swept", "moves")
 
 
 def verdict(check: CheckResult) -> str:
-    """``pass``, ``marginal``, ``warn`` (failed, severity warning), ``fail``, ``error`` or
-    ``n/a``."""
+    """``pass``, ``marginal``, ``warn`` (failed, severity warning), ``fail``, ``error``,
+    ``not checked`` (skipped for want of input: :attr:`CheckResult.not_checked`) or ``n/a``
+    (does not apply)."""
     if check.status is Status.SKIPPED:
-        return "n/a"
+        return NOT_CHECKED if check.not_checked else "n/a"
     if check.status is Status.FAIL and check.severity == "warning":
         return "warn"
     return check.status.value
+
+
+def message(check: CheckResult) -> str:
+    """The check's one-line message after its verdict word: for a check not checked, without
+    the words "not checked" the verdict already says (``material of v1's ball unknown``,
+    ``because no point of interest is given ...``)."""
+    if not check.not_checked:
+        return check.message
+    return check.message[len(NOT_CHECKED) :].lstrip(":, ") or check.message
+
+
+def skipped_counts(checks: Sequence[CheckResult]) -> list[str]:
+    """``2 not checked``, ``3 n/a``: how many checks gave no verdict, for want of input and
+    because they do not apply (empty counts left out)."""
+    skipped = [verdict(c) for c in checks if c.status is Status.SKIPPED]
+    return [f"{n} {w}" for w in (NOT_CHECKED, "n/a") if (n := skipped.count(w))]
 
 
 def worse(a: str, b: str) -> bool:
@@ -264,9 +281,7 @@ def headline(scene: SceneResult) -> str:
         if ranged:
             narrowest = min(ranged, key=lambda c: _range_width(c.safe_ranges_deg or ()))
             parts.append(f"{narrowest.id}: safe {format_ranges(narrowest.safe_ranges_deg)}")
-    skipped = sum(1 for c in scene.checks if c.status is Status.SKIPPED)
-    if skipped:
-        parts.append(f"{skipped} n/a")
+    parts += skipped_counts(scene.checks)
     if scene.notes:
         parts.append(f"{len(scene.notes)} note{'s' if len(scene.notes) > 1 else ''}")
     return "; ".join(parts)

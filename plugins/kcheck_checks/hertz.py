@@ -160,14 +160,16 @@ def _contact_json(
 class _Rings:
     """The ring contacts (ball-cone couplings) among the supports: ``line`` marks their
     supports; per support the arc it stands for (a third of the circle, m), the ball radius
-    (m), the ring radius (m) and the angle between its normal and the cone's axis (rad);
-    ``groups`` the support indices of each ring, ``names`` their couplings."""
+    (m), the ring radius (m), the angle between its normal and the cone's axis (rad) and that
+    axis (n, 3; zero for point contacts); ``groups`` the support indices of each ring,
+    ``names`` their couplings."""
 
     line: np.ndarray
     arc: np.ndarray
     ball_radius: np.ndarray
     ring_radius: np.ndarray
     angle: np.ndarray
+    axis: np.ndarray
     groups: tuple[np.ndarray, ...]
     names: tuple[str, ...]
 
@@ -178,6 +180,7 @@ def _rings(scene: Scene) -> _Rings:
     n = len(scene.supports)
     out = {k: np.zeros(n) for k in ("arc", "ball_radius", "ring_radius", "angle")}
     line = np.zeros(n, bool)
+    axes = np.zeros((n, 3))
     members: dict[str, list[int]] = {}
     for i, s in enumerate(scene.supports):
         g = s.contact_geometry
@@ -197,12 +200,14 @@ def _rings(scene: Scene) -> _Rings:
             out["ball_radius"][i] = g.ball_radius
             out["ring_radius"][i] = radius
             out["angle"][i] = float(np.arccos(np.clip(normal @ axis, -1.0, 1.0)))
+            axes[i] = axis
     return _Rings(
         line,
         out["arc"],
         out["ball_radius"],
         out["ring_radius"],
         out["angle"],
+        axes,
         tuple(np.array(v) for v in members.values()),
         tuple(members),
     )
@@ -460,8 +465,37 @@ def _ring_details(
     details["rings"] = out
     notes.append(
         "ball-cone: a ring (line) contact; its stiffness assumes a datum about one ball radius "
-        "deep in both bodies (docs/checks.md, hertz); its tangential stiffness is not modelled"
+        "deep in both bodies (docs/checks.md, hertz), as does its tangential (no-slip) stiffness"
     )
+
+
+def _ring_tangential(
+    contacts: Contacts, rings: _Rings, seated: HertzContact, normals: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Each ring support's no-slip tangential stiffness (N/m, its arc's) across the line
+    (meridional tangent) and along it (circumferential tangent), with those unit tangents
+    (n, 3); zeros for point contacts (:func:`~kcheck.mechanics.ring_contact.
+    line_tangential_stiffness`)."""
+    from kcheck.mechanics.ring_contact import line_tangential_stiffness
+
+    n = len(normals)
+    across, along = np.zeros(n), np.zeros(n)
+    t_m, t_c = np.zeros((n, 3)), np.zeros((n, 3))
+    m = rings.line
+    if np.any(m):
+        km, kc = line_tangential_stiffness(
+            seated.b[m],
+            rings.ball_radius[m],
+            np.array([c.youngs_modulus for c in contacts.ball], float)[m],
+            np.array([c.poisson for c in contacts.ball], float)[m],
+            np.array([c.youngs_modulus for c in contacts.seat], float)[m],
+            np.array([c.poisson for c in contacts.seat], float)[m],
+        )
+        across[m], along[m] = km * rings.arc[m], kc * rings.arc[m]
+        c = np.cross(rings.axis[m], normals[m])
+        t_c[m] = c / np.linalg.norm(c, axis=1)[:, None]
+        t_m[m] = np.cross(normals[m], t_c[m])
+    return t_m, across, t_c, along
 
 
 def _ring_text(scene: Scene, rings: list[dict[str, Any]]) -> str:
@@ -645,6 +679,7 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
     """The hertz check's result for a scene whose supports all carry contact geometry."""
     from kcheck.mechanics.hertz import contact_shear_modulus, tangential_stiffness
     from kcheck.mechanics.seat import (
+        directed_stiffness_matrix,
         point_compliance,
         point_translation,
         seat_layout,
@@ -742,15 +777,32 @@ def hertz_result(check_id: str, scene: Scene, mass: Any, options: HertzOptions) 
         np.array([m.youngs_modulus for m in contacts.seat], float),
         np.array([m.poisson for m in contacts.seat], float),
     )
-    # A line contact's tangential compliance is logarithmic like its normal one and not
-    # modelled: a ring adds no tangential stiffness (the stiffness errs low there).
+    # A ring's tangential compliance is the line contact's (logarithmic like its normal one,
+    # and different across and along the line): its own directions, not the point's circle.
     k_t = np.where(rings.line, 0.0, tangential_stiffness(seated, shear))
-    for entry, k, ring in zip(details["contacts"], k_t, rings.line, strict=True):
-        entry["tangential_stiffness"] = None if ring else float(k)
+    ring_t = _ring_tangential(contacts, rings, seated, normals)
+    for i, entry in enumerate(details["contacts"]):
+        entry["tangential_stiffness"] = float(ring_t[1][i] if rings.line[i] else k_t[i])
+        if rings.line[i]:
+            entry["tangential_stiffness_along_line"] = float(ring_t[3][i])
     if np.any(rings.line):
         _ring_details(scene, contacts, rings, forces, seated, worst, details)
+        from kcheck.mechanics.ring_contact import cone_tangential_stiffness
+
+        for entry, group in zip(details["rings"], rings.groups, strict=True):
+            arc = rings.arc[group]
+            axial, radial = cone_tangential_stiffness(
+                float(np.mean(ring_t[1][group] / arc)),
+                float(np.mean(ring_t[3][group] / arc)),
+                entry["ring_radius"],
+                float(rings.angle[group[0]]),
+            )
+            entry["axial_tangential_stiffness"] = float(axial)
+            entry["radial_tangential_stiffness"] = float(radial)
         parts.append(_ring_text(scene, details["rings"]))
     big_kt = big_k + tangential_stiffness_matrix(seat, positions, normals, k_t)
+    for tangents, k in ((ring_t[0], ring_t[1]), (ring_t[2], ring_t[3])):
+        big_kt = big_kt + directed_stiffness_matrix(seat, positions, tangents, k)
     details["stiffness_matrix_with_tangential"] = big_kt.tolist()
     compliance = None if np.any(forces.lifted) else point_compliance(seat, big_k, error_point)
     if compliance is not None:

@@ -100,9 +100,9 @@ def test_passing_scene_is_one_line(default_run: subprocess.CompletedProcess[str]
     assert re.match(
         r"PASS\s+planar rectangular block\s+\S+planar-block/block\.kcheck\.yaml", planar
     )
-    # analytical-3d, hertz (no coupling shorthands) and tolerances (no `tolerances:`) do not
-    # apply to this planar scene
-    assert "design margin 28.80°" in planar and "3 n/a" in planar
+    # analytical-3d and tolerances (no `tolerances:`) do not apply to this planar scene;
+    # hertz applies but is not checked (no contact geometry: no coupling shorthands)
+    assert "design margin 28.80°" in planar and "1 not checked; 2 n/a" in planar
     following = lines[lines.index(planar) + 1]
     assert following.startswith("FAIL") or following == ""  # nothing more about it
     assert "skipped" not in out and "plot written" not in out and " ms" not in out

@@ -124,3 +124,64 @@ def test_markdown_carries_the_numbers_of_failing_cases_and_folds_passing_scenes(
     folded = folded.split("</details>", 1)[0]
     assert "planar-block/block.kcheck.yaml` planar rectangular block — analytical-2d: design " \
         "margin 28.80°" in folded  # fmt: skip
+
+
+def _with_not_checked():
+    """The formats' passing scene with one check not checked for want of a material, and
+    one that does not apply."""
+    import dataclasses
+
+    from kcheck.result import CheckResult
+    from tests.kcheck.test_report_formats import PASS
+
+    extra = (
+        CheckResult("hertz", Status.SKIPPED, "not checked: material of v1's ball unknown"),
+        CheckResult("analytical-3d", Status.SKIPPED, "applies to spatial scenes"),
+    )
+    return (dataclasses.replace(PASS, checks=(*PASS.checks, *extra)),)
+
+
+def test_not_checked_reads_not_checked_with_its_reason_in_every_format() -> None:
+    """A check that could not run for want of input is "not checked" with what is missing,
+    never the "n/a" of a check that does not apply (last round's review)."""
+    from kcheck.report.views import verdict
+
+    (scene,) = _with_not_checked()
+    words = {c.id: verdict(c) for c in scene.checks}
+    assert words["hertz"] == "not checked" and words["analytical-3d"] == "n/a"
+    text = render("text", _with_not_checked(), color="never", verbosity=1)
+    assert re.search(r"not checked hertz  material of v1's ball unknown", text), text
+    assert "n/a   hertz" not in text
+    short = render("text", _with_not_checked(), color="never")
+    assert "1 not checked; 1 n/a" in short  # the headline counts the two apart
+    markdown = render("markdown", _with_not_checked())
+    assert "**hertz** not checked: material of v1's ball unknown" in markdown
+    assert "1 not checked, 1 n/a" in markdown
+    html = render("html", _with_not_checked())
+    assert '<span class="badge na">not checked</span> hertz' in html
+    assert "material of v1&#x27;s ball unknown" in html or "material of v1's ball unknown" in html
+    junit = render("junit", _with_not_checked())
+    assert "not checked: material of v1" in junit
+
+
+@pytest.mark.parametrize("width", range(20, 61))
+def test_wrapping_never_parts_a_number_from_its_unit_or_relation(width: int) -> None:
+    """Issue 22: at any width a value stays with its unit (0.0866 N, 4.2 GPa, 28.80°) and
+    a relation with its number (N = -0.0866, μ ≤ 0.122)."""
+    from kcheck.report.text import wrap_offsets
+
+    text = (
+        "retract x3 → y1 loses contact (N = -0.0866 N); it closes for μ ≤ 0.122; peak "
+        "1.4 GPa, 33 % of 4.2 GPa allowed; stiffness 215 N/µm; margin 28.80 ° outside"
+    )
+    breaks = wrap_offsets(text, width)
+    kept = [r"N = -0\.0866 N", r"μ ≤ 0\.122", r"1\.4 GPa", r"33 %", r"4\.2 GPa", r"215 N/µm",
+            r"28\.80 °"]  # fmt: skip
+    for pattern in kept:
+        m = re.search(pattern, text)
+        assert m is not None
+        assert not any(m.start() < b < m.end() for b in breaks), (pattern, width)
+    bounds = [0, *breaks, len(text)]
+    assert all(
+        len(text[a:b].rstrip()) <= width for a, b in zip(bounds[:-1], bounds[1:], strict=True)
+    )

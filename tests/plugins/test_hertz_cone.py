@@ -64,6 +64,83 @@ def _ring(w: float) -> tuple[float, float, float, float]:
     )
 
 
+G = 210e9 / (2 * 1.3)  # 52100's shear modulus (E = 210 GPa, nu = 0.3)
+
+
+def _ring_tangential(b: float) -> tuple[float, float]:
+    """The line contact's no-slip tangential stiffness per length across and along the line,
+    two like bodies in series, datum R deep (docs/checks.md, hertz): Flamant's plane-strain
+    line load (Johnson §2.2) under the full-stick traction q / (pi sqrt(b^2 - x^2)) (§7.1)
+    gives each body q / (pi G) ((1 - nu) ln(2R/b) + 1/2) across, q / (pi G) ln(2R/b) along."""
+    log = np.log(2 * R / b)
+    return np.pi * G / (2 * ((1 - 0.3) * log + 0.5)), np.pi * G / (2 * log)
+
+
+def test_antiplane_line_compliance_against_a_numerical_integration():
+    """Along the line the strip shears antiplane: a line load S on a half-space displaces the
+    surface by -(S / (pi G)) ln r (exact). Integrating the full-stick traction numerically,
+    the strip's centre against a point d deep below it gives ln(2d/b) / (pi G) per unit load:
+    the closed form kcheck's along-the-line stiffness uses (here d = R, like materials)."""
+    from scipy.integrate import quad
+
+    from kcheck.mechanics.ring_contact import line_tangential_stiffness
+
+    b = 20e-6
+    # s = b sin(t) removes the traction's end singularities: q ds = dt / pi
+    surface = quad(lambda t: -np.log(abs(b * np.sin(t)) + 1e-300) / np.pi, -np.pi / 2,
+                   np.pi / 2, points=[0.0], limit=200)[0]  # fmt: skip
+    datum = quad(lambda t: -0.5 * np.log((b * np.sin(t)) ** 2 + R**2) / np.pi, -np.pi / 2,
+                 np.pi / 2)[0]  # fmt: skip
+    per_body = (surface - datum) / (np.pi * G)  # m per N/m of line load
+    assert per_body * np.pi * G == pytest.approx(np.log(2 * R / b), rel=1e-6)
+    _, along = line_tangential_stiffness(b, R, 210e9, 0.3, 210e9, 0.3)
+    assert float(along) == pytest.approx(1 / (2 * per_body), rel=1e-6)
+    across, _ = line_tangential_stiffness(b, R, 210e9, 0.3, 210e9, 0.3)
+    assert float(across) == pytest.approx(_ring_tangential(b)[0], rel=1e-12)
+
+
+def test_ring_tangential_stiffness_adds_to_the_cone_s_stiffness_matrix(tmp_path):
+    """The ball in the cone with tangential compliance: the three arcs' springs along their
+    normals and both tangents give, summed here as sum k d d^T over the 2 pi r_c ring
+    (independently of kcheck's matrices), axially 2 pi r_c (k' cos^2 h + k'_m sin^2 h) and
+    radially pi r_c (k' sin^2 h + k'_m cos^2 h + k'_c); kcheck's matrix with tangential
+    stiffness differs from the normal one by the three couplings' tangential springs."""
+    from kcheck.mechanics.ring_contact import cone_tangential_stiffness
+
+    check = _hertz(tmp_path)
+    ring_radius = R * np.sin(H)
+    b, _, _, k_line = _ring(F / np.cos(H) / (2 * np.pi * ring_radius))
+    k_m, k_c = _ring_tangential(b)
+    # three points 120 deg apart, each an arc 2 pi r_c / 3: n, meridional and circumferential
+    total = np.zeros((3, 3))
+    for theta in 2 * np.pi * np.arange(3) / 3:
+        radial = np.array([np.cos(theta), np.sin(theta), 0.0])
+        circ = np.array([-np.sin(theta), np.cos(theta), 0.0])
+        n = np.cos(H) * np.array([0, 0, 1.0]) - np.sin(H) * radial  # up and inwards
+        t_m = np.cross(n, circ)
+        arc = 2 * np.pi * ring_radius / 3
+        for k, d in ((k_line, n), (k_m, t_m), (k_c, circ)):
+            total += k * arc * np.outer(d, d)
+    axial = 2 * np.pi * ring_radius * (k_line * np.cos(H) ** 2 + k_m * np.sin(H) ** 2)
+    radial_k = np.pi * ring_radius * (k_line * np.sin(H) ** 2 + k_m * np.cos(H) ** 2 + k_c)
+    assert np.allclose(total, np.diag([radial_k, radial_k, axial]), rtol=1e-12, atol=1e-6)
+    (ring,) = check.details["rings"]
+    t_axial, t_radial = cone_tangential_stiffness(k_m, k_c, ring_radius, H)
+    assert ring["axial_tangential_stiffness"] == pytest.approx(float(t_axial), rel=1e-9)
+    assert ring["radial_tangential_stiffness"] == pytest.approx(float(t_radial), rel=1e-9)
+    assert ring["axial_stiffness"] + float(t_axial) == pytest.approx(axial, rel=1e-9)
+    assert ring["radial_stiffness"] + float(t_radial) == pytest.approx(radial_k, rel=1e-9)
+    # the whole matrix: its translation block gains every contact's tangential springs,
+    # whose trace is 2 k_t for a point contact (both tangents) and k_m + k_c for a ring's
+    k = np.array(check.details["stiffness_matrix"])
+    kt = np.array(check.details["stiffness_matrix_with_tangential"])
+    contacts = check.details["contacts"]
+    points = sum(2 * c["tangential_stiffness"] for c in contacts if c["coupling"] != "A")
+    ring = 3 * (k_m + k_c) * 2 * np.pi * ring_radius / 3
+    assert np.trace((kt - k)[3:, 3:]) == pytest.approx(points + ring, rel=1e-9)
+    assert np.all(np.linalg.eigvalsh(kt - k) > -1e-9 * np.abs(kt).max())  # springs add
+
+
 def test_cone_gets_stress_stiffness_and_error_motion(tmp_path):
     check = _hertz(
         tmp_path, "checks: {hertz: {disturbing_force: [0, 0, -10], error_point: [0, 35, 0]}}"
@@ -83,7 +160,11 @@ def test_cone_gets_stress_stiffness_and_error_motion(tmp_path):
         assert c["semi_axes"][1] == pytest.approx(b, rel=1e-9)
         assert c["max_pressure"] == pytest.approx(p0, rel=1e-9)
         assert c["stiffness"] == pytest.approx(k_line * 2 * np.pi * ring_radius / 3, rel=1e-9)
-        assert c["tangential_stiffness"] is None  # not modelled for a line contact
+        # the ring's tangential (no-slip) stiffness, across and along the line, per arc
+        k_m, k_c = _ring_tangential(b)
+        arc = 2 * np.pi * ring_radius / 3
+        assert c["tangential_stiffness"] == pytest.approx(k_m * arc, rel=1e-9)
+        assert c["tangential_stiffness_along_line"] == pytest.approx(k_c * arc, rel=1e-9)
         ball = c["subsurface"]["ball"]
         assert ball["max_shear"] / ball["von_mises"] == pytest.approx(0.30 / 0.56, abs=0.01)
     (ring,) = check.details["rings"]
