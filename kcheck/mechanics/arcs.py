@@ -16,6 +16,7 @@ import math
 
 import numpy as np
 
+from kcheck.numerics.arrays import unique
 from kcheck.numerics.thresholds import ARC_ZERO_RTOL, EPS
 
 __all__ = [
@@ -188,9 +189,7 @@ def intersect_single(start: np.ndarray, end: np.ndarray) -> ArcSet:
     if len(start) <= 1:
         return intersect(*(((float(x), float(y)),) for x, y in zip(start, end, strict=True)))
     wraps = end > TAU
-    cuts = np.unique(
-        np.concatenate([[0.0, TAU], start, np.where(wraps, TAU, end), end[wraps] - TAU])
-    )
+    cuts = unique(np.concatenate([[0.0, TAU], start, np.where(wraps, TAU, end), end[wraps] - TAU]))
     lo, hi = cuts[:-1], cuts[1:]
     # Per elementary interval and arc: inside the piece up to 2 pi or the piece from 0.
     first = (start[None, :] <= lo[:, None]) & (hi[:, None] <= np.minimum(end, TAU)[None, :])

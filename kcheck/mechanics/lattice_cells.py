@@ -15,8 +15,6 @@ from functools import lru_cache
 
 import numpy as np
 
-from kcheck.mechanics.sphere import fibonacci_sphere
-
 __all__ = ["LatticeCells", "lattice_cells", "bounded_slack"]
 
 #: Fine directions per coarse cell (about): more cells cost more coarse products, fewer
@@ -47,6 +45,9 @@ class LatticeCells:
 def lattice_cells(points: int) -> LatticeCells:
     """The ``points``-direction Fibonacci lattice in cells of a lattice ``PER_CELL`` times
     coarser (computed once per size)."""
+    # Imported here: jamming imports this module for planar scenes too, which need no sphere.
+    from kcheck.mechanics.sphere import fibonacci_sphere
+
     fine = fibonacci_sphere(points)
     coarse = fibonacci_sphere(max(1, points // PER_CELL))
     owner = np.empty(points, int)

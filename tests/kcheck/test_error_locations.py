@@ -740,6 +740,12 @@ UNREACHABLE = {
     "(body.mesh_path); reached only when the file goes away between loading and reading",
     ("body/meshio.py", "not a regular file"): "likewise for a file replaced by a pipe",
     ("body/meshio.py", "STEP files need the optional"): "the test environment has the step extra",
+    # Parts of an assembly are named only on kcheck contacts' command line (--base-part,
+    # --body-part), never in a scene; tests/cli/test_contacts_cli.py runs an unknown name.
+    ("body/meshio.py", "no part named"): "named on the command line only",
+    ("body/meshio.py", "has no triangles"): "named on the command line only",
+    ("body/meshio.py", "MeshError(path, exc.message, field=field)"): "re-raises the two above "
+    "with the file's path",
     ("body/mass.py", "non-finite mass properties"): "defensive: finite vertices and a checked "
     "volume give finite mass properties",
     ("gate/runner.py", "a check needs the body's mass properties"): "every built-in check "
