@@ -143,19 +143,21 @@ def contact_matrices(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``K0``, ``F`` (..., n, n) and sliding (..., k-1) of free twists (..., n) with the
     remaining supports' points and unit normals (..., k-1, dim) and coefficients (..., k-1),
-    about the centre of mass ``com`` with inertia ``inertia`` (nondimensional; any leading
-    axes, e.g. cases, or samples and cases). See :func:`system_parts`."""
+    about the centre of mass ``com`` (..., dim) with inertia ``inertia`` (..., nw, nw), both
+    broadcast against the twists' leading axes (nondimensional; any leading axes, e.g. cases,
+    samples and cases, or problems and cases). See :func:`system_parts`."""
     nw = 1 if points.shape[-1] == 2 else 3
     u = point_velocity(twists[..., None, :], points)
     speed = np.sqrt(np.sum(u * u, axis=-1))
     sliding = speed > SLIP_TOL
     t = np.where(sliding[..., None], -u / np.where(sliding, speed, 1.0)[..., None], 0.0)
-    lever = points - com
+    lever = points - com[..., None, :]
     normal = -wrenches(lever, normals)  # (..., k-1, n)
     friction = -wrenches(lever, mu[..., None] * t)
-    inertial = np.concatenate(
-        [twists[..., :nw] @ inertia.T, point_velocity(twists, com)], axis=-1
-    )  # (..., n)
+    # I w row by row, not a matrix product: the same sums whatever the stack, so a batch of
+    # problems gives each problem's own result bit for bit.
+    spin = np.sum(inertia * twists[..., None, :nw], axis=-1)
+    inertial = np.concatenate([spin, point_velocity(twists, com)], axis=-1)  # (..., n)
     k0 = np.concatenate([inertial[..., :, None], np.swapaxes(normal, -1, -2)], axis=-1)
     zero = np.zeros_like(inertial)[..., :, None]
     big_f = np.concatenate([zero, np.swapaxes(friction, -1, -2)], axis=-1)
@@ -329,33 +331,6 @@ def analyse_cases_many(
     return out
 
 
-def _stacked_matrices(
-    twists: np.ndarray,
-    points: np.ndarray,
-    normals: np.ndarray,
-    mu: np.ndarray,
-    com: np.ndarray,
-    inertia: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`contact_matrices` with a centre of mass (P, dim) and inertia (P, nw, nw) per
-    problem: twists (P, c, n), points and normals (P, c, k-1, dim), coefficients (P, c, k-1)."""
-    nw = 1 if points.shape[-1] == 2 else 3
-    u = point_velocity(twists[..., None, :], points)
-    speed = np.sqrt(np.sum(u * u, axis=-1))
-    sliding = speed > SLIP_TOL
-    t = np.where(sliding[..., None], -u / np.where(sliding, speed, 1.0)[..., None], 0.0)
-    lever = points - com[:, None, None, :]
-    normal = -wrenches(lever, normals)  # (P, c, k-1, n)
-    friction = -wrenches(lever, mu[..., None] * t)
-    # I w per case, row by row (the same sums whatever the stack).
-    spin = np.sum(inertia[:, None, :, :] * twists[..., None, :nw], axis=-1)
-    inertial = np.concatenate([spin, point_velocity(twists, com[:, None, :])], axis=-1)
-    k0 = np.concatenate([inertial[..., :, None], np.swapaxes(normal, -1, -2)], axis=-1)
-    zero = np.zeros_like(inertial)[..., :, None]
-    big_f = np.concatenate([zero, np.swapaxes(friction, -1, -2)], axis=-1)
-    return k0, big_f, sliding
-
-
 def _cases_stacked(problems: Sequence[Problem], which: np.ndarray) -> list[tuple[Case, ...]]:
     """:func:`analyse_cases_many` of problems with the same number of supports and dimension."""
     k = len(problems[0].points)
@@ -368,8 +343,13 @@ def _cases_stacked(problems: Sequence[Problem], which: np.ndarray) -> list[tuple
     mu = np.array([m for _, m in patterns])
     com = np.stack([p.com for p in problems])
     inertia = np.stack([p.inertia for p in problems])
-    k0, unit_f, sliding = _stacked_matrices(
-        twists, points[:, keeps], normals[:, keeps], pattern[:, keeps], com, inertia
+    k0, unit_f, sliding = contact_matrices(
+        twists,
+        points[:, keeps],
+        normals[:, keeps],
+        pattern[:, keeps],
+        com[:, None, :],
+        inertia[:, None, :, :],
     )
     big_f = mu[:, None, None, None] * unit_f
     live = (determinacy > UNDETERMINED) & (closing > UNDETERMINED)  # (P, c)
