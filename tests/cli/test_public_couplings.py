@@ -16,6 +16,7 @@ import yaml
 pytest.importorskip("trimesh")
 
 from kcheck.cli import main  # noqa: E402
+from kcheck.scene.load import load_scene  # noqa: E402
 
 FIXTURES = Path(__file__).resolve().parents[2] / "fixtures"
 # (fixture folder, base mesh, body mesh, hand-written scene, material given to kcheck contacts)
@@ -27,17 +28,22 @@ DESIGNS = [
         "probe.kcheck.yaml",
         "tungsten-carbide",
     ),
+    (
+        "aspe-kc-design-script",
+        "base_vees.stl",
+        "body_balls.stl",
+        "coupling.kcheck.yaml",
+        "52100",
+    ),
 ]
 POINT_TOL_MM = 0.01
 NORMAL_TOL_DEG = 0.1
 
 
 def _supports(scene_path):
-    doc = yaml.safe_load(scene_path.read_text())
-    return [
-        (np.array(s["position"], float), np.array(s["normal"], float) / np.linalg.norm(s["normal"]))
-        for s in doc["supports"]
-    ]
+    """The scene's point contacts (mm, unit normals), shorthands expanded as kcheck loads them."""
+    scene = load_scene(scene_path)
+    return [(s.position / scene.scale, s.normal / np.linalg.norm(s.normal)) for s in scene.supports]
 
 
 def _matched(found, reference):
@@ -95,10 +101,12 @@ def test_contacts_found_on_a_public_design(design, base, body, hand, material, t
         written = _matched(_supports(folder / hand), reference)
         assert max(d for d, _ in written) <= 1e-4 and max(a for _, a in written) <= 1e-3
         # The scene kcheck writes checks as the hand-written one: same verdicts, same limits.
-        # Its closing load is the designer's to change: it is set to the hand-written one's.
+        # Its closing load and preloads are the designer's: set to the hand-written one's.
         hand_doc = yaml.safe_load((folder / hand).read_text())
         found_doc = yaml.safe_load(out.read_text())
         found_doc["load"] = hand_doc["load"]
+        if "preloads" in hand_doc:
+            found_doc["preloads"] = hand_doc["preloads"]
         out.write_text(yaml.safe_dump(found_doc))
         got, want = _checks(out, capsys), _checks(folder / hand, capsys)
     finally:

@@ -21,6 +21,7 @@ VERDICTS = {
     "block-321": "pass",
     "block-321-balls": "pass",
     "kelvin": "pass",
+    "aspe-kc-design-script": "pass",
     "mostly-printed-probe": "warn",  # only maxwell: its inclined pin pairs give cos θ 0.50
     "maxwell-three-vee": "pass",
     "planar-block": "pass",
