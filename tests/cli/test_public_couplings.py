@@ -2,7 +2,9 @@
 its ATTRIBUTION.md and derivation.py): it finds every hand-derived contact within 0.01 mm and
 every normal within 0.1 deg, and the scene it writes gets the same verdicts and friction
 limits as the hand-written fixture. The reference contacts are geometry.json, written by the
-fixture's derivation.py from the design's published meshes with numpy/scipy/trimesh alone."""
+fixture's derivation.py with numpy/scipy/trimesh alone, from what the design publishes: its
+meshes (the probe), its cutting files (the Voron bed mounts) or its parameters (the ASPE design
+script's sample coupling)."""
 
 from __future__ import annotations
 
