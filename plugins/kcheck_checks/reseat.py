@@ -13,14 +13,13 @@ import time
 from typing import Any, Literal
 
 import numpy as np
-from pydantic import Field
 
 from kcheck.analysis import analyse
 from kcheck.analysis.cases import closing_force_reason
 from kcheck.analysis.reseat import ReseatRun, ReseatSettings, inertia_missing, simulate
 from kcheck.fmt import format_number
 from kcheck.numerics.thresholds import RESEAT_ESTIMATE_FACTOR, RESEAT_SEAT_RESOLUTION
-from kcheck.plugin import Check, Inputs, Options
+from kcheck.plugin import Check, Field, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, MassProperties, Status
 from kcheck.scene import Scene
 

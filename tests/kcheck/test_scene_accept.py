@@ -85,7 +85,7 @@ def test_the_error_corpus_is_refused_where_pydantic_refuses_it():
         if isinstance(edit, str):
             data = yaml.safe_load(edit)
         else:
-            data = copy.deepcopy(base)
+            data = copy.deepcopy(base) or {}
             edit(data)
         agree(data)
 
