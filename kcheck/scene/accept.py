@@ -555,7 +555,7 @@ _PICKS: dict[str, Callable[[Any], str]] = {
 def _number(value: Any, spec: tuple[Any, ...], kind: type) -> Any:
     if type(value) is bool or not isinstance(value, (int, float) if kind is float else int):
         raise _Refused
-    if type(value) is float and not math.isfinite(value):
+    if isinstance(value, float) and not math.isfinite(value):
         raise _Refused
     if kind is float:
         try:

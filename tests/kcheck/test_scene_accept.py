@@ -180,3 +180,11 @@ def test_mutated_scenes_are_never_accepted_where_pydantic_refuses(seed):
         for _ in range(rng.choice([1, 1, 2, 3])):
             data = _mutate(data, rng)
         agree(data)
+
+
+def test_non_finite_numbers_are_refused_whatever_their_float_type():
+    import numpy as np
+
+    for bad in (float("inf"), float("nan"), np.float64("inf"), np.float64("nan")):
+        assert accept({"version": 1, "gravity": [bad, 0.0, 0.0]}) is None
+    assert accept({"version": 1, "gravity": [np.float64(1.5), 0, 0]}) is not None
