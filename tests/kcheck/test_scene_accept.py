@@ -188,3 +188,4 @@ def test_non_finite_numbers_are_refused_whatever_their_float_type():
     for bad in (float("inf"), float("nan"), np.float64("inf"), np.float64("nan")):
         assert accept({"version": 1, "gravity": [bad, 0.0, 0.0]}) is None
     assert accept({"version": 1, "gravity": [np.float64(1.5), 0, 0]}) is not None
+    agree({"version": 1, "gravity": [np.float64(1.5), 0, 0], "friction": np.float64(0.2)})
