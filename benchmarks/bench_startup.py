@@ -1,6 +1,7 @@
 """Start-up (issue 24): ``kcheck check`` of a planar scene without a mesh against
 ``python -c "import numpy"``, in the same run, interleaved, medians; plus what pydantic and
-the scene models cost on top of numpy (the lever that remains).
+the scene models cost on top of numpy (off a valid scene's path since issue 24: the cost the
+pydantic-free acceptor and options save).
 
 Run: ``python benchmarks/bench_startup.py [--python PATH ...] [--repeat 15]``. ``--python`` is
 the interpreter of an install to measure (a non-editable ``pip install .`` into another venv,

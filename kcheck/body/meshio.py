@@ -50,14 +50,21 @@ MAX_MESH_BYTES = 64 * 2**20
 MAX_COORDINATE_M = LIMITS["coordinate"].high
 STEP_INSTALL = "pip install 'kcheck[step]'"
 
-_STEP_UNITS = (
-    (re.compile(r"SI_UNIT\s*\(\s*\.MILLI\.\s*,\s*\.METRE\.\s*\)", re.I), "mm"),
-    (re.compile(r"SI_UNIT\s*\(\s*\.CENTI\.\s*,\s*\.METRE\.\s*\)", re.I), "cm"),
-    (re.compile(r"SI_UNIT\s*\(\s*\.MICRO\.\s*,\s*\.METRE\.\s*\)", re.I), "um"),
-    (re.compile(r"CONVERSION_BASED_UNIT\s*\(\s*'INCH'", re.I), "in"),
-    (re.compile(r"CONVERSION_BASED_UNIT\s*\(\s*'(?:FOOT|FEET)'", re.I), "ft"),
-    (re.compile(r"SI_UNIT\s*\(\s*\$\s*,\s*\.METRE\.\s*\)", re.I), "m"),
+#: A STEP file's length unit, as its text declares it (compiled on first use: re.I patterns
+#: cost milliseconds, and most runs read no STEP file).
+_STEP_UNIT_PATTERNS = (
+    (r"SI_UNIT\s*\(\s*\.MILLI\.\s*,\s*\.METRE\.\s*\)", "mm"),
+    (r"SI_UNIT\s*\(\s*\.CENTI\.\s*,\s*\.METRE\.\s*\)", "cm"),
+    (r"SI_UNIT\s*\(\s*\.MICRO\.\s*,\s*\.METRE\.\s*\)", "um"),
+    (r"CONVERSION_BASED_UNIT\s*\(\s*'INCH'", "in"),
+    (r"CONVERSION_BASED_UNIT\s*\(\s*'(?:FOOT|FEET)'", "ft"),
+    (r"SI_UNIT\s*\(\s*\$\s*,\s*\.METRE\.\s*\)", "m"),
 )
+
+
+@functools.cache
+def _step_units() -> tuple[tuple[re.Pattern[str], str], ...]:
+    return tuple((re.compile(rx, re.I), unit) for rx, unit in _STEP_UNIT_PATTERNS)
 
 
 def step_length_unit(path: Path) -> str | None:
@@ -80,7 +87,7 @@ def step_length_unit(path: Path) -> str | None:
                 candidates.append(entity.group(1))
     candidates.append(text)  # no context found: the first unit named anywhere
     for candidate in candidates:
-        found = [(m.start(), unit) for rx, unit in _STEP_UNITS if (m := rx.search(candidate))]
+        found = [(m.start(), unit) for rx, unit in _step_units() if (m := rx.search(candidate))]
         if found:
             return min(found)[1]
     return None

@@ -214,7 +214,7 @@ def _open(path: Path) -> TextIO:
 
 
 def _plot_formats(text: str) -> tuple[str, ...] | None:
-    from kcheck.pictures.plotting import PLOT_FORMATS
+    from kcheck.pictures import PLOT_FORMATS
 
     names = tuple(dict.fromkeys(n.strip().lower() for n in text.split(",") if n.strip()))
     return names if names and all(n in PLOT_FORMATS for n in names) else None

@@ -241,10 +241,6 @@ def _check_list(config: Config, key: str, known: set[str]) -> tuple[str, ...] | 
 
 def plan_checks(config: Config, checks: Sequence[LoadedCheck]) -> CheckPlan:
     """Validate ``select``/``ignore`` and the per-check tables against the installed checks."""
-    from pydantic import ValidationError
-
-    from kcheck.scene import describe_pydantic
-
     by_id = {lc.spec.name: lc for lc in checks}
     known = set(by_id)
     select = _check_list(config, "select", known)
@@ -284,7 +280,14 @@ def plan_checks(config: Config, checks: Sequence[LoadedCheck]) -> CheckPlan:
             severities[check_id] = severity
         try:
             by_id[check_id].check.options.model_validate(table)
-        except ValidationError as exc:
+        except Exception as exc:
+            # pydantic is imported only where options are validated by it (issue 24)
+            from pydantic import ValidationError
+
+            from kcheck.scene import describe_pydantic
+
+            if not isinstance(exc, ValidationError):
+                raise
             err = exc.errors(include_url=False)[0]
             key = ".".join(str(p) for p in (check_id, *err["loc"]))
             raise ConfigError(

@@ -27,7 +27,6 @@ an older format is never half-read. Errors are never cached. The folder gets a
 from __future__ import annotations
 
 import dataclasses
-import hashlib
 import json
 import os
 from pathlib import Path
@@ -55,8 +54,14 @@ _TAG = (
 )
 
 
+def _sha256(data: bytes = b"") -> Any:
+    import hashlib  # when a mesh's mass properties are cached: not on a meshless start-up
+
+    return hashlib.sha256(data)
+
+
 def _file_sha256(path: Path) -> str:
-    digest = hashlib.sha256()
+    digest = _sha256()
     with path.open("rb") as fh:
         for block in iter(lambda: fh.read(1 << 20), b""):
             digest.update(block)
@@ -92,7 +97,7 @@ def _code_fingerprint() -> str:
 
         from kcheck.plugin.dist_info import version
 
-        digest = hashlib.sha256(__version__.encode())
+        digest = _sha256(__version__.encode())
         for dist in ("trimesh", "numpy", "scipy"):
             digest.update(f"|{dist} {version(dist) or '?'}".encode())
         sources: list[Path] = []
@@ -140,11 +145,11 @@ def body_key(body: Body, scale: float) -> str:
         "parts": parts,
         "body": rest,
     }
-    return hashlib.sha256(json.dumps(material, sort_keys=True).encode()).hexdigest()
+    return _sha256(json.dumps(material, sort_keys=True).encode()).hexdigest()
 
 
 def _checksum(payload: dict[str, Any]) -> str:
-    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
+    return _sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
 
 
 class MassCache:

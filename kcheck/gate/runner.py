@@ -174,11 +174,14 @@ def _options(
             ("checks", lc.spec.name, SEVERITY_KEY),
             f"expected `error` or `warning`, got {severity!r}",
         )
-    from pydantic import ValidationError  # loaded with the options' models (issue 24: lazy)
-
     try:
         return lc.check.options.model_validate(raw), severity
-    except ValidationError as exc:
+    except Exception as exc:
+        # pydantic is imported only where options are validated by it (issue 24)
+        from pydantic import ValidationError
+
+        if not isinstance(exc, ValidationError):
+            raise
         raise SceneErrors(
             [
                 scene.error(("checks", lc.spec.name, *err["loc"]), describe_pydantic(err))

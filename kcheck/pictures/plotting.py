@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from kcheck.pictures import PLOT_FORMATS
 from kcheck.pictures.colours import OUTCOME_COLOURS, VERDICT_COLOURS, outcome_colour
 from kcheck.result import CheckResult, Finding, Status
 
@@ -38,8 +39,6 @@ __all__ = [
     "sweep_note",
 ]
 
-#: Formats a picture can be written in (``--plot-format``).
-PLOT_FORMATS = ("png", "svg")
 #: Resolution of PNG pictures (dots per inch).
 PNG_DPI = 110
 #: In an SVG, a collection with more vertices than this (a shaded sphere map, contour fills, a

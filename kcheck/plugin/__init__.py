@@ -13,10 +13,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
 
-from pydantic import BaseModel, ConfigDict
-
 from kcheck.errors import PluginError
 from kcheck.plugin.dist_info import EntryPoint, distributions
+from kcheck.plugin.options import Field, Options, model_validator
 
 if TYPE_CHECKING:
     import importlib.metadata
@@ -27,6 +26,8 @@ if TYPE_CHECKING:
 __all__ = [
     "GROUP",
     "Options",
+    "Field",
+    "model_validator",
     "Inputs",
     "Check",
     "CheckSpec",
@@ -36,12 +37,6 @@ __all__ = [
 ]
 
 GROUP = "kcheck.checks"
-
-
-class Options(BaseModel):
-    """Base of a check's options (the scene's ``checks: {id: {...}}``); unknown keys fail."""
-
-    model_config = ConfigDict(extra="forbid", strict=True, frozen=True)
 
 
 @dataclass(frozen=True)
@@ -65,7 +60,9 @@ class Check:
     * ``applies_to``: one line saying which scenes it applies to;
     * ``needs_mass``: whether it needs the body's mass properties (only then are meshes read);
       a check whose need depends on the scene overrides ``needs_mass_for``;
-    * ``options``: a pydantic model of its options;
+    * ``options``: its options, an :class:`Options` subclass (fields declared with
+      :func:`Field`; pydantic validates them only when a scene or the configuration sets
+      them), or a pydantic model;
     * ``severity``: ``error`` (a failure fails the run) or ``warning`` (shown; fails the run
       only with ``--strict``); scenes and configuration may override it per check;
     * ``default_selected``: False for an opt-in check, which runs only on scenes whose

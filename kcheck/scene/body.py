@@ -7,7 +7,7 @@ import errno
 import os
 import stat
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -15,11 +15,13 @@ from kcheck.errors import describe_os_error
 from kcheck.numerics.thresholds import PRINCIPAL_TRIANGLE_RTOL, ROTATION_TOL
 from kcheck.scene.limits import INERTIA_SYMMETRY_RTOL, LIMITS
 from kcheck.scene.materials import canonical, density_of, known_names
-from kcheck.scene.models import BodyModel, PartModel, TransformModel
 from kcheck.scene.types import Body, ExplicitMass, Part, PointMass
 from kcheck.scene.units import LENGTH_TO_M
 from kcheck.scene.validate import Problems
 from kcheck.scene.yamlio import FieldPath
+
+if TYPE_CHECKING:  # records of kcheck.scene.accept read like them; pydantic only for errors
+    from kcheck.scene.models import BodyModel, PartModel, TransformModel
 
 __all__ = ["BodyReader", "STEP_SUFFIXES", "rotation_matrix"]
 

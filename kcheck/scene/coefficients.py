@@ -4,20 +4,23 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 from kcheck.fmt import format_number
-from kcheck.scene.models import FrictionPairModel, FrictionRangeModel
+from kcheck.scene.accept import is_model
 from kcheck.scene.types import Friction
 from kcheck.scene.validate import Problems
 from kcheck.scene.yamlio import FieldPath
 
+if TYPE_CHECKING:  # records of kcheck.scene.accept read like them
+    from kcheck.scene.models import FrictionPairModel, FrictionRangeModel
+
 __all__ = ["resolve_friction"]
 
-Value = float | FrictionRangeModel | FrictionPairModel
 
-
-def _range(value: float | FrictionRangeModel, where: FieldPath, p: Problems) -> tuple[float, float]:
+def _range(value: Any, where: FieldPath, p: Problems) -> tuple[float, float]:
     """``(low, high)`` of a number or a range; an error (kept as given) when min > max."""
-    if isinstance(value, FrictionRangeModel):
+    if is_model(value, "FrictionRangeModel"):
         if value.min > value.max:
             p.add(
                 where,
@@ -33,14 +36,17 @@ def _text(span: tuple[float, float]) -> str:
     return low if span[0] == span[1] else f"{low}–{high}"
 
 
-def resolve_friction(value: Value, where: FieldPath, p: Problems) -> Friction:
+def resolve_friction(
+    value: float | FrictionRangeModel | FrictionPairModel, where: FieldPath, p: Problems
+) -> Friction:
     """The coefficients of a ``friction`` field; errors recorded at ``where`` (min > max, or
     static below kinetic)."""
-    if not isinstance(value, FrictionPairModel):
+    if not is_model(value, "FrictionPairModel"):  # a record of kcheck.scene.accept
         span = _range(value, where, p)
         return Friction(span, span)
-    static = _range(value.static, (*where, "static"), p)
-    kinetic = _range(value.kinetic, (*where, "kinetic"), p)
+    pair: Any = value
+    static = _range(pair.static, (*where, "static"), p)
+    kinetic = _range(pair.kinetic, (*where, "kinetic"), p)
     if static[0] < kinetic[0] or static[1] < kinetic[1]:
         p.add(
             where,

@@ -11,16 +11,16 @@ from __future__ import annotations
 import dataclasses
 import math
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
 from kcheck.numerics.thresholds import PARALLEL_COS, PARALLEL_SIN, ZERO_GUARD
+from kcheck.scene.accept import accept
 from kcheck.scene.body import BodyReader, rotation_matrix
 from kcheck.scene.coefficients import resolve_friction
 from kcheck.scene.limits import LIMITS, MIN_FORCE
 from kcheck.scene.materials import canonical, known_names
-from kcheck.scene.models import BodyModel, ContactModel, LoadModel, SceneModel, SweepModel
 from kcheck.scene.shorthands import contact_count, expand_coupling
 from kcheck.scene.types import (
     PLANAR_TOL,
@@ -45,6 +45,9 @@ from kcheck.scene.yamlio import (
     format_path,
     read_yaml,
 )
+
+if TYPE_CHECKING:  # records of kcheck.scene.accept read like them; pydantic only for errors
+    from kcheck.scene.models import BodyModel, ContactModel, LoadModel, SceneModel, SweepModel
 
 __all__ = ["SCENE_GLOB", "load_scene", "scene_from_document", "rotation_matrix"]
 
@@ -74,10 +77,13 @@ def scene_from_document(
     # Values are checked on what is left of a file with wrong fields too (every mistake in
     # one run); an error that only follows from leaving a field out is not one of them.
     # Not when `units` is wrong: every length is read in it.
-    model, dropped = salvage(data, SceneModel, problems)
+    # A valid file is read without pydantic (issue 24: start-up); any doubt, pydantic decides.
+    model: Any = None if problems.errors else accept(data)
+    dropped: set[FieldPath] = set()
+    if model is None:
+        model, dropped = salvage(data, problems)
     if model is None or ("units",) in dropped:
         problems.raise_if_any()
-    assert isinstance(model, SceneModel)
     said = len(problems.errors)
     scene = _Builder(path, model, problems, allow_outside, document).build()
     problems.errors[said:] = [

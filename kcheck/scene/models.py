@@ -17,6 +17,9 @@ from pydantic import (
     field_validator,
 )
 
+from kcheck.scene.accept import COUPLING_TYPES
+from kcheck.scene.accept import coefficient_kind as _coefficient_kind
+from kcheck.scene.accept import friction_kind as _friction_kind
 from kcheck.scene.limits import LIMITS
 
 __all__ = [
@@ -86,10 +89,6 @@ class FrictionRangeModel(_Model):
     max: float = bounded("friction", description="The highest coefficient")
 
 
-def _coefficient_kind(value: Any) -> str:
-    return "FrictionRangeModel" if isinstance(value, dict) else "float"
-
-
 Coefficient = Annotated[
     Annotated[float, bounded("friction"), Tag("float")]
     | Annotated[FrictionRangeModel, Tag("FrictionRangeModel")],
@@ -103,13 +102,6 @@ class FrictionPairModel(_Model):
     TAGGED: ClassVar[bool] = True
     static: Coefficient = Field(description="Friction before motion starts (holding, jamming)")
     kinetic: Coefficient = Field(description="Friction while sliding (the dynamics)")
-
-
-def _friction_kind(value: Any) -> str:
-    if isinstance(value, dict):
-        pair = {"static", "kinetic"} & set(value)
-        return "FrictionPairModel" if pair else "FrictionRangeModel"
-    return "float"
 
 
 #: A Coulomb coefficient: a number, a range ``{min, max}`` or ``{static, kinetic}``.
@@ -347,14 +339,6 @@ CouplingModel = Annotated[
     | BallFlatModel,
     Field(discriminator="type"),
 ]
-COUPLING_TYPES = (
-    "ball-vee",
-    "ball-cylinders",
-    "ball-sphere",
-    "ball-trihedral",
-    "ball-cone",
-    "ball-flat",
-)
 
 
 class LoadModel(_Model):

@@ -8,16 +8,18 @@ import math
 import typing
 from collections.abc import Iterator, Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from pydantic import BaseModel, ValidationError
-from pydantic_core import ErrorDetails
 
 from kcheck.errors import FieldPath, SceneError, SceneErrors
+from kcheck.scene.accept import COUPLING_TYPES, Record
 from kcheck.scene.limits import LIMITS, MAX_DIRECTION, MIN_DIRECTION, Range
-from kcheck.scene.models import COUPLING_TYPES
 from kcheck.scene.types import position_of
+
+if TYPE_CHECKING:  # pydantic is imported only when a file has a mistake (issue 24)
+    from pydantic import BaseModel, ValidationError
+    from pydantic_core import ErrorDetails
 
 __all__ = [
     "Problems",
@@ -26,6 +28,7 @@ __all__ = [
     "describe_pydantic",
     "did_you_mean",
     "salvage",
+    "record_of",
     "consequence_of",
 ]
 
@@ -177,6 +180,8 @@ def plain_value_problems(data: Any, problems: Problems) -> None:
 
 def _models_in(annotation: Any) -> list[type[BaseModel]]:
     """The pydantic models an annotation can hold (through lists, unions, Annotated)."""
+    from pydantic import BaseModel
+
     if isinstance(annotation, type) and issubclass(annotation, BaseModel):
         return [annotation]
     out: list[type[BaseModel]] = []
@@ -504,17 +509,38 @@ def _drop(data: Any, path: FieldPath, bad: set[FieldPath], dropped: set[FieldPat
     return False
 
 
+def record_of(value: Any) -> Any:
+    """A validated pydantic model as :class:`~kcheck.scene.accept.Record` values (what the
+    acceptor builds for a valid file), so the loader reads one kind of value."""
+    from pydantic import BaseModel
+
+    if isinstance(value, BaseModel):
+        fields = {k: record_of(getattr(value, k)) for k in type(value).model_fields}
+        return Record(type(value).__name__, fields, set(value.model_fields_set))
+    if isinstance(value, list):
+        return [record_of(v) for v in value]
+    if isinstance(value, dict):
+        return {k: record_of(v) for k, v in value.items()}
+    return value
+
+
 def salvage(
-    data: Any, root: type[BaseModel], problems: Problems
-) -> tuple[BaseModel | None, set[FieldPath]]:
-    """Validate ``data`` against ``root``, recording every pydantic error; then, so that the
-    checks of values run on the rest of the file too (every mistake of a file in one run),
-    drop each wrong field and validate again until what is left validates. Returns the model
-    of what is left (None if nothing could be kept) and the fields dropped or replaced: errors
-    at, under or above them are consequences of the dropping, not mistakes
-    (:func:`consequence_of`)."""
+    data: Any, problems: Problems, root: type[BaseModel] | None = None
+) -> tuple[Record | None, set[FieldPath]]:
+    """Validate ``data`` against ``root`` (the scene's model by default), recording every
+    pydantic error; then, so that the checks of values run on the rest of the file too
+    (every mistake of a file in one run), drop each wrong field and validate again until what
+    is left validates. Returns the records of what is left (None if nothing could be kept)
+    and the fields dropped or replaced: errors at, under or above them are consequences of
+    the dropping, not mistakes (:func:`consequence_of`)."""
     import copy
 
+    from pydantic import ValidationError
+
+    if root is None:
+        from kcheck.scene.models import SceneModel
+
+        root = SceneModel
     work = copy.deepcopy(data)
     dropped: set[FieldPath] = set()
     said = {e.where for e in problems.errors if e.where}  # plain-value errors
@@ -524,7 +550,7 @@ def salvage(
     first = True
     for _ in range(_SALVAGE_ROUNDS):
         try:
-            return root.model_validate(work), dropped
+            return record_of(root.model_validate(work)), dropped
         except ValidationError as exc:
             if first:
                 pydantic_problems(exc, root, problems)

@@ -15,13 +15,12 @@ import dataclasses
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from pydantic import Field
 
 from kcheck.analysis import analyse
 from kcheck.analysis.cases import Analysis, closing_force_reason, describe_ranges, sweep_ranges
 from kcheck.analysis.friction_ranges import range_details
 from kcheck.fmt import clean, format_angle, format_share, format_vector
-from kcheck.plugin import Check, Inputs
+from kcheck.plugin import Check, Field, Inputs
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.marginal import with_angle_margin

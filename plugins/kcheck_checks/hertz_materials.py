@@ -11,16 +11,18 @@ material, or one without elastic constants, is reported, never assumed.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-from pydantic import Field, model_validator
 
 from kcheck.body.elastic import Material, elastic_names, material
 from kcheck.numerics.margins import MARGINAL_UTILISATION
-from kcheck.plugin import Options
+from kcheck.plugin import Field, Options, model_validator
 from kcheck.scene import Scene
-from kcheck.scene.models import MaterialName
 from kcheck.scene.yamlio import format_path
+
+if TYPE_CHECKING:  # read by the options' pydantic model when options are given
+    from kcheck.scene.models import MaterialName
 
 __all__ = [
     "MaterialModel",

@@ -18,7 +18,6 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from pydantic import Field
 
 from kcheck.analysis.cases import ranges_deg
 from kcheck.analysis.friction_ranges import coefficients_used
@@ -48,7 +47,7 @@ from kcheck.mechanics.arcs import FULL, TAU, ArcSet, complement, intersect, marg
 from kcheck.mechanics.statics import PYRAMID_EDGES
 from kcheck.numerics.margins import MARGINAL_FRICTION_RATIO
 from kcheck.numerics.thresholds import IN_SWEEP_PLANE, UNDETERMINED
-from kcheck.plugin import Check, Inputs, Options
+from kcheck.plugin import Check, Field, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.marginal import with_margin

@@ -8,7 +8,6 @@ it is shown, and fails a run only with ``--strict`` (or a severity set to ``erro
 from __future__ import annotations
 
 import numpy as np
-from pydantic import Field
 
 from kcheck.analysis.cases import support_layout
 from kcheck.fmt import format_angle, format_number
@@ -22,7 +21,7 @@ from kcheck.mechanics.kinematics import (
 )
 from kcheck.numerics.margins import MARGINAL_COS
 from kcheck.numerics.thresholds import EPS, NEARLY_SINGULAR, NOISE_RTOL
-from kcheck.plugin import Check, Inputs, Options
+from kcheck.plugin import Check, Field, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck_checks.marginal import with_margin
 

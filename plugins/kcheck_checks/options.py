@@ -2,10 +2,8 @@
 
 from __future__ import annotations
 
-from pydantic import Field
-
 from kcheck.numerics.margins import MARGINAL_ANGLE_DEG
-from kcheck.plugin import Options
+from kcheck.plugin import Field, Options
 
 __all__ = ["AnalyticalOptions"]
 

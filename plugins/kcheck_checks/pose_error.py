@@ -16,27 +16,26 @@ options, or when ``--select`` names it.
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field
 
 from kcheck.fmt import format_number
-from kcheck.plugin import Check, Inputs, Options
+from kcheck.plugin import Check, Field, Inputs, Options
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
-from kcheck.scene.models import MaterialName
 from kcheck_checks.wording import verdict
+
+if TYPE_CHECKING:  # read by the options' pydantic model when options are given
+    from kcheck.scene.models import MaterialName
 
 __all__ = ["PoseError", "PoseErrorOptions", "PoseGroup"]
 
 UM = 1e-6  # m per µm, rad per µrad
 
 
-class PoseGroup(BaseModel):
+class PoseGroup(Options):
     """Seats made in one machine setup: one shared error moves them together."""
-
-    model_config = ConfigDict(extra="forbid", strict=True, frozen=True)
 
     name: str = Field(description="The group's name (for the report)")
     couplings: list[str] = Field(

@@ -10,19 +10,20 @@ from __future__ import annotations
 
 import importlib.util
 import time
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
-from pydantic import Field
 
 from kcheck.analysis import analyse
 from kcheck.analysis.cases import closing_force_reason
-from kcheck.analysis.reseat import ReseatRun, ReseatSettings, inertia_missing, simulate
 from kcheck.fmt import format_number
 from kcheck.numerics.thresholds import RESEAT_ESTIMATE_FACTOR, RESEAT_SEAT_RESOLUTION
-from kcheck.plugin import Check, Inputs, Options
+from kcheck.plugin import Check, Field, Inputs, Options
 from kcheck.result import CaseResult, CheckResult, Finding, MassProperties, Status
 from kcheck.scene import Scene
+
+if TYPE_CHECKING:  # the simulation is imported when the opt-in check runs (issue 24)
+    from kcheck.analysis.reseat import ReseatRun, ReseatSettings
 
 __all__ = ["Reseat", "ReseatOptions", "SIM_INSTALL", "settings_of", "friction_ends"]
 
@@ -61,6 +62,8 @@ class ReseatOptions(Options):
 
 def settings_of(options: ReseatOptions) -> ReseatSettings:
     """The simulation settings (SI) of the check's options."""
+    from kcheck.analysis.reseat import ReseatSettings
+
     return ReseatSettings(
         retraction=options.retraction_um * 1e-6,
         profile=options.profile,
@@ -160,6 +163,8 @@ class Reseat(Check):
 
     def run(self, inputs: Inputs) -> CheckResult:
         """Simulate every case at the time step and at half of it."""
+        from kcheck.analysis.reseat import inertia_missing, simulate
+
         assert inputs.mass is not None and isinstance(inputs.options, ReseatOptions)
         mass = inputs.mass
         if inertia_missing(inputs.scene, mass):

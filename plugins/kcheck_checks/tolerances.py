@@ -20,14 +20,13 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
-from pydantic import Field
 
 from kcheck.analysis import analyse
 from kcheck.analysis.cases import closing_force_reason, problem_for
 from kcheck.analysis.friction_ranges import RangeInfo
 from kcheck.fmt import format_angle, format_length, format_number
 from kcheck.numerics.margins import MARGINAL_PASS_PROBABILITY
-from kcheck.plugin import Check, Inputs, Options
+from kcheck.plugin import Check, Field, Inputs, Options
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.marginal import with_margin
