@@ -6,7 +6,10 @@ of directions within ``δn``; in a plane, a turn uniform in ``±δn``), the kine
 uniform along their ranges (together, as the analytical checks take a range, or each support
 on its own). For each sample the analytical equations of
 every retracted case are set up and solved at once, in batches of numpy calls (free twists by
-one SVD per case, the systems by one solve): nothing is looped over samples.
+one SVD per case, the systems by one solve): nothing is looped over samples. A run is cut into
+chunks of ``CHUNK`` samples, each drawn from its own stream (:mod:`kcheck.numerics.streams`)
+and solved by :func:`chunk_margins`, a pure function of its :class:`MarginChunk`: any process
+may solve any chunk, and the margins are the same.
 
 The result per sample is the **design margin**: the least, over the cases and their closing
 conditions ``a_k + c_k . d > 0``, of the angular distance of the design direction ``d`` to the

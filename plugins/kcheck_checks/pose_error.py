@@ -3,11 +3,11 @@
 Seeded Monte Carlo over stated manufacturing errors — ball positions and radii, seat (groove)
 positions and angles, and correlated groups (one machine setup moves a declared group of seats
 together) — mapped to the body's pose error at a point of interest by the small-displacement
-kinematics of :mod:`kcheck.mechanics.pose_error` (one matrix product per error source: the
-whole run is vectorised on one core). It reports the mean, spread and a chosen quantile of the
-translation (µm) and rotation (µrad) there, with Monte Carlo confidence bounds, and judges them
-against an allowed pose error when one is given — without one it reports the numbers and says
-it did not judge them.
+kinematics of :mod:`kcheck.mechanics.pose_error` (one matrix product per chunk of samples;
+the chunks run where the inputs' sample map sends them, with the same answer anywhere). It
+reports the mean, spread and a chosen quantile of the translation (µm) and rotation (µrad)
+there, with Monte Carlo confidence bounds, and judges them against an allowed pose error when
+one is given — without one it reports the numbers and says it did not judge them.
 
 Opt-in (``default_selected = False``): it runs only on scenes whose ``checks:`` give
 ``pose-error:`` options, when the configuration's ``[tool.kcheck.checks.pose-error]`` gives
