@@ -165,28 +165,60 @@ def executors(rounds: int = 3) -> None:
     except ImportError:
         print("distributed is not installed: no Dask rows", file=sys.stderr)
     times: dict[tuple[str, str], list[float]] = {(r, m): [] for r in runs for m in maps}
+    cpus: dict[tuple[str, str], list[float]] = {(r, m): [] for r in runs for m in maps}
+    own: dict[tuple[str, str], list[float]] = {(r, m): [] for r in runs for m in maps}
     answers: dict[str, set[str]] = {r: set() for r in runs}
+    dask_client = {
+        f"Dask, {n} worker{'s' if n > 1 else ''}": c for n, (c, _) in enumerate(clients, 1)
+    }
+
+    def parent() -> float:
+        import resource
+
+        here = resource.getrusage(resource.RUSAGE_SELF)
+        return here.ru_utime + here.ru_stime
+
+    def cpu(map_name: str) -> float:
+        """CPU seconds of this process, its waited-for children (the local workers) and,
+        for Dask, the cluster's worker processes."""
+        import resource
+
+        here = resource.getrusage(resource.RUSAGE_SELF)
+        kids = resource.getrusage(resource.RUSAGE_CHILDREN)
+        total = here.ru_utime + here.ru_stime + kids.ru_utime + kids.ru_stime
+        if map_name in dask_client:
+            total += sum(dask_client[map_name].run(time.process_time).values())
+        return total
+
     for _ in range(rounds):
         for run_name, (check, opts, _) in runs.items():
             for map_name, sample_map in maps.items():
                 inputs = Inputs(scene, mass, opts, sample_map=sample_map)
+                before, mine = cpu(map_name), parent()
                 start = time.perf_counter()
                 result = check.run(inputs)
                 times[(run_name, map_name)].append(time.perf_counter() - start)
+                own[(run_name, map_name)].append(parent() - mine)
+                cpus[(run_name, map_name)].append(cpu(map_name) - before)
                 answers[run_name].add(repr(result.details))
     for client, cluster in clients:
         client.close()
         cluster.close()
     print(f"load average after: {os.getloadavg()[0]:.2f}")
-    print("| check | executor | wall (median) | samples/s | over 1 local worker |")
-    print("|---|---|---|---|---|")
+    print(
+        "| check | executor | wall (median) | samples/s | over 1 local worker | CPU (median) "
+        "| of it this process | cores busy |"
+    )
+    print("|---|---|---|---|---|---|---|---|")
     for run_name, (_, _, count) in runs.items():
         base = statistics.median(times[(run_name, "1 local worker")])
         for map_name in maps:
             wall = statistics.median(times[(run_name, map_name)])
+            used = statistics.median(cpus[(run_name, map_name)])
+            mine = statistics.median(own[(run_name, map_name)])
             print(
                 f"| {run_name} | {map_name} | {wall:.2f} s | {count / wall:,.0f} | "
-                f"{base / wall:.2f}x |"
+                f"{base / wall:.2f}x | {used:.2f} s | {mine:.2f} s | {used / wall:.2f} |"
             )
         same = "identical" if len(answers[run_name]) == 1 else "DIFFERENT"
         print(f"| {run_name} | every executor's details | {same} | | |")
