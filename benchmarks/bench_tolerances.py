@@ -227,6 +227,14 @@ def executors(rounds: int = 3) -> None:
 if __name__ == "__main__":
     import sys
 
+    if sys.argv[1:] == ["executors"] and os.environ.get("OPENBLAS_NUM_THREADS") != "1":
+        # One BLAS thread, as `kcheck` runs (kcheck.cli.pin_blas_threads) and as Dask starts
+        # its workers: a second BLAS thread waiting for a core on a loaded machine slows every
+        # tiny matrix call. Effective only before numpy loads: start again with it.
+        from kcheck.cli import BLAS_THREAD_VARIABLES
+
+        env = {**os.environ, **dict.fromkeys(BLAS_THREAD_VARIABLES, "1")}
+        os.execve(sys.executable, [sys.executable, *sys.argv], env)
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores\n")
     if sys.argv[1:] == ["executors"]:
         executors()
