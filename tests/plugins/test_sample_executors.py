@@ -174,3 +174,57 @@ def test_scene_workers_and_sample_workers_are_one_choice(cli, tmp_path):
     assert code == 2 and "give one" in err
     code, _, err = cli("check", str(path), "--sample-jobs", "0")
     assert code == 2 and "--sample-jobs" in err
+
+
+class _Future:
+    def __init__(self, value=None, error=None):
+        self.value, self.error = value, error
+
+
+class _Client:
+    """The three calls of distributed.Client the Dask map uses, run here; a task whose
+    chunk is negative fails, as a Dask task would."""
+
+    def __init__(self, workers: int) -> None:
+        self.workers = workers
+        self.tasks: list[list[int]] = []
+
+    def scheduler_info(self):
+        return {"workers": {f"w{i}": {} for i in range(self.workers)}}
+
+    def map(self, function, functions, tasks, pure):
+        assert pure is False and all(f is functions[0] for f in functions)
+        self.tasks = [list(t) for t in tasks]
+        out = []
+        for f, t in zip(functions, tasks, strict=True):
+            try:
+                out.append(_Future(function(f, t)))
+            except ValueError as exc:
+                out.append(_Future(error=exc))
+        return out
+
+    def gather(self, futures):
+        for f in futures:
+            if f.error is not None:
+                raise f.error
+        return [f.value for f in futures]
+
+
+def _checked(chunk: int) -> int:
+    if chunk < 0:
+        raise ValueError("a negative chunk")
+    return chunk * chunk
+
+
+def test_dask_map_sends_a_few_tasks_per_worker_and_keeps_chunk_order():
+    from kcheck.gate.samples import TASKS_PER_WORKER, SampleWorkerError, dask_samples
+
+    client = _Client(workers=2)
+    run = dask_samples(client)
+    assert run(_checked, list(range(50))) == [c * c for c in range(50)]
+    assert len(client.tasks) == 2 * TASKS_PER_WORKER
+    assert [c for t in client.tasks for c in t] == list(range(50))
+    client.tasks = []
+    assert run(_checked, [3]) == [9] and client.tasks == []  # one chunk stays here
+    with pytest.raises(SampleWorkerError, match="a negative chunk"):
+        run(_checked, [1, 2, -3, 4])
