@@ -155,16 +155,24 @@ def sobol_draws(
     """Quasi-random draws like :func:`draw` from one scrambled Sobol sequence over all
     ``len(scale)`` dimensions (seeded): ``count`` rounded up to a power of two (Sobol's
     balance), returned with the count used."""
-    from scipy.stats import norm, qmc
+    from scipy.stats import qmc
 
     s = np.asarray(scale, float)
     m = max(int(np.ceil(np.log2(max(count, 2)))), 1)
     u = qmc.Sobol(len(s), scramble=True, seed=seed).random_base2(m)
+    return _unit_draws(u, s, distribution), len(u)
+
+
+def _unit_draws(u: np.ndarray, scale: np.ndarray, distribution: str) -> np.ndarray:
+    """Points ``u`` of ``[0, 1)^m`` as errors: normal with standard deviations ``scale``
+    (m,) through the normal quantile, or uniform within ``+-scale``."""
     if distribution == "normal":
+        from scipy.stats import norm
+
         # scrambled points are never exactly 0 or 1, but keep ppf finite regardless
-        return norm.ppf(np.clip(u, TINY, 1.0 - EPS)) * s, len(u)
+        return np.asarray(norm.ppf(np.clip(u, TINY, 1.0 - EPS))) * scale
     if distribution == "uniform":
-        return (2.0 * u - 1.0) * s, len(u)
+        return (2.0 * u - 1.0) * scale
     raise ValueError(f"unknown distribution {distribution!r}")
 
 
@@ -259,15 +267,7 @@ def pose_chunk(chunk: PoseChunk) -> tuple[np.ndarray, np.ndarray, np.ndarray, np
     s = np.asarray(chunk.scale, float)
     if chunk.sampler == "sobol":
         u = _sobol_points(chunk.seed, len(s), chunk.start, chunk.count)
-        if chunk.distribution == "normal":
-            # scrambled points are never exactly 0 or 1, but keep ppf finite regardless
-            from scipy.stats import norm
-
-            x = norm.ppf(np.clip(u, TINY, 1.0 - EPS)) * s
-        elif chunk.distribution == "uniform":
-            x = (2.0 * u - 1.0) * s
-        else:
-            raise ValueError(f"unknown distribution {chunk.distribution!r}")
+        x = _unit_draws(u, s, chunk.distribution)
     else:
         x = draw(chunk_generator(chunk.seed, chunk.index), chunk.count, s, chunk.distribution)
     separations = np.einsum("sm,km->sk", x, chunk.matrix)
