@@ -8,6 +8,9 @@ comparable on a quiet machine).
   (36 drawn numbers per sample), 10^3 to 10^5 samples, independent and Sobol draws;
 * paired: the skinny product (10^5 x 6) @ (6 x 3) by numpy's matmul (a threaded BLAS call)
   against einsum, which the check uses.
+
+The check on the sample executors (in process, local workers, Dask) is measured, paired with
+`tolerances`, by ``python benchmarks/bench_tolerances.py executors``.
 """
 
 from __future__ import annotations

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any, TextIO
 
 from kcheck.cli.common import ExitCode, fail
 from kcheck.cli.config import add_gate_options
+from kcheck.cli.executors import add_sample_options
 
 if TYPE_CHECKING:
     from kcheck.gate.paths import Excluder
@@ -121,6 +122,7 @@ def add_parser(sub: Any) -> None:
         "default: the working directory, the scene reported as -",
     )
     add_gate_options(check)
+    add_sample_options(check)
     _add_report_options(check)
     check.set_defaults(handler=run)
 
@@ -249,6 +251,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _check(args: argparse.Namespace, temporary: list[Path]) -> int:
     from kcheck.cli.config import cache_folder, effective_config, output_targets, plan_checks
+    from kcheck.cli.executors import sample_map
     from kcheck.gate.paths import check_output_dir, check_output_file
     from kcheck.gate.runner import Settings, discover, run_batch
     from kcheck.plugin import load_checks
@@ -256,6 +259,12 @@ def _check(args: argparse.Namespace, temporary: list[Path]) -> int:
     from kcheck.result import Status
 
     config = effective_config(args)
+    sampled = args.sample_jobs or args.dask_local or args.scheduler
+    if sampled is not None and args.jobs is not None:
+        return fail(
+            "-j runs scenes in worker processes; with --sample-jobs, --dask-local or "
+            "--scheduler the samples run there and the scenes in this process: give one"
+        )
     checks = load_checks()
     plan = plan_checks(config, checks)
     plot_formats = _plot_formats(args.plot_format)
@@ -335,7 +344,10 @@ def _check(args: argparse.Namespace, temporary: list[Path]) -> int:
         return fail(f"cannot open a report file: {describe_os_error(exc)} ({exc.filename})")
     tee = _Tee(streams)
     try:
-        with _pictures(args.plots, plot_formats, page) as (plots, formats):
+        with (
+            _pictures(args.plots, plot_formats, page) as (plots, formats),
+            sample_map(args, config["timeout"], int(config["memory_limit"] * 2**20)) as samples,
+        ):
             settings = Settings(
                 allow_outside=config["allow_outside_paths"],
                 plots=plots,
@@ -345,11 +357,14 @@ def _check(args: argparse.Namespace, temporary: list[Path]) -> int:
                 selected=plan.selected,
                 named=plan.named,
                 cache_dir=cache_folder(config),
-                jobs=config["jobs"] or _cores(),
+                # Samples on an executor: the scenes in this process, in turn (a Dask
+                # client does not survive a fork, and the samples hold the cores).
+                jobs=0 if samples is not None else config["jobs"] or _cores(),
                 timeout_s=config["timeout"],
                 memory_bytes=int(config["memory_limit"] * 2**20),
                 max_file_bytes=int(config["max_file_size"] * 2**20),
                 max_mesh_bytes=int(config["max_mesh_size"] * 2**20),
+                sample_map=samples,
             )
             doing = "checking" + (", plotting" if plots is not None else "")
             ticks: list[Callable[[], None]] = []  # the progress line's, once it is shown

@@ -130,16 +130,9 @@ def _plan(args: argparse.Namespace) -> list[tuple[Path, Path, Path | None, Path 
 
 
 def _client(args: argparse.Namespace) -> Any:
-    try:
-        from distributed import Client, LocalCluster
-    except ImportError:
-        return None
-    if args.scheduler is not None:
-        return Client(args.scheduler)
-    cluster = LocalCluster(
-        n_workers=args.dask_local, threads_per_worker=1, processes=True, dashboard_address=None
-    )
-    return Client(cluster)
+    from kcheck.cli.executors import dask_client
+
+    return dask_client(args.dask_local, args.scheduler)
 
 
 def _load(path: Path, output: Path, known: set[str]) -> Any:
@@ -234,7 +227,9 @@ def _run_one(
     if args.dask_local is not None or args.scheduler is not None:
         client = _client(args)
         if client is None:
-            return fail("Dask executors need distributed: pip install 'kcheck[dask]'")
+            from kcheck.cli.executors import DASK_MISSING
+
+            return fail(DASK_MISSING)
         executor = engine.dask_executor(
             study,
             settings,
@@ -254,10 +249,9 @@ def _run_one(
         complete = engine.run_study(study, check_ids, output, executor, args.limit_chunks, progress)
     finally:
         if client is not None:
-            cluster = getattr(client, "cluster", None)
-            client.close()
-            if cluster is not None:
-                cluster.close()
+            from kcheck.cli.executors import close_client
+
+            close_client(client)
     if sys.stderr.isatty():
         print(file=sys.stderr)
     if not complete:

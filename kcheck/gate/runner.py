@@ -20,7 +20,7 @@ from typing import Any
 from kcheck.analysis.sanity import scene_warnings
 from kcheck.errors import SceneError, SceneErrors
 from kcheck.gate.paths import Excluder, discover_paths
-from kcheck.plugin import Inputs, LoadedCheck, Options
+from kcheck.plugin import Inputs, LoadedCheck, Options, SampleMap
 from kcheck.result import CheckResult, Finding, MassProperties, SceneResult, Severity, Status
 from kcheck.scene import Scene, describe_pydantic, load_scene
 from kcheck.scene.yamlio import DEFAULT_LIMITS
@@ -52,6 +52,8 @@ class Settings:
     ``memo_mass`` keeps mass properties and body surfaces in this process's memory (a study's
     variants). ``hints`` False skips the way-out searches behind failing findings' hints
     (:class:`kcheck.plugin.Inputs`; a study reads verdicts and figures only).
+    ``sample_map`` runs the Monte Carlo checks' chunks of samples (:mod:`kcheck.gate.samples`;
+    None: in the scene's own process, in turn).
     ``max_file_bytes`` is the largest scene file read (configuration ``max_file_size``),
     ``max_mesh_bytes`` the largest mesh file (``max_mesh_size``); None: the defaults.
     """
@@ -71,6 +73,7 @@ class Settings:
     plot_formats: tuple[str, ...] = ("png",)
     memo_mass: bool = False
     hints: bool = True
+    sample_map: SampleMap | None = None
 
 
 def discover(
@@ -306,6 +309,8 @@ def check_scene(
             results.append(CheckResult(lc.spec.name, Status.SKIPPED, reason, severity=severity))
             continue
         inputs = Inputs(scene, mass if needs_mass else None, options, hints=settings.hints)
+        if settings.sample_map is not None:
+            inputs = dataclasses.replace(inputs, sample_map=settings.sample_map)
         start = time.perf_counter()
         try:
             result = lc.check.run(inputs)

@@ -32,7 +32,12 @@ import numpy as np
 from kcheck.mechanics.dynamics import ILL_CONDITIONED, solve_affine
 from kcheck.mechanics.kinematics import wrenches
 from kcheck.mechanics.seat import seat_layout
+from kcheck.numerics.streams import chunk_bounds, chunk_generator
 from kcheck.numerics.thresholds import EPS, TINY
+
+#: Samples drawn and mapped per chunk (2^16: about 19 MB of draws at 36 error sources). Each
+#: chunk of independent draws has its own stream, so changing this changes the samples.
+CHUNK = 2**16
 
 __all__ = [
     "PoseMap",
@@ -43,6 +48,10 @@ __all__ = [
     "pose_errors",
     "draw",
     "sobol_draws",
+    "PoseChunk",
+    "pose_chunks",
+    "pose_chunk",
+    "CHUNK",
     "mean_bounds",
     "quantile_bounds",
 ]
@@ -146,16 +155,24 @@ def sobol_draws(
     """Quasi-random draws like :func:`draw` from one scrambled Sobol sequence over all
     ``len(scale)`` dimensions (seeded): ``count`` rounded up to a power of two (Sobol's
     balance), returned with the count used."""
-    from scipy.stats import norm, qmc
+    from scipy.stats import qmc
 
     s = np.asarray(scale, float)
     m = max(int(np.ceil(np.log2(max(count, 2)))), 1)
     u = qmc.Sobol(len(s), scramble=True, seed=seed).random_base2(m)
+    return _unit_draws(u, s, distribution), len(u)
+
+
+def _unit_draws(u: np.ndarray, scale: np.ndarray, distribution: str) -> np.ndarray:
+    """Points ``u`` of ``[0, 1)^m`` as errors: normal with standard deviations ``scale``
+    (m,) through the normal quantile, or uniform within ``+-scale``."""
     if distribution == "normal":
+        from scipy.stats import norm
+
         # scrambled points are never exactly 0 or 1, but keep ppf finite regardless
-        return norm.ppf(np.clip(u, TINY, 1.0 - EPS)) * s, len(u)
+        return np.asarray(norm.ppf(np.clip(u, TINY, 1.0 - EPS))) * scale
     if distribution == "uniform":
-        return (2.0 * u - 1.0) * s, len(u)
+        return (2.0 * u - 1.0) * scale
     raise ValueError(f"unknown distribution {distribution!r}")
 
 
@@ -184,3 +201,80 @@ def quantile_bounds(values: np.ndarray, q: float, confidence: float) -> tuple[fl
     lo = min(max(lo, 1), n)
     hi = min(max(hi, 1), n)
     return float(np.quantile(v, q)), float(v[lo - 1]), float(v[hi - 1])
+
+
+def _sobol_points(seed: int, dimensions: int, start: int, count: int) -> np.ndarray:
+    """Points ``start`` to ``start + count`` of the scrambled Sobol sequence seeded by
+    ``seed``: those of one sequence drawn from its start, whichever chunk asks."""
+    import warnings
+
+    from scipy.stats import qmc
+
+    engine = qmc.Sobol(dimensions, scramble=True, seed=seed)
+    if start:
+        engine.fast_forward(start)
+    with warnings.catch_warnings():  # a chunk past the first need not start at a power of 2
+        warnings.simplefilter("ignore", UserWarning)
+        return np.asarray(engine.random(count))
+
+
+@dataclass(frozen=True)
+class PoseChunk:
+    """One chunk of a pose-error Monte Carlo, as sent to whichever process maps it: samples
+    ``start`` to ``start + count`` of a run seeded by ``seed`` (chunk ``index``), drawn from
+    ``sampler`` (``random`` or ``sobol``) and ``distribution`` at the tolerances ``scale``
+    (m,), through the sensitivities ``matrix`` (k, m) and the ``pose`` map."""
+
+    pose: PoseMap
+    matrix: np.ndarray
+    scale: np.ndarray
+    distribution: str
+    sampler: str
+    seed: int
+    index: int
+    start: int
+    count: int
+
+
+def pose_chunks(
+    pose: PoseMap,
+    matrix: np.ndarray,
+    scale: np.ndarray,
+    distribution: str,
+    sampler: str,
+    seed: int,
+    samples: int,
+) -> tuple[list[PoseChunk], int]:
+    """The chunks of ``CHUNK`` samples of a run, and its sample count (Sobol: ``samples``
+    rounded up to a power of two, for Sobol's balance)."""
+    if sampler == "sobol":
+        samples = 2 ** max(int(np.ceil(np.log2(max(samples, 2)))), 1)
+    elif sampler != "random":
+        raise ValueError(f"unknown sampler {sampler!r}")
+    chunks = [
+        PoseChunk(pose, matrix, scale, distribution, sampler, seed, i, start, stop - start)
+        for i, (start, stop) in enumerate(chunk_bounds(samples, CHUNK))
+    ]
+    return chunks, samples
+
+
+def pose_chunk(chunk: PoseChunk) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """One chunk's pose errors at the point: translation (count,) m and rotation (count,)
+    rad magnitudes, and the sums (3,) of the translation and rotation vectors (for the mean
+    vector). Random draws come from the chunk's own stream
+    (:func:`kcheck.numerics.streams.chunk_generator`), Sobol points from the one sequence:
+    a pure function of the chunk, so any process may map it."""
+    s = np.asarray(chunk.scale, float)
+    if chunk.sampler == "sobol":
+        u = _sobol_points(chunk.seed, len(s), chunk.start, chunk.count)
+        x = _unit_draws(u, s, chunk.distribution)
+    else:
+        x = draw(chunk_generator(chunk.seed, chunk.index), chunk.count, s, chunk.distribution)
+    separations = np.einsum("sm,km->sk", x, chunk.matrix)
+    trans, rot = pose_errors(chunk.pose, separations)
+    return (
+        np.linalg.norm(trans, axis=1),
+        np.linalg.norm(rot, axis=1),
+        trans.sum(axis=0),
+        rot.sum(axis=0),
+    )

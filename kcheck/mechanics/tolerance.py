@@ -6,7 +6,10 @@ of directions within ``δn``; in a plane, a turn uniform in ``±δn``), the kine
 uniform along their ranges (together, as the analytical checks take a range, or each support
 on its own). For each sample the analytical equations of
 every retracted case are set up and solved at once, in batches of numpy calls (free twists by
-one SVD per case, the systems by one solve): nothing is looped over samples.
+one SVD per case, the systems by one solve): nothing is looped over samples. A run is cut into
+chunks of ``CHUNK`` samples, each drawn from its own stream (:mod:`kcheck.numerics.streams`)
+and solved by :func:`chunk_margins`, a pure function of its :class:`MarginChunk`: any process
+may solve any chunk, and the margins are the same.
 
 The result per sample is the **design margin**: the least, over the cases and their closing
 conditions ``a_k + c_k . d > 0``, of the angular distance of the design direction ``d`` to the
@@ -32,10 +35,23 @@ from kcheck.mechanics.dynamics import (
     contact_matrices,
 )
 from kcheck.mechanics.kinematics import free_twist_arrays, wrenches
+from kcheck.numerics.streams import chunk_bounds, chunk_generator
 
-__all__ = ["Perturbed", "perturb", "unit_dimensions", "sample_margins", "CHUNK"]
+__all__ = [
+    "Perturbed",
+    "perturb",
+    "unit_dimensions",
+    "sample_margins",
+    "Box",
+    "MarginChunk",
+    "margin_chunks",
+    "chunk_layouts",
+    "chunk_margins",
+    "CHUNK",
+]
 
-# Samples set up and solved per batch (bounds the memory: about 3 MB per 1000 spatial samples).
+#: Samples drawn, set up and solved per chunk (bounds the memory: about 3 MB per 1000 spatial
+#: samples). Each chunk draws from its own stream, so changing this changes the samples.
 CHUNK = 4096
 
 
@@ -224,51 +240,99 @@ def _margins_chunk(
     return value.min(axis=-1)
 
 
-#: What forked workers read (set before the fork, so the layouts are not pickled).
-_SHARED: dict[str, object] = {}
-
-
-def _shared_chunk(start: int) -> np.ndarray:
-    """Margins of the batch starting at ``start`` of the layouts shared with the workers."""
-    problem, layouts, design, pivot = (
-        _SHARED[k] for k in ("problem", "layouts", "design", "pivot")
-    )
-    assert isinstance(layouts, Perturbed) and isinstance(problem, Problem)
-    part = slice(start, start + CHUNK)
-    batch = Perturbed(layouts.points[part], layouts.normals[part], layouts.friction[part])
-    return _margins_chunk(problem, batch, design, pivot)  # type: ignore[arg-type]
-
-
-def sample_margins(
-    problem: Problem, layouts: Perturbed, design: np.ndarray | None, workers: int = 1
-) -> np.ndarray:
+def sample_margins(problem: Problem, layouts: Perturbed, design: np.ndarray | None) -> np.ndarray:
     """Design margins (rad, (s,)) of sampled layouts, in batches of ``CHUNK``; ``pi`` /
     ``-pi`` for closing / not closing under the fixed wrench when there is no design
-    direction. With ``workers`` > 1 (and fork, on Linux) the batches are solved in that many
-    forked processes: the batches are the same whatever the number of workers and each
-    sample's margin depends on its batch alone, so the margins are identical."""
-    import os
-    import sys
-
+    direction."""
     count = len(layouts.points)
     out = np.empty(count)
-    nominal, _, _ = free_twist_arrays(problem.points, problem.normals)
-    pivot = np.argmax(np.abs(nominal), axis=-1)
-    starts = range(0, count, CHUNK)
-    if workers > 1 and len(starts) > 1 and hasattr(os, "fork") and sys.platform == "linux":
-        import multiprocessing
-
-        _SHARED.update(problem=problem, layouts=layouts, design=design, pivot=pivot)
-        try:
-            # Workers are forked when the pool is made, before its threads start.
-            with multiprocessing.get_context("fork").Pool(min(workers, len(starts))) as pool:
-                for start, margins in zip(starts, pool.imap(_shared_chunk, starts), strict=True):
-                    out[start : start + CHUNK] = margins
-        finally:
-            _SHARED.clear()
-        return out
-    for start in starts:
+    pivot = _pivot(problem)
+    for start in range(0, count, CHUNK):
         part = slice(start, start + CHUNK)
         batch = Perturbed(layouts.points[part], layouts.normals[part], layouts.friction[part])
         out[part] = _margins_chunk(problem, batch, design, pivot)
     return out
+
+
+def _pivot(problem: Problem) -> np.ndarray:
+    """Per case, the nominal free twist's largest component (the sampled twists' pivot)."""
+    nominal, _, _ = free_twist_arrays(problem.points, problem.normals)
+    return np.argmax(np.abs(nominal), axis=-1)
+
+
+@dataclass(frozen=True)
+class Box:
+    """The tolerance box of :func:`perturb`: positions within ``±position`` (m) per
+    coordinate, normals within ``normal`` (rad), coefficients from ``friction_low`` to
+    ``friction_high`` (k,), together or each on its own (``independent``)."""
+
+    position: float
+    normal: float
+    friction_low: np.ndarray
+    friction_high: np.ndarray
+    independent: bool = False
+
+
+@dataclass(frozen=True)
+class MarginChunk:
+    """One chunk of a tolerance Monte Carlo, as sent to whichever process solves it: chunk
+    ``index`` of a run seeded by ``seed``, ``count`` samples (its unit points ``unit`` when a
+    design gives them), the box and the problem with its design direction."""
+
+    problem: Problem
+    box: Box
+    design: np.ndarray | None
+    pivot: np.ndarray
+    seed: int
+    index: int
+    count: int
+    unit: np.ndarray | None = None
+
+
+def margin_chunks(
+    problem: Problem,
+    box: Box,
+    design: np.ndarray | None,
+    count: int,
+    seed: int,
+    unit: np.ndarray | None = None,
+) -> list[MarginChunk]:
+    """The chunks of ``CHUNK`` samples of a run of ``count`` samples seeded by ``seed`` (or at
+    the rows of ``unit``, (count, :func:`unit_dimensions`), a design's points)."""
+    pivot = _pivot(problem)
+    return [
+        MarginChunk(
+            problem,
+            box,
+            design,
+            pivot,
+            seed,
+            i,
+            stop - start,
+            None if unit is None else unit[start:stop],
+        )
+        for i, (start, stop) in enumerate(chunk_bounds(count, CHUNK))
+    ]
+
+
+def chunk_layouts(chunk: MarginChunk) -> Perturbed:
+    """The made couplings of one chunk: drawn from the chunk's own stream
+    (:func:`kcheck.numerics.streams.chunk_generator`) or mapped from its unit points."""
+    b = chunk.box
+    return perturb(
+        chunk.problem,
+        position=b.position,
+        normal=b.normal,
+        friction_low=b.friction_low,
+        friction_high=b.friction_high,
+        count=chunk.count,
+        rng=chunk_generator(chunk.seed, chunk.index),
+        independent=b.independent,
+        unit=chunk.unit,
+    )
+
+
+def chunk_margins(chunk: MarginChunk) -> np.ndarray:
+    """Design margins (rad, (count,)) of one chunk's made couplings: a pure function of the
+    chunk, so any process may solve it."""
+    return _margins_chunk(chunk.problem, chunk_layouts(chunk), chunk.design, chunk.pivot)

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
 from kcheck.errors import PluginError
 from kcheck.plugin.dist_info import EntryPoint, distributions
 from kcheck.plugin.options import Field, Options, model_validator
+from kcheck.plugin.samples import SampleMap, serial
 
 if TYPE_CHECKING:
     import importlib.metadata
@@ -29,6 +30,7 @@ __all__ = [
     "Field",
     "model_validator",
     "Inputs",
+    "SampleMap",
     "Check",
     "CheckSpec",
     "LoadedCheck",
@@ -44,12 +46,15 @@ class Inputs:
     """What a check receives: the scene, mass properties if it declared it needs them, and
     its validated options. ``hints`` False: the caller reads only verdicts and figures (a
     study's variants), so a check may skip the searches behind a failing finding's way-out
-    hint (the least passing closing force or friction); verdicts and figures are the same."""
+    hint (the least passing closing force or friction); verdicts and figures are the same.
+    ``sample_map``: where a Monte Carlo check runs its chunks of samples
+    (:mod:`kcheck.plugin.samples`; default: here, in turn); the answer is the same on any."""
 
     scene: Scene
     mass: MassProperties | None
     options: Options
     hints: bool = True
+    sample_map: SampleMap = serial
 
 
 class Check:

@@ -3,11 +3,11 @@
 Seeded Monte Carlo over stated manufacturing errors — ball positions and radii, seat (groove)
 positions and angles, and correlated groups (one machine setup moves a declared group of seats
 together) — mapped to the body's pose error at a point of interest by the small-displacement
-kinematics of :mod:`kcheck.mechanics.pose_error` (one matrix product per error source: the
-whole run is vectorised on one core). It reports the mean, spread and a chosen quantile of the
-translation (µm) and rotation (µrad) there, with Monte Carlo confidence bounds, and judges them
-against an allowed pose error when one is given — without one it reports the numbers and says
-it did not judge them.
+kinematics of :mod:`kcheck.mechanics.pose_error` (one matrix product per chunk of samples;
+the chunks run where the inputs' sample map sends them, with the same answer anywhere). It
+reports the mean, spread and a chosen quantile of the translation (µm) and rotation (µrad)
+there, with Monte Carlo confidence bounds, and judges them against an allowed pose error when
+one is given — without one it reports the numbers and says it did not judge them.
 
 Opt-in (``default_selected = False``): it runs only on scenes whose ``checks:`` give
 ``pose-error:`` options, when the configuration's ``[tool.kcheck.checks.pose-error]`` gives
@@ -262,11 +262,11 @@ class PoseError(Check):
     def run(self, inputs: Inputs) -> CheckResult:
         """Draw the errors, map them to the pose at the point, summarise with bounds."""
         from kcheck.mechanics.pose_error import (
-            draw,
             mean_bounds,
+            pose_chunk,
+            pose_chunks,
             pose_map,
             quantile_bounds,
-            sobol_draws,
         )
 
         scene, opts = inputs.scene, inputs.options
@@ -324,22 +324,29 @@ class PoseError(Check):
                 details={"condition": pose.condition},
             )
         scale = np.concatenate([np.full(m.shape[1], tol) for _, m, tol in sources])
-        if opts.sampler == "sobol":
-            x, samples = sobol_draws(opts.seed, opts.samples, scale, opts.distribution)
-        else:
-            samples = opts.samples
-            x = draw(np.random.default_rng(opts.seed), samples, scale, opts.distribution)
-        separations = np.einsum("sm,km->sk", x, np.hstack([m for _, m, _ in sources]))
-        from kcheck.mechanics.pose_error import pose_errors
-
-        trans, rot = pose_errors(pose, separations)
+        # Chunks of fixed size, each drawn from its own stream (Sobol: its own stretch of one
+        # sequence): the same numbers on whichever executor the sample map runs them.
+        chunks, samples = pose_chunks(
+            pose,
+            np.hstack([m for _, m, _ in sources]),
+            scale,
+            opts.distribution,
+            opts.sampler,
+            opts.seed,
+            opts.samples,
+        )
+        mapped = inputs.sample_map(pose_chunk, chunks)
+        t_norm = np.concatenate([m[0] for m in mapped])
+        r_norm = np.concatenate([m[1] for m in mapped])
+        t_mean = np.sum([m[2] for m in mapped], axis=0) / samples
+        r_mean = np.sum([m[3] for m in mapped], axis=0) / samples
         from scipy.stats import norm
 
         z = float(norm.ppf(0.5 + opts.confidence / 2))
         summary: dict[str, Any] = {}
         for key, values, unit in (
-            ("translation_um", np.linalg.norm(trans, axis=1), UM),
-            ("rotation_urad", np.linalg.norm(rot, axis=1), UM),
+            ("translation_um", t_norm, UM),
+            ("rotation_urad", r_norm, UM),
         ):
             mean, std, lo, hi = mean_bounds(values, z)
             q, qlo, qhi = quantile_bounds(values, opts.quantile, opts.confidence)
@@ -362,8 +369,8 @@ class PoseError(Check):
             "condition": pose.condition,
             "sources": [name for name, *_ in sources],
             **summary,
-            "mean_translation_um": [float(v) for v in trans.mean(axis=0) / UM],
-            "mean_rotation_urad": [float(v) for v in rot.mean(axis=0) / UM],
+            "mean_translation_um": [float(v) for v in t_mean / UM],
+            "mean_rotation_urad": [float(v) for v in r_mean / UM],
         }
         t, r = summary["translation_um"], summary["rotation_urad"]
         qname = f"{format_number(100 * opts.quantile)}%"

@@ -59,13 +59,6 @@ class TolerancesOptions(Options):
         description="Draw each support's coefficient on its own (default: all move together "
         "along their ranges, as the analytical checks take them)",
     )
-    workers: int = Field(
-        1,
-        ge=1,
-        le=256,
-        description="Processes solving the samples (batches of 4096; the results are the "
-        "same for any number)",
-    )
     min_pass_probability: float | None = Field(
         None,
         gt=0.0,
@@ -126,7 +119,7 @@ class Tolerances(Check):
 
     def run(self, inputs: Inputs) -> CheckResult:
         """Sample the box, count the passes, find the worst."""
-        from kcheck.mechanics.tolerance import perturb, sample_margins
+        from kcheck.mechanics.tolerance import Box, chunk_layouts, chunk_margins, margin_chunks
         from kcheck.numerics.stats import clopper_pearson
 
         scene, opts = inputs.scene, inputs.options
@@ -139,27 +132,21 @@ class Tolerances(Check):
         if load is not None and load.magnitude > 0 and load.direction is not None:
             design = load.direction[: scene.dim]
         low, high = scene.friction_range("kinetic")
-        rng = np.random.default_rng(opts.seed)
         unit = None
-        if opts.design != "monte-carlo":  # monte-carlo keeps its own stream (results repeat)
+        if opts.design != "monte-carlo":
             from kcheck.mechanics.tolerance import unit_dimensions
             from kcheck.numerics.design import unit_points
 
             k, dim = problem.points.shape
             d = unit_dimensions(k, dim, opts.independent_friction)
             unit = unit_points(opts.design, opts.samples, d, opts.seed)
-        layouts = perturb(
-            problem,
-            position=tol.position,
-            normal=float(np.radians(tol.normal_deg)),
-            friction_low=low,
-            friction_high=high,
-            count=opts.samples,
-            rng=rng,
-            independent=opts.independent_friction,
-            unit=unit,
+        box = Box(
+            tol.position, float(np.radians(tol.normal_deg)), low, high, opts.independent_friction
         )
-        margins = sample_margins(problem, layouts, design, opts.workers)
+        # Chunks of fixed size, each drawn from its own stream: the same margins on whichever
+        # executor the sample map runs them (kcheck check --sample-jobs, --dask-local, ...).
+        chunks = margin_chunks(problem, box, design, opts.samples, opts.seed, unit)
+        margins = np.concatenate(inputs.sample_map(chunk_margins, chunks))
         spread = float(np.radians(tol.load_direction_deg)) if design is not None else 0.0
         need = float(np.radians(opts.min_margin_deg))
         passes = (margins > 0) & (margins - spread >= need)
@@ -182,7 +169,12 @@ class Tolerances(Check):
         }
         if unit is not None:  # named only when not the default, so recorded results stay
             details["design"] = opts.design
-        sample = _describe_sample(scene, problem.frame.length, layouts, problem, worst_index)
+        size = chunks[0].count  # every chunk but the last has this size
+        worst_chunk = chunks[worst_index // size]
+        sample = _describe_sample(
+            scene, problem.frame.length, chunk_layouts(worst_chunk), problem, worst_index % size
+        )
+        sample["index"] = worst_index
         findings: list[Finding] = []
         if design is not None:
             worst = min(float(margins[worst_index]), nominal) - spread

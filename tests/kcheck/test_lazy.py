@@ -154,3 +154,25 @@ def test_planar_scene_without_mesh_imports_no_pydantic(write_scene):
     )
     modules = set(json.loads(proc.stderr.strip().splitlines()[-1])["modules"])
     assert {"pydantic", "pydantic_core"} & modules == set()
+
+
+def test_dask_only_when_asked_for():
+    """The Monte Carlo checks on their own, or with local sample workers: no Dask imported
+    (it is behind the `dask` extra, imported only for --dask-local and --scheduler)."""
+    from tests.conftest import FIXTURES
+
+    scene = str(FIXTURES / "three-groove" / "coupling.kcheck.yaml")
+    for extra in ([], ["--sample-jobs", "2"]):
+        proc = subprocess.run(
+            [sys.executable, "-c", MODULES_PROBE, "check", scene, "--select", "tolerances"]
+            + ["--format", "json", *extra],
+            capture_output=True,
+            text=True,
+        )
+        result = json.loads(proc.stderr.strip().splitlines()[-1])
+        assert result["code"] == 0
+        modules = set(result["modules"])
+        assert "kcheck.mechanics.tolerance" in modules
+        assert modules & {"dask", "distributed", "kcheck.gate.samples"} == (
+            {"kcheck.gate.samples"} if extra else set()
+        )

@@ -194,33 +194,63 @@ def test_clopper_pearson_against_scipy(x, n):
     assert high == pytest.approx(stats.beta.ppf(0.975, x + 1, n - x) if x < n else 1.0, abs=1e-12)
 
 
-def test_workers_give_the_same_margins(write_scene):
-    """Batches solved in 2 forked workers give the margins (and the check's details) of the
-    same seed solved in this process, number for number: the batches are fixed by CHUNK."""
-    from kcheck.mechanics.tolerance import CHUNK
+def test_chunks_are_the_batch_margins_of_their_own_draws(write_scene):
+    """Each chunk draws its made couplings from its own stream (SeedSequence(seed) spawned by
+    the chunk's index, computed here with numpy's own spawn) and its margins are those of
+    the same layouts solved by `sample_margins`; the check's sample count and worst sample
+    follow from the chunks, the last one short."""
+    from kcheck.mechanics.tolerance import (
+        CHUNK,
+        Box,
+        chunk_layouts,
+        chunk_margins,
+        margin_chunks,
+    )
 
     wide = PLANAR_SCENE + "tolerances: {position: 10, normal: 20}\n"
     scene = load_scene(write_scene(wide))
     mass = body_mass_properties(scene.body, scene.scale)
     problem = problem_for(scene, mass)
-    layouts = perturb(
-        problem,
-        position=1e-3,
-        normal=np.radians(5.0),
-        friction_low=problem.friction,
-        friction_high=problem.friction * 2.0,
-        count=2 * CHUNK + 17,  # three batches, the last one short
-        rng=np.random.default_rng(3),
-    )
     design = scene.load.direction[: scene.dim]
-    one = sample_margins(problem, layouts, design)
-    two = sample_margins(problem, layouts, design, workers=2)
-    np.testing.assert_array_equal(one, two)
-    assert np.any(one > 0) and np.any(one <= 0)  # both kinds occur
+    box = Box(1e-3, np.radians(5.0), problem.friction, problem.friction * 2.0)
+    chunks = margin_chunks(problem, box, design, 2 * CHUNK + 17, seed=3)
+    assert [c.count for c in chunks] == [CHUNK, CHUNK, 17]
+    children = np.random.SeedSequence(3).spawn(3)
+    for chunk, child in zip(chunks, children, strict=True):
+        drawn = perturb(
+            problem,
+            position=1e-3,
+            normal=np.radians(5.0),
+            friction_low=problem.friction,
+            friction_high=problem.friction * 2.0,
+            count=chunk.count,
+            rng=np.random.default_rng(child),
+        )
+        mine = chunk_layouts(chunk)
+        np.testing.assert_array_equal(drawn.points, mine.points)
+        np.testing.assert_array_equal(drawn.normals, mine.normals)
+        np.testing.assert_array_equal(chunk_margins(chunk), sample_margins(problem, drawn, design))
     opts = TolerancesOptions(samples=CHUNK + 100, seed=5)
-    serial = Tolerances().run(Inputs(scene, mass, opts))
-    parallel = Tolerances().run(Inputs(scene, mass, opts.model_copy(update={"workers": 2})))
-    assert serial.details == parallel.details and serial.status == parallel.status
+    result = Tolerances().run(Inputs(scene, mass, opts))
+    margins = np.concatenate(
+        [
+            chunk_margins(c)
+            for c in margin_chunks(problem, box_of(scene, problem), design, opts.samples, 5)
+        ]
+    )
+    spread = np.radians(scene.tolerances.load_direction_deg)
+    assert result.details["passed"] == int(
+        np.count_nonzero((margins > 0) & (margins - spread >= 0))
+    )
+    assert result.details["worst_sample"]["index"] == int(np.argmin(margins))
+
+
+def box_of(scene: Scene, problem):
+    """The scene's tolerance box as the check takes it (coefficients along their range)."""
+    from kcheck.mechanics.tolerance import Box
+
+    low, high = scene.friction_range("kinetic")
+    return Box(scene.tolerances.position, float(np.radians(scene.tolerances.normal_deg)), low, high)
 
 
 @pytest.mark.parametrize("design", ["latin-hypercube", "sobol"])
