@@ -187,8 +187,9 @@ def _options(
             raise
         raise SceneErrors(
             [
-                scene.error(("checks", lc.spec.name, *err["loc"]), describe_pydantic(err))
+                scene.error(where, describe_pydantic({**err, "loc": where}))
                 for err in exc.errors(include_url=False)
+                for where in [("checks", lc.spec.name, *err["loc"])]
             ]
         ) from None
 

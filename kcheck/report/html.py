@@ -75,11 +75,14 @@ def _table(view: tables.Table) -> str:
             if k == 1 and view.headers[1] == "outcome":
                 good = str(outcome) in views.GOOD_OUTCOMES
                 css += " outcome-ok" if good else " outcome-bad"
-            cells.append(f'<td class="{css}">{_e(cell).replace(chr(10), "<br>")}</td>')
+            label = _e(view.headers[k])
+            text = _e(cell).replace(chr(10), "<br>")
+            cells.append(f'<td class="{css}" data-label="{label}">{text}</td>')
         rows.append(f"<tr>{''.join(cells)}</tr>")
     return (
         f'<div class="table-title">{_e(view.title)}</div>'
-        f'<table class="data"><thead><tr>{head}</tr></thead><tbody>{"".join(rows)}</tbody></table>'
+        f'<table class="data cards"><thead><tr>{head}</tr></thead>'
+        f'<tbody>{"".join(rows)}</tbody></table>'
     )
 
 

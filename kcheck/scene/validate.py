@@ -234,6 +234,16 @@ def _resolve(loc: tuple[Any, ...], root: type[BaseModel]) -> tuple[FieldPath, An
     return tuple(path), (info, models), union_at
 
 
+#: Fields that were removed, by the last two parts of their path, and what replaces them.
+RETIRED_FIELDS = {
+    ("tolerances", "workers"): (
+        "no longer an option: samples go to worker processes or a Dask cluster with "
+        "`kcheck check --sample-jobs N`, `--dask-local N` or `--scheduler ADDRESS` "
+        "(docs/checks.md)"
+    ),
+}
+
+
 def did_you_mean(key: str, allowed: list[str]) -> str:
     """`` (did you mean `friction`?)`` for a close match, else the allowed keys."""
     import difflib  # only for a bad key: not on the start-up path
@@ -296,6 +306,9 @@ def describe_pydantic(err: Mapping[str, Any], root: type[BaseModel] | None = Non
         if root is not None:
             _, (_, parents), _ = _resolve(tuple(err["loc"][:-1]), root)
             allowed = sorted({n for m in parents for n in m.model_fields})
+        retired = RETIRED_FIELDS.get(tuple(str(part) for part in err["loc"][-2:]))
+        if retired is not None:
+            return f"unknown field: {retired}"
         return "unknown field" + did_you_mean(str(err["loc"][-1]), allowed)
     if kind in ("too_short", "too_long") and isinstance(got, list):
         ctx = err.get("ctx") or {}

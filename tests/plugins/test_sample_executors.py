@@ -176,6 +176,20 @@ def test_scene_workers_and_sample_workers_are_one_choice(cli, tmp_path):
     assert code == 2 and "--sample-jobs" in err
 
 
+def test_the_retired_workers_option_says_what_replaces_it(cli, tmp_path):
+    """`tolerances: {workers: N}` was the check's own process pool; a scene that still gives
+    it is told where the choice went, at its line, not just "unknown field"."""
+    path = _scene_file(tmp_path, 200, 200, "random")
+    text = path.read_text(encoding="utf-8").replace("seed: 7}", "seed: 7, workers: 2}")
+    path.write_text(text, encoding="utf-8")
+    line = next(i for i, t in enumerate(text.splitlines(), 1) if "workers: 2" in t)
+    code, out, err = cli("check", str(path), "--select", "tolerances")
+    err += out
+    assert code == 2 and "Traceback" not in err
+    assert f"coupling.kcheck.yaml:{line}:" in err and "checks.tolerances.workers" in err
+    assert "--sample-jobs" in err and "--dask-local" in err
+
+
 class _Future:
     def __init__(self, value=None, error=None):
         self.value, self.error = value, error
