@@ -233,6 +233,8 @@ def test_contacts_found_on_a_bundled_fixture(name, tmp_path, capsys):
     pairs = matched(got, want)
     assert max(d for d, _ in pairs) <= POINT_TOL_MM, pairs
     assert max(a for _, a in pairs) <= NORMAL_TOL_DEG, pairs
+    # The scene as written checks (the assembly's body, the proposed push): not bad input.
+    assert checks(found, capsys)["analytical-3d"]["status"] in ("pass", "fail")
     # Its scene checks as the fixture: same verdicts, same friction limits and margins.
     scene = tmp_path / "generated.kcheck.yaml"
     _generated_scene(found, hand, scene)
