@@ -190,8 +190,14 @@ def _absolute(body: dict, folder: Path) -> dict:
     return body
 
 
-def _ball_key(entry: dict) -> tuple[float, ...]:
-    return tuple(np.round(np.asarray(entry["ball"]["center"], float), 3))
+def _materials(entry: dict, hand: list[dict]) -> dict:
+    """The ball and seat materials of the hand-written coupling whose ball is this one's
+    (centres within 0.01 mm)."""
+    centre = np.asarray(entry["ball"]["center"], float)
+    for c in hand:
+        if np.linalg.norm(np.asarray(c["ball"]["center"], float) - centre) <= POINT_TOL_MM:
+            return {k: c[k] for k in ("ball_material", "seat_material") if k in c}
+    return {}
 
 
 def _generated_scene(found: Path, hand: Path, out: Path) -> None:
@@ -203,13 +209,8 @@ def _generated_scene(found: Path, hand: Path, out: Path) -> None:
     found_doc = yaml.safe_load(found.read_text())
     doc = {k: v for k, v in hand_doc.items() if k not in ("supports", "couplings", "name")}
     doc["body"] = _absolute(hand_doc["body"], hand.parent)
-    materials = {
-        _ball_key(c): {k: c[k] for k in ("ball_material", "seat_material") if k in c}
-        for c in hand_doc.get("couplings", [])
-    }
-    couplings = []
-    for c in found_doc.get("couplings", []):
-        couplings.append({**c, **materials.get(_ball_key(c), {})})
+    hand_couplings = hand_doc.get("couplings", [])
+    couplings = [{**c, **_materials(c, hand_couplings)} for c in found_doc.get("couplings", [])]
     if couplings:
         doc["couplings"] = couplings
     if found_doc.get("supports"):
