@@ -22,8 +22,11 @@ from kcheck.body.surface_fit import Primitive
 
 __all__ = ["PointContact", "Element", "Unusable", "Recognition", "recognise"]
 
-#: Shorthand expansions must reproduce the fitted contacts to this (relative to the ball).
-_MATCH_RTOL = 1e-9
+#: Shorthand expansions must reproduce the fitted contacts to this (relative to the ball;
+#: normals to 10 times it). Not tighter: an STL's float32 coordinates tilt each fitted plane
+#: by up to ~1e-7 rad, so an exact trihedral seat (three normals from two angles and an axis)
+#: exported as STL misses its own expansion at 1e-9 and would lose its curvatures (hertz).
+_MATCH_RTOL = 1e-6
 #: Two axes within this angle (degrees) are parallel: a pin on a pin along them is a line.
 _PARALLEL_DEG = 1.0
 

@@ -88,6 +88,21 @@ def test_ball_in_trihedral_seat():
     _match(found, [(c - R * n, n) for n in normals])
 
 
+def test_trihedral_seat_through_float32_is_still_a_ball_trihedral():
+    # An STL stores float32 coordinates: 50 mm from the origin each flat is tilted by up to
+    # ~1e-7 rad, and the three fitted normals miss the shorthand's own expansion (made from
+    # two angles and an axis) by that much. The shorthand is still written (fixtures/kelvin).
+    c = np.array([0.0, 50.0, 0.0])
+    normals = trihedral_normals()
+    base = combine([flat(c, n, side=6.0) for n in normals])
+    body = ball(c)
+    for mesh in (base, body):
+        mesh.vertices = np.asarray(mesh.vertices, dtype=np.float32).astype(float)
+    found, _ = _found(base, body)
+    assert [e.kind for e in found.elements] == ["ball-trihedral"]
+    _match(found, [(c - R * n, n) for n in normals])
+
+
 def test_ball_on_two_pins():
     # Two parallel pins of radius 2 along y, 8.4 apart (the tool changer's): the ball centre
     # is sqrt((R + 2)^2 - 4.2^2) above their axes.
