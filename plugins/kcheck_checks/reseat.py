@@ -227,7 +227,10 @@ def predicted_losses(
     names = [s.name for s in scene.supports]
     out: dict[int, tuple[int, ...]] = {}
     for r, result in enumerate(analyse(scene, mass, friction=mu).results):
-        if result.outcome in ("loses_contact", "opens_loses_contact") and result.normal_forces:
+        lifts = result.details.get("lifts_off")
+        if isinstance(lifts, list) and lifts:  # lifted in the first motion from rest
+            out[r] = tuple(names.index(n) for n in lifts)
+        elif result.outcome in ("loses_contact", "opens_loses_contact") and result.normal_forces:
             out[r] = tuple(names.index(n) for n, f in result.normal_forces.items() if f < 0)
     return out
 

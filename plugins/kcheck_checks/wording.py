@@ -79,6 +79,13 @@ def _friction_tail(intervals: FrictionIntervals | None) -> str:
 
 def _lost(result: CaseResult) -> str:
     """Which remaining supports lose contact, with their normal forces."""
+    lifts = result.details.get("lifts_off")
+    if isinstance(lifts, list) and lifts:
+        verb = "lifts" if len(lifts) == 1 else "lift"
+        return (
+            f"{' and '.join(lifts)} {verb} off (friction cannot hold the body, and it cannot "
+            "slide on every remaining support)"
+        )
     forces = result.normal_forces or {}
     lost = [(n, f) for n, f in forces.items() if not f > 0]
     if not lost:
