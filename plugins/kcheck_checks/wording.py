@@ -96,11 +96,20 @@ def _lost(result: CaseResult) -> str:
     return f"{names} {verb} contact ({values})"
 
 
+#: What a moving case that friction can also hold says (kcheck.analysis.cases).
+MAY_HOLD = (
+    "or friction holds the body (an equilibrium exists too: the rigid model admits both, "
+    "see jamming)"
+)
+
+
 def _why(result: CaseResult, intervals: FrictionIntervals | None) -> tuple[str, str] | None:
     """(code, sentence after "retract x →") for a case that does not close, or None."""
     details = result.details
     mu = "" if intervals is None else f" at {mu_text(intervals)}"
     tail = _friction_tail(intervals)
+    if details.get("friction_may_hold"):
+        tail = f", {MAY_HOLD}{tail}"
     at = note = ""  # over a friction range: the coefficient the outcome is reported at
     span = details.get("friction_range")
     if isinstance(span, dict) and "worst_mu" in span:
