@@ -75,8 +75,8 @@ def reason(c: Compared) -> str:
         )
     if c.may_hold:
         return (
-            "the analysis says the body moves, or friction holds it (both consistent in the "
-            "rigid model); the simulation moves otherwise"
+            "unexplained: the analysis says the body moves, or friction holds it (both "
+            "consistent in the rigid model); the simulation moves in another class"
         )
     if c.analytical == "jams" and c.held:
         return (
