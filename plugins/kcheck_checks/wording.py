@@ -117,6 +117,13 @@ def _why(result: CaseResult, intervals: FrictionIntervals | None) -> tuple[str, 
         mu = at = f" at μ = {format_number(span['worst_mu'], 3)}"
         note = f", the worst of the friction range {low}–{high}"
     match result.outcome:
+        case "jams" if details.get("no_equilibrium"):
+            return (
+                "jams",
+                f"jams{mu}: the body can neither slide on every remaining support nor be held "
+                f"by friction, and no first motion with a support lifting off was found (the "
+                f"rigid model may have no answer){note}{tail}",
+            )
         case "jams":
             return "jams", f"jams{mu} (friction holds the body){note}{tail}"
         case "loses_contact":

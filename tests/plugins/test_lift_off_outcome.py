@@ -62,3 +62,17 @@ def test_a_case_friction_can_also_hold_says_so(tmp_path: Path, cli_json) -> None
     messages = [f["message"] for f in checks["analytical-3d"]["findings"]]
     (line,) = [m for m in messages if m.startswith("retract s5")]
     assert "or friction holds the body (an equilibrium exists too" in line
+
+
+def test_a_jam_without_equilibrium_does_not_claim_friction_holds() -> None:
+    """Where Lemke's method finds no lift-off motion either (``no_equilibrium``), the finding
+    does not say friction holds the body: `jamming` finds no equilibrium."""
+    from kcheck_checks.wording import _why
+
+    from kcheck.result import CaseResult
+
+    held = _why(CaseResult("s1", "jams", details={}), None)
+    unheld = _why(CaseResult("s1", "jams", details={"no_equilibrium": True}), None)
+    assert held is not None and unheld is not None
+    assert "friction holds the body" in held[1]
+    assert "friction holds the body" not in unheld[1] and "nor be held" in unheld[1]
