@@ -5,11 +5,11 @@ the default time step 1e-4 s, CPU time (``time.process_time``, median of 5 after
 of :func:`kcheck.analysis.reseat.simulate`, paired with the `analytical-2d` check's whole run
 on the same scene (every case at the instant of retraction). Then the whole `reseat` check
 (every case, at the time step and at half of it). Also one case at 1 s simulated with MuJoCo's
-noslip pass on (10 iterations), and one first-motion run of the agreement test
-(tests/plugins/reseat_agreement.py: 50 ms phase, 0.5 ms contacts, noslip, no return) paired
-with the run it replaced (2 ms contacts, no noslip, with the return). Scenes:
-the Appendix A block (planar, 3 supports) and the Maxwell three-vee (spatial, 6 supports).
-Run from the project's root.
+noslip pass on (10 iterations), and one first-motion run, the check's own and the agreement
+test's (first_motion_settings: 50 ms phase, 0.5 ms contacts, 0.05 ms step, noslip, no
+return) paired with the agreement run it replaced (2 ms contacts, no noslip, with the
+return). Scenes: the Appendix A block (planar, 3 supports) and the Maxwell three-vee
+(spatial, 6 supports). Run from the project's root.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ from kcheck_checks.analytical_2d import Analytical2D  # noqa: E402
 from kcheck_checks.analytical_3d import Analytical3D  # noqa: E402
 from kcheck_checks.reseat import Reseat, ReseatOptions, settings_of  # noqa: E402
 
-from kcheck.analysis.reseat import simulate  # noqa: E402
+from kcheck.analysis.reseat import first_motion_settings, simulate  # noqa: E402
 from kcheck.body.mass import body_mass_properties  # noqa: E402
 from kcheck.plugin import Inputs  # noqa: E402
 from kcheck.scene import load_scene  # noqa: E402
@@ -54,7 +54,7 @@ def main() -> None:
     """Print the table rows (docs/performance.md)."""
     settings = settings_of(ReseatOptions())
     noslip = dataclasses.replace(settings, noslip_iterations=10)
-    first = dataclasses.replace(noslip, duration=0.05, time_constant=5e-4)
+    first = first_motion_settings(settings)  # the check's own first-motion run
     before = dataclasses.replace(settings, duration=0.05)  # the agreement test's run before
     for folder, name, analytical in SCENES:
         scene = load_scene(ROOT / "fixtures" / folder / name)

@@ -14,7 +14,9 @@ from kcheck.mechanics.arcs import FULL, ArcSet, contains, intersect, margin, to_
 from kcheck.mechanics.dynamics import Case, Problem, analyse_cases_many, build_problem, with_load
 from kcheck.mechanics.friction import FrictionIntervals, friction_intervals_batch
 from kcheck.mechanics.kinematics import Frame, cross3, row_norms, unit_rows
-from kcheck.mechanics.outcomes import outcome, safe_arcs
+from kcheck.mechanics.lift_off import lift_off
+from kcheck.mechanics.outcomes import Outcome, outcome, safe_arcs
+from kcheck.mechanics.statics import Statics, holds_exactly
 from kcheck.numerics.thresholds import IN_SWEEP_PLANE, INFINITE_POLE, NO_PITCH, UNDETERMINED
 from kcheck.result import CaseResult, MassProperties
 from kcheck.scene import Scene
@@ -210,6 +212,10 @@ def _evaluated(
     names = problem.names
     verdict, x = outcome(case, direction)
     forces = accel = None
+    if verdict == "jams":
+        verdict, forces, accel = _jam_or_lift(problem, case, direction, details)
+    elif verdict in MOVING and _may_hold(problem, case, direction):
+        details["friction_may_hold"] = True
     if x is not None:
         # Forces beyond the largest float (a mass of 1e308 kg) become inf: JSON null.
         newtons = problem.newtons(x[1:])
@@ -227,6 +233,68 @@ def _evaluated(
     if verdict == "ambiguous" and start is not None:
         details["painleve_from_mu"] = start
     return verdict, forces, accel
+
+
+#: Outcomes in which the body moves.
+MOVING = ("closes", "loses_contact", "opens", "opens_loses_contact")
+
+
+def _about_com(problem: Problem, wrench: np.ndarray) -> Statics:
+    """The problem's supports as statics about the centre of mass, under ``wrench``."""
+    return Statics(
+        frame=problem.frame,
+        names=problem.names,
+        points=problem.points - problem.com,
+        normals=problem.normals,
+        friction=problem.friction,
+        fixed=wrench,
+        swept=np.zeros((len(wrench), problem.dim)),
+    )
+
+
+def _may_hold(problem: Problem, case: Case, direction: np.ndarray | None) -> bool:
+    """Whether friction can also hold the body of a moving case: an equilibrium exists on the
+    kept contacts, so rest is a second answer of the rigid model (the `jamming` check's
+    question; frictionless kept contacts hold nothing the free motion moves)."""
+    keep = np.asarray(case.keep)
+    if not np.any(problem.friction[keep] > 0):
+        return False
+    wrench = problem.wrench(direction)
+    return holds_exactly(_about_com(problem, wrench), keep, wrench)
+
+
+def _jam_or_lift(
+    problem: Problem, case: Case, direction: np.ndarray | None, details: dict[str, object]
+) -> tuple[Outcome, dict[str, float] | None, float | None]:
+    """A case neither sliding assumption fits: ``jams`` when friction can hold the body (an
+    equilibrium exists on the kept contacts), else the first motion with contacts free to lift
+    off (:mod:`kcheck.mechanics.lift_off`), whose lifted contacts go into ``details``. Returns
+    the outcome, the normal forces (N) and the retracted contact's acceleration towards its
+    support (m/s^2)."""
+    keep = np.asarray(case.keep)
+    wrench = problem.wrench(direction)
+    if holds_exactly(_about_com(problem, wrench), keep, wrench):
+        return "jams", None, None
+    r = case.retracted
+    motion = lift_off(
+        problem.points[keep],
+        problem.normals[keep],
+        problem.friction[keep],
+        problem.com,
+        problem.inertia,
+        wrench,
+        (problem.points[r], problem.normals[r]),
+    )
+    if motion is None or not motion.moves or not np.any(motion.lifted):
+        details["no_equilibrium"] = True
+        return "jams", None, None
+    names = problem.names
+    details["lifts_off"] = [names[j] for j, up in zip(keep, motion.lifted, strict=True) if up]
+    newtons = problem.newtons(np.where(motion.lifted, 0.0, motion.forces))
+    forces = {names[j]: float(f) for j, f in zip(keep, newtons, strict=True)}
+    with np.errstate(over="ignore"):
+        accel = float(motion.closing * problem.acceleration_scale())
+    return ("loses_contact" if motion.closing > 0 else "opens_loses_contact"), forces, accel
 
 
 def analyse_fixed(

@@ -108,6 +108,8 @@ __all__ = [
     "RESEAT_ESTIMATE_FACTOR",
     "RESEAT_SEAT_RESOLUTION",
     "RESEAT_REST_SPEED",
+    "LEMKE_PIVOT_RTOL",
+    "LIFT_SHARE",
     "CONTACT_GAP_RTOL",
     "SMOOTH_PATCH_DEG",
     "SURFACE_FIT_RTOL",
@@ -474,6 +476,16 @@ RESEAT_SEAT_RESOLUTION: float = 2e-8
 #: body moves faster than this (m/s): the first motion is compared from a body at rest, and a
 #: sliding body reaches 10 µm within a few ms (over 1e-2 m/s), 100 times faster.
 RESEAT_REST_SPEED: float = 1e-4
+
+# --- The first motion with contacts free to lift off (mechanics.lift_off) --------------------
+
+#: Lemke's method takes no pivot on a tableau entry below this share of its column's largest
+#: (nondimensional), nor tells ratios apart closer than this: twenty thousand roundings.
+LEMKE_PIVOT_RTOL: float = 1e-12
+#: An acceleration below this share of the free body's under the same wrench (nondimensional)
+#: is rounding noise: the body is at rest; a contact whose normal acceleration is above it
+#: lifts off. Lemke's pivots leave errors of a few thousand roundings, far below it.
+LIFT_SHARE: float = 1e-9
 
 # --- Contacts from the CAD (kcheck contacts) ---------------------------------------------------
 

@@ -128,7 +128,10 @@ def case_table(check: CheckResult, units: str | None, kind: str | None = None) -
         columns.append([_ranges_cell(c.safe_ranges_deg) for c in cases])
     table = Table(f"{check.id} per retracted support", headers, numeric)
     for i, c in enumerate(cases):
-        table.rows.append([c.retracted, c.outcome.replace("_", " "), *(col[i] for col in columns)])
+        outcome = c.outcome.replace("_", " ")
+        if c.details.get("friction_may_hold"):  # rest is a second answer (jamming's)
+            outcome += " or held"
+        table.rows.append([c.retracted, outcome, *(col[i] for col in columns)])
         table.styles.append(c.outcome)
     return table
 

@@ -103,12 +103,15 @@ def _estimate(coarse: ReseatRun, fine: ReseatRun) -> float:
     )
 
 
-def _case(scene: Scene, run: ReseatRun, fine: ReseatRun, label: str, tol: float) -> CaseResult:
-    """One case's result: the fine run's numbers, the coarse run's difference as estimate."""
+def _case(
+    scene: Scene, run: ReseatRun, fine: ReseatRun, first: str, label: str, tol: float
+) -> CaseResult:
+    """One case's result: the fine run's numbers, the coarse run's difference as estimate,
+    and the first motion ``first`` of the stiff first-motion run."""
     names = [s.name for s in scene.supports]
     reseats = fine.seat_error <= tol and fine.closing_gap <= tol
     details: dict[str, Any] = {
-        "first_motion": fine.first,
+        "first_motion": first,
         "verdict": "reseats" if reseats else "stops off-seat",
         "seat_error_um": fine.seat_error * 1e6,
         "translation_um": fine.translation * 1e6,
@@ -162,8 +165,9 @@ class Reseat(Check):
         return None
 
     def run(self, inputs: Inputs) -> CheckResult:
-        """Simulate every case at the time step and at half of it."""
-        from kcheck.analysis.reseat import inertia_missing, simulate
+        """Simulate every case at the time step and at half of it, and its first motion in a
+        short run with stiff contacts (:func:`kcheck.analysis.reseat.first_motion_settings`)."""
+        from kcheck.analysis.reseat import first_motion_settings, inertia_missing, simulate
 
         assert inputs.mass is not None and isinstance(inputs.options, ReseatOptions)
         mass = inputs.mass
@@ -175,6 +179,7 @@ class Reseat(Check):
                 "explicit inertia)",
             )
         scene, settings = inputs.scene, settings_of(inputs.options)
+        first_settings = first_motion_settings(settings)
         started = time.process_time()
         cases: list[CaseResult] = []
         runs: list[tuple[ReseatRun, ReseatRun]] = []
@@ -184,8 +189,9 @@ class Reseat(Check):
             for r in range(len(scene.supports)):
                 coarse = simulate(scene, mass, r, mu, settings)
                 fine = simulate(scene, mass, r, mu, settings, dt=settings.time_step / 2)
+                first = simulate(scene, mass, r, mu, first_settings, returns=False).first
                 runs.append((coarse, fine))
-                case = _case(scene, coarse, fine, label, settings.tolerance)
+                case = _case(scene, coarse, fine, first, label, settings.tolerance)
                 cases.append(case)
                 link = _lift_link(scene, fine, case, lost.get(r, ()), settings.tolerance)
                 if link is not None:
@@ -227,7 +233,10 @@ def predicted_losses(
     names = [s.name for s in scene.supports]
     out: dict[int, tuple[int, ...]] = {}
     for r, result in enumerate(analyse(scene, mass, friction=mu).results):
-        if result.outcome in ("loses_contact", "opens_loses_contact") and result.normal_forces:
+        lifts = result.details.get("lifts_off")
+        if isinstance(lifts, list) and lifts:  # lifted in the first motion from rest
+            out[r] = tuple(names.index(n) for n in lifts)
+        elif result.outcome in ("loses_contact", "opens_loses_contact") and result.normal_forces:
             out[r] = tuple(names.index(n) for n, f in result.normal_forces.items() if f < 0)
     return out
 

@@ -79,6 +79,13 @@ def _friction_tail(intervals: FrictionIntervals | None) -> str:
 
 def _lost(result: CaseResult) -> str:
     """Which remaining supports lose contact, with their normal forces."""
+    lifts = result.details.get("lifts_off")
+    if isinstance(lifts, list) and lifts:
+        verb = "lifts" if len(lifts) == 1 else "lift"
+        return (
+            f"{' and '.join(lifts)} {verb} off (friction cannot hold the body, and it cannot "
+            "slide on every remaining support)"
+        )
     forces = result.normal_forces or {}
     lost = [(n, f) for n, f in forces.items() if not f > 0]
     if not lost:
@@ -89,11 +96,20 @@ def _lost(result: CaseResult) -> str:
     return f"{names} {verb} contact ({values})"
 
 
+#: What a moving case that friction can also hold says (kcheck.analysis.cases).
+MAY_HOLD = (
+    "or friction holds the body (an equilibrium exists too: the rigid model admits both, "
+    "see jamming)"
+)
+
+
 def _why(result: CaseResult, intervals: FrictionIntervals | None) -> tuple[str, str] | None:
     """(code, sentence after "retract x →") for a case that does not close, or None."""
     details = result.details
     mu = "" if intervals is None else f" at {mu_text(intervals)}"
     tail = _friction_tail(intervals)
+    if details.get("friction_may_hold"):
+        tail = f", {MAY_HOLD}{tail}"
     at = note = ""  # over a friction range: the coefficient the outcome is reported at
     span = details.get("friction_range")
     if isinstance(span, dict) and "worst_mu" in span:
@@ -101,6 +117,13 @@ def _why(result: CaseResult, intervals: FrictionIntervals | None) -> tuple[str, 
         mu = at = f" at μ = {format_number(span['worst_mu'], 3)}"
         note = f", the worst of the friction range {low}–{high}"
     match result.outcome:
+        case "jams" if details.get("no_equilibrium"):
+            return (
+                "jams",
+                f"jams{mu}: the body can neither slide on every remaining support nor be held "
+                f"by friction, and no first motion with a support lifting off was found (the "
+                f"rigid model may have no answer){note}{tail}",
+            )
         case "jams":
             return "jams", f"jams{mu} (friction holds the body){note}{tail}"
         case "loses_contact":

@@ -1,0 +1,122 @@
+"""The first motion from rest with contacts free to lift off: the acceleration-level rigid-body
+contact problem with Coulomb friction, as a linear complementarity problem.
+
+The retraction cases of :mod:`kcheck.mechanics.dynamics` keep every remaining contact and let
+the body slide along the one free twist, towards the support or away from it. When neither
+sliding is consistent the outcome rule calls the case ``jams``; that is only true when friction
+can hold the body (an equilibrium exists, :func:`kcheck.mechanics.statics.holds_exactly`).
+When it cannot, the body must move, and since sliding on every kept contact is inconsistent,
+a kept contact lifts off. This module finds that motion.
+
+From rest, with acceleration ``a = [alpha; a_c]`` about the centre of mass (nondimensional,
+mass 1, inertia ``I``), each kept contact ``j`` has a normal force ``N_j >= 0`` complementary
+to its normal acceleration ``n_j . a(p_j) >= 0``, and a friction force in its cone opposing
+its tangential acceleration (Trinkle, Pang, Sudarsky & Lo 1997, the acceleration form of
+Stewart & Trinkle's polyhedral-cone LCP): friction is ``D_j beta_j`` with ``beta_j >= 0``
+on the cone's ``m`` edge directions, ``sum beta_j <= mu_j N_j``, and a slip rate ``s_j``
+with ``D_j^T a(p_j) + s_j >= 0`` complementary to ``beta_j``. Planar cones are exact (two
+edges); spatial ones are inscribed pyramids of LIFT_EDGES edges. Solved by Lemke's method
+(:mod:`kcheck.numerics.lemke`); a rigid problem with friction may have several solutions
+(Painlevé) and the method returns one.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from kcheck.mechanics.kinematics import point_velocity, wrenches
+from kcheck.numerics.lemke import lemke
+from kcheck.numerics.thresholds import LIFT_SHARE
+
+__all__ = ["LIFT_EDGES", "LiftOff", "lift_off"]
+
+#: Edges of the inscribed friction pyramid of a spatial contact (its friction reaches
+#: cos(pi / 16) = 98 % of the circular cone's between edges).
+LIFT_EDGES = 16
+
+
+@dataclass(frozen=True)
+class LiftOff:
+    """The first motion from rest: acceleration twist ``acceleration`` (n,) about the centre
+    of mass, normal forces ``forces`` (c,) of the kept contacts, which of them lift
+    (``lifted``, c), and ``closing`` the retracted contact point's acceleration towards its
+    support (``-n_r . a(p_r)``; nondimensional)."""
+
+    acceleration: np.ndarray
+    forces: np.ndarray
+    lifted: np.ndarray
+    closing: float
+
+    @property
+    def moves(self) -> bool:
+        """Whether the body accelerates at all."""
+        return bool(np.any(self.acceleration != 0))
+
+
+def _edges(normals: np.ndarray, edges: int) -> np.ndarray:
+    """Unit tangent directions (c, m, dim) of each contact's friction pyramid edges."""
+    dim = normals.shape[1]
+    if dim == 2:
+        t = np.stack([-normals[:, 1], normals[:, 0]], axis=-1)
+        return np.stack([t, -t], axis=1)
+    helper = np.where(np.abs(normals[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
+    t1 = np.cross(normals, helper)
+    t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
+    t2 = np.cross(normals, t1)
+    angles = 2 * np.pi * np.arange(edges) / edges
+    return np.cos(angles)[None, :, None] * t1[:, None] + np.sin(angles)[None, :, None] * t2[:, None]
+
+
+def lift_off(
+    points: np.ndarray,
+    normals: np.ndarray,
+    mu: np.ndarray,
+    com: np.ndarray,
+    inertia: np.ndarray,
+    wrench: np.ndarray,
+    retracted: tuple[np.ndarray, np.ndarray],
+    edges: int = LIFT_EDGES,
+) -> LiftOff | None:
+    """The first motion from rest of a body (unit mass, ``inertia`` (nw, nw) about ``com``
+    (dim,)) under ``wrench`` (n,: moment about the centre of mass, force) on the kept contacts
+    ``points``, unit ``normals`` (c, dim) with coefficients ``mu`` (c,); ``retracted`` is the
+    retracted support's point and unit normal. None when Lemke's method finds no solution."""
+    c, dim = points.shape
+    nw = 1 if dim == 2 else 3
+    lever = points - com
+    directions = _edges(normals, edges)
+    m = directions.shape[1]
+    g_n = wrenches(lever, normals)  # (c, n)
+    g_d = wrenches(np.repeat(lever, m, axis=0), directions.reshape(c * m, dim))  # (c m, n)
+    mass = np.zeros((nw + dim, nw + dim))
+    mass[:nw, :nw] = inertia
+    mass[nw:, nw:] = np.eye(dim)
+    inv = np.linalg.inv(mass)
+    g = np.vstack([g_n, g_d])
+    block = np.zeros((c * m, c))
+    block[np.arange(c * m), np.repeat(np.arange(c), m)] = 1.0
+    size = c + c * m + c
+    a = np.zeros((size, size))
+    a[: c + c * m, : c + c * m] = g @ inv @ g.T
+    a[c : c + c * m, c + c * m :] = block
+    a[c + c * m :, :c] = np.diag(mu)
+    a[c + c * m :, c : c + c * m] = -block.T
+    q = np.concatenate([g @ inv @ wrench, np.zeros(c)])
+    z = lemke(a, q)
+    if z is None:
+        return None
+    forces = z[:c]
+    accel = inv @ (wrench + g.T @ z[: c + c * m])
+    # Rounding noise is measured against the free body's acceleration under the wrench.
+    free = inv @ wrench
+    scale = float(np.max(np.abs(free))) + float(np.max(np.abs(point_velocity(free, lever))))
+    if float(np.max(np.abs(accel))) <= LIFT_SHARE * scale:
+        accel = np.zeros_like(accel)
+    contact = point_velocity(accel, lever)
+    normal_accel = np.einsum("ij,ij->i", contact, normals)
+    lifted = normal_accel > LIFT_SHARE * scale
+    point, normal = retracted
+    closing = -float(point_velocity(accel, point - com) @ normal)
+    return LiftOff(accel, forces, lifted, closing)
