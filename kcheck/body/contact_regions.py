@@ -2,8 +2,9 @@
 surface, grouped into contact regions by the smooth surface patches they lie on, and each
 patch fitted with a plane, sphere, cylinder, cone or torus (:mod:`kcheck.body.surface_fit`).
 
-Lengths are in metres (meshes from :func:`kcheck.body.meshio.load_mesh`). trimesh and scipy
-are imported inside the functions. The distance of a point from a mesh is exact (point to
+Lengths are in metres (meshes from :func:`kcheck.body.meshio.load_surface` or trimesh's).
+scipy is imported inside the functions, trimesh not at all. The distance of a point from a
+mesh is exact (point to
 triangle) where it decides whether the parts touch; the triangles near a point are found
 through a KD-tree of points sampled on each triangle no farther apart than the triangles'
 median edge, after a filter on a grid of cubes drops the points far from the other part.
@@ -13,16 +14,17 @@ small dihedral angle.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
+from kcheck.body.closest_point import closest_point
+from kcheck.body.mesh_edges import Edges, edges_of, face_pairs
+from kcheck.body.meshio import Surface
 from kcheck.body.surface_fit import Primitive, fit_surface
 from kcheck.numerics.thresholds import SMOOTH_PATCH_DEG
-
-if TYPE_CHECKING:
-    import trimesh
 
 __all__ = [
     "Near",
@@ -81,10 +83,15 @@ class ClosedBody:
     bounds: np.ndarray
 
 
+#: A triangle mesh: a Trimesh, or a :class:`kcheck.body.meshio.Surface` (vertices, faces).
+Mesh = Any
+
+
 @dataclass(frozen=True)
 class Faces:
-    """A mesh's triangles (n, 3, 3), outward unit normals (n, 3) and per-triangle bounds
-    (n, 3 each), read once from trimesh (whose cached properties re-hash the mesh per read)."""
+    """A mesh's triangles (n, 3, 3), outward unit normals (n, 3), per-triangle bounds (n, 3
+    each), areas and vertex ids (n, 3), read once from the mesh (trimesh's cached properties
+    re-hash the mesh per read); the shared edges when first asked for."""
 
     triangles: np.ndarray
     normals: np.ndarray
@@ -92,24 +99,57 @@ class Faces:
     hi: np.ndarray
     areas: np.ndarray
     bounds: np.ndarray
+    ids: np.ndarray
 
     @classmethod
-    def of(cls, mesh: trimesh.Trimesh) -> Faces:
+    def of(cls, mesh: Mesh) -> Faces:
         vertices, f = np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces)
-        a, b, c = vertices[f[:, 0]], vertices[f[:, 1]], vertices[f[:, 2]]
+        tri = vertices[f]
+        a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
         cross = np.cross(b - a, c - a)
         double = np.sqrt(np.einsum("ij,ij->i", cross, cross))
         normals = cross / np.where(double > 0, double, 1.0)[:, None]
-        lo = np.minimum(np.minimum(a, b), c)
-        hi = np.maximum(np.maximum(a, b), c)
+        lo, hi = tri.min(axis=1), tri.max(axis=1)
         bounds = np.array([lo.min(axis=0, initial=np.inf), hi.max(axis=0, initial=-np.inf)])
-        return cls(np.stack([a, b, c], axis=1), normals, lo, hi, double / 2, bounds)
+        faces = cls(tri, normals, lo, hi, double / 2, bounds, f)
+        if isinstance(mesh, Surface) and "edges" in mesh.__dict__:
+            faces.__dict__["edges"] = mesh.edges  # already sorted out for watertightness
+        return faces
+
+    @functools.cached_property
+    def edges(self) -> Edges:
+        """The faces' shared edges."""
+        return edges_of(self.ids)
+
+    @functools.cached_property
+    def centroids(self) -> np.ndarray:
+        """Each triangle's centroid (n, 3)."""
+        t = self.triangles
+        return (t[:, 0] + t[:, 1] + t[:, 2]) / 3
+
+    @functools.cached_property
+    def longest(self) -> np.ndarray:
+        """Each triangle's longest edge (n,)."""
+        return _edge_lengths(self.triangles).max(axis=1)
+
+    @functools.cached_property
+    def corner_reach(self) -> np.ndarray:
+        """Each triangle's farthest corner from its centroid, squared (n,)."""
+        return np.max(np.sum((self.triangles - self.centroids[:, None]) ** 2, axis=2), axis=1)
 
     def subset(self, which: np.ndarray) -> Faces:
         """The triangles ``which`` (ids) alone."""
         lo, hi = self.lo[which], self.hi[which]
         bounds = np.array([lo.min(axis=0, initial=np.inf), hi.max(axis=0, initial=-np.inf)])
-        return Faces(self.triangles[which], self.normals[which], lo, hi, self.areas[which], bounds)
+        return Faces(
+            self.triangles[which],
+            self.normals[which],
+            lo,
+            hi,
+            self.areas[which],
+            bounds,
+            self.ids[which],
+        )
 
     def in_box(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """Ids of the triangles whose bounding boxes meet the box ``lo``..``hi``."""
@@ -123,27 +163,22 @@ def _samples(
     them (a grid, the centroid alone for a small triangle), their triangle ids, and how far
     any point of those triangles may be from its nearest sample (the cover, m); the spacing
     widened when more than about ``most`` points would be needed."""
-    tri = faces.triangles[which]
-    if len(tri) == 0:
+    if len(which) == 0:
         return np.zeros((0, 3)), np.zeros(0, int), 0.0
     area = float(faces.areas[which].sum())
     spacing = max(spacing, float(np.sqrt(2 * area / most)))
     # Each triangle from the corner opposite its longest edge, along its two shorter edges:
     # a grid of n1 x n2 steps no longer than `spacing` (a long thin facet of a pin gets a row
     # of points, not a square grid), so every point of it is within 2 `spacing` of a sample.
-    # The edge opposite each corner.
-    edges = np.stack([tri[:, 2] - tri[:, 1], tri[:, 0] - tri[:, 2], tri[:, 1] - tri[:, 0]], 1)
-    lengths = np.sqrt(np.einsum("ijk,ijk->ij", edges, edges))
-    small = lengths.max(axis=1) <= spacing
-    corners = tri[small]
-    centres = (corners[:, 0] + corners[:, 1] + corners[:, 2]) / 3
-    points = [centres]
+    small = faces.longest[which] <= spacing
+    points = [faces.centroids[which[small]]]
     ids = [which[small]]
     # A point of a triangle is at most its farthest corner's distance from the centroid.
-    cover = float(np.sqrt(np.max(np.sum((corners - centres[:, None]) ** 2, axis=2), initial=0.0)))
+    cover = float(np.sqrt(np.max(faces.corner_reach[which[small]], initial=0.0)))
     rest = np.flatnonzero(~small)
     if len(rest):
-        tri, lengths = tri[rest], lengths[rest]
+        tri = faces.triangles[which[rest]]
+        lengths = _edge_lengths(tri)
         start = np.argmax(lengths, axis=1)
         order = (start[:, None] + np.arange(3)) % 3
         tri = np.take_along_axis(tri, order[:, :, None], axis=1)
@@ -172,14 +207,18 @@ def _samples(
     return np.concatenate(points), np.concatenate(ids), cover
 
 
+def _edge_lengths(tri: np.ndarray) -> np.ndarray:
+    """The length of the edge opposite each corner of triangles (n, 3, 3), (n, 3)."""
+    edges = np.stack([tri[:, 2] - tri[:, 1], tri[:, 0] - tri[:, 2], tri[:, 1] - tri[:, 0]], 1)
+    return np.sqrt(np.einsum("ijk,ijk->ij", edges, edges))
+
+
 def _to_triangles(
     q: np.ndarray, faces: Faces, t: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Closest points of triangles ``t`` to points ``q`` (pairwise), the distances and the
     signed distances (from the triangle's outward normal)."""
-    import trimesh
-
-    closest = trimesh.triangles.closest_point(faces.triangles[t], q)
+    closest = closest_point(faces.triangles[t], q)
     d = np.linalg.norm(q - closest, axis=1)
     signed = np.einsum("ij,ij->i", q - closest, faces.normals[t])
     # On an edge or a corner the face normal gives no reliable sign: a point off the face's
@@ -188,25 +227,33 @@ def _to_triangles(
     return closest, d, signed
 
 
-def _near_voxels(points: np.ndarray, samples: np.ndarray, reach: float) -> np.ndarray:
-    """Whether each point may be within ``reach`` of a sample: its cube of side ``reach`` is
-    one of the samples' cubes or next to one (a cheap filter before the KD-tree: most points
-    of a part are far from the other part)."""
+def _near_voxels(
+    points: np.ndarray, samples: np.ndarray, reach: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Whether each point may be within ``reach`` of a sample, and each sample within
+    ``reach`` of a point: its cube of side ``reach`` is one of the other set's cubes or next
+    to one (a cheap filter before the KD-tree: most of a part is far from the other part,
+    and a tree of the samples near the points alone is built and searched faster)."""
     origin = np.minimum(points.min(axis=0), samples.min(axis=0)) - 2 * reach
     span = np.maximum(points.max(axis=0), samples.max(axis=0)) + 2 * reach - origin
     shape = np.floor(span / reach).astype(np.int64) + 3
     if float(np.prod(shape.astype(float))) > 2.0**62:
-        return np.ones(len(points), bool)
+        return np.ones(len(points), bool), np.ones(len(samples), bool)
 
     def keys(x: np.ndarray) -> np.ndarray:
         cell = np.floor((x - origin) / reach).astype(np.int64)
         return (cell[:, 0] * shape[1] + cell[:, 1]) * shape[2] + cell[:, 2]
 
-    occupied = np.unique(keys(samples))
     step = np.array([shape[1] * shape[2], shape[2], 1])
     offsets = (np.stack(np.meshgrid(*[[-1, 0, 1]] * 3, indexing="ij"), -1).reshape(-1, 3)) @ step
-    around = np.unique((occupied[:, None] + offsets[None, :]).ravel())
-    return np.isin(keys(points), around)
+
+    def around(k: np.ndarray) -> np.ndarray:
+        occupied = np.unique(k)
+        return np.unique((occupied[:, None] + offsets[None, :]).ravel())
+
+    kp, ks = keys(points), keys(samples)
+    near_points = np.isin(kp, around(ks))
+    return near_points, np.isin(ks, around(kp[near_points]))
 
 
 def surface_distances(
@@ -238,10 +285,12 @@ def surface_distances(
     samples, ids, cover = _samples(faces, spacing, which)
     if len(samples) == 0:
         return empty
-    near = _near_voxels(box, samples, radius + cover)
+    near, useful = _near_voxels(box, samples, radius + cover)
     inside, box = inside[near], box[near]
     if len(box) == 0:
         return empty
+    # Samples farther than radius + cover from every point are never an answer below.
+    samples, ids = samples[useful], ids[useful]
     # Sliding-midpoint splits without shrinking the boxes: built and queried about twice as
     # fast on surface samples as the default median splits, same answers.
     tree = cKDTree(samples, balanced_tree=False, compact_nodes=False)
@@ -277,17 +326,6 @@ def surface_distances(
     return Near(inside[keep], signed[keep], closest[keep], t[keep])
 
 
-def face_pairs(faces: np.ndarray) -> np.ndarray:
-    """Pairs of faces (k, 2) sharing an edge (the same two vertex ids), from the faces'
-    vertex ids (n, 3); an edge of three or more faces chains them pairwise."""
-    f = faces.astype(np.int64)
-    first, second = f.ravel(), np.roll(f, -1, axis=1).ravel()
-    key = np.minimum(first, second) * (int(f.max(initial=0)) + 1) + np.maximum(first, second)
-    order = np.argsort(key)
-    same = key[order[1:]] == key[order[:-1]]
-    return np.column_stack([order[:-1][same] // 3, order[1:][same] // 3])
-
-
 def _components(pairs: np.ndarray, count: int) -> np.ndarray:
     """A label per node of the graph of ``count`` nodes and edges ``pairs``."""
     from scipy.sparse import coo_matrix
@@ -297,22 +335,32 @@ def _components(pairs: np.ndarray, count: int) -> np.ndarray:
     return np.asarray(connected_components(graph, directed=False)[1])
 
 
-def smooth_patches(mesh: trimesh.Trimesh, faces: Faces | None = None) -> np.ndarray:
+def smooth_patches(mesh: Mesh, faces: Faces | None = None) -> np.ndarray:
     """A patch label per face: faces joined across edges whose dihedral angle is below
     :data:`SMOOTH_PATCH_DEG` (a tessellated ball or pin is one patch, a groove's flanks two)."""
     return _smooth(mesh, faces or Faces.of(mesh))[0]
 
 
 def _smooth(
-    mesh: trimesh.Trimesh, faces: Faces, which: np.ndarray | None = None
+    mesh: Mesh, faces: Faces, which: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
     """The patch label per face (-1 for faces not in ``which``, default all), and per label
     the largest angle between two of its faces sharing an edge (deg): the tessellation's own
     angular step there."""
     count = len(faces.normals)
-    which = np.arange(count) if which is None else which
+    edges = faces.edges
+    if which is None:
+        which, pairs = np.arange(count), edges.pairs
+    elif edges.manifold:
+        # The pairs among ``which``: those of the whole mesh with both faces in it (no edge
+        # has a third face that would chain differently).
+        local = np.full(count, -1)
+        local[which] = np.arange(len(which))
+        pairs = local[edges.pairs]
+        pairs = pairs[(pairs[:, 0] >= 0) & (pairs[:, 1] >= 0)]
+    else:
+        pairs = face_pairs(faces.ids[which])
     normals = faces.normals[which]
-    pairs = face_pairs(np.asarray(mesh.faces)[which])
     cos = np.einsum("ij,ij->i", normals[pairs[:, 0]], normals[pairs[:, 1]])
     smooth = cos > np.cos(np.radians(SMOOTH_PATCH_DEG))
     local = _components(pairs[smooth], len(which))
@@ -324,16 +372,15 @@ def _smooth(
     return labels, facet
 
 
-def closed_bodies(mesh: trimesh.Trimesh) -> list[ClosedBody]:
+def closed_bodies(mesh: Mesh) -> list[ClosedBody]:
     """The mesh's edge-connected bodies, each with its volume and bounds."""
     return _split(mesh, Faces.of(mesh))[0]
 
 
-def _split(mesh: trimesh.Trimesh, faces: Faces) -> tuple[list[ClosedBody], np.ndarray]:
+def _split(mesh: Mesh, faces: Faces) -> tuple[list[ClosedBody], np.ndarray]:
     """The mesh's edge-connected bodies (volume, bounds) and the body label of each face,
     from one labelling and per-label sums (no submeshes)."""
-    f = np.asarray(mesh.faces)
-    labels = _components(face_pairs(f), len(f))
+    labels = _components(faces.edges.pairs, len(faces.ids))
     tri = faces.triangles
     per_face = np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])) / 6.0
     count = int(labels.max(initial=-1)) + 1
@@ -347,7 +394,7 @@ def _split(mesh: trimesh.Trimesh, faces: Faces) -> tuple[list[ClosedBody], np.nd
 
 
 def patch_fit(
-    mesh: trimesh.Trimesh,
+    mesh: Mesh,
     labels: np.ndarray,
     patch: int,
     faces: Faces | None = None,
@@ -367,8 +414,8 @@ def patch_fit(
 
 
 def contact_regions(
-    base: trimesh.Trimesh,
-    body: trimesh.Trimesh,
+    base: Mesh,
+    body: Mesh,
     gap: float,
     faces: tuple[Faces, Faces] | None = None,
 ) -> tuple[list[Region], float]:
@@ -412,8 +459,8 @@ class _NearPatches:
 
 
 def _near_patches(
-    base: trimesh.Trimesh,
-    body: trimesh.Trimesh,
+    base: Mesh,
+    body: Mesh,
     base_faces: Faces,
     body_faces: Faces,
     gap: float,
@@ -449,8 +496,8 @@ def _near_patches(
 
 
 def merged_pieces(
-    body: trimesh.Trimesh,
-    base: trimesh.Trimesh,
+    body: Mesh,
+    base: Mesh,
     gap: float,
     faces: tuple[Faces, Faces] | None = None,
 ) -> list[tuple[ClosedBody, bool]]:
@@ -462,8 +509,6 @@ def merged_pieces(
     piece that touches it against only the rest's faces within reach of it (the others
     cannot come within :data:`NEAR_GAPS` gaps), with no fitting. ``faces``: the base's and
     the body's :class:`Faces`, when the caller has them."""
-    import trimesh
-
     base_faces, body_faces = faces or (Faces.of(base), Faces.of(body))
     pieces, labels = _split(body, body_faces)
     if len(pieces) < 2:
@@ -478,8 +523,8 @@ def merged_pieces(
             others = body_faces.in_box(piece.bounds[0] - reach, piece.bounds[1] + reach)
             others = others[labels[others] != k]
             if len(others):
-                rest = trimesh.Trimesh(body.vertices, f[others], process=False)
-                mesh = trimesh.Trimesh(body.vertices, f[mine], process=False)
+                rest = Surface(np.asarray(body.vertices), f[others])
+                mesh = Surface(np.asarray(body.vertices), f[mine])
                 seated = _near_patches(
                     rest, mesh, body_faces.subset(others), body_faces.subset(mine), gap
                 ).regions

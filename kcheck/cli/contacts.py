@@ -206,7 +206,7 @@ def _mesh_field(body: Path, output: Path | None) -> str:
 def run(args: argparse.Namespace) -> int:
     from kcheck.body.contact_regions import Faces, contact_regions
     from kcheck.body.coupling_elements import recognise
-    from kcheck.body.meshio import load_mesh, not_watertight
+    from kcheck.body.meshio import load_surface, not_watertight
     from kcheck.errors import MeshError
     from kcheck.numerics.thresholds import CONTACT_GAP_RTOL
     from kcheck.scene.materials import density_of, known_names
@@ -242,9 +242,9 @@ def run(args: argparse.Namespace) -> int:
     for path, what, part in sources:
         try:
             step = path.suffix.lower() in (".step", ".stp")
-            mesh = load_mesh(path, 1.0 if step else scale, what, part=part)
+            mesh = load_surface(path, 1.0 if step else scale, what, part=part)
             if not mesh.is_watertight:
-                raise not_watertight(mesh, path, what, scale, units)
+                raise not_watertight(mesh.trimesh(), path, what, scale, units)
         except MeshError as exc:
             return fail(str(exc))
         meshes.append(mesh)
@@ -303,7 +303,7 @@ def run(args: argparse.Namespace) -> int:
         folder = args.output.parent if args.output is not None else Path.cwd()
         body_file = folder / f"{sources[1][0].stem}.{parts[1]}.stl"
         try:
-            body.copy().apply_scale(1.0 / scale).export(body_file)
+            body.trimesh().copy().apply_scale(1.0 / scale).export(body_file)
         except OSError as exc:
             return fail(f"cannot write the body's mesh {body_file}: {exc.strerror}")
         print(f"kcheck: wrote the body's part `{parts[1]}` to {body_file}", file=sys.stderr)

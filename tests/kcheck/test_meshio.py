@@ -192,3 +192,82 @@ def test_stl_vertex_merge_is_trimeshs():
     assert np.array_equal(ours.vertices, theirs.vertices)
     assert np.array_equal(ours.faces, theirs.faces)
     assert ours.is_watertight
+
+
+def _soup_stl(path: Path, binary: bool = True) -> Path:
+    """An STL of a ball and a box apart, some of the ball's vertices moved by 5e-7 (joined by
+    the closeness merge: within 1e-6 of the size, beyond the 1e-8 rounding)."""
+    rng = np.random.default_rng(7)
+    ball = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
+    box = trimesh.creation.box(extents=(1.0, 2.0, 0.5)).apply_translation([3.0, 0, 0])
+    both = trimesh.util.concatenate([ball, box])
+    soup = both.vertices[both.faces].reshape(-1, 3)
+    moved = rng.choice(len(ball.faces) * 3, 40, replace=False)
+    soup[moved] += 5e-7
+    faces = np.arange(len(soup)).reshape(-1, 3)
+    data = trimesh.exchange.stl.export_stl(trimesh.Trimesh(soup, faces, process=False))
+    if not binary:
+        data = trimesh.exchange.stl.export_stl_ascii(
+            trimesh.Trimesh(soup, faces, process=False)
+        ).encode()
+    path.write_bytes(data)
+    return path
+
+
+@pytest.mark.parametrize("binary", [True, False])
+def test_stl_read_by_kcheck_is_load_meshs(tmp_path, binary):
+    # The contact finder reads a binary STL without trimesh (meshio.load_surface): the
+    # reference is load_mesh (trimesh's reader, kcheck's merges) on the same file.
+    from kcheck.body.meshio import load_surface
+
+    path = _soup_stl(tmp_path / "soup.stl", binary)
+    theirs = load_mesh(path, 1e-3, "BODY")
+    ours = load_surface(path, 1e-3, "BODY")
+    assert (ours.mesh is None) == binary  # a binary file never went through trimesh
+    assert ours.merged == theirs.metadata.get("kcheck_merged", 0) > 0
+    assert np.array_equal(ours.vertices, theirs.vertices)
+    assert np.array_equal(ours.faces, theirs.faces)
+    assert np.array_equal(ours.bounds, theirs.bounds)
+    assert ours.is_watertight and theirs.is_watertight
+
+
+def test_watertightness_is_trimeshs():
+    # Every edge shared by exactly two faces: trimesh's is_watertight, on a closed ball, the
+    # ball with a face removed (open edges) and with a face doubled (crowded edges).
+    from kcheck.body.mesh_edges import edges_of
+
+    ball = trimesh.creation.icosphere(subdivisions=1)
+    for faces in (ball.faces, ball.faces[1:], np.vstack([ball.faces, ball.faces[:1]])):
+        mesh = trimesh.Trimesh(ball.vertices, faces, process=False)
+        assert edges_of(np.asarray(faces)).closed == mesh.is_watertight
+
+
+def test_close_vertex_pairs_are_the_kd_trees():
+    # The sweep finding vertices closer than a tolerance: the reference is scipy's KD-tree,
+    # on points in clusters (many close pairs) and on a grid (many on one plane).
+    from scipy.spatial import cKDTree
+
+    from kcheck.body.meshio import _close_pairs
+
+    rng = np.random.default_rng(3)
+    centres = rng.uniform(-1, 1, (500, 3))
+    clusters = np.repeat(centres, 4, axis=0) + rng.normal(0, 3e-3, (2000, 3))
+    grid = np.stack(np.meshgrid(*[np.arange(12) * 0.01] * 3), -1).reshape(-1, 3)
+    for points, tol in ((clusters, 5e-3), (grid, 0.0101), (grid, 0.005)):
+        ours = {tuple(sorted(p)) for p in _close_pairs(points, tol).tolist()}
+        theirs = {tuple(p) for p in cKDTree(points).query_pairs(tol, output_type="ndarray")}
+        assert ours == theirs
+
+
+def test_closest_points_are_trimeshs():
+    # kcheck's copy of trimesh's closest_point (Ericson's method): the same points to the
+    # last bit, on random triangles and on ones with coinciding corners.
+    from kcheck.body.closest_point import closest_point
+
+    rng = np.random.default_rng(5)
+    triangles = rng.normal(size=(20000, 3, 3))
+    points = rng.normal(size=(20000, 3)) * 2
+    triangles[:50, 1] = triangles[:50, 0]
+    triangles[50:100, 2] = triangles[50:100, 1]
+    expected = trimesh.triangles.closest_point(triangles, points)
+    assert np.array_equal(closest_point(triangles, points), expected)
