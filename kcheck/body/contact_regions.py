@@ -130,18 +130,27 @@ class Faces:
     @functools.cached_property
     def longest(self) -> np.ndarray:
         """Each triangle's longest edge (n,)."""
-        return _edge_lengths(self.triangles).max(axis=1)
+        t = self.triangles
+        squares = [_squared(t[:, i] - t[:, j]) for i, j in ((2, 1), (0, 2), (1, 0))]
+        # The square root of the largest square is the largest length (sqrt is monotone).
+        return np.sqrt(np.maximum(np.maximum(squares[0], squares[1]), squares[2]))
 
     @functools.cached_property
     def corner_reach(self) -> np.ndarray:
         """Each triangle's farthest corner from its centroid, squared (n,)."""
-        return np.max(np.sum((self.triangles - self.centroids[:, None]) ** 2, axis=2), axis=1)
+        t, c = self.triangles, self.centroids
+        squares = []
+        for k in range(3):
+            d = t[:, k] - c
+            # Summed in order, as numpy's sum over three coordinates does.
+            squares.append(d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1] + d[:, 2] * d[:, 2])
+        return np.maximum(np.maximum(squares[0], squares[1]), squares[2])
 
     def subset(self, which: np.ndarray) -> Faces:
-        """The triangles ``which`` (ids) alone."""
+        """The triangles ``which`` (ids) alone (with what is already known of each)."""
         lo, hi = self.lo[which], self.hi[which]
         bounds = np.array([lo.min(axis=0, initial=np.inf), hi.max(axis=0, initial=-np.inf)])
-        return Faces(
+        out = Faces(
             self.triangles[which],
             self.normals[which],
             lo,
@@ -150,6 +159,12 @@ class Faces:
             bounds,
             self.ids[which],
         )
+        for name in ("centroids", "longest", "corner_reach"):
+            if name in self.__dict__:
+                out.__dict__[name] = self.__dict__[name][which]
+        if "edges" in self.__dict__ and self.edges.manifold:
+            out.__dict__["edges"] = _sub_edges(self.edges, which, len(self.ids))
+        return out
 
     def in_box(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """Ids of the triangles whose bounding boxes meet the box ``lo``..``hi``."""
@@ -205,6 +220,22 @@ def _samples(
             points.append(pts.reshape(-1, 3))
             ids.append(np.repeat(which[rest[here]], len(u)))
     return np.concatenate(points), np.concatenate(ids), cover
+
+
+def _squared(v: np.ndarray) -> np.ndarray:
+    """Squared lengths of vectors (n, 3)."""
+    return np.einsum("ij,ij->i", v, v)
+
+
+def _sub_edges(edges: Edges, which: np.ndarray, count: int) -> Edges:
+    """The shared edges among the faces ``which`` of a mesh of ``count`` faces whose shared
+    edges are ``edges`` (no edge of three faces): the pairs with both faces among them,
+    numbered as in ``which``."""
+    local = np.full(count, -1)
+    local[which] = np.arange(len(which))
+    pairs = local[edges.pairs]
+    pairs = pairs[(pairs[:, 0] >= 0) & (pairs[:, 1] >= 0)]
+    return Edges(pairs, closed=2 * len(pairs) == 3 * len(which), manifold=True)
 
 
 def _edge_lengths(tri: np.ndarray) -> np.ndarray:
@@ -354,10 +385,7 @@ def _smooth(
     elif edges.manifold:
         # The pairs among ``which``: those of the whole mesh with both faces in it (no edge
         # has a third face that would chain differently).
-        local = np.full(count, -1)
-        local[which] = np.arange(len(which))
-        pairs = local[edges.pairs]
-        pairs = pairs[(pairs[:, 0] >= 0) & (pairs[:, 1] >= 0)]
+        pairs = _sub_edges(edges, which, count).pairs
     else:
         pairs = face_pairs(faces.ids[which])
     normals = faces.normals[which]
@@ -418,9 +446,11 @@ def contact_regions(
     body: Mesh,
     gap: float,
     faces: tuple[Faces, Faces] | None = None,
+    touching: list[np.ndarray] | None = None,
 ) -> tuple[list[Region], float]:
     """The contact regions of ``body`` on ``base``, each with its patches fitted; and the
-    deepest interpenetration found (m, ≥ 0).
+    deepest interpenetration found (m, ≥ 0). ``touching``, if given, gets the ids of the
+    body's faces that come within ``gap`` of the base (for :func:`merged_pieces`).
 
     Points sampled on each mesh's triangles (at most ``3 gap`` apart, so that the touching
     point of two long facets crossing, as on tessellated pins, is not missed) within
@@ -443,6 +473,8 @@ def contact_regions(
             setattr(region, f"{side}_fit", fit)
             region.tried[side] = tried
         regions.append(region)
+    if touching is not None:
+        touching.append(near.touching)
     return regions, near.depth
 
 
@@ -456,6 +488,7 @@ class _NearPatches:
     base_labels: np.ndarray
     base_facet: np.ndarray
     depth: float
+    touching: np.ndarray
 
 
 def _near_patches(
@@ -492,7 +525,8 @@ def _near_patches(
     for k, (p_body, p_base) in enumerate(pairs):
         here = inverse == k
         regions.append(Region(int(p_body), int(p_base), points[here], float(signed[here].min())))
-    return _NearPatches(regions, body_labels, body_facet, base_labels, base_facet, depth)
+    touching = np.unique(fa[np.abs(a.signed) <= gap])
+    return _NearPatches(regions, body_labels, body_facet, base_labels, base_facet, depth, touching)
 
 
 def merged_pieces(
@@ -500,6 +534,7 @@ def merged_pieces(
     base: Mesh,
     gap: float,
     faces: tuple[Faces, Faces] | None = None,
+    touching: np.ndarray | None = None,
 ) -> list[tuple[ClosedBody, bool]]:
     """Each closed body of a body mesh made of several, and whether it looks like part of the
     base: it touches the base and sits in two or more grooves of the rest of the body file
@@ -508,7 +543,8 @@ def merged_pieces(
     The body is labelled once; each piece is tried on the base by distances alone, and a
     piece that touches it against only the rest's faces within reach of it (the others
     cannot come within :data:`NEAR_GAPS` gaps), with no fitting. ``faces``: the base's and
-    the body's :class:`Faces`, when the caller has them."""
+    the body's :class:`Faces`, when the caller has them; ``touching``: the body's faces that
+    come within ``gap`` of the base, when :func:`contact_regions` found them."""
     base_faces, body_faces = faces or (Faces.of(base), Faces.of(body))
     pieces, labels = _split(body, body_faces)
     if len(pieces) < 2:
@@ -519,7 +555,11 @@ def merged_pieces(
     for k, piece in enumerate(pieces):
         mine = np.flatnonzero(labels == k)
         swallowed = False
-        if _touches(body_faces.subset(mine), base_faces, gap):
+        if (
+            np.any(labels[touching] == k)
+            if touching is not None
+            else _touches(body_faces.subset(mine), base_faces, gap)
+        ):
             others = body_faces.in_box(piece.bounds[0] - reach, piece.bounds[1] + reach)
             others = others[labels[others] != k]
             if len(others):

@@ -206,7 +206,7 @@ def _mesh_field(body: Path, output: Path | None) -> str:
 def run(args: argparse.Namespace) -> int:
     from kcheck.body.contact_regions import Faces, contact_regions
     from kcheck.body.coupling_elements import recognise
-    from kcheck.body.meshio import load_surface, not_watertight
+    from kcheck.body.meshio import load_surface, not_watertight, reuse_freed_memory
     from kcheck.errors import MeshError
     from kcheck.numerics.thresholds import CONTACT_GAP_RTOL
     from kcheck.scene.materials import density_of, known_names
@@ -238,6 +238,7 @@ def run(args: argparse.Namespace) -> int:
         )
     else:
         sources = ((args.base, "BASE", None), (args.body, "BODY", None))
+    reuse_freed_memory()  # large temporaries, each made many times
     meshes = []
     for path, what, part in sources:
         try:
@@ -254,7 +255,8 @@ def run(args: argparse.Namespace) -> int:
     size = float(np.linalg.norm(np.ptp(np.vstack([base.bounds, body.bounds]), axis=0)))
     gap = args.gap * scale if args.gap is not None else CONTACT_GAP_RTOL * size
     faces = (Faces.of(base), Faces.of(body))  # read once, for the finding and merged parts
-    regions, depth = contact_regions(base, body, gap, faces)
+    touch_faces: list = []
+    regions, depth = contact_regions(base, body, gap, faces, touch_faces)
     if depth > gap:
         return fail(
             f"{args.body} and {args.base} interpenetrate by {_mm(depth, scale, units)}, more "
@@ -276,7 +278,7 @@ def run(args: argparse.Namespace) -> int:
             "or raise --gap"
         )
     found = recognise(regions, gap)
-    notes = _merged_parts(body, args.body, base, gap, scale, units, faces)
+    notes = _merged_parts(body, args.body, base, gap, scale, units, faces, touch_faces[0])
     report = report_lines(found, scale, units) + notes
     count = found.contact_count
     problems = []
@@ -322,13 +324,20 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _merged_parts(
-    body: Any, path: Path, base: Any, gap: float, scale: float, units: str, faces: Any = None
+    body: Any,
+    path: Path,
+    base: Any,
+    gap: float,
+    scale: float,
+    units: str,
+    faces: Any = None,
+    touching: Any = None,
 ) -> list[str]:
     """Findings on a body mesh of several closed bodies: each named (volume, bounds), and
     whether it looks like part of the base (:func:`kcheck.body.contact_regions.merged_pieces`)."""
     from kcheck.body.contact_regions import merged_pieces
 
-    pieces = merged_pieces(body, base, gap, faces)
+    pieces = merged_pieces(body, base, gap, faces, touching)
     if not pieces:
         return []
     lines = [f"{path.name}: {len(pieces)} disconnected closed bodies:"]
