@@ -298,6 +298,13 @@ def run(args: argparse.Namespace) -> int:
         print("kcheck: no scene written: " + "; ".join(problems), file=sys.stderr)
         return ExitCode.CHECKS_FAILED
     command = f"kcheck contacts {args.base} {args.body} --units {units}"
+    # Every option that shaped the scene, so that the line re-makes it.
+    if args.gap is not None:
+        command += f" --gap {args.gap:g}"
+    if args.material != "aluminium":
+        command += f" --material {args.material}"
+    if args.friction != 0.1:
+        command += f" --friction {args.friction:g}"
     body_file = args.body
     if parts[1] is not None:
         # A scene's mesh is a file of its own: the body's part written beside the scene (in
