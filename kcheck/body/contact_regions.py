@@ -520,7 +520,12 @@ def _near_patches(
     points = np.concatenate([(pa + a.closest) / 2, (pb + b.closest) / 2])
     signed = np.concatenate([a.signed, b.signed])
     regions = []
-    pairs, inverse = np.unique(np.column_stack([body_side, base_side]), axis=0, return_inverse=True)
+    # Unique (body patch, base patch) rows in row order, through one integer key (labels
+    # from -1, for a triangle outside the patches).
+    width = np.int64(max(int(base_side.max(initial=0)), 0) + 2)
+    key = (body_side.astype(np.int64) + 1) * width + (base_side.astype(np.int64) + 1)
+    unique, inverse = np.unique(key, return_inverse=True)
+    pairs = np.column_stack([unique // width - 1, unique % width - 1])
     inverse = np.ravel(inverse)
     for k, (p_body, p_base) in enumerate(pairs):
         here = inverse == k
