@@ -162,8 +162,6 @@ class Faces:
         for name in ("centroids", "longest", "corner_reach"):
             if name in self.__dict__:
                 out.__dict__[name] = self.__dict__[name][which]
-        if "edges" in self.__dict__ and self.edges.manifold:
-            out.__dict__["edges"] = _sub_edges(self.edges, which, len(self.ids))
         return out
 
     def in_box(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
