@@ -4,8 +4,9 @@ assembly written as binary STL: ``python benchmarks/bench_contacts_command.py [R
 
 Paired, interleaved in the same run, against the kcheck of git revision REF (default
 ``6d98969``, before binary STLs were read without trimesh; ``03dc445`` is before the
-merged-parts finding was split once and STL vertices merged by kcheck), exported to a temporary folder and run with the same Python. CPU time is the
-child's user + system time (``resource``); both must write the same scene.
+merged-parts finding was split once and STL vertices merged by kcheck), exported to a
+temporary folder and run with the same Python. CPU time is the child's user + system time
+(``resource``); both must write the same scene.
 """
 
 from __future__ import annotations
