@@ -104,12 +104,12 @@ class Faces:
     @classmethod
     def of(cls, mesh: Mesh) -> Faces:
         vertices, f = np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces)
-        tri = vertices[f]
+        tri = np.take(vertices, f, axis=0)
         a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
-        cross = np.cross(b - a, c - a)
+        cross = _cross(b - a, c - a)
         double = np.sqrt(np.einsum("ij,ij->i", cross, cross))
         normals = cross / np.where(double > 0, double, 1.0)[:, None]
-        lo, hi = tri.min(axis=1), tri.max(axis=1)
+        lo, hi = np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c)
         bounds = np.array([lo.min(axis=0, initial=np.inf), hi.max(axis=0, initial=-np.inf)])
         faces = cls(tri, normals, lo, hi, double / 2, bounds, f)
         if isinstance(mesh, Surface) and "edges" in mesh.__dict__:
@@ -218,6 +218,16 @@ def _samples(
             points.append(pts.reshape(-1, 3))
             ids.append(np.repeat(which[rest[here]], len(u)))
     return np.concatenate(points), np.concatenate(ids), cover
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross products of vectors (n, 3): np.cross's arithmetic (the same bits) without its
+    axis handling, which takes five times as long on 500,000 rows."""
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out[:, 0] = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
+    out[:, 1] = a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]
+    out[:, 2] = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    return out
 
 
 def _squared(v: np.ndarray) -> np.ndarray:
@@ -408,7 +418,7 @@ def _split(mesh: Mesh, faces: Faces) -> tuple[list[ClosedBody], np.ndarray]:
     from one labelling and per-label sums (no submeshes)."""
     labels = _components(faces.edges.pairs, len(faces.ids))
     tri = faces.triangles
-    per_face = np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])) / 6.0
+    per_face = np.einsum("ij,ij->i", tri[:, 0], _cross(tri[:, 1], tri[:, 2])) / 6.0
     count = int(labels.max(initial=-1)) + 1
     volume = np.bincount(labels, weights=per_face, minlength=count)
     lo = np.full((count, 3), np.inf)

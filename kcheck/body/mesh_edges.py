@@ -32,8 +32,16 @@ def _keys(faces: np.ndarray) -> np.ndarray:
 def edges_of(faces: np.ndarray) -> Edges:
     """The shared edges of faces given by vertex ids (n, 3)."""
     key = _keys(faces)
-    order = np.argsort(key)
-    s = key[order]
+    bits = max(1, (len(key) - 1).bit_length())
+    if len(key) and int(key.max()) < 1 << (63 - bits):
+        # The edge's id packed below its key: a plain sort (twice as fast as an argsort)
+        # gives the keys in order and, in the low bits, where each came from.
+        packed = (key << bits) | np.arange(len(key), dtype=np.int64)
+        packed.sort()
+        order, s = packed & ((1 << bits) - 1), packed >> bits
+    else:
+        order = np.argsort(key)
+        s = key[order]
     same = s[1:] == s[:-1]
     pairs = np.column_stack([order[:-1][same] // 3, order[1:][same] // 3])
     # Runs of equal keys: a run of one is an open edge, of three or more a crowded one.
