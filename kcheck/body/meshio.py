@@ -106,7 +106,7 @@ def _sorted_with_ids(key: np.ndarray, bits: int) -> np.ndarray:
 
 
 def _equal_runs(q: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """Rows of integer columns ``q`` (three, n each) in an order that puts equal rows next to
+    """Rows of columns ``q`` (three, n each, 64 bits) in an order that puts equal rows next to
     each other, each run led by its first row, and where each run starts: one sort of a
     64-bit mix of each row (a third of a lexsort's time), checked column by column; a
     lexsort when two different rows mix alike."""
@@ -124,7 +124,7 @@ def _equal_runs(q: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
         h *= np.uint64(0x94D049BB133111EB)
         h ^= h >> np.uint64(31)
     packed = _sorted_with_ids(h, bits)
-    order = (packed & np.uint64((1 << bits) - 1)).astype(np.int64)
+    order = (packed & np.uint64((1 << bits) - 1)).view(np.int64)
     high = packed >> np.uint64(bits)
     start = np.empty(n, bool)
     start[0] = True
@@ -149,8 +149,13 @@ def _merged_equal(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, 
     used = vertices if every else vertices[ref]
     q = []
     for k in range(3):
+        # Rounded, the coordinates are whole numbers: equal as floats exactly when equal as
+        # the integers trimesh casts them to, so they are compared (and mixed, through their
+        # bits) without the cast; + 0.0 makes -0.0 the 0.0 it is as an integer.
         column = used[:, k] * 1e8
-        q.append(np.round(column, out=column).astype(np.int64))
+        np.round(column, out=column)
+        column += 0.0
+        q.append(column)
     order, start = _equal_runs(q)
     first = order[start]
     # Merged vertices numbered by first occurrence, as trimesh keeps them.

@@ -271,3 +271,21 @@ def test_closest_points_are_trimeshs():
     triangles[50:100, 2] = triangles[50:100, 1]
     expected = trimesh.triangles.closest_point(triangles, points)
     assert np.array_equal(closest_point(triangles, points), expected)
+
+
+def test_vertex_merge_when_two_vertices_mix_alike(monkeypatch):
+    # The merge sorts a 64-bit mix of the coordinates; where two different vertices mix
+    # alike it must fall back to a lexsort and give the same merge. A mix of the z
+    # coordinate alone (multipliers 0) makes every vertex of a grid level collide.
+    from kcheck.body import meshio
+
+    ball = trimesh.creation.icosphere(subdivisions=2)
+    soup = ball.vertices[ball.faces].reshape(-1, 3)
+    faces = np.arange(len(soup)).reshape(-1, 3)
+    expected = meshio._merged_equal(soup, faces)
+    # Different vertices at one height: they collide.
+    assert len(np.unique(np.round(ball.vertices[:, 2] * 1e8))) < len(ball.vertices)
+    monkeypatch.setattr(meshio, "_MIX", (np.uint64(0), np.uint64(0)))
+    got = meshio._merged_equal(soup, faces)
+    assert len(expected[0]) == len(ball.vertices)
+    assert np.array_equal(got[0], expected[0]) and np.array_equal(got[1], expected[1])
