@@ -106,7 +106,7 @@ def _sorted_with_ids(key: np.ndarray, bits: int) -> np.ndarray:
 
 
 def _equal_runs(q: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """Rows of columns ``q`` (three, n each, 64 bits) in an order that puts equal rows next to
+    """Rows of integer columns ``q`` (three, n each) in an order that puts equal rows next to
     each other, each run led by its first row, and where each run starts: one sort of a
     64-bit mix of each row (a third of a lexsort's time), checked column by column; a
     lexsort when two different rows mix alike."""
@@ -149,13 +149,10 @@ def _merged_equal(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, 
     used = vertices if every else vertices[ref]
     q = []
     for k in range(3):
-        # Rounded, the coordinates are whole numbers: equal as floats exactly when equal as
-        # the integers trimesh casts them to, so they are compared (and mixed, through their
-        # bits) without the cast; + 0.0 makes -0.0 the 0.0 it is as an integer.
+        # Cast to integers, as trimesh does: their bits mix densely (a whole float's low
+        # mantissa bits are zeros, and mixed they collided on this file's vertices).
         column = used[:, k] * 1e8
-        np.round(column, out=column)
-        column += 0.0
-        q.append(column)
+        q.append(np.round(column, out=column).astype(np.int64))
     order, start = _equal_runs(q)
     first = order[start]
     # Merged vertices numbered by first occurrence, as trimesh keeps them.
