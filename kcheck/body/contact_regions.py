@@ -121,29 +121,18 @@ class Faces:
         """The faces' shared edges."""
         return edges_of(self.ids)
 
-    @functools.cached_property
-    def centroids(self) -> np.ndarray:
-        """Each triangle's centroid (n, 3)."""
-        t = self.triangles
-        return (t[:, 0] + t[:, 1] + t[:, 2]) / 3
-
-    @functools.cached_property
-    def longest(self) -> np.ndarray:
-        """Each triangle's longest edge (n,)."""
-        t = self.triangles
-        squares = [_squared(t[:, i] - t[:, j]) for i, j in ((2, 1), (0, 2), (1, 0))]
-        # The square root of the largest square is the largest length (sqrt is monotone).
-        return np.sqrt(np.maximum(np.maximum(squares[0], squares[1]), squares[2]))
-
-    @functools.cached_property
-    def corner_reach(self) -> np.ndarray:
-        """Each triangle's farthest corner from its centroid, squared (n,)."""
-        d = self.triangles - self.centroids[:, None]
-        d *= d
-        # Summed in order, as numpy's sum over three coordinates does (the same bits).
-        s = d[:, :, 0] + d[:, :, 1]
-        s += d[:, :, 2]
-        return np.maximum(np.maximum(s[:, 0], s[:, 1]), s[:, 2])
+    def facts(self, which: np.ndarray) -> np.ndarray:
+        """Of the triangles ``which`` (ids): centroid (3 columns), longest edge, farthest
+        corner from the centroid squared, (k, 5); each triangle's worked out once, when
+        first asked for (the sampling asks for the triangles near the other part, a few
+        times each)."""
+        known = self.__dict__.get("_facts")
+        if known is None:
+            known = self.__dict__["_facts"] = np.full((len(self.ids), 5), np.nan)
+        new = which[np.isnan(known[which, 3])]
+        if len(new):
+            known[new] = _facts(self.triangles[new])
+        return known[which]
 
     def subset(self, which: np.ndarray) -> Faces:
         """The triangles ``which`` (ids) alone (with what is already known of each)."""
@@ -158,9 +147,8 @@ class Faces:
             bounds,
             self.ids[which],
         )
-        for name in ("centroids", "longest", "corner_reach"):
-            if name in self.__dict__:
-                out.__dict__[name] = self.__dict__[name][which]
+        if "_facts" in self.__dict__:
+            out.__dict__["_facts"] = self.__dict__["_facts"][which]
         return out
 
     def in_box(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
@@ -182,11 +170,12 @@ def _samples(
     # Each triangle from the corner opposite its longest edge, along its two shorter edges:
     # a grid of n1 x n2 steps no longer than `spacing` (a long thin facet of a pin gets a row
     # of points, not a square grid), so every point of it is within 2 `spacing` of a sample.
-    small = faces.longest[which] <= spacing
-    points = [faces.centroids[which[small]]]
+    facts = faces.facts(which)
+    small = facts[:, 3] <= spacing
+    points = [facts[small, :3]]
     ids = [which[small]]
     # A point of a triangle is at most its farthest corner's distance from the centroid.
-    cover = float(np.sqrt(np.max(faces.corner_reach[which[small]], initial=0.0)))
+    cover = float(np.sqrt(np.max(facts[small, 4], initial=0.0)))
     rest = np.flatnonzero(~small)
     if len(rest):
         tri = faces.triangles[which[rest]]
@@ -232,6 +221,24 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     out[:, 0] = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
     out[:, 1] = a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]
     out[:, 2] = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    return out
+
+
+def _facts(t: np.ndarray) -> np.ndarray:
+    """Of triangles (k, 3, 3): centroid, longest edge, farthest corner from the centroid
+    squared, (k, 5)."""
+    out = np.empty((len(t), 5))
+    centroids = (t[:, 0] + t[:, 1] + t[:, 2]) / 3
+    out[:, :3] = centroids
+    squares = [_squared(t[:, i] - t[:, j]) for i, j in ((2, 1), (0, 2), (1, 0))]
+    # The square root of the largest square is the largest length (sqrt is monotone).
+    out[:, 3] = np.sqrt(np.maximum(np.maximum(squares[0], squares[1]), squares[2]))
+    d = t - centroids[:, None]
+    d *= d
+    # Summed in order, as numpy's sum over three coordinates does (the same bits).
+    r = d[:, :, 0] + d[:, :, 1]
+    r += d[:, :, 2]
+    out[:, 4] = np.maximum(np.maximum(r[:, 0], r[:, 1]), r[:, 2])
     return out
 
 
