@@ -300,11 +300,11 @@ def run(args: argparse.Namespace) -> int:
     command = f"kcheck contacts {args.base} {args.body} --units {units}"
     # Every option that shaped the scene, so that the line re-makes it.
     if args.gap is not None:
-        command += f" --gap {args.gap:g}"
+        command += f" --gap {_num(args.gap)}"
     if args.material != "aluminium":
         command += f" --material {args.material}"
     if args.friction != 0.1:
-        command += f" --friction {args.friction:g}"
+        command += f" --friction {_num(args.friction)}"
     body_file = args.body
     if parts[1] is not None:
         # A scene's mesh is a file of its own: the body's part written beside the scene (in
