@@ -9,8 +9,8 @@ import numpy as np
 
 __all__ = ["closest_point"]
 
-#: trimesh's ``tol.zero``: 100 times float64's resolution.
-_ZERO = float(np.finfo(np.float64).resolution) * 100
+#: trimesh's ``tol.zero``: 100 times float64's decimal resolution, 1e-15 (the same float).
+_ZERO = 1e-13
 
 
 def closest_point(triangles: np.ndarray, points: np.ndarray) -> np.ndarray:

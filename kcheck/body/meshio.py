@@ -25,7 +25,7 @@ import numpy as np
 
 from kcheck.body.mesh_edges import Edges, edges_of
 from kcheck.errors import FieldPath, MeshError, describe_os_error
-from kcheck.numerics.thresholds import MERGE_RTOL
+from kcheck.numerics.thresholds import EPS, MERGE_RTOL
 from kcheck.scene.limits import LIMITS
 
 if TYPE_CHECKING:
@@ -190,7 +190,7 @@ def _close_pairs(vertices: np.ndarray, tolerance: float) -> np.ndarray:
     order = np.argsort(along)
     s = along[order]
     # A little beyond the tolerance: the projection's rounding must not lose a pair.
-    reach = tolerance * (1 + 1e-9) + 4 * np.finfo(float).eps * float(np.abs(s).max(initial=0))
+    reach = tolerance * (1 + 1e-9) + 4 * EPS * float(np.abs(s).max(initial=0))
     count = np.searchsorted(s, s + reach, side="right") - np.arange(n) - 1
     total = int(count.sum())
     if total > 20 * n:
