@@ -3,9 +3,10 @@ reading the files, finding, merged-parts finding, the scene) on ``bench_contacts
 assembly written as binary STL: ``python benchmarks/bench_contacts_command.py [REF]``.
 
 Paired, interleaved in the same run, against the kcheck of git revision REF (default
-``03dc445``, before the merged-parts finding was split once and STL vertices merged by
-kcheck), exported to a temporary folder and run with the same Python. CPU time is the
-child's user + system time (``resource``); both must write the same scene.
+``6d98969``, before binary STLs were read without trimesh; ``03dc445`` is before the
+merged-parts finding was split once and STL vertices merged by kcheck), exported to a
+temporary folder and run with the same Python. CPU time is the child's user + system time
+(``resource``); both must write the same scene.
 """
 
 from __future__ import annotations
@@ -46,7 +47,7 @@ def run(src: Path, folder: Path) -> tuple[float, float, str]:
 
 
 def main() -> None:
-    ref = sys.argv[1] if len(sys.argv) > 1 else "03dc445"
+    ref = sys.argv[1] if len(sys.argv) > 1 else "6d98969"
     with tempfile.TemporaryDirectory() as tmp:
         folder, old = Path(tmp) / "parts", Path(tmp) / "old"
         folder.mkdir()

@@ -2,8 +2,9 @@
 surface, grouped into contact regions by the smooth surface patches they lie on, and each
 patch fitted with a plane, sphere, cylinder, cone or torus (:mod:`kcheck.body.surface_fit`).
 
-Lengths are in metres (meshes from :func:`kcheck.body.meshio.load_mesh`). trimesh and scipy
-are imported inside the functions. The distance of a point from a mesh is exact (point to
+Lengths are in metres (meshes from :func:`kcheck.body.meshio.load_surface` or trimesh's).
+scipy is imported inside the functions, trimesh not at all. The distance of a point from a
+mesh is exact (point to
 triangle) where it decides whether the parts touch; the triangles near a point are found
 through a KD-tree of points sampled on each triangle no farther apart than the triangles'
 median edge, after a filter on a grid of cubes drops the points far from the other part.
@@ -13,16 +14,17 @@ small dihedral angle.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
+from kcheck.body.closest_point import closest_point
+from kcheck.body.mesh_edges import Edges, edges_of, face_pairs
+from kcheck.body.meshio import Surface
 from kcheck.body.surface_fit import Primitive, fit_surface
 from kcheck.numerics.thresholds import SMOOTH_PATCH_DEG
-
-if TYPE_CHECKING:
-    import trimesh
 
 __all__ = [
     "Near",
@@ -81,10 +83,15 @@ class ClosedBody:
     bounds: np.ndarray
 
 
+#: A triangle mesh: a Trimesh, or a :class:`kcheck.body.meshio.Surface` (vertices, faces).
+Mesh = Any
+
+
 @dataclass(frozen=True)
 class Faces:
-    """A mesh's triangles (n, 3, 3), outward unit normals (n, 3) and per-triangle bounds
-    (n, 3 each), read once from trimesh (whose cached properties re-hash the mesh per read)."""
+    """A mesh's triangles (n, 3, 3), outward unit normals (n, 3), per-triangle bounds (n, 3
+    each), areas and vertex ids (n, 3), read once from the mesh (trimesh's cached properties
+    re-hash the mesh per read); the shared edges when first asked for."""
 
     triangles: np.ndarray
     normals: np.ndarray
@@ -92,28 +99,61 @@ class Faces:
     hi: np.ndarray
     areas: np.ndarray
     bounds: np.ndarray
+    ids: np.ndarray
 
     @classmethod
-    def of(cls, mesh: trimesh.Trimesh) -> Faces:
+    def of(cls, mesh: Mesh) -> Faces:
         vertices, f = np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces)
-        a, b, c = vertices[f[:, 0]], vertices[f[:, 1]], vertices[f[:, 2]]
-        cross = np.cross(b - a, c - a)
+        tri = np.take(vertices, f, axis=0)
+        a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+        cross = _cross(b - a, c - a)
         double = np.sqrt(np.einsum("ij,ij->i", cross, cross))
         normals = cross / np.where(double > 0, double, 1.0)[:, None]
-        lo = np.minimum(np.minimum(a, b), c)
-        hi = np.maximum(np.maximum(a, b), c)
+        lo, hi = np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c)
         bounds = np.array([lo.min(axis=0, initial=np.inf), hi.max(axis=0, initial=-np.inf)])
-        return cls(np.stack([a, b, c], axis=1), normals, lo, hi, double / 2, bounds)
+        faces = cls(tri, normals, lo, hi, double / 2, bounds, f)
+        if isinstance(mesh, Surface) and "edges" in mesh.__dict__:
+            faces.__dict__["edges"] = mesh.edges  # already sorted out for watertightness
+        return faces
+
+    @functools.cached_property
+    def edges(self) -> Edges:
+        """The faces' shared edges."""
+        return edges_of(self.ids)
+
+    def facts(self, which: np.ndarray) -> np.ndarray:
+        """Of the triangles ``which`` (ids): centroid (3 columns), longest edge, farthest
+        corner from the centroid squared, (k, 5); each triangle's worked out once, when
+        first asked for (the sampling asks for the triangles near the other part, a few
+        times each)."""
+        known = self.__dict__.get("_facts")
+        if known is None:
+            known = self.__dict__["_facts"] = np.full((len(self.ids), 5), np.nan)
+        new = which[np.isnan(known[which, 3])]
+        if len(new):
+            known[new] = _facts(self.triangles[new])
+        return known[which]
 
     def subset(self, which: np.ndarray) -> Faces:
-        """The triangles ``which`` (ids) alone."""
+        """The triangles ``which`` (ids) alone (with what is already known of each)."""
         lo, hi = self.lo[which], self.hi[which]
         bounds = np.array([lo.min(axis=0, initial=np.inf), hi.max(axis=0, initial=-np.inf)])
-        return Faces(self.triangles[which], self.normals[which], lo, hi, self.areas[which], bounds)
+        out = Faces(
+            self.triangles[which],
+            self.normals[which],
+            lo,
+            hi,
+            self.areas[which],
+            bounds,
+            self.ids[which],
+        )
+        if "_facts" in self.__dict__:
+            out.__dict__["_facts"] = self.__dict__["_facts"][which]
+        return out
 
     def in_box(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """Ids of the triangles whose bounding boxes meet the box ``lo``..``hi``."""
-        return np.flatnonzero(np.all((self.hi >= lo) & (self.lo <= hi), axis=1))
+        return np.flatnonzero(_rows_all((self.hi >= lo) & (self.lo <= hi)))
 
 
 def _samples(
@@ -123,27 +163,23 @@ def _samples(
     them (a grid, the centroid alone for a small triangle), their triangle ids, and how far
     any point of those triangles may be from its nearest sample (the cover, m); the spacing
     widened when more than about ``most`` points would be needed."""
-    tri = faces.triangles[which]
-    if len(tri) == 0:
+    if len(which) == 0:
         return np.zeros((0, 3)), np.zeros(0, int), 0.0
     area = float(faces.areas[which].sum())
     spacing = max(spacing, float(np.sqrt(2 * area / most)))
     # Each triangle from the corner opposite its longest edge, along its two shorter edges:
     # a grid of n1 x n2 steps no longer than `spacing` (a long thin facet of a pin gets a row
     # of points, not a square grid), so every point of it is within 2 `spacing` of a sample.
-    # The edge opposite each corner.
-    edges = np.stack([tri[:, 2] - tri[:, 1], tri[:, 0] - tri[:, 2], tri[:, 1] - tri[:, 0]], 1)
-    lengths = np.sqrt(np.einsum("ijk,ijk->ij", edges, edges))
-    small = lengths.max(axis=1) <= spacing
-    corners = tri[small]
-    centres = (corners[:, 0] + corners[:, 1] + corners[:, 2]) / 3
-    points = [centres]
+    facts = faces.facts(which)
+    small = facts[:, 3] <= spacing
+    points = [facts[small, :3]]
     ids = [which[small]]
     # A point of a triangle is at most its farthest corner's distance from the centroid.
-    cover = float(np.sqrt(np.max(np.sum((corners - centres[:, None]) ** 2, axis=2), initial=0.0)))
+    cover = float(np.sqrt(np.max(facts[small, 4], initial=0.0)))
     rest = np.flatnonzero(~small)
     if len(rest):
-        tri, lengths = tri[rest], lengths[rest]
+        tri = faces.triangles[which[rest]]
+        lengths = _edge_lengths(tri)
         start = np.argmax(lengths, axis=1)
         order = (start[:, None] + np.arange(3)) % 3
         tri = np.take_along_axis(tri, order[:, :, None], axis=1)
@@ -172,41 +208,107 @@ def _samples(
     return np.concatenate(points), np.concatenate(ids), cover
 
 
+def _rows_all(b: np.ndarray) -> np.ndarray:
+    """Whether each row of three booleans (n, 3) is all true (np.all over rows of three is
+    twice as slow)."""
+    return b[:, 0] & b[:, 1] & b[:, 2]
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross products of vectors (n, 3): np.cross's arithmetic (the same bits) without its
+    axis handling, which takes five times as long on 500,000 rows."""
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    out[:, 0] = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
+    out[:, 1] = a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]
+    out[:, 2] = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    return out
+
+
+def _facts(t: np.ndarray) -> np.ndarray:
+    """Of triangles (k, 3, 3): centroid, longest edge, farthest corner from the centroid
+    squared, (k, 5)."""
+    out = np.empty((len(t), 5))
+    centroids = (t[:, 0] + t[:, 1] + t[:, 2]) / 3
+    out[:, :3] = centroids
+    squares = [_squared(t[:, i] - t[:, j]) for i, j in ((2, 1), (0, 2), (1, 0))]
+    # The square root of the largest square is the largest length (sqrt is monotone).
+    out[:, 3] = np.sqrt(np.maximum(np.maximum(squares[0], squares[1]), squares[2]))
+    d = t - centroids[:, None]
+    d *= d
+    # Summed in order, as numpy's sum over three coordinates does (the same bits).
+    r = d[:, :, 0] + d[:, :, 1]
+    r += d[:, :, 2]
+    out[:, 4] = np.maximum(np.maximum(r[:, 0], r[:, 1]), r[:, 2])
+    return out
+
+
+def _squared(v: np.ndarray) -> np.ndarray:
+    """Squared lengths of vectors (n, 3)."""
+    return np.einsum("ij,ij->i", v, v)
+
+
+def _sub_edges(edges: Edges, which: np.ndarray, count: int) -> Edges:
+    """The shared edges among the faces ``which`` of a mesh of ``count`` faces whose shared
+    edges are ``edges`` (no edge of three faces): the pairs with both faces among them,
+    numbered as in ``which``."""
+    local = np.full(count, -1)
+    local[which] = np.arange(len(which))
+    pairs = local[edges.pairs]
+    pairs = pairs[(pairs[:, 0] >= 0) & (pairs[:, 1] >= 0)]
+    return Edges(pairs, closed=2 * len(pairs) == 3 * len(which), manifold=True)
+
+
+def _edge_lengths(tri: np.ndarray) -> np.ndarray:
+    """The length of the edge opposite each corner of triangles (n, 3, 3), (n, 3)."""
+    edges = np.stack([tri[:, 2] - tri[:, 1], tri[:, 0] - tri[:, 2], tri[:, 1] - tri[:, 0]], 1)
+    return np.sqrt(np.einsum("ijk,ijk->ij", edges, edges))
+
+
 def _to_triangles(
     q: np.ndarray, faces: Faces, t: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Closest points of triangles ``t`` to points ``q`` (pairwise), the distances and the
     signed distances (from the triangle's outward normal)."""
-    import trimesh
-
-    closest = trimesh.triangles.closest_point(faces.triangles[t], q)
-    d = np.linalg.norm(q - closest, axis=1)
-    signed = np.einsum("ij,ij->i", q - closest, faces.normals[t])
+    closest = closest_point(faces.triangles[t], q)
+    offset = q - closest
+    squares = offset * offset
+    # np.linalg.norm's sum, in its order (the same bits), without its reduction over rows of
+    # three, which costs more than the arithmetic.
+    d = np.sqrt(squares[:, 0] + squares[:, 1] + squares[:, 2])
+    signed = np.einsum("ij,ij->i", offset, faces.normals[t])
     # On an edge or a corner the face normal gives no reliable sign: a point off the face's
     # own plane by less than its distance is outside.
     signed = np.where(np.abs(signed) < 0.999 * d, d, np.sign(signed) * d)
     return closest, d, signed
 
 
-def _near_voxels(points: np.ndarray, samples: np.ndarray, reach: float) -> np.ndarray:
-    """Whether each point may be within ``reach`` of a sample: its cube of side ``reach`` is
-    one of the samples' cubes or next to one (a cheap filter before the KD-tree: most points
-    of a part are far from the other part)."""
+def _near_voxels(
+    points: np.ndarray, samples: np.ndarray, reach: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Whether each point may be within ``reach`` of a sample, and each sample within
+    ``reach`` of a point: its cube of side ``reach`` is one of the other set's cubes or next
+    to one (a cheap filter before the KD-tree: most of a part is far from the other part,
+    and a tree of the samples near the points alone is built and searched faster)."""
     origin = np.minimum(points.min(axis=0), samples.min(axis=0)) - 2 * reach
     span = np.maximum(points.max(axis=0), samples.max(axis=0)) + 2 * reach - origin
     shape = np.floor(span / reach).astype(np.int64) + 3
     if float(np.prod(shape.astype(float))) > 2.0**62:
-        return np.ones(len(points), bool)
+        return np.ones(len(points), bool), np.ones(len(samples), bool)
 
     def keys(x: np.ndarray) -> np.ndarray:
         cell = np.floor((x - origin) / reach).astype(np.int64)
         return (cell[:, 0] * shape[1] + cell[:, 1]) * shape[2] + cell[:, 2]
 
-    occupied = np.unique(keys(samples))
     step = np.array([shape[1] * shape[2], shape[2], 1])
     offsets = (np.stack(np.meshgrid(*[[-1, 0, 1]] * 3, indexing="ij"), -1).reshape(-1, 3)) @ step
-    around = np.unique((occupied[:, None] + offsets[None, :]).ravel())
-    return np.isin(keys(points), around)
+
+    def around(k: np.ndarray) -> np.ndarray:
+        occupied = np.unique(k)
+        return np.unique((occupied[:, None] + offsets[None, :]).ravel())
+
+    kp, ks = keys(points), keys(samples)
+    near_points = np.isin(kp, around(ks))
+    return near_points, np.isin(ks, around(kp[near_points]))
 
 
 def surface_distances(
@@ -229,7 +331,7 @@ def surface_distances(
 
     exact = radius if exact_within is None else exact_within
     lo, hi = faces.bounds[0] - radius, faces.bounds[1] + radius
-    inside = np.flatnonzero(np.all((points >= lo) & (points <= hi), axis=1))
+    inside = np.flatnonzero(_rows_all((points >= lo) & (points <= hi)))
     empty = Near(np.zeros(0, int), np.zeros(0), np.zeros((0, 3)), np.zeros(0, int))
     if len(inside) == 0:
         return empty
@@ -238,10 +340,12 @@ def surface_distances(
     samples, ids, cover = _samples(faces, spacing, which)
     if len(samples) == 0:
         return empty
-    near = _near_voxels(box, samples, radius + cover)
+    near, useful = _near_voxels(box, samples, radius + cover)
     inside, box = inside[near], box[near]
     if len(box) == 0:
         return empty
+    # Samples farther than radius + cover from every point are never an answer below.
+    samples, ids = samples[useful], ids[useful]
     # Sliding-midpoint splits without shrinking the boxes: built and queried about twice as
     # fast on surface samples as the default median splits, same answers.
     tree = cKDTree(samples, balanced_tree=False, compact_nodes=False)
@@ -277,17 +381,6 @@ def surface_distances(
     return Near(inside[keep], signed[keep], closest[keep], t[keep])
 
 
-def face_pairs(faces: np.ndarray) -> np.ndarray:
-    """Pairs of faces (k, 2) sharing an edge (the same two vertex ids), from the faces'
-    vertex ids (n, 3); an edge of three or more faces chains them pairwise."""
-    f = faces.astype(np.int64)
-    first, second = f.ravel(), np.roll(f, -1, axis=1).ravel()
-    key = np.minimum(first, second) * (int(f.max(initial=0)) + 1) + np.maximum(first, second)
-    order = np.argsort(key)
-    same = key[order[1:]] == key[order[:-1]]
-    return np.column_stack([order[:-1][same] // 3, order[1:][same] // 3])
-
-
 def _components(pairs: np.ndarray, count: int) -> np.ndarray:
     """A label per node of the graph of ``count`` nodes and edges ``pairs``."""
     from scipy.sparse import coo_matrix
@@ -297,22 +390,29 @@ def _components(pairs: np.ndarray, count: int) -> np.ndarray:
     return np.asarray(connected_components(graph, directed=False)[1])
 
 
-def smooth_patches(mesh: trimesh.Trimesh, faces: Faces | None = None) -> np.ndarray:
+def smooth_patches(mesh: Mesh, faces: Faces | None = None) -> np.ndarray:
     """A patch label per face: faces joined across edges whose dihedral angle is below
     :data:`SMOOTH_PATCH_DEG` (a tessellated ball or pin is one patch, a groove's flanks two)."""
     return _smooth(mesh, faces or Faces.of(mesh))[0]
 
 
 def _smooth(
-    mesh: trimesh.Trimesh, faces: Faces, which: np.ndarray | None = None
+    mesh: Mesh, faces: Faces, which: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
     """The patch label per face (-1 for faces not in ``which``, default all), and per label
     the largest angle between two of its faces sharing an edge (deg): the tessellation's own
     angular step there."""
     count = len(faces.normals)
-    which = np.arange(count) if which is None else which
+    edges = faces.edges
+    if which is None:
+        which, pairs = np.arange(count), edges.pairs
+    elif edges.manifold:
+        # The pairs among ``which``: those of the whole mesh with both faces in it (no edge
+        # has a third face that would chain differently).
+        pairs = _sub_edges(edges, which, count).pairs
+    else:
+        pairs = face_pairs(faces.ids[which])
     normals = faces.normals[which]
-    pairs = face_pairs(np.asarray(mesh.faces)[which])
     cos = np.einsum("ij,ij->i", normals[pairs[:, 0]], normals[pairs[:, 1]])
     smooth = cos > np.cos(np.radians(SMOOTH_PATCH_DEG))
     local = _components(pairs[smooth], len(which))
@@ -324,18 +424,17 @@ def _smooth(
     return labels, facet
 
 
-def closed_bodies(mesh: trimesh.Trimesh) -> list[ClosedBody]:
+def closed_bodies(mesh: Mesh) -> list[ClosedBody]:
     """The mesh's edge-connected bodies, each with its volume and bounds."""
     return _split(mesh, Faces.of(mesh))[0]
 
 
-def _split(mesh: trimesh.Trimesh, faces: Faces) -> tuple[list[ClosedBody], np.ndarray]:
+def _split(mesh: Mesh, faces: Faces) -> tuple[list[ClosedBody], np.ndarray]:
     """The mesh's edge-connected bodies (volume, bounds) and the body label of each face,
     from one labelling and per-label sums (no submeshes)."""
-    f = np.asarray(mesh.faces)
-    labels = _components(face_pairs(f), len(f))
+    labels = _components(faces.edges.pairs, len(faces.ids))
     tri = faces.triangles
-    per_face = np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])) / 6.0
+    per_face = np.einsum("ij,ij->i", tri[:, 0], _cross(tri[:, 1], tri[:, 2])) / 6.0
     count = int(labels.max(initial=-1)) + 1
     volume = np.bincount(labels, weights=per_face, minlength=count)
     lo = np.full((count, 3), np.inf)
@@ -347,7 +446,7 @@ def _split(mesh: trimesh.Trimesh, faces: Faces) -> tuple[list[ClosedBody], np.nd
 
 
 def patch_fit(
-    mesh: trimesh.Trimesh,
+    mesh: Mesh,
     labels: np.ndarray,
     patch: int,
     faces: Faces | None = None,
@@ -367,13 +466,15 @@ def patch_fit(
 
 
 def contact_regions(
-    base: trimesh.Trimesh,
-    body: trimesh.Trimesh,
+    base: Mesh,
+    body: Mesh,
     gap: float,
     faces: tuple[Faces, Faces] | None = None,
+    touching: list[np.ndarray] | None = None,
 ) -> tuple[list[Region], float]:
     """The contact regions of ``body`` on ``base``, each with its patches fitted; and the
-    deepest interpenetration found (m, ≥ 0).
+    deepest interpenetration found (m, ≥ 0). ``touching``, if given, gets the ids of the
+    body's faces that come within ``gap`` of the base (for :func:`merged_pieces`).
 
     Points sampled on each mesh's triangles (at most ``3 gap`` apart, so that the touching
     point of two long facets crossing, as on tessellated pins, is not missed) within
@@ -396,6 +497,8 @@ def contact_regions(
             setattr(region, f"{side}_fit", fit)
             region.tried[side] = tried
         regions.append(region)
+    if touching is not None:
+        touching.append(near.touching)
     return regions, near.depth
 
 
@@ -409,11 +512,12 @@ class _NearPatches:
     base_labels: np.ndarray
     base_facet: np.ndarray
     depth: float
+    touching: np.ndarray
 
 
 def _near_patches(
-    base: trimesh.Trimesh,
-    body: trimesh.Trimesh,
+    base: Mesh,
+    body: Mesh,
     base_faces: Faces,
     body_faces: Faces,
     gap: float,
@@ -440,19 +544,26 @@ def _near_patches(
     points = np.concatenate([(pa + a.closest) / 2, (pb + b.closest) / 2])
     signed = np.concatenate([a.signed, b.signed])
     regions = []
-    pairs, inverse = np.unique(np.column_stack([body_side, base_side]), axis=0, return_inverse=True)
+    # Unique (body patch, base patch) rows in row order, through one integer key (labels
+    # from -1, for a triangle outside the patches).
+    width = np.int64(max(int(base_side.max(initial=0)), 0) + 2)
+    key = (body_side.astype(np.int64) + 1) * width + (base_side.astype(np.int64) + 1)
+    unique, inverse = np.unique(key, return_inverse=True)
+    pairs = np.column_stack([unique // width - 1, unique % width - 1])
     inverse = np.ravel(inverse)
     for k, (p_body, p_base) in enumerate(pairs):
         here = inverse == k
         regions.append(Region(int(p_body), int(p_base), points[here], float(signed[here].min())))
-    return _NearPatches(regions, body_labels, body_facet, base_labels, base_facet, depth)
+    touching = np.unique(fa[np.abs(a.signed) <= gap])
+    return _NearPatches(regions, body_labels, body_facet, base_labels, base_facet, depth, touching)
 
 
 def merged_pieces(
-    body: trimesh.Trimesh,
-    base: trimesh.Trimesh,
+    body: Mesh,
+    base: Mesh,
     gap: float,
     faces: tuple[Faces, Faces] | None = None,
+    touching: np.ndarray | None = None,
 ) -> list[tuple[ClosedBody, bool]]:
     """Each closed body of a body mesh made of several, and whether it looks like part of the
     base: it touches the base and sits in two or more grooves of the rest of the body file
@@ -461,9 +572,8 @@ def merged_pieces(
     The body is labelled once; each piece is tried on the base by distances alone, and a
     piece that touches it against only the rest's faces within reach of it (the others
     cannot come within :data:`NEAR_GAPS` gaps), with no fitting. ``faces``: the base's and
-    the body's :class:`Faces`, when the caller has them."""
-    import trimesh
-
+    the body's :class:`Faces`, when the caller has them; ``touching``: the body's faces that
+    come within ``gap`` of the base, when :func:`contact_regions` found them."""
     base_faces, body_faces = faces or (Faces.of(base), Faces.of(body))
     pieces, labels = _split(body, body_faces)
     if len(pieces) < 2:
@@ -474,12 +584,16 @@ def merged_pieces(
     for k, piece in enumerate(pieces):
         mine = np.flatnonzero(labels == k)
         swallowed = False
-        if _touches(body_faces.subset(mine), base_faces, gap):
+        if (
+            np.any(labels[touching] == k)
+            if touching is not None
+            else _touches(body_faces.subset(mine), base_faces, gap)
+        ):
             others = body_faces.in_box(piece.bounds[0] - reach, piece.bounds[1] + reach)
             others = others[labels[others] != k]
             if len(others):
-                rest = trimesh.Trimesh(body.vertices, f[others], process=False)
-                mesh = trimesh.Trimesh(body.vertices, f[mine], process=False)
+                rest = Surface(np.asarray(body.vertices), f[others])
+                mesh = Surface(np.asarray(body.vertices), f[mine])
                 seated = _near_patches(
                     rest, mesh, body_faces.subset(others), body_faces.subset(mine), gap
                 ).regions

@@ -17,13 +17,15 @@ import stat
 import sys
 import tempfile
 from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from kcheck.body.mesh_edges import Edges, edges_of
 from kcheck.errors import FieldPath, MeshError, describe_os_error
-from kcheck.numerics.thresholds import MERGE_RTOL
+from kcheck.numerics.thresholds import EPS, MERGE_RTOL
 from kcheck.scene.limits import LIMITS
 
 if TYPE_CHECKING:
@@ -35,9 +37,12 @@ __all__ = [
     "STEP_INSTALL",
     "check_mesh_file",
     "load_mesh",
+    "load_surface",
+    "Surface",
     "load_triangles",
     "not_watertight",
     "release_memory",
+    "reuse_freed_memory",
     "step_length_unit",
 ]
 
@@ -93,52 +98,151 @@ def step_length_unit(path: Path) -> str | None:
     return None
 
 
+#: Odd 64-bit multipliers mixing a vertex's three rounded coordinates into one sort key.
+_MIX = (np.uint64(0x9E3779B97F4A7C15), np.uint64(0xC2B2AE3D27D4EB4F))
+
+
+def _sorted_with_ids(key: np.ndarray, bits: int) -> np.ndarray:
+    """Keys (uint64) with their ids (0..n-1, ``bits`` wide) in the low bits, sorted: ids by
+    the keys' high bits, ties by id (a stable order), through numpy's sort of plain integers
+    (twice as fast as an argsort)."""
+    low = np.uint64((1 << bits) - 1)
+    packed = (key & ~low) | np.arange(len(key), dtype=np.uint64)
+    packed.sort()
+    return packed
+
+
+def _equal_runs(q: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Rows of integer columns ``q`` (three, n each) in an order that puts equal rows next to
+    each other, each run led by its first row, and where each run starts: one sort of a
+    64-bit mix of each row (a third of a lexsort's time), checked column by column; a
+    lexsort when two different rows mix alike."""
+    n = len(q[0])
+    bits = max(1, (n - 1).bit_length())
+    u = [c.view(np.uint64) for c in q]
+    with np.errstate(over="ignore"):
+        # A polynomial, not a xor of products: xor collides on a grid's coordinates.
+        h = (u[0] * _MIX[0] + u[1]) * _MIX[1] + u[2]
+        # splitmix64's finaliser (a bijection): every bit of the mix moves the high bits the
+        # sort compares first.
+        h ^= h >> np.uint64(30)
+        h *= np.uint64(0xBF58476D1CE4E5B9)
+        h ^= h >> np.uint64(27)
+        h *= np.uint64(0x94D049BB133111EB)
+        h ^= h >> np.uint64(31)
+    packed = _sorted_with_ids(h, bits)
+    order = (packed & np.uint64((1 << bits) - 1)).view(np.int64)
+    high = packed >> np.uint64(bits)
+    start = np.empty(n, bool)
+    start[0] = True
+    np.not_equal(high[1:], high[:-1], out=start[1:])
+    for c in q:
+        s = c[order]
+        mixed_alike = ~start[1:] & (s[1:] != s[:-1])
+        if np.any(mixed_alike):  # two different rows mixed alike (or alike in high bits)
+            order = np.lexsort((q[2], q[1], q[0]))
+            rows = np.column_stack(q)[order]
+            return order, np.r_[True, np.any(rows[1:] != rows[:-1], axis=1)]
+    return order, start
+
+
+def _merged_equal(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The vertices kept and the new id of every vertex when vertices equal once rounded to
+    1e-8 (m) are joined: what trimesh's ``process()`` does to a mesh without texture
+    coordinates or vertex normals (the same vertices in the same order, each group kept at
+    its first occurrence, unreferenced vertices dropped)."""
+    ref = np.flatnonzero(np.bincount(faces.ravel(), minlength=len(vertices)) > 0)
+    every = len(ref) == len(vertices)  # an STL's soup: no gathers through ``ref``
+    used = vertices if every else vertices[ref]
+    q = []
+    for k in range(3):
+        # Cast to integers, as trimesh does: their bits mix densely (a whole float's low
+        # mantissa bits are zeros, and mixed they collided on this file's vertices).
+        column = used[:, k] * 1e8
+        q.append(np.round(column, out=column).astype(np.int64))
+    order, start = _equal_runs(q)
+    first = order[start]
+    # Merged vertices numbered by first occurrence, as trimesh keeps them.
+    leads = np.zeros(len(used), bool)
+    leads[first] = True
+    kept = np.flatnonzero(leads)
+    rank = (np.cumsum(leads) - 1)[first]
+    inverse = np.zeros(len(vertices), np.int64)
+    inverse[order if every else ref[order]] = rank[np.cumsum(start) - 1]
+    return (kept if every else ref[kept]), inverse
+
+
 def _merge_equal(mesh: trimesh.Trimesh) -> None:
-    """Join the vertices equal once rounded to 1e-8 (m), in place: what trimesh's
-    ``process()`` does to a mesh without texture coordinates or vertex normals (the same
-    vertices in the same order, first occurrences kept), through one stable lexsort of the
-    rounded coordinates instead of a sort of hashed rows."""
+    """Join the vertices equal once rounded to 1e-8 (m), in place (:func:`_merged_equal`)."""
     vertices, faces = np.asarray(mesh.vertices), np.asarray(mesh.faces)
     if len(vertices) == 0 or len(faces) == 0:
         return
-    ref = np.flatnonzero(np.bincount(faces.ravel(), minlength=len(vertices)) > 0)
-    q = np.round(vertices[ref] * 1e8).astype(np.int64)
-    order = np.lexsort((q[:, 2], q[:, 1], q[:, 0]))  # stable: a run leads with its first
-    s = q[order]
-    start = np.r_[True, np.any(s[1:] != s[:-1], axis=1)]
-    first = order[start]
-    # Merged vertices numbered by first occurrence, as trimesh keeps them.
-    rank = np.empty(len(first), np.int64)
-    rank[np.argsort(first, kind="stable")] = np.arange(len(first))
-    inverse = np.zeros(len(vertices), np.int64)
-    inverse[ref[order]] = rank[np.cumsum(start) - 1]
+    keep, inverse = _merged_equal(vertices, faces)
     with mesh._cache:
-        mesh.update_vertices(mask=ref[np.sort(first)], inverse=inverse)
+        mesh.update_vertices(mask=keep, inverse=inverse)
         mesh._cache.clear(exclude={"face_normals", "vertex_normals"})
     mesh.metadata["processed"] = True
+
+
+#: A direction along no axis or diagonal of a CAD part, to sweep vertices along.
+_SWEEP = np.array([0.8017837257372732, 0.5345224838248488, 0.2672612419124244])
+
+
+def _close_pairs(vertices: np.ndarray, tolerance: float) -> np.ndarray:
+    """Pairs of vertex ids (k, 2) at most ``tolerance`` apart (m): a sweep along one direction
+    (vertices nearer than the tolerance are nearer than it along any direction), each
+    candidate pair measured; scipy's KD-tree when the sweep finds too many candidates."""
+    n = len(vertices)
+    along = vertices @ _SWEEP
+    order = np.argsort(along)
+    s = along[order]
+    # A little beyond the tolerance: the projection's rounding must not lose a pair.
+    reach = tolerance * (1 + 1e-9) + 4 * EPS * float(np.abs(s).max(initial=0))
+    count = np.searchsorted(s, s + reach, side="right") - np.arange(n) - 1
+    total = int(count.sum())
+    if total > 20 * n:
+        from scipy.spatial import cKDTree
+
+        return np.asarray(cKDTree(vertices).query_pairs(tolerance, output_type="ndarray"))
+    i = np.repeat(np.arange(n), count)
+    j = i + 1 + np.arange(total) - np.repeat(np.cumsum(count) - count, count)
+    a, b = order[i], order[j]
+    d = vertices[a] - vertices[b]
+    close = np.einsum("ij,ij->i", d, d) <= tolerance**2
+    return np.column_stack([a[close], b[close]])
+
+
+def _merged_close(
+    vertices: np.ndarray, faces: np.ndarray, tolerance: float
+) -> tuple[np.ndarray, np.ndarray, int]:
+    """The vertices and faces with vertices closer than ``tolerance`` (m) joined (each group
+    at its first vertex, faces that collapse dropped), and how many were joined."""
+    pairs = _close_pairs(vertices, tolerance)
+    if len(pairs) == 0:
+        return vertices, faces, 0
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    n = len(vertices)
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    count, labels = connected_components(graph, directed=False)
+    first = np.full(count, n)
+    np.minimum.at(first, labels, np.arange(n))
+    f = labels[faces]
+    keep = (f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 0] != f[:, 2])
+    return vertices[first], f[keep], n - count
 
 
 def _merge_close(mesh: trimesh.Trimesh, tolerance: float) -> tuple[trimesh.Trimesh, int]:
     """The mesh with vertices closer than ``tolerance`` (m) joined, and how many were."""
     import trimesh
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-    from scipy.spatial import cKDTree
 
-    pairs = cKDTree(mesh.vertices).query_pairs(tolerance, output_type="ndarray")
-    if len(pairs) == 0:
-        return mesh, 0
-    n = len(mesh.vertices)
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    count, labels = connected_components(graph, directed=False)
-    first = np.full(count, n)
-    np.minimum.at(first, labels, np.arange(n))
-    faces = labels[mesh.faces]
-    keep = (
-        (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 0] != faces[:, 2])
+    vertices, faces, merged = _merged_close(
+        np.asarray(mesh.vertices), np.asarray(mesh.faces), tolerance
     )
-    merged = trimesh.Trimesh(mesh.vertices[first], faces[keep], process=False)
-    return merged, n - count
+    if not merged:
+        return mesh, 0
+    return trimesh.Trimesh(vertices, faces, process=False), merged
 
 
 def check_mesh_file(path: Path, field: FieldPath | str, max_bytes: int | None = None) -> None:
@@ -283,6 +387,22 @@ def _occ_reason(text: str) -> str:
     return ""
 
 
+def _check_finite(vertices: np.ndarray, path: Path, field: FieldPath | str) -> None:
+    if not np.all(np.isfinite(vertices)):
+        raise MeshError(path, "the mesh has non-finite vertex coordinates", field=field)
+
+
+def _check_reach(vertices: np.ndarray, path: Path, field: FieldPath | str) -> None:
+    largest = max(float(vertices.max()), -float(vertices.min()))
+    if not largest <= MAX_COORDINATE_M:
+        raise MeshError(
+            path,
+            f"the mesh reaches {largest:.3g} m from the origin, beyond {MAX_COORDINATE_M:g} m "
+            "(are the units right?)",
+            field=field,
+        )
+
+
 def load_mesh(
     path: Path,
     scale: float,
@@ -296,20 +416,12 @@ def load_mesh(
     larger than ``max_bytes`` (default :data:`MAX_MESH_BYTES`). With ``part``, only the part
     of that name in an assembly file, placed by its transform (:func:`_named_part`)."""
     mesh = _read(path, field, max_bytes, part)
-    if not np.all(np.isfinite(mesh.vertices)):
-        raise MeshError(path, "the mesh has non-finite vertex coordinates", field=field)
+    _check_finite(np.asarray(mesh.vertices), path, field)
     with np.errstate(over="ignore"):
         # In place: apply_scale would build the scaled vertices and normals anew (+48 MB on a
         # 16 MB STL); normals do not change under a uniform scale.
         mesh.vertices *= scale
-    largest = float(np.abs(mesh.vertices).max())
-    if not largest <= MAX_COORDINATE_M:
-        raise MeshError(
-            path,
-            f"the mesh reaches {largest:.3g} m from the origin, beyond {MAX_COORDINATE_M:g} m "
-            "(are the units right?)",
-            field=field,
-        )
+    _check_reach(np.asarray(mesh.vertices), path, field)
     if path.suffix.lower() == ".stl":
         # An STL has no texture coordinates or vertex normals, so trimesh's merge is a merge
         # of positions alone: the same result, in the same order, 2.4 times faster.
@@ -322,6 +434,104 @@ def load_mesh(
         if merged:
             mesh.metadata["kcheck_merged"] = merged
     return mesh
+
+
+@dataclass
+class Surface:
+    """A triangle mesh as the contact finder uses it: vertices (n, 3, m) and faces (vertex
+    ids, k × 3), and ``merged``, how many vertices were joined for being closer than
+    ``MERGE_RTOL`` of its size; ``mesh``, the Trimesh it was read as, if it was."""
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    merged: int = 0
+    mesh: Any = None
+
+    @functools.cached_property
+    def edges(self) -> Edges:
+        """The faces' shared edges (pairs of faces, closedness)."""
+        return edges_of(self.faces)
+
+    @property
+    def is_watertight(self) -> bool:
+        """Every edge shared by exactly two faces (trimesh's ``is_watertight``)."""
+        return self.edges.closed
+
+    @functools.cached_property
+    def bounds(self) -> np.ndarray:
+        """The lowest and highest corner (2, 3, m) of the vertices the faces use."""
+        used = np.zeros(len(self.vertices), bool)
+        used[self.faces] = True
+        v = self.vertices[used]
+        return np.array([v.min(axis=0), v.max(axis=0)])
+
+    def trimesh(self) -> trimesh.Trimesh:
+        """As a Trimesh: the one it was read as, or one made of its arrays."""
+        if self.mesh is None:
+            import trimesh
+
+            self.mesh = trimesh.Trimesh(self.vertices, self.faces, process=False)
+        return self.mesh
+
+
+_STL_RECORD = np.dtype([("normal", "<f4", (3,)), ("vertices", "<f4", (3, 3)), ("extra", "<u2")])
+
+
+def _binary_stl(path: Path, field: FieldPath | str) -> np.ndarray | None:
+    """The vertices (3 per face, float32) of a binary STL file, or None when the file is no
+    binary STL with triangles (ASCII, a length its header does not announce, or empty), as
+    trimesh tells them apart."""
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read()
+    except OSError as exc:
+        raise MeshError(
+            path, f"cannot read the mesh ({describe_os_error(exc)})", field=field
+        ) from None
+    if len(data) < 84:
+        return None
+    count = int.from_bytes(data[80:84], "little")
+    if count == 0 or 84 + _STL_RECORD.itemsize * count != len(data):
+        return None
+    records = np.frombuffer(data, _STL_RECORD, count, 84)
+    return np.ascontiguousarray(records["vertices"]).reshape(-1, 3)
+
+
+def load_surface(
+    path: Path,
+    scale: float,
+    field: FieldPath | str,
+    *,
+    max_bytes: int | None = None,
+    part: str | None = None,
+) -> Surface:
+    """:func:`load_mesh`'s vertices and faces, as a :class:`Surface`. A binary STL is read by
+    kcheck itself (without importing trimesh, 0.2 s of a start): the same vertices and faces
+    as :func:`load_mesh` (a test compares them); any other file goes through it."""
+    if part is None and path.suffix.lower() == ".stl":
+        check_mesh_file(path, field, max_bytes)
+        raw = _binary_stl(path, field)
+        if raw is not None:
+            _check_finite(raw, path, field)
+            vertices = raw.astype(np.float64)
+            with np.errstate(over="ignore"):
+                vertices *= scale
+            _check_reach(vertices, path, field)
+            faces = np.arange(len(vertices), dtype=np.int64).reshape(-1, 3)
+            keep, inverse = _merged_equal(vertices, faces)
+            vertices, faces = vertices[keep], inverse[faces]
+            merged = 0
+            extent = float(np.ptp(vertices, axis=0).max())
+            if extent > 0:
+                vertices, faces, merged = _merged_close(vertices, faces, MERGE_RTOL * extent)
+            return Surface(vertices, faces, merged)
+    mesh = load_mesh(path, scale, field, max_bytes=max_bytes, part=part)
+    return Surface(
+        np.asarray(mesh.vertices),
+        np.asarray(mesh.faces),
+        int(mesh.metadata.get("kcheck_merged", 0)),
+        mesh,
+    )
 
 
 def load_triangles(
@@ -352,6 +562,32 @@ def release_memory(collect: bool = False) -> None:
     trim = _malloc_trim()
     if trim is not None:
         trim(0)
+
+
+def reuse_freed_memory() -> None:
+    """Keep the memory of freed large arrays in the process for the next ones (glibc's
+    ``mallopt``: no mmap threshold below 1 GiB, no trimming until a release_memory call, the
+    heap grown 64 MB at a time).
+
+    glibc maps arrays above 32 MB afresh and unmaps them when freed, so every such temporary
+    costs its pages' zero-filling again: on two 500,000-face meshes, ``kcheck contacts``
+    spent 0.5 s of system time so, for no higher peak memory when reused. A no-op where the
+    C library has no ``mallopt``."""
+    mallopt = _libc_function("mallopt")
+    if mallopt is not None:
+        mallopt(-3, 1 << 30)  # M_MMAP_THRESHOLD
+        mallopt(-1, 2**31 - 1)  # M_TRIM_THRESHOLD
+        mallopt(-2, 64 << 20)  # M_TOP_PAD: grow the heap in large steps
+
+
+@functools.cache
+def _libc_function(name: str) -> Any:
+    import ctypes
+
+    try:
+        return getattr(ctypes.CDLL(None), name)  # the C library kcheck runs on (glibc)
+    except (OSError, AttributeError):
+        return None
 
 
 @functools.cache

@@ -206,7 +206,7 @@ def _mesh_field(body: Path, output: Path | None) -> str:
 def run(args: argparse.Namespace) -> int:
     from kcheck.body.contact_regions import Faces, contact_regions
     from kcheck.body.coupling_elements import recognise
-    from kcheck.body.meshio import load_mesh, not_watertight
+    from kcheck.body.meshio import load_surface, not_watertight, reuse_freed_memory
     from kcheck.errors import MeshError
     from kcheck.numerics.thresholds import CONTACT_GAP_RTOL
     from kcheck.scene.materials import density_of, known_names
@@ -238,13 +238,14 @@ def run(args: argparse.Namespace) -> int:
         )
     else:
         sources = ((args.base, "BASE", None), (args.body, "BODY", None))
+    reuse_freed_memory()  # large temporaries, each made many times
     meshes = []
     for path, what, part in sources:
         try:
             step = path.suffix.lower() in (".step", ".stp")
-            mesh = load_mesh(path, 1.0 if step else scale, what, part=part)
+            mesh = load_surface(path, 1.0 if step else scale, what, part=part)
             if not mesh.is_watertight:
-                raise not_watertight(mesh, path, what, scale, units)
+                raise not_watertight(mesh.trimesh(), path, what, scale, units)
         except MeshError as exc:
             return fail(str(exc))
         meshes.append(mesh)
@@ -254,7 +255,8 @@ def run(args: argparse.Namespace) -> int:
     size = float(np.linalg.norm(np.ptp(np.vstack([base.bounds, body.bounds]), axis=0)))
     gap = args.gap * scale if args.gap is not None else CONTACT_GAP_RTOL * size
     faces = (Faces.of(base), Faces.of(body))  # read once, for the finding and merged parts
-    regions, depth = contact_regions(base, body, gap, faces)
+    touch_faces: list = []
+    regions, depth = contact_regions(base, body, gap, faces, touch_faces)
     if depth > gap:
         return fail(
             f"{args.body} and {args.base} interpenetrate by {_mm(depth, scale, units)}, more "
@@ -276,7 +278,7 @@ def run(args: argparse.Namespace) -> int:
             "or raise --gap"
         )
     found = recognise(regions, gap)
-    notes = _merged_parts(body, args.body, base, gap, scale, units, faces)
+    notes = _merged_parts(body, args.body, base, gap, scale, units, faces, touch_faces[0])
     report = report_lines(found, scale, units) + notes
     count = found.contact_count
     problems = []
@@ -296,6 +298,13 @@ def run(args: argparse.Namespace) -> int:
         print("kcheck: no scene written: " + "; ".join(problems), file=sys.stderr)
         return ExitCode.CHECKS_FAILED
     command = f"kcheck contacts {args.base} {args.body} --units {units}"
+    # Every option that shaped the scene, so that the line re-makes it.
+    if args.gap is not None:
+        command += f" --gap {_num(args.gap)}"
+    if args.material != "aluminium":
+        command += f" --material {args.material}"
+    if args.friction != 0.1:
+        command += f" --friction {_num(args.friction)}"
     body_file = args.body
     if parts[1] is not None:
         # A scene's mesh is a file of its own: the body's part written beside the scene (in
@@ -303,7 +312,7 @@ def run(args: argparse.Namespace) -> int:
         folder = args.output.parent if args.output is not None else Path.cwd()
         body_file = folder / f"{sources[1][0].stem}.{parts[1]}.stl"
         try:
-            body.copy().apply_scale(1.0 / scale).export(body_file)
+            body.trimesh().copy().apply_scale(1.0 / scale).export(body_file)
         except OSError as exc:
             return fail(f"cannot write the body's mesh {body_file}: {exc.strerror}")
         print(f"kcheck: wrote the body's part `{parts[1]}` to {body_file}", file=sys.stderr)
@@ -322,13 +331,20 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _merged_parts(
-    body: Any, path: Path, base: Any, gap: float, scale: float, units: str, faces: Any = None
+    body: Any,
+    path: Path,
+    base: Any,
+    gap: float,
+    scale: float,
+    units: str,
+    faces: Any = None,
+    touching: Any = None,
 ) -> list[str]:
     """Findings on a body mesh of several closed bodies: each named (volume, bounds), and
     whether it looks like part of the base (:func:`kcheck.body.contact_regions.merged_pieces`)."""
     from kcheck.body.contact_regions import merged_pieces
 
-    pieces = merged_pieces(body, base, gap, faces)
+    pieces = merged_pieces(body, base, gap, faces, touching)
     if not pieces:
         return []
     lines = [f"{path.name}: {len(pieces)} disconnected closed bodies:"]

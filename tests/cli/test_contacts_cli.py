@@ -398,3 +398,18 @@ def test_step_assembly_with_named_parts_gives_the_two_files_scene(tmp_path, caps
     assert np.allclose(x, y, atol=1e-5)
     verdicts = {k: c["status"] for k, c in _checks(one, capsys).items()}
     assert verdicts == {k: c["status"] for k, c in _checks(two, capsys).items()}
+
+
+def test_written_by_line_gives_the_options_that_shaped_the_scene(tmp_path, capsys):
+    # The scene's first comment is a command that re-makes it: material, friction and gap
+    # when given.
+    base, body = three_vee()
+    _write(tmp_path, base, body)
+    paths = [str(tmp_path / "base.stl"), str(tmp_path / "body.stl")]
+    options = ["--units", "mm", "--material", "steel", "--friction", "0.2", "--gap", "0.05"]
+    assert main(["contacts", *paths, *options]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first == (
+        f"# Written by `kcheck contacts {paths[0]} {paths[1]} --units mm --gap 0.05 "
+        "--material steel --friction 0.2`:"
+    )

@@ -176,3 +176,17 @@ def test_dask_only_when_asked_for():
         assert modules & {"dask", "distributed", "kcheck.gate.samples"} == (
             {"kcheck.gate.samples"} if extra else set()
         )
+
+
+def test_contacts_on_binary_stls_imports_no_trimesh(tmp_path):
+    # `kcheck contacts` reads binary STLs itself (meshio.load_surface): no trimesh import.
+    import trimesh
+
+    base = trimesh.creation.box(extents=(20, 20, 4)).apply_translation([0, 0, -2])
+    body = trimesh.creation.box(extents=(10, 10, 4)).apply_translation([0, 0, 2])
+    base.export(tmp_path / "base.stl")
+    body.export(tmp_path / "body.stl")
+    paths = [str(tmp_path / "base.stl"), str(tmp_path / "body.stl")]
+    result = _imported("contacts", *paths, "--units", "mm")
+    # An area contact: found (exit 1, no scene), with scipy and without trimesh.
+    assert result == {"code": 1, "heavy": ["scipy"]}

@@ -56,18 +56,25 @@ def test_a_pipe_is_not_a_mesh(tmp_path):
 
 
 @pytest.mark.parametrize("size", [1e12, 1e30])
-def test_huge_coordinates_are_refused_without_a_warning(tmp_path, size):
+@pytest.mark.parametrize("reader", ["load_mesh", "load_surface"])
+def test_huge_coordinates_are_refused_without_a_warning(tmp_path, size, reader):
     # Fuzz finding: trimesh's vertex merging cast 1e12 mm * 1e8 to int64 and printed
-    # "RuntimeWarning: invalid value encountered in cast" on stderr.
+    # "RuntimeWarning: invalid value encountered in cast" on stderr. The same for kcheck's
+    # own reader of binary STLs.
+    from kcheck.body import meshio
+
     path = _box(tmp_path / "box.stl", size)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         with pytest.raises(MeshError) as info:
-            load_mesh(path, 1e-3, ("body", "mesh"))
+            getattr(meshio, reader)(path, 1e-3, ("body", "mesh"))
     assert "beyond 1000 m" in info.value.message and "units" in info.value.message
 
 
-def test_non_finite_vertices_are_refused_without_a_warning(tmp_path):
+@pytest.mark.parametrize("reader", ["load_mesh", "load_surface"])
+def test_non_finite_vertices_are_refused_without_a_warning(tmp_path, reader):
+    from kcheck.body import meshio
+
     mesh = trimesh.creation.box(extents=(1, 1, 1))
     vertices = mesh.vertices.copy()
     vertices[3, 1] = np.nan
@@ -76,7 +83,7 @@ def test_non_finite_vertices_are_refused_without_a_warning(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         with pytest.raises(MeshError) as info:
-            load_mesh(path, 1.0, ("body", "mesh"))
+            getattr(meshio, reader)(path, 1.0, ("body", "mesh"))
     assert "non-finite" in info.value.message
 
 
@@ -192,3 +199,100 @@ def test_stl_vertex_merge_is_trimeshs():
     assert np.array_equal(ours.vertices, theirs.vertices)
     assert np.array_equal(ours.faces, theirs.faces)
     assert ours.is_watertight
+
+
+def _soup_stl(path: Path, binary: bool = True) -> Path:
+    """An STL of a ball and a box apart, some of the ball's vertices moved by 5e-7 (joined by
+    the closeness merge: within 1e-6 of the size, beyond the 1e-8 rounding)."""
+    rng = np.random.default_rng(7)
+    ball = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
+    box = trimesh.creation.box(extents=(1.0, 2.0, 0.5)).apply_translation([3.0, 0, 0])
+    both = trimesh.util.concatenate([ball, box])
+    soup = both.vertices[both.faces].reshape(-1, 3)
+    moved = rng.choice(len(ball.faces) * 3, 40, replace=False)
+    soup[moved] += 5e-7
+    faces = np.arange(len(soup)).reshape(-1, 3)
+    data = trimesh.exchange.stl.export_stl(trimesh.Trimesh(soup, faces, process=False))
+    if not binary:
+        data = trimesh.exchange.stl.export_stl_ascii(
+            trimesh.Trimesh(soup, faces, process=False)
+        ).encode()
+    path.write_bytes(data)
+    return path
+
+
+@pytest.mark.parametrize("binary", [True, False])
+def test_stl_read_by_kcheck_is_load_meshs(tmp_path, binary):
+    # The contact finder reads a binary STL without trimesh (meshio.load_surface): the
+    # reference is load_mesh (trimesh's reader, kcheck's merges) on the same file.
+    from kcheck.body.meshio import load_surface
+
+    path = _soup_stl(tmp_path / "soup.stl", binary)
+    theirs = load_mesh(path, 1e-3, "BODY")
+    ours = load_surface(path, 1e-3, "BODY")
+    assert (ours.mesh is None) == binary  # a binary file never went through trimesh
+    assert ours.merged == theirs.metadata.get("kcheck_merged", 0) > 0
+    assert np.array_equal(ours.vertices, theirs.vertices)
+    assert np.array_equal(ours.faces, theirs.faces)
+    assert np.array_equal(ours.bounds, theirs.bounds)
+    assert ours.is_watertight and theirs.is_watertight
+
+
+def test_watertightness_is_trimeshs():
+    # Every edge shared by exactly two faces: trimesh's is_watertight, on a closed ball, the
+    # ball with a face removed (open edges) and with a face doubled (crowded edges).
+    from kcheck.body.mesh_edges import edges_of
+
+    ball = trimesh.creation.icosphere(subdivisions=1)
+    for faces in (ball.faces, ball.faces[1:], np.vstack([ball.faces, ball.faces[:1]])):
+        mesh = trimesh.Trimesh(ball.vertices, faces, process=False)
+        assert edges_of(np.asarray(faces)).closed == mesh.is_watertight
+
+
+def test_close_vertex_pairs_are_the_kd_trees():
+    # The sweep finding vertices closer than a tolerance: the reference is scipy's KD-tree,
+    # on points in clusters (many close pairs) and on a grid (many on one plane).
+    from scipy.spatial import cKDTree
+
+    from kcheck.body.meshio import _close_pairs
+
+    rng = np.random.default_rng(3)
+    centres = rng.uniform(-1, 1, (500, 3))
+    clusters = np.repeat(centres, 4, axis=0) + rng.normal(0, 3e-3, (2000, 3))
+    grid = np.stack(np.meshgrid(*[np.arange(12) * 0.01] * 3), -1).reshape(-1, 3)
+    for points, tol in ((clusters, 5e-3), (grid, 0.0101), (grid, 0.005)):
+        ours = {tuple(sorted(p)) for p in _close_pairs(points, tol).tolist()}
+        theirs = {tuple(p) for p in cKDTree(points).query_pairs(tol, output_type="ndarray")}
+        assert ours == theirs
+
+
+def test_closest_points_are_trimeshs():
+    # kcheck's copy of trimesh's closest_point (Ericson's method): the same points to the
+    # last bit, on random triangles and on ones with coinciding corners.
+    from kcheck.body.closest_point import closest_point
+
+    rng = np.random.default_rng(5)
+    triangles = rng.normal(size=(20000, 3, 3))
+    points = rng.normal(size=(20000, 3)) * 2
+    triangles[:50, 1] = triangles[:50, 0]
+    triangles[50:100, 2] = triangles[50:100, 1]
+    expected = trimesh.triangles.closest_point(triangles, points)
+    assert np.array_equal(closest_point(triangles, points), expected)
+
+
+def test_vertex_merge_when_two_vertices_mix_alike(monkeypatch):
+    # The merge sorts a 64-bit mix of the coordinates; where two different vertices mix
+    # alike it must fall back to a lexsort and give the same merge. A mix of the z
+    # coordinate alone (multipliers 0) makes every vertex of a grid level collide.
+    from kcheck.body import meshio
+
+    ball = trimesh.creation.icosphere(subdivisions=2)
+    soup = ball.vertices[ball.faces].reshape(-1, 3)
+    faces = np.arange(len(soup)).reshape(-1, 3)
+    expected = meshio._merged_equal(soup, faces)
+    # Different vertices at one height: they collide.
+    assert len(np.unique(np.round(ball.vertices[:, 2] * 1e8))) < len(ball.vertices)
+    monkeypatch.setattr(meshio, "_MIX", (np.uint64(0), np.uint64(0)))
+    got = meshio._merged_equal(soup, faces)
+    assert len(expected[0]) == len(ball.vertices)
+    assert np.array_equal(got[0], expected[0]) and np.array_equal(got[1], expected[1])
