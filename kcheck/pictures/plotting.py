@@ -45,6 +45,10 @@ PNG_DPI = 110
 #: meshed body) is embedded as an image at SVG_RASTER_DPI, the rest staying vector: such
 #: collections made SVGs of 300-500 kB, and the fixtures' HTML report 12.6 MB.
 SVG_RASTER_VERTICES = 400
+#: ... but a hatched collection (a sphere map's "does not close" bands) stays vector up to this
+#: many vertices: in SVG its hatch is one small pattern, and its outline, simplified to the
+#: page's 0.1 pt grid, weighs less than the hatch drawn into an image.
+SVG_HATCH_VERTICES = 20_000
 SVG_RASTER_DPI = 80
 #: Colours of an image embedded in an SVG (a palette PNG: a fifth of matplotlib's RGBA).
 SVG_IMAGE_COLOURS = 64
@@ -227,11 +231,18 @@ def _rasterize_heavy(fig: Figure) -> list[Any]:
             # A 3D collection's paths are projected only when drawn: a meshed body is heavy.
             solid = type(artist).__name__ in ("Poly3DCollection", "QuadMesh")
             vertices = sum(_count(path.vertices) for path in artist.get_paths())
+            # A filled contour keeps its hatches in `hatches` (one per level), not get_hatch().
+            hatched = bool(artist.get_hatch() or any(getattr(artist, "hatches", None) or ()))
+            if hatched and not solid and vertices <= SVG_HATCH_VERTICES:
+                continue
             if solid or vertices > SVG_RASTER_VERTICES:
                 artist.set_rasterized(True)
                 marked.append(artist)
         for patch in ax.patches:
-            heavy = _count(patch.get_path().vertices) > SVG_RASTER_VERTICES
+            vertices = _count(patch.get_path().vertices)
+            if patch.get_hatch() and vertices <= SVG_HATCH_VERTICES:
+                continue
+            heavy = vertices > SVG_RASTER_VERTICES
             if heavy and not patch.get_rasterized():
                 patch.set_rasterized(True)
                 marked.append(patch)

@@ -235,7 +235,7 @@ def _resolve(loc: tuple[Any, ...], root: type[BaseModel]) -> tuple[FieldPath, An
 
 
 #: Fields that were removed, by the last two parts of their path, and what replaces them.
-RETIRED_FIELDS = {
+RETIRED_FIELDS: dict[tuple[str, ...], str] = {
     ("tolerances", "workers"): (
         "no longer an option: samples go to worker processes or a Dask cluster with "
         "`kcheck check --sample-jobs N`, `--dask-local N` or `--scheduler ADDRESS` "
