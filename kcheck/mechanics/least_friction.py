@@ -28,6 +28,7 @@ from kcheck.numerics.arrays import unique
 from kcheck.numerics.thresholds import (
     CUBIC_IMAG_RTOL,
     DINKELBACH_STALL,
+    FRICTIONLESS_MISS,
     MU_FLOOR,
     MU_RTOL,
     POLY_ZERO_RTOL,
@@ -85,7 +86,7 @@ def least_friction_exactly(
     def feasible(mu: float) -> bool:
         return _solve_conic(columns, wrench, mu * scale[keep], None) is not None
 
-    if feasible(0.0):
+    if not _frictionless_misses(columns, wrench) and feasible(0.0):
         return 0.0
     mu = max(upper, 1e-3)
     while (found := _solve_conic(columns, wrench, mu * scale[keep], None)) is None:
@@ -108,6 +109,19 @@ def least_friction_exactly(
     if feasible(ratio * (1.0 - rtol)):  # not converged (degenerate): bisection below it
         return least_friction(feasible, ratio, largest=largest, rtol=rtol)
     return ratio
+
+
+def _frictionless_misses(columns: np.ndarray, wrench: np.ndarray) -> bool:
+    """Whether no normal forces of any sign balance ``wrench`` (columns (3k, n) as
+    :func:`kcheck.mechanics.statics._contact_axes`, every third a contact's normal wrench),
+    by a residual far above the conic solver's tolerances: then no coefficient 0 holds, and
+    the conic programme need not be solved (its answer is the same)."""
+    normals = columns[0::3].T
+    if normals.shape[1] >= normals.shape[0]:
+        return False  # as many normals as equations: a least-squares fit may be exact
+    x = np.linalg.lstsq(normals, -wrench, rcond=None)[0]
+    miss = float(np.linalg.norm(normals @ x + wrench))
+    return miss > FRICTIONLESS_MISS * float(np.linalg.norm(wrench))
 
 
 def rough_supports(friction: np.ndarray) -> np.ndarray:

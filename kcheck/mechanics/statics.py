@@ -421,36 +421,76 @@ def _solve_conic_anew(
     solves it."""
     import clarabel
 
-    k, n = len(mu), len(wrench)
+    k = len(mu)
     extra = 0 if shrink is None else 1
-    size = 3 * k + extra
-    equal = np.zeros((n, size))
-    equal[:, : 3 * k] = columns.T
-    cone_rows = np.zeros((3 * k + extra, size))
-    cone_rows[np.arange(3 * k), np.arange(3 * k)] = -1.0
-    cone_rows[0 : 3 * k : 3, 0 : 3 * k : 3] *= mu[:, None] * np.eye(k)
-    rhs = np.concatenate([-wrench, np.zeros(3 * k)])
-    cones = [clarabel.ZeroConeT(n)] + [clarabel.SecondOrderConeT(3)] * k
-    cost = np.zeros(size)
+    form = _conic_form(columns, wrench, extra)
+    n = len(wrench)
+    # Rows: equilibrium (n), the cones (3k, then s >= -1), f_n >= 0 (k); -mu_j at each
+    # cone's normal-force entry, -shrink_j in s's column.
+    matrix = form.matrix.copy()
+    matrix[n + 3 * np.arange(k), 3 * np.arange(k)] = -1.0 * mu
     if shrink is not None:
-        cone_rows[0 : 3 * k : 3, -1] = -shrink
-        cone_rows[-1, -1] = -1.0  # s >= -1: the step stays bounded
-        rhs = np.append(rhs, 1.0)
-        cones.append(clarabel.NonnegativeConeT(1))
-        cost[-1] = 1.0
-    # A support only pushes: f_n >= 0 (the cone implies it only where mu > 0).
-    pushes = np.zeros((k, size))
-    pushes[np.arange(k), 3 * np.arange(k)] = -1.0
-    cone_rows = np.vstack([cone_rows, pushes])
-    rhs = np.append(rhs, np.zeros(k))
-    cones.append(clarabel.NonnegativeConeT(k))
-    settings = clarabel.DefaultSettings()
-    settings.verbose = False
+        matrix[n : n + 3 * k : 3, -1] = -shrink
     solver = clarabel.DefaultSolver(
-        Csc.empty(size), cost, Csc.of(np.vstack([equal, cone_rows])), rhs, cones, settings
+        form.quadratic, form.cost, Csc.of(matrix), form.rhs, form.cones, form.settings
     )
     solution = solver.solve()
     if str(solution.status) not in ("Solved", "AlmostSolved"):
         return None
     x = np.asarray(solution.x)
     return x[: 3 * k].reshape(k, 3), float(x[-1]) if extra else 0.0
+
+
+@dataclass(frozen=True)
+class _ConicForm:
+    """What the conic programmes of one set of contacts and one wrench share: the constraint
+    matrix without the coefficients (dense), right-hand side, cones, cost and settings."""
+
+    matrix: np.ndarray
+    rhs: np.ndarray
+    cones: list[object]
+    cost: np.ndarray
+    quadratic: Csc
+    settings: object
+
+
+_FORMS: dict[bytes, _ConicForm] = {}
+
+
+def _conic_form(columns: np.ndarray, wrench: np.ndarray, extra: int) -> _ConicForm:
+    """The :class:`_ConicForm` for these columns (3k, n), wrench (n,) and ``extra`` (1: the
+    step's variable ``s``), built once for the last few (a least-friction search solves a
+    dozen programmes that differ only in the coefficients)."""
+    import clarabel
+
+    key = b"|".join(
+        [repr((columns.shape, extra)).encode(), np.ascontiguousarray(columns, float).tobytes()]
+        + [np.ascontiguousarray(wrench, float).tobytes()]
+    )
+    form = _FORMS.get(key)
+    if form is not None:
+        return form
+    k, n = len(columns) // 3, len(wrench)
+    size = 3 * k + extra
+    matrix = np.zeros((n + 4 * k + extra, size))
+    matrix[:n, : 3 * k] = columns.T
+    matrix[n + np.arange(3 * k), np.arange(3 * k)] = -1.0
+    rhs = np.concatenate([-wrench, np.zeros(3 * k)])
+    cones = [clarabel.ZeroConeT(n)] + [clarabel.SecondOrderConeT(3)] * k
+    cost = np.zeros(size)
+    if extra:
+        matrix[n + 3 * k, -1] = -1.0  # s >= -1: the step stays bounded
+        rhs = np.append(rhs, 1.0)
+        cones.append(clarabel.NonnegativeConeT(1))
+        cost[-1] = 1.0
+    # A support only pushes: f_n >= 0 (the cone implies it only where mu > 0).
+    matrix[n + 3 * k + extra + np.arange(k), 3 * np.arange(k)] = -1.0
+    rhs = np.append(rhs, np.zeros(k))
+    cones.append(clarabel.NonnegativeConeT(k))
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    form = _ConicForm(matrix, rhs, cones, cost, Csc.empty(size), settings)
+    if len(_FORMS) >= RECENT_SOLVES:
+        del _FORMS[next(iter(_FORMS))]
+    _FORMS[key] = form
+    return form

@@ -96,6 +96,7 @@ __all__ = [
     "JAM_MU_RTOL",
     "DINKELBACH_STALL",
     "PRESSED_RTOL",
+    "FRICTIONLESS_MISS",
     "GOLDEN_XTOL",
     "LEAST_FORCE_RTOL",
     "CURVATURE_RTOL",
@@ -401,6 +402,11 @@ DINKELBACH_STALL: float = 1e-3
 #: not pressed and takes no part in the friction ratio (nondimensional): it is below the conic
 #: solver's tolerances (about 1e-8), so its ratio would be noise.
 PRESSED_RTOL: float = 1e-9
+#: A wrench that normal forces of any sign miss by more than this fraction of its size
+#: (least squares, nondimensional) cannot be held without friction: the least holding
+#: friction skips the conic solve at coefficient 0, whose answer is then certain (the
+#: solver's feasibility tolerances are 1e-8, its reduced ones 1e-4, far below).
+FRICTIONLESS_MISS: float = 1e-2
 #: Golden-section search along a friction range stops when its bracket is narrower than this
 #: (nondimensional path parameter in [-1, 1]): a few thousand roundings of the parameter, far
 #: below any change of the margin a report shows.
