@@ -45,6 +45,8 @@ __all__ = [
 
 #: Most Dinkelbach-type steps of :func:`least_friction_exactly` (it needs 3 to 8).
 STEPS = 30
+#: Rounds of steps, each checked at ``(1 - rtol)`` times its result, before bisection.
+ROUNDS = 3
 
 
 def _largest_ratio(local: np.ndarray, scale: np.ndarray) -> float:
@@ -75,9 +77,11 @@ def least_friction_exactly(
     a generalised fractional programme. From a balance found at a feasible coefficient
     (doubling ``upper``), Dinkelbach-type steps (Crouzeix, Ferland & Schaible 1985), each a
     conic programme (:func:`_solve_conic`), lower the largest ratio of actual balancing
-    forces; they stop when a step gains less than ``rtol / 1000``. The result is then checked
-    as bisection would have found it: it holds, and ``(1 - rtol)`` times it does not (else
-    bisection below it decides). About 7 conic solves instead of bisection's 17.
+    forces; they converge quadratically and stop when a step gains less than
+    ``DINKELBACH_STALL * rtol`` (relative). The result is then checked as bisection would
+    have found it: it holds, and ``(1 - rtol)`` times it does not; where it does (the steps
+    stalled), the balance found there starts them again, and after ROUNDS rounds bisection
+    below it decides. About 6 conic solves instead of bisection's 17.
     """
     scale = np.asarray(scale, float)
     # The contacts' axes once (equilibrium_forces would rebuild them per coefficient).
@@ -95,6 +99,30 @@ def least_friction_exactly(
         mu = min(2.0 * mu, largest)
     local, kept = found[0], scale[keep]
     ratio = _largest_ratio(local, kept)
+    for _ in range(ROUNDS):
+        local, ratio = _fractional_steps(columns, wrench, kept, local, ratio, rtol)
+        below = _solve_conic(columns, wrench, ratio * (1.0 - rtol) * kept, None)
+        if below is None:
+            return ratio
+        # Not converged (a stall): the balance found below it starts the steps again.
+        lower = _largest_ratio(below[0], kept)
+        if not lower < ratio:
+            break
+        local, ratio = below[0], lower
+    return least_friction(feasible, ratio, largest=largest, rtol=rtol)
+
+
+def _fractional_steps(
+    columns: np.ndarray,
+    wrench: np.ndarray,
+    kept: np.ndarray,
+    local: np.ndarray,
+    ratio: float,
+    rtol: float,
+) -> tuple[np.ndarray, float]:
+    """Dinkelbach-type steps from the balance ``local`` (k, 3) of largest ratio ``ratio``
+    until a step gains less than ``DINKELBACH_STALL * rtol`` (relative) or none gains: the
+    last balance and its ratio."""
     for _ in range(STEPS):
         step = _solve_conic(columns, wrench, ratio * kept, np.maximum(local[:, 0] * kept, 0.0))
         if step is None:
@@ -106,9 +134,7 @@ def least_friction_exactly(
         local, ratio = step[0], lower
         if gain <= DINKELBACH_STALL * rtol * ratio:
             break
-    if feasible(ratio * (1.0 - rtol)):  # not converged (degenerate): bisection below it
-        return least_friction(feasible, ratio, largest=largest, rtol=rtol)
-    return ratio
+    return local, ratio
 
 
 def _frictionless_misses(columns: np.ndarray, wrench: np.ndarray) -> bool:
