@@ -476,13 +476,25 @@ def _any_below(
 ) -> np.ndarray:
     """Per candidate lattice direction ``d``, whether ``axes_f . d <= bound_f`` for some ``f``
     (axes unit or zero): decided per cell where its centre's values, give or take the cell's
-    radius, decide every member alike; direction by direction elsewhere."""
-    width = cells.radius[:, None] * np.linalg.norm(axes, axis=1) + CELL_GUARD
-    at_centre = cells.coarse @ axes.T
-    every = np.any(at_centre + width <= bound, axis=1)
-    none = np.all(at_centre - width > bound, axis=1)
+    radius, decide every member alike; elsewhere direction by direction, against only the
+    facets the cell's bound leaves possible (the others exceed ``bound`` at every member)."""
     owner = cells.owner[candidates]
-    below = every[owner]
-    open_ = np.flatnonzero(~below & ~none[owner])
-    below[open_] = np.any(cells.fine[candidates[open_]] @ axes.T <= bound, axis=1)
+    used = np.zeros(len(cells.coarse), bool)
+    used[owner] = True
+    which = np.flatnonzero(used)  # only the cells that hold a candidate
+    position = np.zeros(len(cells.coarse), int)
+    position[which] = np.arange(len(which))
+    width = cells.radius[which, None] * np.linalg.norm(axes, axis=1) + CELL_GUARD
+    at_centre = cells.coarse[which] @ axes.T
+    possible = at_centre - width <= bound  # (cells, facets): below for some member, maybe
+    every = np.any(at_centre + width <= bound, axis=1)
+    none = ~np.any(possible, axis=1)
+    cell = position[owner]
+    below = every[cell]
+    open_ = np.flatnonzero(~below & ~none[cell])
+    rows, facets = np.nonzero(possible[cell[open_]])
+    dots = np.einsum("ij,ij->i", cells.fine[candidates[open_[rows]]], axes[facets])
+    hit = np.zeros(len(open_), bool)
+    hit[rows[dots <= bound[facets]]] = True
+    below[open_] = hit
     return below
