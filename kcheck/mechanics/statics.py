@@ -65,6 +65,9 @@ CONTAINS_CHUNK = 2_000_000
 # them); the other facets meet only the directions inside these.
 CONTAINS_FIRST = 12
 CONTAINS_SAMPLE = 400
+# Directions times facets below which every facet meets every direction at once: choosing
+# the screening facets would cost more (the jamming map's undecided cells: 60-1100).
+CONTAINS_DIRECT = 100_000
 Pyramid = Literal["inscribed", "circumscribed"]
 
 
@@ -206,6 +209,8 @@ class Equilibria:
         if self.kind != "cone" or not len(self.a):
             held = self.kind == "everywhere" or (self.kind == "cone" and not len(self.a))
             return np.full(len(directions), np.inf if held else -np.inf)
+        if len(directions) * len(self.a) <= CONTAINS_DIRECT:
+            return np.min(self.a + directions @ self.c.T, axis=1)
         # A few facets that, on a sample of the directions, leave the fewest above the floor;
         # only the directions above it there meet the other facets (the least of the same
         # values a + c . d as with every facet at once). In chunks: a picture's 58,000
