@@ -45,7 +45,13 @@ from kcheck.mechanics.statics import (
     holds,
     holds_exactly,
 )
-from kcheck.numerics.thresholds import FREE_CANDIDATE_TOL, JAM_MU_RTOL, SLIVER, UNDETERMINED
+from kcheck.numerics.thresholds import (
+    FREE_CANDIDATE_TOL,
+    JAM_MU_RTOL,
+    OUTSIDE_PYRAMIDS,
+    SLIVER,
+    UNDETERMINED,
+)
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 
@@ -283,11 +289,29 @@ def case_arcs(case: JamCase, e1: np.ndarray, e2: np.ndarray) -> CaseArcs:
 
 
 def held_at(analysis: JamAnalysis, case: JamCase, design: np.ndarray, mu: np.ndarray) -> bool:
-    """Exact decision at the design direction (clarabel for spatial cones)."""
+    """Exact decision at the design direction (clarabel for spatial cones; no solve where the
+    circumscribed pyramids already exclude it, :func:`_outside_pyramids`)."""
     wrench = analysis.statics.wrench(design)
     if analysis.statics.dim == 2:
         return holds(analysis.statics, case.keep, wrench, mu)
+    if _outside_pyramids(analysis, case, design, mu):
+        return False
     return holds_exactly(analysis.statics, case.keep, wrench, mu)
+
+
+def _outside_pyramids(
+    analysis: JamAnalysis, case: JamCase, design: np.ndarray, mu: np.ndarray
+) -> bool:
+    """Spatial: whether the circumscribed pyramids at the scene's friction, which contain the
+    circular cones, leave the design direction out by more than OUTSIDE_PYRAMIDS (a facet's
+    slack): then no equilibrium exists at coefficients ``mu`` equal to the scene's, and the
+    conic solver (which would find none) need not be asked."""
+    held = case.held
+    if held.kind != "cone" or not len(held.a):
+        return False
+    if not np.array_equal(mu[case.keep], analysis.statics.friction[case.keep]):
+        return False
+    return bool(np.min(held.a + held.c @ design) < -OUTSIDE_PYRAMIDS)
 
 
 def least_holding_friction(
@@ -302,7 +326,11 @@ def least_holding_friction(
     # Spatial: within JAM_MU_RTOL (relative); messages show three significant digits.
     wrench = statics.wrench(design)
     if statics.dim == 3:
-        return least_friction_exactly(statics, case.keep, wrench, rough, start, rtol=JAM_MU_RTOL)
+        # The first coefficient tried is often the scene's own, which the pyramids may exclude.
+        fails = _outside_pyramids(analysis, case, design, start * rough)
+        return least_friction_exactly(
+            statics, case.keep, wrench, rough, start, rtol=JAM_MU_RTOL, upper_fails=fails
+        )
     candidates = friction_candidates(statics, case.keep, wrench, rough)
     return least_friction(
         lambda mu: held_at(analysis, case, design, mu * rough),

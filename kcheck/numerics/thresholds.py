@@ -97,6 +97,7 @@ __all__ = [
     "DINKELBACH_STALL",
     "PRESSED_RTOL",
     "FRICTIONLESS_MISS",
+    "OUTSIDE_PYRAMIDS",
     "GOLDEN_XTOL",
     "LEAST_FORCE_RTOL",
     "CURVATURE_RTOL",
@@ -410,6 +411,12 @@ PRESSED_RTOL: float = 1e-9
 #: friction skips the conic solve at coefficient 0, whose answer is then certain (the
 #: solver's feasibility tolerances are 1e-8, its reduced ones 1e-4, far below).
 FRICTIONLESS_MISS: float = 1e-2
+#: A design direction outside a facet of the circumscribed pyramids' held set by more than
+#: this slack (``a + c . d``, unit facet normals against the nondimensional wrench) is held
+#: by no circular cone inside them: the jamming check skips the conic solve there. Far above
+#: the facets' rounding (9 decimals, qhull's joggle about 1e-11) and the solver's reduced
+#: feasibility tolerance (1e-4), so the solver could not have answered otherwise.
+OUTSIDE_PYRAMIDS: float = 1e-2
 #: Golden-section search along a friction range stops when its bracket is narrower than this
 #: (nondimensional path parameter in [-1, 1]): a few thousand roundings of the parameter, far
 #: below any change of the margin a report shows.
