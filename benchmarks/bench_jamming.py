@@ -193,11 +193,12 @@ def paired(baseline: str, count: int, rounds: int) -> None:
         subprocess.run(["tar", "-x", "-C", str(base)], input=archive, check=True)
         for _ in range(rounds):
             for label, tree in (("baseline", base), ("new", None)):
-                env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-                expect = str(ROOT / "kcheck")
-                if tree is not None:
-                    env["PYTHONPATH"] = os.pathsep.join([str(tree), str(tree / "plugins")])
-                    expect = str(tree / "kcheck")
+                # Each tree first on the path: the venv's editable install may be another
+                # worktree's.
+                env = dict(os.environ)
+                tree = ROOT if tree is None else tree
+                env["PYTHONPATH"] = os.pathsep.join([str(tree), str(tree / "plugins")])
+                expect = str(tree / "kcheck")
                 folder = Path(tmp) / label
                 folder.mkdir(exist_ok=True)
                 header = (

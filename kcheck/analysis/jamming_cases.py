@@ -45,7 +45,13 @@ from kcheck.mechanics.statics import (
     holds,
     holds_exactly,
 )
-from kcheck.numerics.thresholds import FREE_CANDIDATE_TOL, JAM_MU_RTOL, SLIVER, UNDETERMINED
+from kcheck.numerics.thresholds import (
+    FREE_CANDIDATE_TOL,
+    JAM_MU_RTOL,
+    OUTSIDE_PYRAMIDS,
+    SLIVER,
+    UNDETERMINED,
+)
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 
@@ -283,11 +289,29 @@ def case_arcs(case: JamCase, e1: np.ndarray, e2: np.ndarray) -> CaseArcs:
 
 
 def held_at(analysis: JamAnalysis, case: JamCase, design: np.ndarray, mu: np.ndarray) -> bool:
-    """Exact decision at the design direction (clarabel for spatial cones)."""
+    """Exact decision at the design direction (clarabel for spatial cones; no solve where the
+    circumscribed pyramids already exclude it, :func:`_outside_pyramids`)."""
     wrench = analysis.statics.wrench(design)
     if analysis.statics.dim == 2:
         return holds(analysis.statics, case.keep, wrench, mu)
+    if _outside_pyramids(analysis, case, design, mu):
+        return False
     return holds_exactly(analysis.statics, case.keep, wrench, mu)
+
+
+def _outside_pyramids(
+    analysis: JamAnalysis, case: JamCase, design: np.ndarray, mu: np.ndarray
+) -> bool:
+    """Spatial: whether the circumscribed pyramids at the scene's friction, which contain the
+    circular cones, leave the design direction out by more than OUTSIDE_PYRAMIDS (a facet's
+    slack): then no equilibrium exists at coefficients ``mu`` equal to the scene's, and the
+    conic solver (which would find none) need not be asked."""
+    held = case.held
+    if held.kind != "cone" or not len(held.a):
+        return False
+    if not np.array_equal(mu[case.keep], analysis.statics.friction[case.keep]):
+        return False
+    return bool(np.min(held.a + held.c @ design) < -OUTSIDE_PYRAMIDS)
 
 
 def least_holding_friction(
@@ -302,7 +326,11 @@ def least_holding_friction(
     # Spatial: within JAM_MU_RTOL (relative); messages show three significant digits.
     wrench = statics.wrench(design)
     if statics.dim == 3:
-        return least_friction_exactly(statics, case.keep, wrench, rough, start, rtol=JAM_MU_RTOL)
+        # The first coefficient tried is often the scene's own, which the pyramids may exclude.
+        fails = _outside_pyramids(analysis, case, design, start * rough)
+        return least_friction_exactly(
+            statics, case.keep, wrench, rough, start, rtol=JAM_MU_RTOL, upper_fails=fails
+        )
     candidates = friction_candidates(statics, case.keep, wrench, rough)
     return least_friction(
         lambda mu: held_at(analysis, case, design, mu * rough),
@@ -476,13 +504,25 @@ def _any_below(
 ) -> np.ndarray:
     """Per candidate lattice direction ``d``, whether ``axes_f . d <= bound_f`` for some ``f``
     (axes unit or zero): decided per cell where its centre's values, give or take the cell's
-    radius, decide every member alike; direction by direction elsewhere."""
-    width = cells.radius[:, None] * np.linalg.norm(axes, axis=1) + CELL_GUARD
-    at_centre = cells.coarse @ axes.T
-    every = np.any(at_centre + width <= bound, axis=1)
-    none = np.all(at_centre - width > bound, axis=1)
+    radius, decide every member alike; elsewhere direction by direction, against only the
+    facets the cell's bound leaves possible (the others exceed ``bound`` at every member)."""
     owner = cells.owner[candidates]
-    below = every[owner]
-    open_ = np.flatnonzero(~below & ~none[owner])
-    below[open_] = np.any(cells.fine[candidates[open_]] @ axes.T <= bound, axis=1)
+    used = np.zeros(len(cells.coarse), bool)
+    used[owner] = True
+    which = np.flatnonzero(used)  # only the cells that hold a candidate
+    position = np.zeros(len(cells.coarse), int)
+    position[which] = np.arange(len(which))
+    width = cells.radius[which, None] * np.linalg.norm(axes, axis=1) + CELL_GUARD
+    at_centre = cells.coarse[which] @ axes.T
+    possible = at_centre - width <= bound  # (cells, facets): below for some member, maybe
+    every = np.any(at_centre + width <= bound, axis=1)
+    none = ~np.any(possible, axis=1)
+    cell = position[owner]
+    below = every[cell]
+    open_ = np.flatnonzero(~below & ~none[cell])
+    rows, facets = np.nonzero(possible[cell[open_]])
+    dots = np.einsum("ij,ij->i", cells.fine[candidates[open_[rows]]], axes[facets])
+    hit = np.zeros(len(open_), bool)
+    hit[rows[dots <= bound[facets]]] = True
+    below[open_] = hit
     return below

@@ -12,7 +12,7 @@ from typing import Literal
 
 import numpy as np
 
-from kcheck.numerics.arrays import unique_rows
+from kcheck.numerics.arrays import unique_rounded_rows
 from kcheck.numerics.thresholds import (
     FACET_DECIMALS,
     FACET_TOL,
@@ -55,7 +55,7 @@ def cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "f
     facets = np.vstack([normals[upper], -normals[lower & ~upper]])
     if not len(facets):
         return "everywhere"
-    return unique_rows(np.round(facets, HULL_FACET_DECIMALS if n > 3 else FACET_DECIMALS))
+    return unique_rounded_rows(facets, HULL_FACET_DECIMALS if n > 3 else FACET_DECIMALS)
 
 
 def pointing(vectors: np.ndarray) -> np.ndarray | None:

@@ -28,6 +28,7 @@ from kcheck.numerics.arrays import unique
 from kcheck.numerics.thresholds import (
     CUBIC_IMAG_RTOL,
     DINKELBACH_STALL,
+    FRICTIONLESS_MISS,
     MU_FLOOR,
     MU_RTOL,
     POLY_ZERO_RTOL,
@@ -44,6 +45,8 @@ __all__ = [
 
 #: Most Dinkelbach-type steps of :func:`least_friction_exactly` (it needs 3 to 8).
 STEPS = 30
+#: Rounds of steps, each checked at ``(1 - rtol)`` times its result, before bisection.
+ROUNDS = 3
 
 
 def _largest_ratio(local: np.ndarray, scale: np.ndarray) -> float:
@@ -65,18 +68,22 @@ def least_friction_exactly(
     *,
     largest: float = 100.0,
     rtol: float = MU_RTOL,
+    upper_fails: bool = False,
 ) -> float | None:
     """Spatial: the smallest common coefficient ``mu`` for which the supports ``keep``, with
     coefficients ``mu * scale`` and exact circular cones, balance ``wrench``; None when not
-    even ``largest`` does.
+    even ``largest`` does. ``upper_fails``: the caller knows that ``upper`` does not (the
+    search then starts by doubling it).
 
     The least coefficient is ``min over balancing forces of max_j |f_t,j| / (scale_j f_n,j)``,
     a generalised fractional programme. From a balance found at a feasible coefficient
     (doubling ``upper``), Dinkelbach-type steps (Crouzeix, Ferland & Schaible 1985), each a
     conic programme (:func:`_solve_conic`), lower the largest ratio of actual balancing
-    forces; they stop when a step gains less than ``rtol / 1000``. The result is then checked
-    as bisection would have found it: it holds, and ``(1 - rtol)`` times it does not (else
-    bisection below it decides). About 7 conic solves instead of bisection's 17.
+    forces; they converge quadratically and stop when a step gains less than
+    ``DINKELBACH_STALL * rtol`` (relative). The result is then checked as bisection would
+    have found it: it holds, and ``(1 - rtol)`` times it does not; where it does (the steps
+    stalled), the balance found there starts them again, and after ROUNDS rounds bisection
+    below it decides. About 6 conic solves instead of bisection's 17.
     """
     scale = np.asarray(scale, float)
     # The contacts' axes once (equilibrium_forces would rebuild them per coefficient).
@@ -85,15 +92,43 @@ def least_friction_exactly(
     def feasible(mu: float) -> bool:
         return _solve_conic(columns, wrench, mu * scale[keep], None) is not None
 
-    if feasible(0.0):
+    if not _frictionless_misses(columns, wrench) and feasible(0.0):
         return 0.0
     mu = max(upper, 1e-3)
+    if upper_fails:
+        if mu >= largest:
+            return None
+        mu = min(2.0 * mu, largest)
     while (found := _solve_conic(columns, wrench, mu * scale[keep], None)) is None:
         if mu >= largest:
             return None
         mu = min(2.0 * mu, largest)
     local, kept = found[0], scale[keep]
     ratio = _largest_ratio(local, kept)
+    for _ in range(ROUNDS):
+        local, ratio = _fractional_steps(columns, wrench, kept, local, ratio, rtol)
+        below = _solve_conic(columns, wrench, ratio * (1.0 - rtol) * kept, None)
+        if below is None:
+            return ratio
+        # Not converged (a stall): the balance found below it starts the steps again.
+        lower = _largest_ratio(below[0], kept)
+        if not lower < ratio:
+            break
+        local, ratio = below[0], lower
+    return least_friction(feasible, ratio, largest=largest, rtol=rtol)
+
+
+def _fractional_steps(
+    columns: np.ndarray,
+    wrench: np.ndarray,
+    kept: np.ndarray,
+    local: np.ndarray,
+    ratio: float,
+    rtol: float,
+) -> tuple[np.ndarray, float]:
+    """Dinkelbach-type steps from the balance ``local`` (k, 3) of largest ratio ``ratio``
+    until a step gains less than ``DINKELBACH_STALL * rtol`` (relative) or none gains: the
+    last balance and its ratio."""
     for _ in range(STEPS):
         step = _solve_conic(columns, wrench, ratio * kept, np.maximum(local[:, 0] * kept, 0.0))
         if step is None:
@@ -105,9 +140,20 @@ def least_friction_exactly(
         local, ratio = step[0], lower
         if gain <= DINKELBACH_STALL * rtol * ratio:
             break
-    if feasible(ratio * (1.0 - rtol)):  # not converged (degenerate): bisection below it
-        return least_friction(feasible, ratio, largest=largest, rtol=rtol)
-    return ratio
+    return local, ratio
+
+
+def _frictionless_misses(columns: np.ndarray, wrench: np.ndarray) -> bool:
+    """Whether no normal forces of any sign balance ``wrench`` (columns (3k, n) as
+    :func:`kcheck.mechanics.statics._contact_axes`, every third a contact's normal wrench),
+    by a residual far above the conic solver's tolerances: then no coefficient 0 holds, and
+    the conic programme need not be solved (its answer is the same)."""
+    normals = columns[0::3].T
+    if normals.shape[1] >= normals.shape[0]:
+        return False  # as many normals as equations: a least-squares fit may be exact
+    x = np.linalg.lstsq(normals, -wrench, rcond=None)[0]
+    miss = float(np.linalg.norm(normals @ x + wrench))
+    return miss > FRICTIONLESS_MISS * float(np.linalg.norm(wrench))
 
 
 def rough_supports(friction: np.ndarray) -> np.ndarray:

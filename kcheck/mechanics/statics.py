@@ -65,6 +65,9 @@ CONTAINS_CHUNK = 2_000_000
 # them); the other facets meet only the directions inside these.
 CONTAINS_FIRST = 12
 CONTAINS_SAMPLE = 400
+# Directions times facets below which every facet meets every direction at once: choosing
+# the screening facets would cost more (the jamming map's undecided cells: 60-1100).
+CONTAINS_DIRECT = 100_000
 Pyramid = Literal["inscribed", "circumscribed"]
 
 
@@ -206,6 +209,8 @@ class Equilibria:
         if self.kind != "cone" or not len(self.a):
             held = self.kind == "everywhere" or (self.kind == "cone" and not len(self.a))
             return np.full(len(directions), np.inf if held else -np.inf)
+        if len(directions) * len(self.a) <= CONTAINS_DIRECT:
+            return np.min(self.a + directions @ self.c.T, axis=1)
         # A few facets that, on a sample of the directions, leave the fewest above the floor;
         # only the directions above it there meet the other facets (the least of the same
         # values a + c . d as with every facet at once). In chunks: a picture's 58,000
@@ -421,36 +426,76 @@ def _solve_conic_anew(
     solves it."""
     import clarabel
 
-    k, n = len(mu), len(wrench)
+    k = len(mu)
     extra = 0 if shrink is None else 1
-    size = 3 * k + extra
-    equal = np.zeros((n, size))
-    equal[:, : 3 * k] = columns.T
-    cone_rows = np.zeros((3 * k + extra, size))
-    cone_rows[np.arange(3 * k), np.arange(3 * k)] = -1.0
-    cone_rows[0 : 3 * k : 3, 0 : 3 * k : 3] *= mu[:, None] * np.eye(k)
-    rhs = np.concatenate([-wrench, np.zeros(3 * k)])
-    cones = [clarabel.ZeroConeT(n)] + [clarabel.SecondOrderConeT(3)] * k
-    cost = np.zeros(size)
+    form = _conic_form(columns, wrench, extra)
+    n = len(wrench)
+    # Rows: equilibrium (n), the cones (3k, then s >= -1), f_n >= 0 (k); -mu_j at each
+    # cone's normal-force entry, -shrink_j in s's column.
+    matrix = form.matrix.copy()
+    matrix[n + 3 * np.arange(k), 3 * np.arange(k)] = -1.0 * mu
     if shrink is not None:
-        cone_rows[0 : 3 * k : 3, -1] = -shrink
-        cone_rows[-1, -1] = -1.0  # s >= -1: the step stays bounded
-        rhs = np.append(rhs, 1.0)
-        cones.append(clarabel.NonnegativeConeT(1))
-        cost[-1] = 1.0
-    # A support only pushes: f_n >= 0 (the cone implies it only where mu > 0).
-    pushes = np.zeros((k, size))
-    pushes[np.arange(k), 3 * np.arange(k)] = -1.0
-    cone_rows = np.vstack([cone_rows, pushes])
-    rhs = np.append(rhs, np.zeros(k))
-    cones.append(clarabel.NonnegativeConeT(k))
-    settings = clarabel.DefaultSettings()
-    settings.verbose = False
+        matrix[n : n + 3 * k : 3, -1] = -shrink
     solver = clarabel.DefaultSolver(
-        Csc.empty(size), cost, Csc.of(np.vstack([equal, cone_rows])), rhs, cones, settings
+        form.quadratic, form.cost, Csc.of(matrix), form.rhs, form.cones, form.settings
     )
     solution = solver.solve()
     if str(solution.status) not in ("Solved", "AlmostSolved"):
         return None
     x = np.asarray(solution.x)
     return x[: 3 * k].reshape(k, 3), float(x[-1]) if extra else 0.0
+
+
+@dataclass(frozen=True)
+class _ConicForm:
+    """What the conic programmes of one set of contacts and one wrench share: the constraint
+    matrix without the coefficients (dense), right-hand side, cones, cost and settings."""
+
+    matrix: np.ndarray
+    rhs: np.ndarray
+    cones: list[object]
+    cost: np.ndarray
+    quadratic: Csc
+    settings: object
+
+
+_FORMS: dict[bytes, _ConicForm] = {}
+
+
+def _conic_form(columns: np.ndarray, wrench: np.ndarray, extra: int) -> _ConicForm:
+    """The :class:`_ConicForm` for these columns (3k, n), wrench (n,) and ``extra`` (1: the
+    step's variable ``s``), built once for the last few (a least-friction search solves a
+    dozen programmes that differ only in the coefficients)."""
+    import clarabel
+
+    key = b"|".join(
+        [repr((columns.shape, extra)).encode(), np.ascontiguousarray(columns, float).tobytes()]
+        + [np.ascontiguousarray(wrench, float).tobytes()]
+    )
+    form = _FORMS.get(key)
+    if form is not None:
+        return form
+    k, n = len(columns) // 3, len(wrench)
+    size = 3 * k + extra
+    matrix = np.zeros((n + 4 * k + extra, size))
+    matrix[:n, : 3 * k] = columns.T
+    matrix[n + np.arange(3 * k), np.arange(3 * k)] = -1.0
+    rhs = np.concatenate([-wrench, np.zeros(3 * k)])
+    cones = [clarabel.ZeroConeT(n)] + [clarabel.SecondOrderConeT(3)] * k
+    cost = np.zeros(size)
+    if extra:
+        matrix[n + 3 * k, -1] = -1.0  # s >= -1: the step stays bounded
+        rhs = np.append(rhs, 1.0)
+        cones.append(clarabel.NonnegativeConeT(1))
+        cost[-1] = 1.0
+    # A support only pushes: f_n >= 0 (the cone implies it only where mu > 0).
+    matrix[n + 3 * k + extra + np.arange(k), 3 * np.arange(k)] = -1.0
+    rhs = np.append(rhs, np.zeros(k))
+    cones.append(clarabel.NonnegativeConeT(k))
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    form = _ConicForm(matrix, rhs, cones, cost, Csc.empty(size), settings)
+    if len(_FORMS) >= RECENT_SOLVES:
+        del _FORMS[next(iter(_FORMS))]
+    _FORMS[key] = form
+    return form

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["unique", "unique_rows"]
+__all__ = ["unique", "unique_rows", "unique_rounded_rows"]
 
 
 def unique(values: np.ndarray) -> np.ndarray:
@@ -25,3 +25,20 @@ def unique_rows(rows: np.ndarray) -> np.ndarray:
         return rows.copy()
     s = rows[np.lexsort(rows.T[::-1])]
     return s[np.concatenate([[True], np.any(s[1:] != s[:-1], axis=1)])]
+
+
+def unique_rounded_rows(rows: np.ndarray, decimals: int) -> np.ndarray:
+    """``unique_rows(np.round(rows, decimals))``, sorting integer keys where they fit: each
+    rounded value is ``K / 10^decimals`` with an integer ``K`` that orders and identifies it
+    exactly, and two ``K`` below ``2^30`` in size share one int64 key (half the sort keys of
+    floats, and integer comparisons)."""
+    rounded = np.round(rows, decimals)
+    if len(rounded) < 2 or not np.all(np.abs(rounded) * 10.0**decimals < 2.0**30 - 1):
+        return unique_rows(rounded)
+    k = np.rint(rounded * 10.0**decimals).astype(np.int64) + 2**30
+    if k.shape[1] % 2:
+        k = np.column_stack([k, np.zeros(len(k), np.int64)])
+    keys = k[:, 0::2] * 2**31 + k[:, 1::2]
+    order = np.lexsort(keys.T[::-1])
+    keys = keys[order]
+    return rounded[order[np.concatenate([[True], np.any(keys[1:] != keys[:-1], axis=1)])]]
