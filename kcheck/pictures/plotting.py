@@ -49,6 +49,9 @@ SVG_RASTER_VERTICES = 400
 #: many vertices: in SVG its hatch is one small pattern, and its outline, simplified to the
 #: page's 0.1 pt grid, weighs less than the hatch drawn into an image.
 SVG_HATCH_VERTICES = 20_000
+#: ... and so does a filled contour (a sphere map's margin shades) up to this many: smooth
+#: level curves simplify well; a noisy field (jamming's least holding friction) does not.
+SVG_CONTOUR_VERTICES = 2_000
 SVG_RASTER_DPI = 80
 #: Colours of an image embedded in an SVG (a palette PNG: a fifth of matplotlib's RGBA).
 SVG_IMAGE_COLOURS = 64
@@ -233,7 +236,9 @@ def _rasterize_heavy(fig: Figure) -> list[Any]:
             vertices = sum(_count(path.vertices) for path in artist.get_paths())
             # A filled contour keeps its hatches in `hatches` (one per level), not get_hatch().
             hatched = bool(artist.get_hatch() or any(getattr(artist, "hatches", None) or ()))
-            if hatched and not solid and vertices <= SVG_HATCH_VERTICES:
+            contour = type(artist).__name__ in ("QuadContourSet", "TriContourSet")
+            limit = SVG_HATCH_VERTICES if hatched else SVG_CONTOUR_VERTICES if contour else 0
+            if not solid and vertices <= limit:
                 continue
             if solid or vertices > SVG_RASTER_VERTICES:
                 artist.set_rasterized(True)
