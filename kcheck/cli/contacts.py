@@ -147,8 +147,10 @@ def scene_text(
     friction: float,
     command: str,
     notes: list[str],
+    flat: Any = None,
 ) -> str:
-    """A scene (commented YAML) from recognised elements."""
+    """A scene (commented YAML) from recognised elements (``flat``: unused, the planar
+    scene's argument)."""
     import numpy as np
 
     out = [
@@ -196,6 +198,94 @@ def scene_text(
     return "\n".join(out) + "\n"
 
 
+def planar_report(found: Any, flat: Any, scale: float, units: str) -> list[str]:
+    """The report of a planar coupling: its axis, each line contact as the cross-section's
+    point contact, then what could not be used besides the lines."""
+    tilt = math.degrees(math.acos(min(1.0, abs(float(flat.axis[2])))))
+    a = ", ".join(f"{v:.6g}" for v in flat.axis)
+    lines = [
+        f"planar coupling: {len(flat.lines)} line contacts along ({a}) ({tilt:.3g} deg from z), "
+        "both parts extrusions along it; each line is a point contact of the cross-section"
+    ]
+    for k, (line, u) in enumerate(flat.lines, start=1):
+        half = line.half_length * line.axis
+        ends = [line.point - half, line.point + half]
+        fits = "; ".join(
+            f"{side} {p.kind} fit RMS {_mm(p.rms, scale, units)}"
+            + (f", radius {_mm(p.radius, scale, units)}" if p.kind == "cylinder" else "")
+            for side, p in (("body", line.body_fit), ("base", line.base_fit))
+        )
+        p = ", ".join(f"{v / scale:.6g}" for v in line.point[:2])
+        n = ", ".join(f"{v:.6f}" for v in _in_plane(line.normal))
+        lines.append(
+            f"  s{k}: {u.what}, along z from {ends[0][2] / scale:.6g} to "
+            f"{ends[1][2] / scale:.6g} {units}: in the plane at ({p}) {units}, normal ({n}); "
+            f"{fits}; fitted gap {_mm(line.gap, scale, units)}"
+        )
+    used = {id(u) for _, u in flat.lines}
+    for u in found.unusable:
+        if id(u) not in used:
+            where = ", ".join(f"{v / scale:.4g}" for v in u.region.points.mean(axis=0))
+            lines.append(f"not used: {u.what} near ({where}) {units}: {u.why}")
+    return lines
+
+
+def _in_plane(v: Any) -> Any:
+    """A direction's xy components, made a unit vector again (z = 0)."""
+    import numpy as np
+
+    w = np.array([v[0], v[1], 0.0])
+    return w / np.linalg.norm(w)
+
+
+def planar_scene_text(
+    found: Any,
+    mesh: str,
+    scale: float,
+    units: str,
+    material: str,
+    friction: float,
+    command: str,
+    notes: list[str],
+    flat: Any = None,
+) -> str:
+    """A planar scene (commented YAML) from the line contacts of two extrusions along z
+    (``flat``, a :class:`kcheck.body.coupling_elements.Planar`): a support at each line's
+    middle, all at their mean height, normals in the xy-plane."""
+    import numpy as np
+
+    out = [
+        f"# Written by `{command}`:",
+        "# the contacts found in the assembly: lines along z, both parts extrusions along it, so",
+        "# a planar coupling in the xy-plane: a support at each line's middle, at the lines'",
+        "# mean height, its normal the fitted surfaces' (lengths in the scene's units).",
+    ]
+    out += [f"#   {line}" for line in planar_report(found, flat, scale, units) + notes]
+    out += [
+        "version: 1",
+        f"units: {units}",
+        f"body: {{mesh: {mesh}, material: {material}}}   # CHANGE the material if it differs",
+        "supports:",
+    ]
+    z = float(np.mean([line.point[2] for line, _ in flat.lines]))
+    normals = []
+    for k, (line, _) in enumerate(flat.lines, start=1):
+        position = [line.point[0] / scale, line.point[1] / scale, z / scale]
+        normals.append(_in_plane(line.normal))
+        out.append(f"  - {{name: s{k}, position: {_flow(position)}, normal: {_flow(normals[-1])}}}")
+    push = -np.sum(normals, axis=0)
+    push = push / np.linalg.norm(push) if np.linalg.norm(push) > 1e-9 else -normals[0]
+    out += [
+        f"friction: {_num(friction)}                 # CHANGE: Coulomb coefficient of the contacts",
+        "# gravity: [0, -9.81, 0]      # CHANGE: add it, in the xy-plane, if the plane of motion",
+        "#                             # is not horizontal (a planar scene ignores its z)",
+        "load:                         # CHANGE: the closing force; this one pushes the body",
+        "  magnitude: 10               # into its seat (against the sum of the normals), N",
+        f"  direction: {_flow(push)}",
+    ]
+    return "\n".join(out) + "\n"
+
+
 def _mesh_field(body: Path, output: Path | None) -> str:
     """The body's mesh as the scene names it: relative to the scene's folder (or the current
     folder when the scene goes to stdout)."""
@@ -205,10 +295,10 @@ def _mesh_field(body: Path, output: Path | None) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from kcheck.body.contact_regions import Faces, contact_regions
-    from kcheck.body.coupling_elements import recognise
+    from kcheck.body.coupling_elements import Planar, planar, recognise
     from kcheck.body.meshio import load_surface, not_watertight, reuse_freed_memory
     from kcheck.errors import MeshError
-    from kcheck.numerics.thresholds import CONTACT_GAP_RTOL
+    from kcheck.numerics.thresholds import CONTACT_GAP_RTOL, EXTRUSION_DEG
     from kcheck.scene.materials import density_of, known_names
     from kcheck.scene.units import LENGTH_TO_M as LENGTH_UNITS
 
@@ -279,24 +369,41 @@ def run(args: argparse.Namespace) -> int:
         )
     found = recognise(regions, gap)
     notes = _merged_parts(body, args.body, base, gap, scale, units, faces, touch_faces[0])
-    report = report_lines(found, scale, units) + notes
-    count = found.contact_count
-    problems = []
-    over = [u for u in found.unusable if u.constraints]
-    if over:
-        removed = sum(u.constraints for u in over)
-        problems.append(
-            f"{len(over)} line or area contact(s), together removing {removed} freedoms: "
-            "over-constrained, not a kinematic coupling"
-        )
-    if count != 6:
-        problems.append(
-            f"{count} point contact(s) found; a spatial kinematic coupling has exactly 6"
-        )
-    print("\n".join(report), file=sys.stderr)
-    if problems:
-        print("kcheck: no scene written: " + "; ".join(problems), file=sys.stderr)
-        return ExitCode.CHECKS_FAILED
+    flat = planar(found, {"base": faces[0].normals, "body": faces[1].normals})
+    if isinstance(flat, Planar):
+        tilt = math.degrees(math.acos(min(1.0, float(flat.axis[2]))))
+        if tilt > EXTRUSION_DEG:
+            a = ", ".join(f"{v:.6g}" for v in flat.axis)
+            print("\n".join(planar_report(found, flat, scale, units) + notes), file=sys.stderr)
+            return fail(
+                f"the parts are extrusions along ({a}), {tilt:.4g} deg from z, and their 3 line "
+                "contacts make a planar coupling, but a planar scene moves in the xy-plane: "
+                "export both parts with the extrusion's axis along z (rotate the assembly in "
+                "CAD, or with a transform) and run again"
+            )
+        report = planar_report(found, flat, scale, units) + notes
+        print("\n".join(report), file=sys.stderr)
+    else:
+        report = report_lines(found, scale, units) + notes
+        count = found.contact_count
+        problems = []
+        over = [u for u in found.unusable if u.constraints]
+        if over:
+            removed = sum(u.constraints for u in over)
+            problems.append(
+                f"{len(over)} line or area contact(s), together removing {removed} freedoms: "
+                "over-constrained, not a kinematic coupling"
+            )
+        if isinstance(flat, str):
+            problems.append(flat)
+        if count != 6 and flat is None:
+            problems.append(
+                f"{count} point contact(s) found; a spatial kinematic coupling has exactly 6"
+            )
+        print("\n".join(report), file=sys.stderr)
+        if problems:
+            print("kcheck: no scene written: " + "; ".join(problems), file=sys.stderr)
+            return ExitCode.CHECKS_FAILED
     command = f"kcheck contacts {args.base} {args.body} --units {units}"
     # Every option that shaped the scene, so that the line re-makes it.
     if args.gap is not None:
@@ -316,7 +423,7 @@ def run(args: argparse.Namespace) -> int:
         except OSError as exc:
             return fail(f"cannot write the body's mesh {body_file}: {exc.strerror}")
         print(f"kcheck: wrote the body's part `{parts[1]}` to {body_file}", file=sys.stderr)
-    text = scene_text(
+    text = (planar_scene_text if isinstance(flat, Planar) else scene_text)(
         found,
         _mesh_field(body_file, args.output),
         scale,
@@ -325,6 +432,7 @@ def run(args: argparse.Namespace) -> int:
         args.friction,
         command,
         notes,
+        flat,
     )
     write_text(text, args.output)
     return ExitCode.OK
