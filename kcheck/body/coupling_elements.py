@@ -335,10 +335,15 @@ def _line(
     base: Primitive,
     region: Region,
 ) -> LineContact:
-    """The line through ``start`` along ``axis``, its middle and half-length the touching
-    points' extent along it."""
-    t = (region.points - start) @ axis
-    lo, hi = float(t.min()), float(t.max())
+    """The line through ``start`` along ``axis``, from where both patches begin to where the
+    first ends (their vertices' extents along it; the near points' without the vertices)."""
+    sides = [region.vertices[k] for k in ("body", "base") if k in region.vertices]
+    if len(sides) == 2:
+        ts = [(v - start) @ axis for v in sides]
+        lo, hi = max(float(t.min()) for t in ts), min(float(t.max()) for t in ts)
+    else:
+        t = (region.points - start) @ axis
+        lo, hi = float(t.min()), float(t.max())
     point = start + (lo + hi) / 2 * axis
     return LineContact(point, axis, (hi - lo) / 2, normal, gap, body, base)
 

@@ -235,7 +235,7 @@ def _in_plane(v: Any) -> Any:
     import numpy as np
 
     w = np.array([v[0], v[1], 0.0])
-    return w / np.linalg.norm(w)
+    return w / np.linalg.norm(w) + 0.0  # no -0.0
 
 
 def planar_scene_text(
