@@ -28,7 +28,9 @@ def add_parser(sub: Any) -> None:
         "and write a commented scene that checks as written. The report goes to standard "
         "error. Exit 2 on bad input (no contact, interpenetration, unreadable or open mesh); "
         "exit 1 when the contacts found are not a kinematic coupling (a line or area contact, "
-        "not 6 point contacts): the report says why and no scene is written.",
+        "not 6 point contacts): the report says why and no scene is written. Two extrusions "
+        "along z touching along 3 parallel lines make a planar coupling: a planar scene is "
+        "written, a support at each line's middle.",
     )
     p.add_argument(
         "base",
@@ -202,12 +204,12 @@ def planar_report(found: Any, flat: Any, scale: float, units: str) -> list[str]:
     """The report of a planar coupling: its axis, each line contact as the cross-section's
     point contact, then what could not be used besides the lines."""
     tilt = math.degrees(math.acos(min(1.0, abs(float(flat.axis[2])))))
-    a = ", ".join(f"{v:.6g}" for v in flat.axis)
+    a = ", ".join(_short(v) for v in flat.axis)
     lines = [
         f"planar coupling: {len(flat.lines)} line contacts along ({a}) ({tilt:.3g} deg from z), "
         "both parts extrusions along it; each line is a point contact of the cross-section"
     ]
-    for k, (line, u) in enumerate(flat.lines, start=1):
+    for k, (line, _) in enumerate(flat.lines, start=1):
         half = line.half_length * line.axis
         ends = [line.point - half, line.point + half]
         fits = "; ".join(
@@ -215,11 +217,12 @@ def planar_report(found: Any, flat: Any, scale: float, units: str) -> list[str]:
             + (f", radius {_mm(p.radius, scale, units)}" if p.kind == "cylinder" else "")
             for side, p in (("body", line.body_fit), ("base", line.base_fit))
         )
-        p = ", ".join(f"{v / scale:.6g}" for v in line.point[:2])
+        p = ", ".join(_short(v / scale) for v in line.point[:2])
         n = ", ".join(f"{v:.6f}" for v in _in_plane(line.normal))
         lines.append(
-            f"  s{k}: {u.what}, along z from {ends[0][2] / scale:.6g} to "
-            f"{ends[1][2] / scale:.6g} {units}: in the plane at ({p}) {units}, normal ({n}); "
+            f"  s{k}: the body's {line.body_fit.kind} on the base's {line.base_fit.kind}, "
+            f"a line along z from {_short(ends[0][2] / scale)} to "
+            f"{_short(ends[1][2] / scale)} {units}: in the plane at ({p}) {units}, normal ({n}); "
             f"{fits}; fitted gap {_mm(line.gap, scale, units)}"
         )
     used = {id(u) for _, u in flat.lines}
@@ -228,6 +231,11 @@ def planar_report(found: Any, flat: Any, scale: float, units: str) -> list[str]:
             where = ", ".join(f"{v / scale:.4g}" for v in u.region.points.mean(axis=0))
             lines.append(f"not used: {u.what} near ({where}) {units}: {u.why}")
     return lines
+
+
+def _short(x: float) -> str:
+    """A number to 6 digits, rounding below 1e-9 (of the unit) to 0."""
+    return f"{round(float(x), 9) + 0.0:.6g}"
 
 
 def _in_plane(v: Any) -> Any:
@@ -373,7 +381,7 @@ def run(args: argparse.Namespace) -> int:
     if isinstance(flat, Planar):
         tilt = math.degrees(math.acos(min(1.0, float(flat.axis[2]))))
         if tilt > EXTRUSION_DEG:
-            a = ", ".join(f"{v:.6g}" for v in flat.axis)
+            a = ", ".join(_short(v) for v in flat.axis)
             print("\n".join(planar_report(found, flat, scale, units) + notes), file=sys.stderr)
             return fail(
                 f"the parts are extrusions along ({a}), {tilt:.4g} deg from z, and their 3 line "

@@ -81,7 +81,7 @@ def test_block_on_three_pins_of_the_base(tmp_path, capsys):
     middles = [5.0, 10.0, 14.5]
     z = np.mean(middles)
     _assert_supports(out, [(np.array([*p, z]), np.array([*n, 0.0])) for p, n, _ in contacts])
-    assert "along z from 9 to 20 mm" in err
+    assert "the body's plane on the base's cylinder, a line along z from 9 to 20 mm" in err
     # The scene as written checks.
     assert main(["check", str(out), "-j", "1"]) in (0, 1)
     capsys.readouterr()
@@ -103,6 +103,29 @@ def test_pins_of_the_body_on_flat_strips(tmp_path, capsys):
     code, err, out = _run(tmp_path, base, combine([*pins, plate]), capsys)
     assert code == 0, err
     _assert_supports(out, [(c + [0, 0, 4.0], n) for c, n in zip(contacts, normals, strict=True)])
+
+
+def test_pins_of_the_body_on_parallel_pins_of_the_base(tmp_path, capsys):
+    # Each body pin (radius 3, z from 0 to 10) on a base pin (radius 2, z from -3 to 7) along
+    # z: the contact is on the base pin's axis plus its radius towards the body pin's axis;
+    # each line from z = 0 to 7, middle 3.5.
+    r_base = 2.0
+    angles = np.radians([80.0, 200.0, 320.0])
+    normals = [np.array([np.cos(t), np.sin(t), 0.0]) for t in angles]
+    axes = [-25.0 * n + [40.0, 30.0, 0.0] for n in normals]  # the base pins' axes (x, y)
+    contacts = [a + r_base * n for a, n in zip(axes, normals, strict=True)]
+    pins = [
+        pin(c + R_PIN * n + [0, 0, 5.0], [0, 0, 1], R_PIN, length=10.0)
+        for c, n in zip(contacts, normals, strict=True)
+    ]
+    plate = trimesh.creation.box(extents=[80, 80, 4]).apply_translation([40, 30, 12])
+    base = combine([pin(a + [0, 0, 2.0], [0, 0, 1], r_base, length=10.0) for a in axes])
+    code, err, out = _run(tmp_path, base, combine([*pins, plate]), capsys)
+    assert code == 0, err
+    assert "planar coupling: 3 line contacts along (0, 0, 1) (0 deg from z)" in err
+    assert err.count("the body's cylinder on the base's cylinder, a line along z from 0 to 7") == 3
+    assert err.count("body cylinder fit RMS") == err.count("radius 3 mm; base cylinder") == 3
+    _assert_supports(out, [(c + [0, 0, 3.5], n) for c, n in zip(contacts, normals, strict=True)])
 
 
 def test_lines_not_parallel_are_refused(tmp_path, capsys):
