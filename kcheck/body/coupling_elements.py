@@ -513,6 +513,7 @@ class Planar:
 
     axis: np.ndarray
     lines: list[tuple[LineContact, Unusable]]
+    slides: list[Unusable] = field(default_factory=list)
 
 
 def extrusion_faces(normals: np.ndarray, axis: np.ndarray) -> np.ndarray:
@@ -526,14 +527,18 @@ def extrusion_faces(normals: np.ndarray, axis: np.ndarray) -> np.ndarray:
 
 def planar(found: Recognition, meshes: dict[str, np.ndarray]) -> Planar | str | None:
     """Whether the contacts found make a planar coupling: every region that constrains is a
-    line contact (no point contacts), the lines are parallel within :data:`_PARALLEL_DEG`
-    and every part (``meshes``: name to unit face normals) is an extrusion along them, with
-    3 lines. None when they are not all lines (not a planar question); a sentence saying why
-    not when they are lines but not a planar kinematic coupling."""
+    line contact (no point contacts) or a flat on a flat square to the lines (the plane the
+    body slides on: ``slides``), the lines are parallel within :data:`_PARALLEL_DEG` and
+    every part (``meshes``: name to unit face normals) is an extrusion along them, with 3
+    lines. None when they are not all such (not a planar question); a sentence saying why not
+    when they are lines but not a planar kinematic coupling."""
     over = [u for u in found.unusable if u.constraints]
-    if not over or found.elements or any(u.line is None for u in over):
+    if found.elements or not any(u.line is not None for u in over):
         return None
     lines = [(u.line, u) for u in over if u.line is not None]
+    slides = [u for u in over if u.line is None]
+    if not all(_flat_on_flat(u) for u in slides):
+        return None
     first = lines[0][0].axis
     axes = np.array([x.axis if x.axis @ first >= 0 else -x.axis for x, _ in lines])
     spread = max(math.degrees(math.acos(min(1.0, abs(float(a @ first))))) for a in axes)
@@ -544,6 +549,9 @@ def planar(found: Recognition, meshes: dict[str, np.ndarray]) -> Planar | str | 
         )
     axis = _unit(axes.mean(axis=0))
     axis = axis if axis[int(np.argmax(np.abs(axis)))] > 0 else -axis
+    square = math.cos(math.radians(EXTRUSION_DEG))
+    if any(abs(float(u.region.base_fit.axis @ axis)) < square for u in slides if u.region.base_fit):
+        return None  # a flat on a flat that is not the plane of motion: over-constraint
     for name, normals in meshes.items():
         bad = extrusion_faces(normals, axis)
         if len(bad):
@@ -561,4 +569,10 @@ def planar(found: Recognition, meshes: dict[str, np.ndarray]) -> Planar | str | 
             "kinematic coupling has exactly 3"
         )
     lines.sort(key=lambda x: tuple(np.round(x[0].point, 9)))
-    return Planar(axis, lines)
+    return Planar(axis, lines, slides)
+
+
+def _flat_on_flat(u: Unusable) -> bool:
+    """Whether an unusable region is an area contact of two fitted planes."""
+    fits = (u.region.body_fit, u.region.base_fit)
+    return all(f is not None and f.kind == "plane" for f in fits) and u.constraints == 3

@@ -225,12 +225,40 @@ def planar_report(found: Any, flat: Any, scale: float, units: str) -> list[str]:
             f"{_short(ends[1][2] / scale)} {units}: in the plane at ({p}) {units}, normal ({n}); "
             f"{fits}; fitted gap {_mm(line.gap, scale, units)}"
         )
-    used = {id(u) for _, u in flat.lines}
+    for u in flat.slides:
+        where = ", ".join(_short(v / scale) for v in u.region.points.mean(axis=0))
+        lines.append(
+            f"  the plane of motion: the body's plane on the base's near ({where}) {units}, "
+            "square to the lines (the body slides on it; not a contact of the planar coupling: "
+            "its friction is not in the scene)"
+        )
+    used = {id(u) for _, u in flat.lines} | {id(u) for u in flat.slides}
     for u in found.unusable:
-        if id(u) not in used:
+        if id(u) in used:
+            continue
+        if _line_end(u, flat.axis):
+            where = ", ".join(_short(v / scale) for v in u.region.points.mean(axis=0))
+            lines.append(
+                f"  a line's end near ({where}) {units}: a cylinder along the lines meets a "
+                "plane square to them (the edge of the plane of motion), not a contact"
+            )
+        else:
             where = ", ".join(f"{v / scale:.4g}" for v in u.region.points.mean(axis=0))
             lines.append(f"not used: {u.what} near ({where}) {units}: {u.why}")
     return lines
+
+
+def _line_end(u: Any, axis: Any) -> bool:
+    """Whether an unusable region (constraining nothing) is a plane square to the planar
+    coupling's ``axis`` meeting a cylinder along it: where a pin stands on the plane of
+    motion, beside the body that slides on it."""
+    from kcheck.numerics.thresholds import EXTRUSION_DEG
+
+    fits = {f.kind: f for f in (u.region.body_fit, u.region.base_fit) if f is not None}
+    if u.constraints or set(fits) != {"plane", "cylinder"}:
+        return False
+    square = math.cos(math.radians(EXTRUSION_DEG))
+    return all(abs(float(f.axis @ axis)) >= square for f in fits.values())
 
 
 def _short(x: float) -> str:

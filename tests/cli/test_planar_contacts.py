@@ -87,6 +87,33 @@ def test_block_on_three_pins_of_the_base(tmp_path, capsys):
     capsys.readouterr()
 
 
+def test_block_on_a_table_against_three_pins(tmp_path, capsys):
+    # The same layout with the block lying on a table (z = 0) the pins stand on (z from 0 to
+    # 15): the table is the plane of motion, an area contact square to the lines, said in the
+    # report and left out of the scene; each line from z = 0 to 15, middle 7.5.
+    contacts = [([20, 0], [0, 1]), ([80, 0], [0, 1]), ([0, 30], [1, 0])]
+    table = trimesh.creation.box(extents=[160, 120, 5]).apply_translation([50, 30, -2.5])
+    pins = [_base_pin([*p, 0], [*n, 0], 0, 15) for p, n in contacts]
+    code, err, out = _run(tmp_path, combine([table, *pins]), _block(), capsys)
+    assert code == 0, err
+    assert err.count("the plane of motion: the body's plane on the base's") == 1
+    # Where each pin stands on the table beside the block: said, not a contact.
+    assert err.count("a line's end near") == 3 and "not used" not in err
+    _assert_supports(out, [(np.array([*p, 7.5]), np.array([*n, 0.0])) for p, n in contacts])
+
+
+def test_a_flat_on_a_flat_across_the_lines_is_refused(tmp_path, capsys):
+    # The block's x = 0 pin replaced by a wall the block's face lies on: an area contact whose
+    # normal is across the lines, over-constraint (the existing refusal).
+    wall = trimesh.creation.box(extents=[5, 60, 20]).apply_translation([-2.5, 30, 10])
+    pins = [_base_pin([x, 0, 0], [0, 1, 0], 2, 18) for x in (20, 80)]
+    code, err, out = _run(tmp_path, combine([wall, *pins]), _block(), capsys)
+    assert code == 1, err
+    assert not out.exists()
+    assert "no scene written: 3 line or area contact(s), together removing 7 freedoms" in err
+    assert "planar coupling" not in err
+
+
 def test_pins_of_the_body_on_flat_strips(tmp_path, capsys):
     # Three pins of the body (radius 3, z from 0 to 10) on flat strips of the base (z from -2
     # to 8) whose normals point at 90, 210 and 330 deg: each line from z = 0 to 8, middle 4;
