@@ -415,7 +415,7 @@ def run(args: argparse.Namespace) -> int:
                 f"the parts are extrusions along ({a}), {tilt:.4g} deg from z, and their 3 line "
                 "contacts make a planar coupling, but a planar scene moves in the xy-plane: "
                 "export both parts with the extrusion's axis along z (rotate the assembly in "
-                "CAD, or with a transform) and run again"
+                "CAD) and run again"
             )
         report = planar_report(found, flat, scale, units) + notes
         print("\n".join(report), file=sys.stderr)
