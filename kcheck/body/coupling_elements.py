@@ -30,6 +30,7 @@ __all__ = [
     "Planar",
     "recognise",
     "planar",
+    "onto_z",
     "extrusion_faces",
 ]
 
@@ -514,6 +515,26 @@ class Planar:
     axis: np.ndarray
     lines: list[tuple[LineContact, Unusable]]
     slides: list[Unusable] = field(default_factory=list)
+    rotation: np.ndarray = field(default_factory=lambda: np.eye(3))
+
+
+def onto_z(flat: Planar) -> Planar:
+    """The planar coupling turned so that its axis is +z: its lines' points, axes and normals
+    turned by the least rotation that does it (about ``axis`` × z), which ``rotation`` holds
+    (scene = rotation · assembly)."""
+    z = np.array([0.0, 0.0, 1.0])
+    k = np.cross(flat.axis, z)
+    s, c = float(np.linalg.norm(k)), float(flat.axis @ z)
+    if s == 0.0:
+        return flat
+    k = k / s
+    skew = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    r = np.eye(3) + s * skew + (1 - c) * skew @ skew  # Rodrigues
+    lines = [
+        (replace(x, point=r @ x.point, axis=r @ x.axis, normal=r @ x.normal), u)
+        for x, u in flat.lines
+    ]
+    return Planar(z, lines, flat.slides, r @ flat.rotation)
 
 
 def extrusion_faces(normals: np.ndarray, axis: np.ndarray) -> np.ndarray:

@@ -203,12 +203,24 @@ def scene_text(
 def planar_report(found: Any, flat: Any, scale: float, units: str) -> list[str]:
     """The report of a planar coupling: its axis, each line contact as the cross-section's
     point contact, then what could not be used besides the lines."""
-    tilt = math.degrees(math.acos(min(1.0, abs(float(flat.axis[2])))))
-    a = ", ".join(_short(v) for v in flat.axis)
+    import numpy as np
+
+    turn = flat.rotation
+    along = turn.T @ flat.axis  # the lines' axis in the assembly
+    tilt = math.degrees(math.acos(min(1.0, abs(float(along[2])))))
+    a = ", ".join(_short(v) for v in along)
     lines = [
         f"planar coupling: {len(flat.lines)} line contacts along ({a}) ({tilt:.3g} deg from z), "
         "both parts extrusions along it; each line is a point contact of the cross-section"
     ]
+    turned = not np.allclose(turn, np.eye(3), rtol=0.0, atol=0.0)
+    if turned:
+        angle, k = _axis_angle(turn)
+        lines.append(
+            f"  the scene is the assembly turned by {_short(angle)} deg about "
+            f"({', '.join(_short(v) for v in k)}), so that the lines run along z; "
+            "the coordinates below are the scene's"
+        )
     for k, (line, _) in enumerate(flat.lines, start=1):
         half = line.half_length * line.axis
         ends = [line.point - half, line.point + half]
@@ -218,7 +230,7 @@ def planar_report(found: Any, flat: Any, scale: float, units: str) -> list[str]:
             for side, p in (("body", line.body_fit), ("base", line.base_fit))
         )
         p = ", ".join(_short(v / scale) for v in line.point[:2])
-        n = ", ".join(f"{v:.6f}" for v in _in_plane(line.normal))
+        n = ", ".join(f"{round(float(v), 9) + 0.0:.6f}" for v in _in_plane(line.normal))
         lines.append(
             f"  s{k}: the body's {line.body_fit.kind} on the base's {line.base_fit.kind}, "
             f"a line along z from {_short(ends[0][2] / scale)} to "
@@ -226,7 +238,7 @@ def planar_report(found: Any, flat: Any, scale: float, units: str) -> list[str]:
             f"{fits}; fitted gap {_mm(line.gap, scale, units)}"
         )
     for u in flat.slides:
-        where = ", ".join(_short(v / scale) for v in u.region.points.mean(axis=0))
+        where = ", ".join(_short(v / scale) for v in turn @ u.region.points.mean(axis=0))
         lines.append(
             f"  the plane of motion: the body's plane on the base's near ({where}) {units}, "
             "square to the lines (the body slides on it; not a contact of the planar coupling: "
@@ -236,16 +248,25 @@ def planar_report(found: Any, flat: Any, scale: float, units: str) -> list[str]:
     for u in found.unusable:
         if id(u) in used:
             continue
-        if _line_end(u, flat.axis):
-            where = ", ".join(_short(v / scale) for v in u.region.points.mean(axis=0))
+        if _line_end(u, along):
+            where = ", ".join(_short(v / scale) for v in turn @ u.region.points.mean(axis=0))
             lines.append(
                 f"  a line's end near ({where}) {units}: a cylinder along the lines meets a "
                 "plane square to them (the edge of the plane of motion), not a contact"
             )
         else:
-            where = ", ".join(f"{v / scale:.4g}" for v in u.region.points.mean(axis=0))
+            where = ", ".join(f"{v / scale:.4g}" for v in turn @ u.region.points.mean(axis=0))
             lines.append(f"not used: {u.what} near ({where}) {units}: {u.why}")
     return lines
+
+
+def _axis_angle(r: Any) -> tuple[float, Any]:
+    """A rotation matrix's angle (deg) and unit axis."""
+    import numpy as np
+
+    angle = math.acos(max(-1.0, min(1.0, (float(np.trace(r)) - 1) / 2)))
+    k = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
+    return math.degrees(angle), k / np.linalg.norm(k)
 
 
 def _line_end(u: Any, axis: Any) -> bool:
@@ -292,17 +313,29 @@ def planar_scene_text(
 
     out = [
         f"# Written by `{command}`:",
-        "# the contacts found in the assembly: lines along z, both parts extrusions along it, so",
-        "# a planar coupling in the xy-plane: a support at each line's middle, at the lines'",
-        "# mean height, its normal the fitted surfaces' (lengths in the scene's units).",
+        "# the contacts found in the assembly: parallel lines, both parts extrusions along them,",
+        "# so a planar coupling in the scene's xy-plane (the lines along z): a support at each",
+        "# line's middle, at the lines' mean height, its normal the fitted surfaces' (lengths",
+        "# in the scene's units).",
     ]
     out += [f"#   {line}" for line in planar_report(found, flat, scale, units) + notes]
     out += [
         "version: 1",
         f"units: {units}",
-        f"body: {{mesh: {mesh}, material: {material}}}   # CHANGE the material if it differs",
-        "supports:",
     ]
+    if np.allclose(flat.rotation, np.eye(3), rtol=0.0, atol=0.0):
+        out.append(
+            f"body: {{mesh: {mesh}, material: {material}}}   # CHANGE the material if it differs"
+        )
+    else:
+        angle, k = _axis_angle(flat.rotation)
+        turn = {"rotate": {"axis": np.round(k, 12) + 0.0, "angle": angle}}
+        out += [
+            "body:                         # the assembly turned: its lines along z",
+            f"  parts: [{{mesh: {mesh}, material: {material}, transform: {_flow(turn)}}}]"
+            "   # CHANGE the material if it differs",
+        ]
+    out.append("supports:")
     z = float(np.mean([line.point[2] for line, _ in flat.lines]))
     normals = []
     for k, (line, _) in enumerate(flat.lines, start=1):
@@ -331,7 +364,7 @@ def _mesh_field(body: Path, output: Path | None) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from kcheck.body.contact_regions import Faces, contact_regions
-    from kcheck.body.coupling_elements import Planar, planar, recognise
+    from kcheck.body.coupling_elements import Planar, onto_z, planar, recognise
     from kcheck.body.meshio import load_surface, not_watertight, reuse_freed_memory
     from kcheck.errors import MeshError
     from kcheck.numerics.thresholds import CONTACT_GAP_RTOL, EXTRUSION_DEG
@@ -407,16 +440,9 @@ def run(args: argparse.Namespace) -> int:
     notes = _merged_parts(body, args.body, base, gap, scale, units, faces, touch_faces[0])
     flat = planar(found, {"base": faces[0].normals, "body": faces[1].normals})
     if isinstance(flat, Planar):
-        tilt = math.degrees(math.acos(min(1.0, float(flat.axis[2]))))
-        if tilt > EXTRUSION_DEG:
-            a = ", ".join(_short(v) for v in flat.axis)
-            print("\n".join(planar_report(found, flat, scale, units) + notes), file=sys.stderr)
-            return fail(
-                f"the parts are extrusions along ({a}), {tilt:.4g} deg from z, and their 3 line "
-                "contacts make a planar coupling, but a planar scene moves in the xy-plane: "
-                "export both parts with the extrusion's axis along z (rotate the assembly in "
-                "CAD) and run again"
-            )
+        if math.degrees(math.acos(min(1.0, float(flat.axis[2])))) > EXTRUSION_DEG:
+            # A planar scene moves in the xy-plane: the scene is the assembly turned.
+            flat = onto_z(flat)
         report = planar_report(found, flat, scale, units) + notes
         print("\n".join(report), file=sys.stderr)
     else:

@@ -2,7 +2,8 @@
 pins), whose contacts are lines along z; the planar scene's supports are the lines' middles
 (x, y from the closed-form contact line, z the mean of the lines' middles, each the middle of
 the pin's length where the other part spans it), normals in the xy-plane into the body; and
-the refusals (lines not parallel, a part that is not an extrusion, 4 lines, an axis not z)."""
+the refusals (lines not parallel, a part that is not an extrusion, 4 lines); an extrusion
+axis other than z turned onto it."""
 
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ trimesh = pytest.importorskip("trimesh")
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from contact_assemblies import combine, pin, unit  # noqa: E402
+from contact_comparison import assert_same_checks, checks  # noqa: E402
 
 from kcheck.cli import main  # noqa: E402
 from kcheck.scene.load import load_scene  # noqa: E402
@@ -210,20 +212,26 @@ def test_four_lines_are_refused(tmp_path, capsys):
     assert "coupling has exactly 3" in err
 
 
-def test_an_extrusion_axis_other_than_z_is_bad_input(tmp_path, capsys):
-    # The first test's assembly turned 90 deg about y: the extrusions run along x.
+def test_an_extrusion_axis_other_than_z_is_turned_onto_z(tmp_path, capsys):
+    # A block on three pins (z from 2 to 18, middles 10), the assembly turned 90 deg about y:
+    # the extrusions run along x. The scene is the assembly turned back (90 deg about -y, the
+    # least rotation taking x to z), the body's mesh by its transform: its supports are the
+    # unturned layout's, and it checks exactly as the scene of the unturned assembly.
+    contacts = [([20, 0], [0, 1]), ([80, 0], [0, 1]), ([0, 30], [1, 0])]
     turn = trimesh.transformations.rotation_matrix(np.radians(90), [0, 1, 0])
-    base = combine(
-        [
-            _base_pin([20, 0, 0], [0, 1, 0], 2, 18),
-            _base_pin([80, 0, 0], [0, 1, 0], 2, 18),
-            _base_pin([0, 30, 0], [1, 0, 0], 2, 18),
-        ]
-    )
-    code, err, out = _run(
-        tmp_path, base.apply_transform(turn), _block().apply_transform(turn), capsys
-    )
-    assert code == 2, err
-    assert not out.exists()
-    assert "90 deg from z" in err
-    assert "export both parts with the extrusion's axis along z" in err
+    scenes = []
+    for turned in (False, True):
+        folder = tmp_path / ("turned" if turned else "upright")
+        folder.mkdir()
+        base = combine([_base_pin([*p, 0], [*n, 0], 2, 18) for p, n in contacts])
+        body = _block()
+        if turned:
+            base, body = base.apply_transform(turn), body.apply_transform(turn)
+        code, err, out = _run(folder, base, body, capsys)
+        assert code == 0, err
+        scenes.append(out)
+    assert "planar coupling: 3 line contacts along (1, 0, 0) (90 deg from z)" in err
+    assert "the scene is the assembly turned by 90 deg about (0, -1, 0)" in err
+    expected = [(np.array([*p, 10.0]), np.array([*n, 0.0])) for p, n in contacts]
+    _assert_supports(scenes[1], expected)
+    assert_same_checks(checks(scenes[1], capsys), checks(scenes[0], capsys))
