@@ -29,8 +29,8 @@ def add_parser(sub: Any) -> None:
         "error. Exit 2 on bad input (no contact, interpenetration, unreadable or open mesh); "
         "exit 1 when the contacts found are not a kinematic coupling (a line or area contact, "
         "not 6 point contacts): the report says why and no scene is written. Two extrusions "
-        "along z touching along 3 parallel lines make a planar coupling: a planar scene is "
-        "written, a support at each line's middle.",
+        "touching along 3 parallel lines make a planar coupling: a planar scene is written, a "
+        "support at each line's middle (the assembly turned so that the lines run along z).",
     )
     p.add_argument(
         "base",
