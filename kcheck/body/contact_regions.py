@@ -64,7 +64,8 @@ class Near:
 class Region:
     """One contact region: the smooth patch on the body and on the base that touch there,
     the near points found (midpoints of vertex and closest point, m) and the smallest
-    signed distance between the surfaces there (m)."""
+    signed distance between the surfaces there (m); once fitted, each side's fit, the fits
+    tried and the patch's vertices (m; where a line contact ends)."""
 
     body_patch: int
     base_patch: int
@@ -73,6 +74,7 @@ class Region:
     body_fit: Primitive | None = None
     base_fit: Primitive | None = None
     tried: dict[str, list[Primitive]] = field(default_factory=dict)
+    vertices: dict[str, np.ndarray] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -454,15 +456,27 @@ def patch_fit(
 ) -> tuple[Primitive | None, list[Primitive]]:
     """The simplest surface fitting a patch's vertices (and every fit tried); ``facet_deg``
     as :func:`kcheck.body.surface_fit.fit_surface` takes it."""
+    return _patch_fit(mesh, labels, patch, faces, facet_deg)[:2]
+
+
+def _patch_fit(
+    mesh: Mesh,
+    labels: np.ndarray,
+    patch: int,
+    faces: Faces | None = None,
+    facet_deg: float | None = None,
+) -> tuple[Primitive | None, list[Primitive], np.ndarray]:
+    """:func:`patch_fit`, and the patch's vertices."""
     f = faces or Faces.of(mesh)
     which = np.flatnonzero(labels == patch)
-    vertices = np.unique(np.asarray(mesh.faces)[which])
-    return fit_surface(
-        np.asarray(mesh.vertices, dtype=float)[vertices],
+    vertices = np.asarray(mesh.vertices, dtype=float)[np.unique(np.asarray(mesh.faces)[which])]
+    fit, tried = fit_surface(
+        vertices,
         f.triangles[which].sum(axis=1) / 3,
         f.normals[which],
         facet_deg,
     )
+    return fit, tried, vertices
 
 
 def contact_regions(
@@ -484,7 +498,7 @@ def contact_regions(
     base_faces, body_faces = faces or (Faces.of(base), Faces.of(body))
     near = _near_patches(base, body, base_faces, body_faces, gap)
     regions = []
-    fits: dict[tuple[str, int], tuple[Primitive | None, list[Primitive]]] = {}
+    fits: dict[tuple[str, int], tuple[Primitive | None, list[Primitive], np.ndarray]] = {}
     for region in near.regions:
         for side, mesh, labels, patch, surface, facet in (
             ("body", body, near.body_labels, region.body_patch, body_faces, near.body_facet),
@@ -492,10 +506,11 @@ def contact_regions(
         ):
             key = (side, patch)
             if key not in fits:
-                fits[key] = patch_fit(mesh, labels, patch, surface, float(facet[patch]))
-            fit, tried = fits[key]
+                fits[key] = _patch_fit(mesh, labels, patch, surface, float(facet[patch]))
+            fit, tried, vertices = fits[key]
             setattr(region, f"{side}_fit", fit)
             region.tried[side] = tried
+            region.vertices[side] = vertices
         regions.append(region)
     if touching is not None:
         touching.append(near.touching)

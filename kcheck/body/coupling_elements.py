@@ -19,8 +19,20 @@ import numpy as np
 
 from kcheck.body.contact_regions import Region
 from kcheck.body.surface_fit import Primitive
+from kcheck.numerics.thresholds import EXTRUSION_DEG
 
-__all__ = ["PointContact", "Element", "Unusable", "Recognition", "recognise"]
+__all__ = [
+    "PointContact",
+    "LineContact",
+    "Element",
+    "Unusable",
+    "Recognition",
+    "Planar",
+    "recognise",
+    "planar",
+    "onto_z",
+    "extrusion_faces",
+]
 
 #: Shorthand expansions must reproduce the fitted contacts to this (relative to the ball;
 #: normals to 10 times it). Not tighter: an STL's float32 coordinates tilt each fitted plane
@@ -64,14 +76,32 @@ class Element:
 
 
 @dataclass(frozen=True)
+class LineContact:
+    """A line contact (a cylinder lying on a plane or on a parallel cylinder): its direction
+    ``axis`` (unit), the middle of the touching line's extent along it (``point``, m), the
+    extent's half-length (m), the unit normal from the base into the body (perpendicular to
+    the axis), the fitted surfaces' gap (m) and the cylinder(s) and plane fitted there."""
+
+    point: np.ndarray
+    axis: np.ndarray
+    half_length: float
+    normal: np.ndarray
+    gap: float
+    body_fit: Primitive
+    base_fit: Primitive
+
+
+@dataclass(frozen=True)
 class Unusable:
     """A contact region that is not a point contact: ``what`` touches, ``why`` it cannot be
-    used, and how many constraints it imposes (0 for a near miss)."""
+    used, and how many constraints it imposes (0 for a near miss); for a line contact, the
+    line (a point contact of a planar coupling when the parts are extrusions along it)."""
 
     what: str
     why: str
     constraints: int
     region: Region
+    line: LineContact | None = None
 
 
 @dataclass
@@ -206,7 +236,12 @@ def _crossed(body: Primitive, base: Primitive, region: Region) -> PointContact |
     what = f"a cylinder (radius {body.radius:.6g} m) on a cylinder (radius {base.radius:.6g} m)"
     cross = np.cross(body.axis, base.axis)
     if np.linalg.norm(cross) < math.sin(math.radians(_PARALLEL_DEG)):
-        return Unusable(what, "a line contact (parallel axes)", 2, region)
+        d = body.point - base.point
+        across = d - (d @ base.axis) * base.axis
+        n = _unit(across)  # from the base's axis towards the body's
+        gap = float(np.linalg.norm(across) - body.radius - base.radius)
+        line = _line(base.point + base.radius * n, base.axis, n, gap, body, base, region)
+        return Unusable(what, "a line contact (parallel axes)", 2, region, line)
     # The closest points of the two axes.
     w = body.point - base.point
     a, b, c = body.axis @ body.axis, body.axis @ base.axis, base.axis @ base.axis
@@ -271,7 +306,17 @@ def _touch(region: Region, gap_tol: float) -> PointContact | list[PointContact] 
     if {body.kind, base.kind} == {"plane", "cylinder"}:
         cyl, plane = (body, base) if body.kind == "cylinder" else (base, body)
         if abs(cyl.axis @ plane.axis) < math.sin(math.radians(_PARALLEL_DEG)):
-            return Unusable(what, "a line contact (a cylinder lying on a plane)", 2, region)
+            line = None
+            if cyl.outward > 0:
+                # s: the plane's normal towards the cylinder; the line is the cylinder's
+                # generator nearest the plane, the normal the plane's towards the body.
+                s = plane.axis if (cyl.point - plane.point) @ plane.axis >= 0 else -plane.axis
+                gap = float((cyl.point - plane.point) @ s - cyl.radius)
+                axis = _unit(cyl.axis - (cyl.axis @ s) * s)
+                n = s if plane is base else -s
+                line = _line(cyl.point - cyl.radius * s, axis, n, gap, body, base, region)
+            why = "a line contact (a cylinder lying on a plane)"
+            return Unusable(what, why, 2, region, line)
     if body.kind == "cylinder" and base.kind == "cylinder":
         if body.outward > 0 and base.outward > 0:
             found = _crossed(body, base, region)
@@ -280,6 +325,28 @@ def _touch(region: Region, gap_tol: float) -> PointContact | list[PointContact] 
             return found
         return Unusable(what, "a pin in a bore (a line or area contact)", 2, region)
     return Unusable(what, "not a recognised pair of surfaces", 0, region)
+
+
+def _line(
+    start: np.ndarray,
+    axis: np.ndarray,
+    normal: np.ndarray,
+    gap: float,
+    body: Primitive,
+    base: Primitive,
+    region: Region,
+) -> LineContact:
+    """The line through ``start`` along ``axis``, from where both patches begin to where the
+    first ends (their vertices' extents along it; the near points' without the vertices)."""
+    sides = [region.vertices[k] for k in ("body", "base") if k in region.vertices]
+    if len(sides) == 2:
+        ts = [(v - start) @ axis for v in sides]
+        lo, hi = max(float(t.min()) for t in ts), min(float(t.max()) for t in ts)
+    else:
+        t = (region.points - start) @ axis
+        lo, hi = float(t.min()), float(t.max())
+    point = start + (lo + hi) / 2 * axis
+    return LineContact(point, axis, (hi - lo) / 2, normal, gap, body, base)
 
 
 def _keyed(
@@ -438,3 +505,95 @@ def recognise(regions: list[Region], gap_tol: float) -> Recognition:
         kind, fields = _shorthand(contacts)
         out.elements.append(Element(kind, f"b{k}", first.ball, first.ball_on, contacts, fields))
     return out
+
+
+@dataclass(frozen=True)
+class Planar:
+    """A planar coupling: line contacts all along one ``axis`` (unit, its largest component
+    positive) of two extrusions along it; each line is a point contact of the cross-section."""
+
+    axis: np.ndarray
+    lines: list[tuple[LineContact, Unusable]]
+    slides: list[Unusable] = field(default_factory=list)
+    rotation: np.ndarray = field(default_factory=lambda: np.eye(3))
+
+
+def onto_z(flat: Planar) -> Planar:
+    """The planar coupling turned so that its axis is +z: its lines' points, axes and normals
+    turned by the least rotation that does it (about ``axis`` × z), which ``rotation`` holds
+    (scene = rotation · assembly)."""
+    z = np.array([0.0, 0.0, 1.0])
+    k = np.cross(flat.axis, z)
+    s, c = float(np.linalg.norm(k)), float(flat.axis @ z)
+    if s == 0.0:
+        return flat
+    k = k / s
+    skew = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    r = np.eye(3) + s * skew + (1 - c) * skew @ skew  # Rodrigues
+    lines = [
+        (replace(x, point=r @ x.point, axis=r @ x.axis, normal=r @ x.normal), u)
+        for x, u in flat.lines
+    ]
+    return Planar(z, lines, flat.slides, r @ flat.rotation)
+
+
+def extrusion_faces(normals: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """Indices of the faces (unit ``normals``, (n, 3)) neither parallel nor perpendicular to
+    ``axis`` within :data:`~kcheck.numerics.thresholds.EXTRUSION_DEG`: none for an extrusion
+    along it (its walls perpendicular, its end faces parallel)."""
+    c = np.abs(normals @ axis)
+    tol = math.radians(EXTRUSION_DEG)
+    return np.flatnonzero((c > math.sin(tol)) & (c < math.cos(tol)))
+
+
+def planar(found: Recognition, meshes: dict[str, np.ndarray]) -> Planar | str | None:
+    """Whether the contacts found make a planar coupling: every region that constrains is a
+    line contact (no point contacts) or a flat on a flat square to the lines (the plane the
+    body slides on: ``slides``), the lines are parallel within :data:`_PARALLEL_DEG` and
+    every part (``meshes``: name to unit face normals) is an extrusion along them, with 3
+    lines. None when they are not all such (not a planar question); a sentence saying why not
+    when they are lines but not a planar kinematic coupling."""
+    over = [u for u in found.unusable if u.constraints]
+    if found.elements or not any(u.line is not None for u in over):
+        return None
+    lines = [(u.line, u) for u in over if u.line is not None]
+    slides = [u for u in over if u.line is None]
+    if not all(_flat_on_flat(u) for u in slides):
+        return None
+    first = lines[0][0].axis
+    axes = np.array([x.axis if x.axis @ first >= 0 else -x.axis for x, _ in lines])
+    spread = max(math.degrees(math.acos(min(1.0, abs(float(a @ first))))) for a in axes)
+    if spread > _PARALLEL_DEG:
+        return (
+            f"the {len(lines)} line contacts are not parallel (up to {spread:.3g} deg apart): "
+            "not a planar coupling either (one needs every line along the extrusion's axis)"
+        )
+    axis = _unit(axes.mean(axis=0))
+    axis = axis if axis[int(np.argmax(np.abs(axis)))] > 0 else -axis
+    square = math.cos(math.radians(EXTRUSION_DEG))
+    if any(abs(float(u.region.base_fit.axis @ axis)) < square for u in slides if u.region.base_fit):
+        return None  # a flat on a flat that is not the plane of motion: over-constraint
+    for name, normals in meshes.items():
+        bad = extrusion_faces(normals, axis)
+        if len(bad):
+            n = ", ".join(f"{v:.4g}" for v in normals[bad[0]])
+            a = ", ".join(f"{v:.4g}" for v in axis)
+            return (
+                f"the line contacts are parallel, along ({a}), but the {name} is not an "
+                f"extrusion along them: {len(bad)} of its {len(normals)} faces are neither "
+                f"parallel nor perpendicular to them (one has normal ({n})), so it is not a "
+                "planar coupling either"
+            )
+    if len(lines) != 3:
+        return (
+            f"{len(lines)} line contacts of two extrusions (a planar coupling); a planar "
+            "kinematic coupling has exactly 3"
+        )
+    lines.sort(key=lambda x: tuple(np.round(x[0].point, 9)))
+    return Planar(axis, lines, slides)
+
+
+def _flat_on_flat(u: Unusable) -> bool:
+    """Whether an unusable region is an area contact of two fitted planes."""
+    fits = (u.region.body_fit, u.region.base_fit)
+    return all(f is not None and f.kind == "plane" for f in fits) and u.constraints == 3

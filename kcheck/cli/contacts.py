@@ -28,7 +28,9 @@ def add_parser(sub: Any) -> None:
         "and write a commented scene that checks as written. The report goes to standard "
         "error. Exit 2 on bad input (no contact, interpenetration, unreadable or open mesh); "
         "exit 1 when the contacts found are not a kinematic coupling (a line or area contact, "
-        "not 6 point contacts): the report says why and no scene is written.",
+        "not 6 point contacts): the report says why and no scene is written. Two extrusions "
+        "touching along 3 parallel lines make a planar coupling: a planar scene is written, a "
+        "support at each line's middle (the assembly turned so that the lines run along z).",
     )
     p.add_argument(
         "base",
@@ -147,8 +149,10 @@ def scene_text(
     friction: float,
     command: str,
     notes: list[str],
+    flat: Any = None,
 ) -> str:
-    """A scene (commented YAML) from recognised elements."""
+    """A scene (commented YAML) from recognised elements (``flat``: unused, the planar
+    scene's argument)."""
     import numpy as np
 
     out = [
@@ -196,6 +200,161 @@ def scene_text(
     return "\n".join(out) + "\n"
 
 
+def planar_report(found: Any, flat: Any, scale: float, units: str) -> list[str]:
+    """The report of a planar coupling: its axis, each line contact as the cross-section's
+    point contact, then what could not be used besides the lines."""
+    import numpy as np
+
+    turn = flat.rotation
+    along = turn.T @ flat.axis  # the lines' axis in the assembly
+    tilt = math.degrees(math.acos(min(1.0, abs(float(along[2])))))
+    a = ", ".join(_short(v) for v in along)
+    lines = [
+        f"planar coupling: {len(flat.lines)} line contacts along ({a}) ({tilt:.3g} deg from z), "
+        "both parts extrusions along it; each line is a point contact of the cross-section"
+    ]
+    turned = not np.allclose(turn, np.eye(3), rtol=0.0, atol=0.0)
+    if turned:
+        angle, k = _axis_angle(turn)
+        lines.append(
+            f"  the scene is the assembly turned by {_short(angle)} deg about "
+            f"({', '.join(_short(v) for v in k)}), so that the lines run along z; "
+            "the coordinates below are the scene's"
+        )
+    for k, (line, _) in enumerate(flat.lines, start=1):
+        half = line.half_length * line.axis
+        ends = [line.point - half, line.point + half]
+        fits = "; ".join(
+            f"{side} {p.kind} fit RMS {_mm(p.rms, scale, units)}"
+            + (f", radius {_mm(p.radius, scale, units)}" if p.kind == "cylinder" else "")
+            for side, p in (("body", line.body_fit), ("base", line.base_fit))
+        )
+        p = ", ".join(_short(v / scale) for v in line.point[:2])
+        n = ", ".join(f"{round(float(v), 9) + 0.0:.6f}" for v in _in_plane(line.normal))
+        lines.append(
+            f"  s{k}: the body's {line.body_fit.kind} on the base's {line.base_fit.kind}, "
+            f"a line along z from {_short(ends[0][2] / scale)} to "
+            f"{_short(ends[1][2] / scale)} {units}: in the plane at ({p}) {units}, normal ({n}); "
+            f"{fits}; fitted gap {_mm(line.gap, scale, units)}"
+        )
+    for u in flat.slides:
+        where = ", ".join(_short(v / scale) for v in turn @ u.region.points.mean(axis=0))
+        lines.append(
+            f"  the plane of motion: the body's plane on the base's near ({where}) {units}, "
+            "square to the lines (the body slides on it; not a contact of the planar coupling: "
+            "its friction is not in the scene)"
+        )
+    used = {id(u) for _, u in flat.lines} | {id(u) for u in flat.slides}
+    for u in found.unusable:
+        if id(u) in used:
+            continue
+        if _line_end(u, along):
+            where = ", ".join(_short(v / scale) for v in turn @ u.region.points.mean(axis=0))
+            lines.append(
+                f"  a line's end near ({where}) {units}: a cylinder along the lines meets a "
+                "plane square to them (the edge of the plane of motion), not a contact"
+            )
+        else:
+            where = ", ".join(f"{v / scale:.4g}" for v in turn @ u.region.points.mean(axis=0))
+            lines.append(f"not used: {u.what} near ({where}) {units}: {u.why}")
+    return lines
+
+
+def _axis_angle(r: Any) -> tuple[float, Any]:
+    """A rotation matrix's angle (deg) and unit axis."""
+    import numpy as np
+
+    angle = math.acos(max(-1.0, min(1.0, (float(np.trace(r)) - 1) / 2)))
+    k = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
+    return math.degrees(angle), k / np.linalg.norm(k)
+
+
+def _line_end(u: Any, axis: Any) -> bool:
+    """Whether an unusable region (constraining nothing) is a plane square to the planar
+    coupling's ``axis`` meeting a cylinder along it: where a pin stands on the plane of
+    motion, beside the body that slides on it."""
+    from kcheck.numerics.thresholds import EXTRUSION_DEG
+
+    fits = {f.kind: f for f in (u.region.body_fit, u.region.base_fit) if f is not None}
+    if u.constraints or set(fits) != {"plane", "cylinder"}:
+        return False
+    square = math.cos(math.radians(EXTRUSION_DEG))
+    return all(abs(float(f.axis @ axis)) >= square for f in fits.values())
+
+
+def _short(x: float) -> str:
+    """A number to 6 digits, rounding below 1e-9 (of the unit) to 0."""
+    return f"{round(float(x), 9) + 0.0:.6g}"
+
+
+def _in_plane(v: Any) -> Any:
+    """A direction's xy components, made a unit vector again (z = 0)."""
+    import numpy as np
+
+    w = np.array([v[0], v[1], 0.0])
+    return w / np.linalg.norm(w) + 0.0  # no -0.0
+
+
+def planar_scene_text(
+    found: Any,
+    mesh: str,
+    scale: float,
+    units: str,
+    material: str,
+    friction: float,
+    command: str,
+    notes: list[str],
+    flat: Any = None,
+) -> str:
+    """A planar scene (commented YAML) from the line contacts of two extrusions along z
+    (``flat``, a :class:`kcheck.body.coupling_elements.Planar`): a support at each line's
+    middle, all at their mean height, normals in the xy-plane."""
+    import numpy as np
+
+    out = [
+        f"# Written by `{command}`:",
+        "# the contacts found in the assembly: parallel lines, both parts extrusions along them,",
+        "# so a planar coupling in the scene's xy-plane (the lines along z): a support at each",
+        "# line's middle, at the lines' mean height, its normal the fitted surfaces' (lengths",
+        "# in the scene's units).",
+    ]
+    out += [f"#   {line}" for line in planar_report(found, flat, scale, units) + notes]
+    out += [
+        "version: 1",
+        f"units: {units}",
+    ]
+    if np.allclose(flat.rotation, np.eye(3), rtol=0.0, atol=0.0):
+        out.append(
+            f"body: {{mesh: {mesh}, material: {material}}}   # CHANGE the material if it differs"
+        )
+    else:
+        angle, k = _axis_angle(flat.rotation)
+        turn = {"rotate": {"axis": np.round(k, 12) + 0.0, "angle": angle}}
+        out += [
+            "body:                         # the assembly turned: its lines along z",
+            f"  parts: [{{mesh: {mesh}, material: {material}, transform: {_flow(turn)}}}]"
+            "   # CHANGE the material if it differs",
+        ]
+    out.append("supports:")
+    z = float(np.mean([line.point[2] for line, _ in flat.lines]))
+    normals = []
+    for k, (line, _) in enumerate(flat.lines, start=1):
+        position = [line.point[0] / scale, line.point[1] / scale, z / scale]
+        normals.append(_in_plane(line.normal))
+        out.append(f"  - {{name: s{k}, position: {_flow(position)}, normal: {_flow(normals[-1])}}}")
+    push = -np.sum(normals, axis=0)
+    push = push / np.linalg.norm(push) if np.linalg.norm(push) > 1e-9 else -normals[0]
+    out += [
+        f"friction: {_num(friction)}                 # CHANGE: Coulomb coefficient of the contacts",
+        "# gravity: [0, -9.81, 0]      # CHANGE: add it, in the xy-plane, if the plane of motion",
+        "#                             # is not horizontal (a planar scene ignores its z)",
+        "load:                         # CHANGE: the closing force; this one pushes the body",
+        "  magnitude: 10               # into its seat (against the sum of the normals), N",
+        f"  direction: {_flow(push)}",
+    ]
+    return "\n".join(out) + "\n"
+
+
 def _mesh_field(body: Path, output: Path | None) -> str:
     """The body's mesh as the scene names it: relative to the scene's folder (or the current
     folder when the scene goes to stdout)."""
@@ -205,10 +364,10 @@ def _mesh_field(body: Path, output: Path | None) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from kcheck.body.contact_regions import Faces, contact_regions
-    from kcheck.body.coupling_elements import recognise
+    from kcheck.body.coupling_elements import Planar, onto_z, planar, recognise
     from kcheck.body.meshio import load_surface, not_watertight, reuse_freed_memory
     from kcheck.errors import MeshError
-    from kcheck.numerics.thresholds import CONTACT_GAP_RTOL
+    from kcheck.numerics.thresholds import CONTACT_GAP_RTOL, EXTRUSION_DEG
     from kcheck.scene.materials import density_of, known_names
     from kcheck.scene.units import LENGTH_TO_M as LENGTH_UNITS
 
@@ -279,24 +438,34 @@ def run(args: argparse.Namespace) -> int:
         )
     found = recognise(regions, gap)
     notes = _merged_parts(body, args.body, base, gap, scale, units, faces, touch_faces[0])
-    report = report_lines(found, scale, units) + notes
-    count = found.contact_count
-    problems = []
-    over = [u for u in found.unusable if u.constraints]
-    if over:
-        removed = sum(u.constraints for u in over)
-        problems.append(
-            f"{len(over)} line or area contact(s), together removing {removed} freedoms: "
-            "over-constrained, not a kinematic coupling"
-        )
-    if count != 6:
-        problems.append(
-            f"{count} point contact(s) found; a spatial kinematic coupling has exactly 6"
-        )
-    print("\n".join(report), file=sys.stderr)
-    if problems:
-        print("kcheck: no scene written: " + "; ".join(problems), file=sys.stderr)
-        return ExitCode.CHECKS_FAILED
+    flat = planar(found, {"base": faces[0].normals, "body": faces[1].normals})
+    if isinstance(flat, Planar):
+        if math.degrees(math.acos(min(1.0, float(flat.axis[2])))) > EXTRUSION_DEG:
+            # A planar scene moves in the xy-plane: the scene is the assembly turned.
+            flat = onto_z(flat)
+        report = planar_report(found, flat, scale, units) + notes
+        print("\n".join(report), file=sys.stderr)
+    else:
+        report = report_lines(found, scale, units) + notes
+        count = found.contact_count
+        problems = []
+        over = [u for u in found.unusable if u.constraints]
+        if over:
+            removed = sum(u.constraints for u in over)
+            problems.append(
+                f"{len(over)} line or area contact(s), together removing {removed} freedoms: "
+                "over-constrained, not a kinematic coupling"
+            )
+        if isinstance(flat, str):
+            problems.append(flat)
+        if count != 6 and flat is None:
+            problems.append(
+                f"{count} point contact(s) found; a spatial kinematic coupling has exactly 6"
+            )
+        print("\n".join(report), file=sys.stderr)
+        if problems:
+            print("kcheck: no scene written: " + "; ".join(problems), file=sys.stderr)
+            return ExitCode.CHECKS_FAILED
     command = f"kcheck contacts {args.base} {args.body} --units {units}"
     # Every option that shaped the scene, so that the line re-makes it.
     if args.gap is not None:
@@ -316,7 +485,7 @@ def run(args: argparse.Namespace) -> int:
         except OSError as exc:
             return fail(f"cannot write the body's mesh {body_file}: {exc.strerror}")
         print(f"kcheck: wrote the body's part `{parts[1]}` to {body_file}", file=sys.stderr)
-    text = scene_text(
+    text = (planar_scene_text if isinstance(flat, Planar) else scene_text)(
         found,
         _mesh_field(body_file, args.output),
         scale,
@@ -325,6 +494,7 @@ def run(args: argparse.Namespace) -> int:
         args.friction,
         command,
         notes,
+        flat,
     )
     write_text(text, args.output)
     return ExitCode.OK

@@ -115,6 +115,7 @@ __all__ = [
     "CONTACT_GAP_RTOL",
     "SMOOTH_PATCH_DEG",
     "SURFACE_FIT_RTOL",
+    "EXTRUSION_DEG",
 ]
 
 # --- floating point ----------------------------------------------------------------------
@@ -519,3 +520,8 @@ SMOOTH_PATCH_DEG: float = 30.0
 #: vertices from it is below this fraction of the patch's size (nondimensional): STL's float32
 #: coordinates and CAD tessellations put vertices on the surface to about 1e-7.
 SURFACE_FIT_RTOL: float = 1e-4
+#: A part is an extrusion along an axis when each face normal is within this angle (deg) of
+#: perpendicular (its walls) or parallel (its end faces) to it; a planar coupling's extrusion
+#: axis must be within it of z. STL's float32 tilts a facet by about 1e-5 deg; a draft angle
+#: or a chamfer, by degrees.
+EXTRUSION_DEG: float = 1.0

@@ -16,15 +16,14 @@ whose grooves its mesh leaves out). The generated scene is checked with the fixt
 body, so that only its contacts differ. The public designs with their own assembly meshes
 (geometry.json beside them) are tested in tests/cli/test_public_couplings.py.
 
-Planar fixtures are extrusions: in 3D each of their contacts is a line (a pin along z on a
-flat), which `kcheck contacts` refuses today as over-constraint, no scene written (exit 1,
-docs/from-cad-to-scene.md); that is what is asserted for them.
+Planar fixtures are extrusions along z: in 3D each of their contacts is a line (a pin along z
+on a flat), and `kcheck contacts` writes the planar scene whose supports are the lines' middles
+(docs/from-cad-to-scene.md); the same comparisons are asserted for them.
 """
 
 from __future__ import annotations
 
 import copy
-import re
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -263,22 +262,29 @@ def _planar_assembly(scene_path: Path, folder: Path) -> tuple[Path, Path]:
 
 
 @pytest.mark.parametrize("name", sorted(PLANAR))
-def test_planar_fixture_is_refused_as_line_contacts(name, tmp_path, capsys):
-    """A planar coupling's contacts are lines in 3D: refused as over-constraint (exit 1, no
-    scene written) until planar couplings are recognised (docs/from-cad-to-scene.md)."""
-    base, body = _planar_assembly(FIXTURES / PLANAR[name], tmp_path)
-    out = tmp_path / "found.kcheck.yaml"
-    code = main(["contacts", str(base), str(body), "--units", "mm", "-o", str(out)])
+def test_planar_fixture_round_trips(name, tmp_path, capsys):
+    """A planar coupling's contacts are lines along z in 3D (both parts extrusions): written
+    as the planar scene's three supports, each within 0.01 mm and 0.1 deg of the fixture's,
+    and that scene, given the fixture's body, load and friction, checks as the fixture."""
+    hand = FIXTURES / PLANAR[name]
+    base, body = _planar_assembly(hand, tmp_path)
+    found = tmp_path / "found.kcheck.yaml"
+    code = main(["contacts", str(base), str(body), "--units", "mm", "-o", str(found)])
     err = capsys.readouterr().err
-    assert code == 1, err
-    assert not out.exists()
-    assert "no scene written: 3 line or area contact(s)" in err
-    # Each of the three supports is reported as a line contact, near its point (the reported
-    # place is the middle of the sampled line; 0.5 mm: the line's sampling).
-    lines = [x for x in err.splitlines() if "a line contact (a cylinder lying on a plane)" in x]
-    near = [[float(v) for v in re.search(r"near \(([^)]*)\)", x)[1].split(",")] for x in lines]
-    scene = load_scene(FIXTURES / PLANAR[name])
-    points = [s.position / scene.scale for s in scene.supports]
-    assert len(near) == 3
-    for p in points:
-        assert min(np.linalg.norm(np.subtract(q, p)) for q in near) <= 0.5, (p, near)
+    assert code == 0, err
+    assert "planar coupling: 3 line contacts along" in err
+    assert load_scene(found, allow_outside=True).kind == "planar"
+    got, want = supports(found), supports(hand)
+    assert len(got) == len(want) == 3
+    assert one_to_one(got, want)
+    pairs = matched(got, want)
+    assert max(d for d, _ in pairs) <= POINT_TOL_MM, pairs
+    assert max(a for _, a in pairs) <= NORMAL_TOL_DEG, pairs
+    # The scene as written checks (the assembly's body, the proposed push): not bad input.
+    assert checks(found, capsys)["analytical-2d"]["status"] in ("pass", "marginal", "fail")
+    scene = tmp_path / "generated.kcheck.yaml"
+    _generated_scene(found, hand, scene)
+    assert_same_checks(
+        checks(scene, capsys, "--allow-outside-paths"),
+        checks(hand, capsys),
+    )
