@@ -54,10 +54,13 @@ def forces_panel(scene: Scene, result: CheckResult) -> Any:
     ax.set_ylabel("normal force (N)")
     handles, labels = ax.get_legend_handles_labels()
     order = sorted(range(len(labels)), key=lambda k: names.index(labels[k]))
-    ax.legend(
+    legend = ax.legend(
         [handles[k] for k in order], [labels[k] for k in order], title="support",
         fontsize=8, loc="upper left", bbox_to_anchor=(1.005, 1.0),
     )  # fmt: skip
+    # Long support names ("front-right.1"): the bars give the legend the room it needs.
+    wide = legend.get_window_extent().width / fig.bbox.width
+    fig.subplots_adjust(right=min(0.9, 0.99 - wide - 0.01))
     ax.grid(True, axis="y", linewidth=0.4, alpha=0.6)
     load = scene.load
     at = (
