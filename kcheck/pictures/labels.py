@@ -28,7 +28,7 @@ GID_PREFIX = "support-label:"
 OFFSET_POINTS = 6.0
 #: Supports closer than this share of the view's size share a label.
 SAME_PLACE = 0.035
-LABEL_BOX = {"boxstyle": "round,pad=0.12", "fc": palette.PAPER, "ec": "none", "alpha": 0.8}
+LABEL_BOX = {"boxstyle": "square,pad=0.12", "fc": palette.PAPER, "ec": "none", "alpha": 0.8}
 
 
 def _unit(v: np.ndarray) -> np.ndarray | None:

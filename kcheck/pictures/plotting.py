@@ -51,7 +51,7 @@ SVG_RASTER_VERTICES = 400
 SVG_HATCH_VERTICES = 20_000
 #: ... and so does a filled contour (a sphere map's margin shades) up to this many: smooth
 #: level curves simplify well; a noisy field (jamming's least holding friction) does not.
-SVG_CONTOUR_VERTICES = 2_000
+SVG_CONTOUR_VERTICES = 1_000
 SVG_RASTER_DPI = 80
 #: Colours of an image embedded in an SVG (a palette PNG: a fifth of matplotlib's RGBA).
 SVG_IMAGE_COLOURS = 64
