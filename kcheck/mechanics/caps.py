@@ -64,14 +64,21 @@ def cap_set(a: np.ndarray, c: np.ndarray) -> CapSet:
     ratio, axes, radius = cap_geometry(a, c)
     empty = bool(np.any(ratio >= 1.0))
     live = np.flatnonzero((ratio > -1.0) & (ratio < 1.0))
-    kept: list[int] = []
-    for k in live:
-        if not any(
-            abs(ratio[k] - ratio[j]) <= SAME_CAP and np.abs(axes[k] - axes[j]).max() <= SAME_CAP
-            for j in kept
-        ):
-            kept.append(int(k))
-    idx = np.array(kept, dtype=int)
+    # The same cap twice (within SAME_CAP), every pair at once; the first of each is kept,
+    # in order (a cap matching only a dropped one stays), as a loop over the caps would.
+    r, u = ratio[live], axes[live]
+    same = (np.abs(r[:, None] - r[None, :]) <= SAME_CAP) & (
+        np.abs(u[:, None, :] - u[None, :, :]).max(axis=2, initial=0.0) <= SAME_CAP
+    )
+    same = np.tril(same, -1)
+    if not same.any():
+        idx = live
+    else:
+        kept: list[int] = []
+        for n in range(len(live)):
+            if not same[n, kept].any():
+                kept.append(n)
+        idx = live[kept]
     return CapSet(axes[idx], ratio[idx], radius[idx], idx, empty)
 
 
