@@ -5,6 +5,7 @@ one, two or three boundary circles (closed forms for each); for many caps by an 
 
 from __future__ import annotations
 
+from functools import lru_cache
 from itertools import combinations
 
 import numpy as np
@@ -102,6 +103,15 @@ def deepest_point(reg: Region) -> tuple[np.ndarray | None, float | None]:
         active = np.union1d(active, worst)
 
 
+@lru_cache(maxsize=64)
+def _subsets(n: int, size: int) -> np.ndarray:
+    """Every ``size``-subset of ``range(n)``, in the order of :func:`itertools.combinations`
+    (read-only: shared between calls)."""
+    out = np.array(list(combinations(range(n), size)))
+    out.setflags(write=False)
+    return out
+
+
 def _margins_each(caps: CapSet, points: np.ndarray) -> np.ndarray:
     """Margin (rad) of points (..., 3) in each cap (..., k): ``r_k - angle(point, u_k)``."""
     return caps.radius - angle_between(np.asarray(points)[..., None, :], caps.axes)
@@ -120,9 +130,9 @@ def _deepest_among(caps: CapSet, active: np.ndarray) -> tuple[np.ndarray, float]
     n = len(active)
     points = [sub.axes]
     if n >= 2:
-        points.append(_candidates_pairs(sub, np.array(list(combinations(range(n), 2)))))
+        points.append(_candidates_pairs(sub, _subsets(n, 2)))
     if n >= 3:
-        points.append(_candidates_triples(sub, np.array(list(combinations(range(n), 3)))))
+        points.append(_candidates_triples(sub, _subsets(n, 3)))
     cand = np.concatenate(points)
     cand = cand[np.all(np.isfinite(cand), axis=1)]
     cand /= np.linalg.norm(cand, axis=1, keepdims=True)

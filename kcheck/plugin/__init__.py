@@ -110,6 +110,14 @@ class Check:
         """Check one scene."""
         raise NotImplementedError
 
+    def run_many(self, inputs: Sequence[Inputs]) -> list[CheckResult]:
+        """Check several scenes at once (a worker's chunk: a study's variants); the results,
+        in order, are those ``run`` gives each scene. By default one ``run`` after another; a
+        check overrides it to share work across the scenes (e.g. their algebra stacked in one
+        batch of numpy calls). The runner calls it with every scene of a chunk the check runs
+        on; when it raises, the scenes are run one by one, so a crash is its scene's alone."""
+        return [self.run(i) for i in inputs]
+
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
         """Write pictures for a result into ``directory``; return their paths.
 
