@@ -49,7 +49,8 @@ class Inputs:
     """What a check receives: the scene, mass properties if it declared it needs them, and
     its validated options. ``hints`` False: the caller reads only verdicts and figures (a
     study's variants), so a check may skip the searches behind a failing finding's way-out
-    hint (the least passing closing force or friction); verdicts and figures are the same."""
+    hint (the least passing closing force or friction) and what only the hints use (e.g.
+    ranges in a plane the check does not report); verdicts and figures are the same."""
 
     scene: Scene
     mass: MassProperties | None

@@ -254,20 +254,26 @@ def _spatial_result(
     options: Analytical3DOptions,
     smap: SphereMap | None,
 ) -> tuple[CheckResult, SphereMap | None, Analysis]:
-    """:func:`spatial_result` given the scene's map (None: untrustworthy, or nothing to map)."""
+    """:func:`spatial_result` given the scene's map (None: untrustworthy, or nothing to map).
+    The analysis may lack the ranges in the scene's plane (``analyse_many(sweep=False)``):
+    they are added here where that plane is the one reported; where the check chooses its
+    own plane, the case findings' hints then do without them."""
+    from kcheck.analysis.cases import scene_plane_ranges
     from kcheck.analysis.sphere_map import chosen_plane, sweep_given
 
+    chosen = None
+    if smap is not None and not sweep_given(scene):
+        # The most robust direction only where it means one: not on an empty or full map.
+        meaningful = not smap.empty and not (smap.region is not None and smap.region.full)
+        chosen = chosen_plane(smap.design, smap.robust if meaningful else None)
+    if chosen is None:
+        analysis = scene_plane_ranges(scene, analysis)
     deg = float(np.degrees(1.0))
     details: dict[str, object] = {"max_condition": analysis.max_condition}
     span = range_details(scene, analysis)
     if span is not None:
         details["friction_range"] = span
     findings = case_findings(scene, analysis)
-    chosen = None
-    if smap is not None and not sweep_given(scene):
-        # The most robust direction only where it means one: not on an empty or full map.
-        meaningful = not smap.empty and not (smap.region is not None and smap.region.full)
-        chosen = chosen_plane(smap.design, smap.robust if meaningful else None)
     if chosen is not None:
         analysis = sweep_ranges(analysis, chosen[0], chosen[1])
     elif smap is not None and analysis.plane is None:
@@ -436,7 +442,9 @@ class Analytical3D(Check):
             masses.append(one.mass)
             options.append(one.options)
         scenes = [i.scene for i in inputs]
-        analyses = analyse_many(scenes, masses)
+        # Without hints (a study), the ranges in the scene's plane only where that plane is
+        # reported: the check sweeps a plane of its own when the scene gives none.
+        analyses = analyse_many(scenes, masses, sweep=any(i.hints for i in inputs))
         found = spatial_results(self.id, scenes, analyses, options)
         return [self._result(one, each[0]) for one, each in zip(inputs, found, strict=True)]
 
