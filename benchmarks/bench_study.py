@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import os
 import resource
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -187,6 +188,12 @@ def main() -> None:
             w1, w2 = (sum(walls[k]) for k in (1, 2))
             c1, c2 = (sum(cpus[k]) for k in (1, 2))
             print(f"throughput 2 workers / 1 worker (wall): {w1 / w2:.2f}x")
+            # each round's pair (1 worker, then 2, back to back) shares the machine's load
+            ratios = sorted(a / b for a, b in zip(walls[1], walls[2], strict=True))
+            print(
+                f"paired rounds, 1-worker wall / 2-worker wall: "
+                f"{', '.join(f'{r:.2f}' for r in ratios)}; median {statistics.median(ratios):.2f}x"
+            )
             print(
                 f"CPU per variant 2 workers / 1 worker: {c2 / c1:.2f} (1.00: no Dask overhead "
                 f"from the second worker); cores busy {c1 / w1:.2f} (1 worker), {c2 / w2:.2f} "
