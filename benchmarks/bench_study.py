@@ -126,12 +126,21 @@ def run(n: int, executor: list[str], chunk: int, folder: Path) -> tuple[float, l
     # CPU seconds of every process of the tree, the last sample of each: Dask's workers are
     # not waited for by kcheck, so RUSAGE_CHILDREN misses them.
     seen: dict[int, float] = {}
+    reported = 0
     while proc.poll() is None:
         done = len(list(parts.glob("chunk-*"))) if parts.exists() else chunks
         quarter = min(3, 4 * done // max(chunks, 1))
         peaks[quarter] = max(peaks[quarter], _tree_rss_mb(proc.pid))
         for p in _tree(proc.pid):
             seen[p] = max(seen.get(p, 0.0), _cpu_s(p))
+        if quarter > reported:  # progress, so that a run cut short still says something
+            reported = quarter
+            print(
+                f"  {done}/{chunks} chunks after {time.perf_counter() - start:.0f} s, CPU "
+                f"{sum(seen.values()):.0f} s, memory {peaks[quarter - 1]:.0f} MB, load "
+                f"{os.getloadavg()[0]:.1f}",
+                flush=True,
+            )
         time.sleep(0.2)
     assert proc.returncode == 0, proc.returncode
     wall = time.perf_counter() - start
