@@ -127,8 +127,10 @@ def run(n: int, executor: list[str], chunk: int, folder: Path) -> tuple[float, l
     # not waited for by kcheck, so RUSAGE_CHILDREN misses them.
     seen: dict[int, float] = {}
     reported = 0
+    started = False  # the parts' folder appears at the start and goes once joined
     while proc.poll() is None:
-        done = len(list(parts.glob("chunk-*"))) if parts.exists() else chunks
+        started = started or parts.exists()
+        done = len(list(parts.glob("chunk-*"))) if parts.exists() else chunks if started else 0
         quarter = min(3, 4 * done // max(chunks, 1))
         peaks[quarter] = max(peaks[quarter], _tree_rss_mb(proc.pid))
         for p in _tree(proc.pid):
