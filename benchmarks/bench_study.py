@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import os
 import resource
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -125,12 +126,23 @@ def run(n: int, executor: list[str], chunk: int, folder: Path) -> tuple[float, l
     # CPU seconds of every process of the tree, the last sample of each: Dask's workers are
     # not waited for by kcheck, so RUSAGE_CHILDREN misses them.
     seen: dict[int, float] = {}
+    reported = 0
+    started = False  # the parts' folder appears at the start and goes once joined
     while proc.poll() is None:
-        done = len(list(parts.glob("chunk-*"))) if parts.exists() else chunks
+        started = started or parts.exists()
+        done = len(list(parts.glob("chunk-*"))) if parts.exists() else chunks if started else 0
         quarter = min(3, 4 * done // max(chunks, 1))
         peaks[quarter] = max(peaks[quarter], _tree_rss_mb(proc.pid))
         for p in _tree(proc.pid):
             seen[p] = max(seen.get(p, 0.0), _cpu_s(p))
+        if quarter > reported:  # progress, so that a run cut short still says something
+            reported = quarter
+            print(
+                f"  {done}/{chunks} chunks after {time.perf_counter() - start:.0f} s, CPU "
+                f"{sum(seen.values()):.0f} s, memory {peaks[quarter - 1]:.0f} MB, load "
+                f"{os.getloadavg()[0]:.1f}",
+                flush=True,
+            )
         time.sleep(0.2)
     assert proc.returncode == 0, proc.returncode
     wall = time.perf_counter() - start
@@ -187,6 +199,12 @@ def main() -> None:
             w1, w2 = (sum(walls[k]) for k in (1, 2))
             c1, c2 = (sum(cpus[k]) for k in (1, 2))
             print(f"throughput 2 workers / 1 worker (wall): {w1 / w2:.2f}x")
+            # each round's pair (1 worker, then 2, back to back) shares the machine's load
+            ratios = sorted(a / b for a, b in zip(walls[1], walls[2], strict=True))
+            print(
+                f"paired rounds, 1-worker wall / 2-worker wall: "
+                f"{', '.join(f'{r:.2f}' for r in ratios)}; median {statistics.median(ratios):.2f}x"
+            )
             print(
                 f"CPU per variant 2 workers / 1 worker: {c2 / c1:.2f} (1.00: no Dask overhead "
                 f"from the second worker); cores busy {c1 / w1:.2f} (1 worker), {c2 / w2:.2f} "

@@ -40,11 +40,15 @@ def analyse(
     return analyse_fixed(scene, mass, plane, friction)
 
 
-def analyse_many(scenes: Sequence[Scene], masses: Sequence[MassProperties]) -> list[Analysis]:
+def analyse_many(
+    scenes: Sequence[Scene], masses: Sequence[MassProperties], sweep: bool = True
+) -> list[Analysis]:
     """:func:`analyse` of several scenes (e.g. the scenes of a worker's chunk, or a study's
     variants): the cases' algebra of every scene at fixed coefficients is stacked and solved
     in one batch of numpy calls (:func:`kcheck.analysis.cases.analyse_fixed_many`); scenes with
-    ranges of coefficients are analysed one by one. Each result equals :func:`analyse`'s."""
+    ranges of coefficients are analysed one by one. Each result equals :func:`analyse`'s.
+    ``sweep`` False: at fixed coefficients without the ranges in the scene's plane
+    (:func:`kcheck.analysis.cases.scene_plane_ranges` adds them)."""
     out: list[Analysis | None] = [None] * len(scenes)
     fixed = []
     for i, scene in enumerate(scenes):
@@ -53,7 +57,7 @@ def analyse_many(scenes: Sequence[Scene], masses: Sequence[MassProperties]) -> l
             fixed.append(i)
         else:
             out[i] = analyse_range(scene, masses[i], low, high)
-    batch = analyse_fixed_many([scenes[i] for i in fixed], [masses[i] for i in fixed])
+    batch = analyse_fixed_many([scenes[i] for i in fixed], [masses[i] for i in fixed], sweep=sweep)
     for i, analysis in zip(fixed, batch, strict=True):
         out[i] = analysis
     return [a for a in out if a is not None]

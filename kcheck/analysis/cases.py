@@ -326,12 +326,14 @@ def analyse_fixed_many(
     masses: Sequence[MassProperties],
     plane: tuple[np.ndarray, np.ndarray] | None = None,
     friction: np.ndarray | None = None,
+    sweep: bool = True,
 ) -> list[Analysis]:
     """:func:`analyse_fixed` of several scenes (e.g. a worker's chunk): the cases' algebra of
     all of them (free twists, both friction systems, friction intervals) stacked in one batch
     of numpy calls (:func:`~kcheck.mechanics.dynamics.analyse_cases_many`,
     :func:`~kcheck.mechanics.friction.friction_intervals_batch`); every scene's values are
-    those it gets alone."""
+    those it gets alone. ``sweep`` False leaves the ranges in the scene's plane out (a caller
+    that sweeps another plane; :func:`scene_plane_ranges` adds them as they would be)."""
     problems = [problem_for(s, m, friction) for s, m in zip(scenes, masses, strict=True)]
     designs = [_design(s, p.dim) for s, p in zip(scenes, problems, strict=True)]
     all_cases = analyse_cases_many(problems)
@@ -351,8 +353,22 @@ def analyse_fixed_many(
         if design is not None or not sweeping:
             each = iter(intervals)
             case_friction = [next(each) if g else None for g in good]
-        out.append(_assemble(scene, problem, cases, case_friction, design, sweeping, plane))
+        out.append(
+            _assemble(scene, problem, cases, case_friction, design, sweeping and sweep, plane)
+        )
     return out
+
+
+def scene_plane_ranges(scene: Scene, analysis: Analysis) -> Analysis:
+    """The ranges in the scene's sweep plane that :func:`analyse_fixed_many` leaves out with
+    ``sweep`` False (the analysis unchanged when it has them, or when no load is swept)."""
+    sweeping, _ = _design(scene, analysis.problem.dim)
+    if not sweeping or analysis.plane is not None:
+        return analysis
+    dim = analysis.problem.dim
+    return sweep_ranges(
+        analysis, np.asarray(scene.sweep.e1)[:dim], np.asarray(scene.sweep.e2)[:dim]
+    )
 
 
 def _assemble(

@@ -6,13 +6,14 @@ default sweep plane.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
 
 from kcheck.analysis.cases import Analysis
-from kcheck.mechanics.caps import FOUR_PI, Region, region, signed_distance
+from kcheck.mechanics.caps import FOUR_PI, Region, region, regions, signed_distance
 from kcheck.mechanics.deepest import deepest_point
 from kcheck.mechanics.dynamics import Problem, with_load
 from kcheck.mechanics.friction_range import range_caps
@@ -26,6 +27,7 @@ __all__ = [
     "SphereMap",
     "direction_caps",
     "sphere_map",
+    "sphere_maps",
     "sweep_given",
     "default_plane",
     "chosen_plane",
@@ -140,16 +142,75 @@ def sphere_map(scene: Scene, analysis: Analysis, lattice_points: int = 0) -> Sph
 
     ``lattice_points`` > 0 also counts the safe share on that many lattice directions.
     """
-    problem = analysis.problem
-    swept, a, c, owner, cap_errors = direction_caps(problem, analysis)
-    if not len(a):
-        return None
+    return sphere_maps([scene], [analysis], lattice_points)[0]
+
+
+def sphere_maps(
+    scenes: Sequence[Scene], analyses: Sequence[Analysis], lattice_points: int = 0
+) -> list[SphereMap | None]:
+    """:func:`sphere_map` of several scenes (a worker's chunk: a study's variants): the
+    regions of every case of every scene in one batch (:func:`kcheck.mechanics.caps.regions`);
+    each map is the scene's alone."""
+    caps = [direction_caps(a.problem, a) for a in analyses]
+    owners = [np.unique(owner) for _, _, _, owner, _ in caps]
+    # Every case's own region (its share of the sphere), all scenes' at once. (Each scene's
+    # safe region, of its every cap, alone: stacked, those larger arrays leave the cache.)
+    each = iter(
+        regions(
+            [
+                (a[owner == i], c[owner == i])
+                for (_, a, c, owner, _), ids in zip(caps, owners, strict=True)
+                for i in ids
+            ]
+        )
+    )
+    safe = [region(a, c) if len(a) else None for _, a, c, _, _ in caps]
+    out: list[SphereMap | None] = []
+    for scene, analysis, (swept, a, c, owner, cap_errors), ids, region_ in zip(
+        scenes, analyses, caps, owners, safe, strict=True
+    ):
+        case_fractions = np.full(len(analysis.cases), np.nan)
+        for i in ids:
+            case_fractions[i] = next(each).fraction
+        if region_ is None:
+            out.append(None)
+            continue
+        out.append(
+            _assemble(
+                scene,
+                analysis,
+                swept,
+                region_,
+                a,
+                c,
+                owner,
+                cap_errors,
+                case_fractions,
+                lattice_points,
+            )
+        )
+    return out
+
+
+def _assemble(
+    scene: Scene,
+    analysis: Analysis,
+    swept: Literal["load", "gravity"],
+    safe: Region,
+    a: np.ndarray,
+    c: np.ndarray,
+    owner: np.ndarray,
+    cap_errors: np.ndarray,
+    case_fractions: np.ndarray,
+    lattice_points: int,
+) -> SphereMap:
+    """One scene's map from its caps, its safe region (of every cap) and its cases' shares:
+    the region's margins, the nearest and most robust directions, the area's error."""
     design = None
     if swept == "load":
         design = analysis.design
     elif np.any(scene.gravity):
         design = unit_rows(scene.gravity)
-    safe = region(a, c)
     # The region's boundary (and so every margin) moves by the error of the caps that bound it.
     bounding = safe.caps.source[safe.bounding]
     boundary_error = float(cap_errors[bounding].max()) if len(bounding) else 0.0
@@ -159,9 +220,6 @@ def sphere_map(scene: Scene, analysis: Analysis, lattice_points: int = 0) -> Sph
     design_margin = nearest = None
     if design is not None:
         design_margin, nearest = signed_distance(safe, design)
-    case_fractions = np.full(len(analysis.cases), np.nan)
-    for i in np.unique(owner):
-        case_fractions[i] = region(a[owner == i], c[owner == i]).fraction
     # Area error: each cap's part of the boundary moves by the cap's angular error along its
     # length — independent roundings, so added in quadrature — plus the rounding of the arc
     # integrals (a few eps of the area and of the boundary's length).

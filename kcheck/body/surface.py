@@ -105,6 +105,54 @@ def closest_point(triangles: np.ndarray, points: np.ndarray) -> tuple[np.ndarray
 _RAYS = np.array([[0.5377, 0.3189, 0.7806], [-0.6431, 0.5207, 0.5615], [0.2113, -0.7904, 0.5748]])
 
 
+#: Faces up to which a surface's per-ray set-up is kept (:func:`_rays_of`): about 1 kB a face.
+_KEEP_FACES = 20_000
+#: The per-ray set-up of the last few surfaces, by the triangles' array (a study's variants
+#: query the one surface of their body over and over).
+_RAY_SETUPS: list[tuple[np.ndarray, list[_RaySetup]]] = []
+
+
+@dataclass(frozen=True)
+class _RaySetup:
+    """What a ray direction's inside test needs of every face: the unit direction, the plane
+    across it (``e1``, ``e2``), each face's shadow box in that plane (``lo``, ``hi``) and its
+    Möller–Trumbore vectors (edges from the first vertex, ``direction x edge2``)."""
+
+    d: np.ndarray
+    e1: np.ndarray
+    e2: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    edge1: np.ndarray
+    edge2: np.ndarray
+    h: np.ndarray
+
+
+def _ray_setup(triangles: np.ndarray, ray: np.ndarray) -> _RaySetup:
+    d = ray / np.linalg.norm(ray)
+    e1 = np.cross(d, [1.0, 0.0, 0.0] if abs(d[0]) < 0.9 else [0.0, 1.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(d, e1)
+    uv = np.stack([triangles @ e1, triangles @ e2], axis=-1)  # (F, 3, 2)
+    edge1 = triangles[:, 1] - triangles[:, 0]
+    edge2 = triangles[:, 2] - triangles[:, 0]
+    h = np.cross(d, edge2)
+    return _RaySetup(d, e1, e2, uv.min(axis=1), uv.max(axis=1), edge1, edge2, h)
+
+
+def _rays_of(triangles: np.ndarray) -> list[_RaySetup]:
+    """The set-up of every ray of :data:`_RAYS` for these triangles, kept for a small
+    surface (the same array object asked again gets the same arrays)."""
+    for kept, setups in _RAY_SETUPS:
+        if kept is triangles:
+            return setups
+    setups = [_ray_setup(triangles, ray) for ray in _RAYS]
+    if len(triangles) <= _KEEP_FACES:
+        _RAY_SETUPS.insert(0, (triangles, setups))
+        del _RAY_SETUPS[4:]
+    return setups
+
+
 def inside(triangles: np.ndarray, points: np.ndarray) -> np.ndarray:
     """Whether each point lies inside a closed outward-wound surface (or a union of such
     parts, overlapping or not): the signed count of the triangles a ray from it crosses
@@ -112,42 +160,35 @@ def inside(triangles: np.ndarray, points: np.ndarray) -> np.ndarray:
     ray covers the point are tested, all points' at once."""
     points = np.asarray(points, dtype=float)
     votes = np.zeros(len(points), dtype=int)
-    for ray in _RAYS:
-        d = ray / np.linalg.norm(ray)
-        e1 = np.cross(d, [1.0, 0.0, 0.0] if abs(d[0]) < 0.9 else [0.0, 1.0, 0.0])
-        e1 /= np.linalg.norm(e1)
-        e2 = np.cross(d, e1)
-        uv = np.stack([triangles @ e1, triangles @ e2], axis=-1)  # (F, 3, 2)
-        lo, hi = uv.min(axis=1), uv.max(axis=1)
+    for ray in _rays_of(triangles):
+        lo, hi = ray.lo, ray.hi
         # each point's own dot products, as one point's query rounds them
-        pu = np.array([[p @ e1, p @ e2] for p in points]).reshape(-1, 2)  # (P, 2)
+        pu = np.array([[p @ ray.e1, p @ ray.e2] for p in points]).reshape(-1, 2)  # (P, 2)
         winding = np.zeros(len(points), dtype=int)
         step = max(1, _BLOCK // max(len(triangles), 1))  # points per block of the masks
         for k in range(0, len(points), step):
             rows = pu[k : k + step, None, :]
             owner, near = np.nonzero(np.all((lo <= rows) & (rows <= hi), axis=2))
             owner += k
-            hits = _crossings(triangles[near], points[owner], d)
+            hits = _crossings(triangles[near, 0], ray, near, points[owner])
             np.add.at(winding, owner, hits)
         votes += winding > 0
     return np.asarray(votes >= 2)
 
 
-def _crossings(tri: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> np.ndarray:
-    """Per triangle, its share of the winding number along the ray ``origin + t direction``
-    (t > 0; ``origin`` one row per triangle): +1 where the ray leaves through it, -1 where it
-    enters, 0 where it misses (outward-wound closed parts: summed, 1 inside one part, 2
-    where two overlap, 0 outside)."""
-    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
-    e1, e2 = b - a, c - a
-    h = np.cross(direction, e2)
+def _crossings(a: np.ndarray, ray: _RaySetup, near: np.ndarray, origin: np.ndarray) -> np.ndarray:
+    """Per triangle ``near`` (first vertices ``a``), its share of the winding number along the
+    ray ``origin + t direction`` (t > 0; ``origin`` one row per triangle): +1 where the ray
+    leaves through it, -1 where it enters, 0 where it misses (outward-wound closed parts:
+    summed, 1 inside one part, 2 where two overlap, 0 outside)."""
+    e1, e2, h = ray.edge1[near], ray.edge2[near], ray.h[near]
     det = np.einsum("ij,ij->i", e1, h)
     ok = np.abs(det) > 0
     inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
     s = origin - a
     u = inv * np.einsum("ij,ij->i", s, h)
     q = np.cross(s, e1)
-    v = inv * (q @ direction)
+    v = inv * (q @ ray.d)
     t = inv * np.einsum("ij,ij->i", e2, q)
     hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
     return np.where(hit, -np.sign(det), 0.0).astype(int)  # det = -direction · (outward normal)

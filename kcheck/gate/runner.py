@@ -25,7 +25,7 @@ from kcheck.result import CheckResult, Finding, MassProperties, SceneResult, Sev
 from kcheck.scene import Scene, describe_pydantic, load_scene
 from kcheck.scene.yamlio import DEFAULT_LIMITS
 
-__all__ = ["Settings", "discover", "check_scene", "run_batch", "scene_status"]
+__all__ = ["Settings", "discover", "check_scene", "check_scenes", "run_batch", "scene_status"]
 
 #: Top-level modules of the `plot` extra: only their absence means "install the extra".
 PLOT_EXTRA = ("matplotlib", "networkx")
@@ -233,10 +233,99 @@ def check_scene(
     """Load one scene and run every check on it; bad input becomes an error result.
     ``load`` builds the scene instead of reading ``path`` (a study's variant,
     :mod:`kcheck.gate.study`); its errors are the scene's, as the file's would be."""
-    from kcheck.gate.config import did_you_mean
-
     if settings is None:
         settings = Settings(allow_outside=allow_outside, plots=plots)
+    return check_scenes(path, checks, settings, [load])[0]
+
+
+@dataclass
+class _Prepared:
+    """A scene read and planned: what its checks run on (:func:`_prepare`)."""
+
+    scene: Scene
+    plan: list[Any]
+    mass: MassProperties | None
+    placement: tuple[Finding, ...]
+    unavailable: list[CheckResult]
+    elapsed: float  # s, reading and planning it
+    results: dict[int, CheckResult] = field(default_factory=dict)  # by plan entry
+    inputs: dict[int, Inputs] = field(default_factory=dict)
+
+
+def check_scenes(
+    path: Path,
+    checks: Sequence[LoadedCheck],
+    settings: Settings,
+    loads: Sequence[Callable[[], Scene] | None],
+) -> list[SceneResult]:
+    """:func:`check_scene` of several scenes (a worker's chunk of a study's variants, each
+    built by its ``load``; None reads ``path``): each scene is read and planned alone, then
+    every check is given all the scenes it runs on at once (``Check.run_many``, which may
+    stack their algebra). Each result is the one :func:`check_scene` gives its scene alone
+    (``runtime_s`` aside: a batch's time is shared equally among its scenes)."""
+    prepared = [_prepare(path, checks, settings, load) for load in loads]
+    for lc in checks:
+        batch = [
+            (p, k)
+            for p in prepared
+            if isinstance(p, _Prepared)
+            for k, entry in enumerate(p.plan)
+            if entry[0] is lc and entry[3] is None and entry[5] is None
+        ]
+        if not batch:
+            continue
+        inputs = []
+        for p, k in batch:
+            _, options, _, _, needs_mass, _ = p.plan[k]
+            p.inputs[k] = Inputs(
+                p.scene, p.mass if needs_mass else None, options, hints=settings.hints
+            )
+            if settings.sample_map is not None:
+                p.inputs[k] = dataclasses.replace(p.inputs[k], sample_map=settings.sample_map)
+            inputs.append(p.inputs[k])
+        start = time.perf_counter()
+        results = _run_many(lc, inputs)
+        share = (time.perf_counter() - start) / len(batch)
+        for (p, k), result in zip(batch, results, strict=True):
+            p.results[k] = dataclasses.replace(result, runtime_s=share)
+    return [
+        p if isinstance(p, SceneResult) else _finish(path, checks, settings, p) for p in prepared
+    ]
+
+
+def _run_many(lc: LoadedCheck, inputs: list[Inputs]) -> list[CheckResult]:
+    """A check's results on several scenes; when the batch raises, each scene alone, so that
+    a crash is the result of its own scene only (a crashing check must not take the batch
+    down)."""
+    try:
+        results = list(lc.check.run_many(inputs))
+        if len(results) == len(inputs):
+            return results
+    except MemoryError:
+        raise
+    except Exception:  # noqa: S110 - told apart scene by scene below
+        pass
+    out = []
+    for one in inputs:
+        try:
+            out.append(lc.check.run(one))
+        except MemoryError:
+            raise
+        except Exception as exc:
+            out.append(CheckResult(lc.spec.name, Status.ERROR, _crashed(lc, exc)))
+    return out
+
+
+def _prepare(
+    path: Path,
+    checks: Sequence[LoadedCheck],
+    settings: Settings,
+    load: Callable[[], Scene] | None,
+) -> _Prepared | SceneResult:
+    """A scene read, its checks' options validated and planned, its mass properties and the
+    supports against its mesh; an error result for bad input."""
+    from kcheck.gate.config import did_you_mean
+
     started = time.perf_counter()
     try:
         limits = (
@@ -297,41 +386,40 @@ def check_scene(
             f"({type(exc).__name__}: {exc}); please report it"
         )
         return _error(path, message, (Finding(message, code=BUDGET_CODES["crashed"]),))
+    return _Prepared(scene, plan, mass, placement, unavailable, time.perf_counter() - started)
 
-    results = list(unavailable)
+
+def _finish(
+    path: Path, checks: Sequence[LoadedCheck], settings: Settings, prepared: _Prepared
+) -> SceneResult:
+    """A planned scene's result from its checks' results: skipped and crashed-on-asking
+    checks, findings located, the scene's warnings and status, its pictures."""
+    started = time.perf_counter()
+    scene, mass = prepared.scene, prepared.mass
+    results = list(prepared.unavailable)
     written: list[str] = []
     drawn: list[tuple[LoadedCheck, Inputs, CheckResult]] = []
     notes = scene.notes
-    for lc, options, severity, reason, needs_mass, crash in plan:
+    for k, (lc, _, severity, reason, _, crash) in enumerate(prepared.plan):
         if crash is not None:
             results.append(CheckResult(lc.spec.name, Status.ERROR, crash, severity=severity))
             continue
         if reason is not None:
             results.append(CheckResult(lc.spec.name, Status.SKIPPED, reason, severity=severity))
             continue
-        inputs = Inputs(scene, mass if needs_mass else None, options, hints=settings.hints)
-        if settings.sample_map is not None:
-            inputs = dataclasses.replace(inputs, sample_map=settings.sample_map)
-        start = time.perf_counter()
-        try:
-            result = lc.check.run(inputs)
-        except MemoryError:
-            raise
-        except Exception as exc:  # a crashing check must not take the batch down
-            result = CheckResult(lc.spec.name, Status.ERROR, _crashed(lc, exc))
         result = dataclasses.replace(
-            result,
-            runtime_s=time.perf_counter() - start,
+            prepared.results[k],
             severity=severity,
-            findings=_locate(scene, result.findings),
+            findings=_locate(scene, prepared.results[k].findings),
         )
         results.append(result)
-        drawn.append((lc, inputs, result))
-    if unavailable:  # in the checks' order, as the others
+        drawn.append((lc, prepared.inputs[k], result))
+    if prepared.unavailable:  # in the checks' order, as the others
         order = {lc.spec.name: k for k, lc in enumerate(checks)}
         results.sort(key=lambda r: order.get(r.id, len(order)))
     warnings = _locate(
-        scene, (*placement, *scene_warnings(scene, mass, results), *_nothing_checked(results))
+        scene,
+        (*prepared.placement, *scene_warnings(scene, mass, results), *_nothing_checked(results)),
     )
     status = scene_status(results, warnings)
     # Pictures after every check, so that each title carries the scene's verdict too.
@@ -350,7 +438,10 @@ def check_scene(
         notes=notes + (mass.notes if mass is not None else ()),
         plots=tuple(written),
         units=scene.units,
-        runtime_s=time.perf_counter() - started,
+        runtime_s=prepared.elapsed
+        + sum(r.runtime_s or 0.0 for r in prepared.results.values())
+        + time.perf_counter()
+        - started,
         warnings=warnings,
         supports=tuple(s.to_json() for s in scene.supports),
         # The scene's own plane: planar scenes, or a `sweep:` entry (a spatial check that

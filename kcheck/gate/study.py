@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from kcheck.errors import UsageError
-from kcheck.gate.runner import Settings, check_scene
+from kcheck.gate.runner import Settings, check_scenes
 from kcheck.plugin import LoadedCheck
 from kcheck.result import SceneResult, Status
 from kcheck.scene.study import Study, variant_document
@@ -134,7 +134,8 @@ def run_variants(
     offset: int = 0,
 ) -> list[dict[str, Any]]:
     """The rows of variants ``start`` to ``stop``: each checked as ``kcheck check`` checks a
-    scene (a variant the scene reader or a check refuses is a row with its error).
+    scene, all of them in one :func:`~kcheck.gate.runner.check_scenes` (a variant the scene
+    reader or a check refuses is a row with its error).
     ``values``: the parameters' columns from variant ``offset`` on (default: the study's)."""
     from kcheck.scene.load import scene_from_document
 
@@ -142,17 +143,19 @@ def run_variants(
     check_ids = [
         c.spec.name for c in checks if settings.selected is None or c.spec.name in settings.selected
     ]
-    rows = []
-    for i in range(start, stop):
-        v = [col[i - offset] for col in columns_]
+    values_ = [[col[i - offset] for col in columns_] for i in range(start, stop)]
+
+    def loader(v: list[Any]) -> Callable[[], Any]:
         doc = variant_document(study, v)
+        return lambda: scene_from_document(study.scene_path, doc, allow_outside=True)
 
-        def load(doc: Any = doc) -> Any:
-            return scene_from_document(study.scene_path, doc, allow_outside=True)
-
-        result = check_scene(study.scene_path, checks, settings=settings, load=load)
-        rows.append(_row(study, i, v, result, check_ids))
-    return rows
+    # The chunk's variants together: each check gets all of them at once (Check.run_many:
+    # analytical-3d stacks their algebra), each row as the variant alone would give it.
+    results = check_scenes(study.scene_path, checks, settings, [loader(v) for v in values_])
+    return [
+        _row(study, i, v, result, check_ids)
+        for i, v, result in zip(range(start, stop), values_, results, strict=True)
+    ]
 
 
 # --- the parts of a table ---------------------------------------------------------------

@@ -21,6 +21,7 @@ intersection of all caps. Here, in closed form:
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from itertools import combinations
 
@@ -36,6 +37,7 @@ __all__ = [
     "Region",
     "cap_set",
     "region",
+    "regions",
     "angle_between",
     "signed_distance",
     "margin_in",
@@ -64,14 +66,21 @@ def cap_set(a: np.ndarray, c: np.ndarray) -> CapSet:
     ratio, axes, radius = cap_geometry(a, c)
     empty = bool(np.any(ratio >= 1.0))
     live = np.flatnonzero((ratio > -1.0) & (ratio < 1.0))
-    kept: list[int] = []
-    for k in live:
-        if not any(
-            abs(ratio[k] - ratio[j]) <= SAME_CAP and np.abs(axes[k] - axes[j]).max() <= SAME_CAP
-            for j in kept
-        ):
-            kept.append(int(k))
-    idx = np.array(kept, dtype=int)
+    # The same cap twice (within SAME_CAP), every pair at once; the first of each is kept,
+    # in order (a cap matching only a dropped one stays), as a loop over the caps would.
+    r, u = ratio[live], axes[live]
+    same = (np.abs(r[:, None] - r[None, :]) <= SAME_CAP) & (
+        np.abs(u[:, None, :] - u[None, :, :]).max(axis=2, initial=0.0) <= SAME_CAP
+    )
+    same = np.tril(same, -1)
+    if not same.any():
+        idx = live
+    else:
+        kept: list[int] = []
+        for n in range(len(live)):
+            if not same[n, kept].any():
+                kept.append(n)
+        idx = live[kept]
     return CapSet(axes[idx], ratio[idx], radius[idx], idx, empty)
 
 
@@ -88,41 +97,6 @@ def _frames(axes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     e1 = cross3(helper, axes)
     e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
     return e1, cross3(axes, e1)
-
-
-def _circle_points(caps: CapSet, e1: np.ndarray, e2: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """Points (k, m, 3) at parameters ``t`` (k, m) on each cap's circle (counter-clockwise
-    about the axis, so the cap lies on the left)."""
-    sin_r = np.sin(caps.radius)[:, None, None]
-    return (
-        caps.cos_radius[:, None, None] * caps.axes[:, None, :]
-        + sin_r * np.cos(t)[..., None] * e1[:, None, :]
-        + sin_r * np.sin(t)[..., None] * e2[:, None, :]
-    )
-
-
-def _inside_all(
-    caps: CapSet, points: np.ndarray, tol: float, skip: np.ndarray | None
-) -> np.ndarray:
-    """Whether points (..., 3) lie in every cap (margin > -tol in angle, to first order);
-    ``skip`` (..., k) marks caps not to test (e.g. the circle a point lies on)."""
-    dots = points @ caps.axes.T  # (..., k)
-    slack = dots - caps.cos_radius + tol * np.sin(caps.radius)
-    ok = slack > 0
-    if skip is not None:
-        ok |= skip
-    return np.all(ok, axis=-1)
-
-
-def _disjoint_pair(caps: CapSet) -> bool:
-    """Whether two caps do not overlap (their axes at least ``r_i + r_j`` apart; never when
-    ``r_i + r_j > pi``)."""
-    if len(caps.radius) < 2:
-        return False
-    total = caps.radius[:, None] + caps.radius[None, :]
-    apart = caps.axes @ caps.axes.T <= np.cos(np.minimum(total, np.pi)) + SAME_CAP
-    np.fill_diagonal(apart, False)
-    return bool(np.any(apart & (total <= np.pi + SAME_CAP)))
 
 
 @dataclass(frozen=True)
@@ -144,21 +118,140 @@ class Region:
         return self.area / FOUR_PI
 
 
+def region(a: np.ndarray, c: np.ndarray) -> Region:
+    """The intersection of the caps ``a_k + c_k . d > 0``, exactly (area to rounding)."""
+    return regions([(a, c)])[0]
+
+
+def regions(conditions: Sequence[tuple[np.ndarray, np.ndarray]]) -> list[Region]:
+    """:func:`region` of several sets of conditions ``(a, c)`` (e.g. every case of every
+    variant of a study's chunk): the sets with the same number of caps are stacked and solved
+    in one batch of numpy calls (and, past the cuts, those with the same number of pieces per
+    circle). Every operation is elementwise, a product of same-shaped matrices or a reduction
+    of one set's own array, so each region is the one it gets alone, bit for bit."""
+    sets = [cap_set(a, c) for a, c in conditions]
+    out: list[Region | None] = [None] * len(sets)
+    groups: dict[int, list[int]] = {}
+    for i, caps in enumerate(sets):
+        k = len(caps.radius)
+        if caps.empty:
+            out[i] = Region(caps, 0.0, 0.0, np.zeros(k, bool), True, False)
+        elif k == 0:
+            out[i] = Region(caps, FOUR_PI, 0.0, np.zeros(k, bool), False, True)
+        else:
+            groups.setdefault(k, []).append(i)
+    for members in groups.values():
+        for i, reg in zip(members, _regions_stacked([sets[i] for i in members]), strict=True):
+            out[i] = reg
+    return [r for r in out if r is not None]
+
+
+def _regions_stacked(sets: list[CapSet]) -> list[Region]:
+    """The regions of cap sets with the same number ``k`` (> 0) of caps, stacked."""
+    k = len(sets[0].radius)
+    none = np.zeros(k, bool)
+    axes = np.stack([s.axes for s in sets])  # (g, k, 3)
+    cos_r = np.stack([s.cos_radius for s in sets])  # (g, k)
+    radius = np.stack([s.radius for s in sets])
+    gram = axes @ np.swapaxes(axes, 1, 2)  # (g, k, k)
+    # Two caps that do not overlap: axes at least r_i + r_j apart (never when r_i + r_j > pi).
+    total = radius[:, :, None] + radius[:, None, :]
+    apart = gram <= np.cos(np.minimum(total, np.pi)) + SAME_CAP
+    apart &= ~np.eye(k, dtype=bool)
+    disjoint = np.any(apart & (total <= np.pi + SAME_CAP), axis=(1, 2))
+    out: list[Region | None] = [
+        Region(s, 0.0, 0.0, none, True, False) if d else None
+        for s, d in zip(sets, disjoint, strict=True)
+    ]
+    live = np.flatnonzero(~disjoint)
+    if not len(live):
+        return [r for r in out if r is not None]
+    axes, cos_r, radius, gram = axes[live], cos_r[live], radius[live], gram[live]
+    e1, e2 = (f.reshape(len(live), k, 3) for f in _frames(axes.reshape(-1, 3)))
+    # Where circle k crosses circle j: u_j . x(t) = cos r_j, i.e. A + B cos t + C sin t = 0.
+    sin_r = np.sin(radius)
+    axes_t = np.swapaxes(axes, 1, 2)
+    big_a = cos_r[:, :, None] * gram - cos_r[:, None, :]
+    big_b = sin_r[:, :, None] * (e1 @ axes_t)
+    big_c = sin_r[:, :, None] * (e2 @ axes_t)
+    size = np.hypot(big_b, big_c)
+    with np.errstate(all="ignore"):
+        ratio = -big_a / size
+    crosses = (np.abs(ratio) < 1.0) & ~np.eye(k, dtype=bool)
+    half = np.arccos(np.clip(ratio, -1.0, 1.0))
+    centre = np.arctan2(big_c, big_b)
+    cuts = np.concatenate(
+        [np.where(crosses, centre - half, np.nan), np.where(crosses, centre + half, np.nan)], axis=2
+    )
+    cuts = np.sort(np.where(np.isnan(cuts), np.inf, np.mod(cuts, 2.0 * np.pi)), axis=2)
+    count = np.isfinite(cuts).sum(axis=2)  # (g, k)
+    pieces_each = np.maximum(count.max(axis=1), 1)
+    cap_area = np.min(2.0 * np.pi * (1.0 - cos_r), axis=1)
+    for m in np.unique(pieces_each):
+        rows = np.flatnonzero(pieces_each == m)
+        m = int(m)
+        sub_cos, sub_sin, sub_axes = cos_r[rows], sin_r[rows], axes[rows]
+        sub_e1, sub_e2, sub_count, sub_cuts = e1[rows], e2[rows], count[rows], cuts[rows]
+        # Pieces between consecutive cuts (the last wraps round); a circle without cuts is
+        # one piece.
+        idx = np.arange(m)[None, None, :]
+        padded = np.concatenate([sub_cuts, np.full((len(rows), k, 1), np.inf)], axis=2)
+        start, end = padded[:, :, :m], padded[:, :, 1 : m + 1]
+        end = np.where(idx + 1 == sub_count[:, :, None], sub_cuts[:, :, :1] + 2.0 * np.pi, end)
+        uncut = (sub_count == 0)[:, :, None] & (idx == 0)
+        start, end = np.where(uncut, 0.0, start), np.where(uncut, 2.0 * np.pi, end)
+        valid = idx < np.maximum(sub_count, 1)[:, :, None]
+        start, end = np.where(valid, start, 0.0), np.where(valid, end, 0.0)
+        t = 0.5 * (start + end)
+        mid = (
+            sub_cos[:, :, None, None] * sub_axes[:, :, None, :]
+            + sub_sin[:, :, None, None] * np.cos(t)[..., None] * sub_e1[:, :, None, :]
+            + sub_sin[:, :, None, None] * np.sin(t)[..., None] * sub_e2[:, :, None, :]
+        )
+        # In every other cap (margin > 0; a point's own circle not tested).
+        dots = mid @ np.swapaxes(sub_axes, 1, 2)[:, None]  # (g, k, m, k)
+        slack = dots - sub_cos[:, None, None, :] + 0.0 * sub_sin[:, None, None, :]
+        ok = (slack > 0) | np.eye(k, dtype=bool)[None, :, None, :]
+        inside = valid & np.all(ok, axis=-1) & (end > start)
+        # The antipode of the smallest cap's axis is outside every point of the region.
+        pole = sub_axes[np.arange(len(rows)), np.argmin(radius[rows], axis=1)]  # (g, 3)
+        pieces = _arc_integral(sub_cos, sub_sin, sub_axes, pole, sub_e1, sub_e2, start, end)
+        masked = np.where(inside, pieces, 0.0)
+        lengths = np.where(inside, (end - start) * sub_sin[:, :, None], 0.0)
+        bounding = np.any(inside, axis=2)
+        for n, g in enumerate(live[rows]):
+            caps = sets[g]
+            if not np.any(bounding[n]):
+                out[g] = Region(caps, 0.0, 0.0, none, True, False)
+                continue
+            area = float(np.sum(masked[n]))
+            area = min(max(area, 0.0), float(cap_area[rows[n]]))
+            per_cap = lengths[n].sum(axis=1)
+            out[g] = Region(caps, area, float(per_cap.sum()), bounding[n], False, False, per_cap)
+    return [r for r in out if r is not None]
+
+
 def _arc_integral(
-    caps: CapSet, pole: np.ndarray, e1: np.ndarray, e2: np.ndarray, t1: np.ndarray, t2: np.ndarray
+    cos_radius: np.ndarray,
+    sin_radius: np.ndarray,
+    axes: np.ndarray,
+    pole: np.ndarray,
+    e1: np.ndarray,
+    e2: np.ndarray,
+    t1: np.ndarray,
+    t2: np.ndarray,
 ) -> np.ndarray:
     """Integral of ``alpha = N . (x × dx) / (1 + N . x)`` along circle arcs ``[t1, t2]``
-    (k, m): ``-cos r (t2 - t1) + (N . u + cos r) * int dt / (B0 + rho cos(t - t0))``."""
-    cos_r, sin_r = caps.cos_radius[:, None], np.sin(caps.radius)[:, None]
-    n_a = (caps.axes @ pole)[:, None]
+    (g, k, m) of stacked cap sets (``cos_radius``, ``sin_radius`` (g, k); ``axes``, ``e1``,
+    ``e2`` (g, k, 3); a pole ``N`` (g, 3) each):
+    ``-cos r (t2 - t1) + (N . u + cos r) * int dt / (B0 + rho cos(t - t0))``."""
+    cos_r, sin_r = cos_radius[:, :, None], sin_radius[:, :, None]
+    n_a = np.matmul(axes, pole[:, :, None])  # (g, k, 1)
     b0 = 1.0 + n_a * cos_r
-    b1, b2 = (e1 @ pole)[:, None] * sin_r, (e2 @ pole)[:, None] * sin_r
+    b1 = np.matmul(e1, pole[:, :, None]) * sin_r
+    b2 = np.matmul(e2, pole[:, :, None]) * sin_r
     rho = np.hypot(b1, b2)
     t0 = np.arctan2(b2, b1)
-    # int dt / (B0 + rho cos u) = (2 / k) atan(c tan(u / 2)) + (2 pi / k) per turn, with
-    # k = sqrt(B0^2 - rho^2), c = k / (B0 + rho); written as 2 T atanc(c T) / (B0 + rho) it
-    # stays finite when the circle passes through the antipode of the pole (k = 0) — arcs of
-    # the region never reach that point, so they never add a turn there.
     k = np.sqrt(np.maximum((b0 - rho) * (b0 + rho), 0.0))
     c = k / (b0 + rho)
 
@@ -174,63 +267,10 @@ def _arc_integral(
     with np.errstate(all="ignore"):
         g2, n2 = smooth_part(t2)
         g1, n1 = smooth_part(t1)
-        # A piece through the antipode (k = 0) is never part of the region: no value needed.
         wraps = np.where(
             (n2 != n1) & (k > 0), (2.0 * np.pi / np.where(k > 0, k, 1.0)) * (n2 - n1), 0.0
         )
         return -cos_r * (t2 - t1) + (n_a + cos_r) * (g2 - g1 + wraps)
-
-
-def region(a: np.ndarray, c: np.ndarray) -> Region:
-    """The intersection of the caps ``a_k + c_k . d > 0``, exactly (area to rounding)."""
-    caps = cap_set(a, c)
-    k = len(caps.radius)
-    none = np.zeros(k, bool)
-    if caps.empty or _disjoint_pair(caps):
-        return Region(caps, 0.0, 0.0, none, True, False)
-    if k == 0:
-        return Region(caps, FOUR_PI, 0.0, none, False, True)
-    e1, e2 = _frames(caps.axes)
-    # Where circle k crosses circle j: u_j . x(t) = cos r_j, i.e. A + B cos t + C sin t = 0.
-    sin_r = np.sin(caps.radius)
-    big_a = caps.cos_radius[:, None] * (caps.axes @ caps.axes.T) - caps.cos_radius[None, :]
-    big_b = sin_r[:, None] * (e1 @ caps.axes.T)
-    big_c = sin_r[:, None] * (e2 @ caps.axes.T)
-    size = np.hypot(big_b, big_c)
-    with np.errstate(all="ignore"):
-        ratio = -big_a / size
-    crosses = (np.abs(ratio) < 1.0) & ~np.eye(k, dtype=bool)
-    half = np.arccos(np.clip(ratio, -1.0, 1.0))
-    centre = np.arctan2(big_c, big_b)
-    cuts = np.concatenate(
-        [np.where(crosses, centre - half, np.nan), np.where(crosses, centre + half, np.nan)], axis=1
-    )
-    cuts = np.sort(np.where(np.isnan(cuts), np.inf, np.mod(cuts, 2.0 * np.pi)), axis=1)
-    count = np.isfinite(cuts).sum(axis=1)
-    # Pieces between consecutive cuts (the last wraps round); a circle without cuts is one piece.
-    m = max(int(count.max()), 1)
-    idx = np.arange(m)[None, :]
-    padded = np.concatenate([cuts, np.full((k, 1), np.inf)], axis=1)
-    start, end = padded[:, :m], padded[:, 1 : m + 1]
-    end = np.where(idx + 1 == count[:, None], cuts[:, :1] + 2.0 * np.pi, end)
-    uncut = (count == 0)[:, None] & (idx == 0)
-    start, end = np.where(uncut, 0.0, start), np.where(uncut, 2.0 * np.pi, end)
-    valid = idx < np.maximum(count, 1)[:, None]
-    start, end = np.where(valid, start, 0.0), np.where(valid, end, 0.0)
-    mid = _circle_points(caps, e1, e2, 0.5 * (start + end))
-    own = np.broadcast_to(np.eye(k, dtype=bool)[:, None, :], (k, m, k))
-    inside = valid & _inside_all(caps, mid, 0.0, own) & (end > start)
-    # The antipode of the smallest cap's axis is outside every point of the region.
-    pole = caps.axes[int(np.argmin(caps.radius))]
-    pieces = _arc_integral(caps, pole, e1, e2, start, end)
-    area = float(np.sum(np.where(inside, pieces, 0.0)))
-    lengths = np.where(inside, (end - start) * sin_r[:, None], 0.0)
-    bounding = np.any(inside, axis=1)
-    if not np.any(bounding):
-        return Region(caps, 0.0, 0.0, none, True, False)
-    area = min(max(area, 0.0), float(np.min(2.0 * np.pi * (1.0 - caps.cos_radius))))
-    per_cap = lengths.sum(axis=1)
-    return Region(caps, area, float(per_cap.sum()), bounding, False, False, per_cap)
 
 
 def margin_in(caps: CapSet, points: np.ndarray) -> np.ndarray:

@@ -5,6 +5,7 @@ one, two or three boundary circles (closed forms for each); for many caps by an 
 
 from __future__ import annotations
 
+from functools import lru_cache
 from itertools import combinations
 
 import numpy as np
@@ -12,7 +13,7 @@ import numpy as np
 from kcheck.mechanics.caps import ON_BOUNDARY, CapSet, Region, angle_between, margin_in, region
 from kcheck.mechanics.kinematics import cross3
 from kcheck.mechanics.sphere import fibonacci_sphere
-from kcheck.numerics.thresholds import ON_UNIT_SPHERE, QUADRATIC_LEAD
+from kcheck.numerics.thresholds import ARCCOS_ANGLE_SLACK, ON_UNIT_SPHERE, QUADRATIC_LEAD
 
 __all__ = ["deepest_point", "most_robust_direction"]
 
@@ -89,9 +90,8 @@ def deepest_point(reg: Region) -> tuple[np.ndarray | None, float | None]:
     if k <= ACTIVE_START:
         return _deepest_among(caps, np.arange(k))
     grid = fibonacci_sphere(GRID)
-    at_grid = _margins_each(caps, grid)  # (GRID, k)
-    best = int(np.argmax(at_grid.min(axis=1)))
-    active = np.argsort(at_grid[best])[:ACTIVE_START]
+    best, _ = _best(caps, grid)
+    active = np.argsort(_margins_each(caps, grid[best]))[:ACTIVE_START]
     while True:
         point, margin = _deepest_among(caps, active)
         each = _margins_each(caps, point)
@@ -100,6 +100,15 @@ def deepest_point(reg: Region) -> tuple[np.ndarray | None, float | None]:
             return point, float(min(margin, each.min()))
         worst = nearer[np.argsort(each[nearer])[:ACTIVE_STEP]]
         active = np.union1d(active, worst)
+
+
+@lru_cache(maxsize=64)
+def _subsets(n: int, size: int) -> np.ndarray:
+    """Every ``size``-subset of ``range(n)``, in the order of :func:`itertools.combinations`
+    (read-only: shared between calls)."""
+    out = np.array(list(combinations(range(n), size)))
+    out.setflags(write=False)
+    return out
 
 
 def _margins_each(caps: CapSet, points: np.ndarray) -> np.ndarray:
@@ -120,15 +129,33 @@ def _deepest_among(caps: CapSet, active: np.ndarray) -> tuple[np.ndarray, float]
     n = len(active)
     points = [sub.axes]
     if n >= 2:
-        points.append(_candidates_pairs(sub, np.array(list(combinations(range(n), 2)))))
+        points.append(_candidates_pairs(sub, _subsets(n, 2)))
     if n >= 3:
-        points.append(_candidates_triples(sub, np.array(list(combinations(range(n), 3)))))
+        points.append(_candidates_triples(sub, _subsets(n, 3)))
     cand = np.concatenate(points)
     cand = cand[np.all(np.isfinite(cand), axis=1)]
     cand /= np.linalg.norm(cand, axis=1, keepdims=True)
-    margins = margin_in(sub, cand)
-    best = int(np.argmax(margins))
-    return cand[best], float(margins[best])
+    best, margin = _best(sub, cand)
+    return cand[best], margin
+
+
+def _best(caps: CapSet, points: np.ndarray) -> tuple[int, float]:
+    """The first of points (n, 3) with the largest margin in the caps, and that margin (rad):
+    ``argmax`` of :func:`~kcheck.mechanics.caps.margin_in`, the same bits. The accurate
+    margins (``atan2``) are computed only for the points whose margin by ``arccos`` of the
+    dot products comes within twice its rounding (:data:`ARCCOS_ANGLE_SLACK`) of the
+    largest: no other can be (or tie with) the largest."""
+    with np.errstate(invalid="ignore"):
+        rough = np.min(caps.radius - np.arccos(np.clip(points @ caps.axes.T, -1.0, 1.0)), axis=-1)
+    top = np.max(rough) if len(rough) else np.nan
+    near = (
+        np.flatnonzero(rough >= top - 2 * ARCCOS_ANGLE_SLACK)
+        if np.isfinite(top) and np.all(np.isfinite(rough))
+        else np.arange(len(points))
+    )
+    exact = margin_in(caps, points[near])
+    j = int(np.argmax(exact))
+    return int(near[j]), float(exact[j])
 
 
 def most_robust_direction(a: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, float]:

@@ -79,6 +79,7 @@ __all__ = [
     "AXIS_FOOT",
     "ATAN_SERIES",
     "ON_UNIT_SPHERE",
+    "ARCCOS_ANGLE_SLACK",
     "QUADRATIC_LEAD",
     "DEGREE_RTOL",
     "IMAG_TOL",
@@ -326,6 +327,10 @@ SAME_CAP: float = 1e-12
 #: cap is nearer than the active set's when it is by more: points on a cap's circle are
 #: computed to about 1e-15 rad.
 ON_BOUNDARY: float = 1e-11
+#: Most an angle (rad) between two unit vectors taken as ``arccos`` of their dot product can
+#: differ from the accurate ``atan2`` form: ``sqrt(2 eps)`` ~ 1.5e-8 near 0 and pi, where
+#: arccos is steepest (its rounding alone: a pre-selection, never a margin reported).
+ARCCOS_ANGLE_SLACK: float = 1e-7
 #: A direction whose part perpendicular to a cap's axis is at most this (unit vectors,
 #: nondimensional) lies on the axis: every point of the circle is then a foot of the
 #: perpendicular, and one is taken. A perpendicular part that short is rounding of zero.

@@ -46,7 +46,8 @@ class Inputs:
     """What a check receives: the scene, mass properties if it declared it needs them, and
     its validated options. ``hints`` False: the caller reads only verdicts and figures (a
     study's variants), so a check may skip the searches behind a failing finding's way-out
-    hint (the least passing closing force or friction); verdicts and figures are the same.
+    hint (the least passing closing force or friction) and what only the hints use (e.g.
+    ranges in a plane the check does not report); verdicts and figures are the same.
     ``sample_map``: where a Monte Carlo check runs its chunks of samples
     (:mod:`kcheck.plugin.samples`; default: here, in turn); the answer is the same on any."""
 
@@ -111,6 +112,14 @@ class Check:
     def run(self, inputs: Inputs) -> CheckResult:
         """Check one scene."""
         raise NotImplementedError
+
+    def run_many(self, inputs: Sequence[Inputs]) -> list[CheckResult]:
+        """Check several scenes at once (a worker's chunk: a study's variants); the results,
+        in order, are those ``run`` gives each scene. By default one ``run`` after another; a
+        check overrides it to share work across the scenes (e.g. their algebra stacked in one
+        batch of numpy calls). The runner calls it with every scene of a chunk the check runs
+        on; when it raises, the scenes are run one by one, so a crash is its scene's alone."""
+        return [self.run(i) for i in inputs]
 
     def plot(self, inputs: Inputs, result: CheckResult, directory: Path) -> Sequence[Path]:
         """Write pictures for a result into ``directory``; return their paths.

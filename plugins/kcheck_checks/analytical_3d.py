@@ -12,11 +12,12 @@ the body (its tilt).
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from kcheck.analysis import analyse
+from kcheck.analysis import analyse, analyse_many
 from kcheck.analysis.cases import Analysis, closing_force_reason, describe_ranges, sweep_ranges
 from kcheck.analysis.friction_ranges import range_details
 from kcheck.fmt import clean, format_angle, format_share, format_vector
@@ -216,20 +217,62 @@ def spatial_result(
     """Verdict of the spatial check: the sphere map decides, a sweep plane is reported.
 
     Returns the result, the map and the analysis (with the sweep plane actually used)."""
-    from kcheck.analysis.sphere_map import chosen_plane, sphere_map, sweep_given
+    return spatial_results(check_id, [scene], [analysis], [options])[0]
 
+
+def spatial_results(
+    check_id: str,
+    scenes: Sequence[Scene],
+    analyses: Sequence[Analysis],
+    options: Sequence[Analytical3DOptions],
+) -> list[tuple[CheckResult, SphereMap | None, Analysis]]:
+    """:func:`spatial_result` of several scenes, their sphere maps' case regions in one
+    batch (:func:`kcheck.analysis.sphere_map.sphere_maps`); each is the scene's alone."""
+    from kcheck.analysis.sphere_map import sphere_maps
+
+    smaps: list[SphereMap | None] = [None] * len(scenes)
+    for points in {o.sphere_points for o in options}:
+        mapped = [
+            i
+            for i, a in enumerate(analyses)
+            if a.trustworthy and options[i].sphere_points == points
+        ]
+        found = sphere_maps([scenes[i] for i in mapped], [analyses[i] for i in mapped], points)
+        for i, smap in zip(mapped, found, strict=True):
+            smaps[i] = smap
+    return [
+        _spatial_result(check_id, *each)
+        for each in zip(scenes, analyses, options, smaps, strict=True)
+    ]
+
+
+def _spatial_result(
+    check_id: str,
+    scene: Scene,
+    analysis: Analysis,
+    options: Analytical3DOptions,
+    smap: SphereMap | None,
+) -> tuple[CheckResult, SphereMap | None, Analysis]:
+    """:func:`spatial_result` given the scene's map (None: untrustworthy, or nothing to map).
+    The analysis may lack the ranges in the scene's plane (``analyse_many(sweep=False)``):
+    they are added here where that plane is the one reported; where the check chooses its
+    own plane, the case findings' hints then do without them."""
+    from kcheck.analysis.cases import scene_plane_ranges
+    from kcheck.analysis.sphere_map import chosen_plane, sweep_given
+
+    chosen = None
+    if smap is not None and not sweep_given(scene):
+        # The most robust direction only where it means one: not on an empty or full map.
+        meaningful = not smap.empty and not (smap.region is not None and smap.region.full)
+        chosen = chosen_plane(smap.design, smap.robust if meaningful else None)
+    if chosen is None:
+        analysis = scene_plane_ranges(scene, analysis)
     deg = float(np.degrees(1.0))
     details: dict[str, object] = {"max_condition": analysis.max_condition}
     span = range_details(scene, analysis)
     if span is not None:
         details["friction_range"] = span
     findings = case_findings(scene, analysis)
-    smap = None if not analysis.trustworthy else sphere_map(scene, analysis, options.sphere_points)
-    chosen = None
-    if smap is not None and not sweep_given(scene):
-        # The most robust direction only where it means one: not on an empty or full map.
-        meaningful = not smap.empty and not (smap.region is not None and smap.region.full)
-        chosen = chosen_plane(smap.design, smap.robust if meaningful else None)
     if chosen is not None:
         analysis = sweep_ranges(analysis, chosen[0], chosen[1])
     elif smap is not None and analysis.plane is None:
@@ -387,10 +430,27 @@ class Analytical3D(Check):
 
     def run(self, inputs: Inputs) -> CheckResult:
         """Analyse every retracted case and map the safe directions on the sphere."""
+        return self.run_many([inputs])[0]
+
+    def run_many(self, inputs: Sequence[Inputs]) -> list[CheckResult]:
+        """:meth:`run` of several scenes, their cases' algebra stacked in one batch
+        (:func:`kcheck.analysis.analyse_many`: each analysis is the scene's alone)."""
+        masses, options = [], []
+        for one in inputs:
+            assert one.mass is not None and isinstance(one.options, Analytical3DOptions)
+            masses.append(one.mass)
+            options.append(one.options)
+        scenes = [i.scene for i in inputs]
+        # Without hints (a study), the ranges in the scene's plane only where that plane is
+        # reported: the check sweeps a plane of its own when the scene gives none.
+        analyses = analyse_many(scenes, masses, sweep=any(i.hints for i in inputs))
+        found = spatial_results(self.id, scenes, analyses, options)
+        return [self._result(one, each[0]) for one, each in zip(inputs, found, strict=True)]
+
+    def _result(self, inputs: Inputs, result: CheckResult) -> CheckResult:
+        """One scene's result, with the way-out searches behind its hints when asked for."""
         assert inputs.mass is not None and isinstance(inputs.options, Analytical3DOptions)
         mass, options = inputs.mass, inputs.options
-        analysis = analyse(inputs.scene, mass)
-        result = spatial_result(self.id, inputs.scene, analysis, options)[0]
 
         def passes(scene: Scene) -> bool:
             trial = analyse(scene, mass)
