@@ -30,7 +30,7 @@ if TYPE_CHECKING:
 
 __all__ = ["plot_graphical", "draw_construction"]
 
-LABEL_BOX = {"boxstyle": "round,pad=0.15", "fc": palette.PAPER, "ec": "none", "alpha": 0.85}
+LABEL_BOX = {"boxstyle": "square,pad=0.15", "fc": palette.PAPER, "ec": "none", "alpha": 0.85}
 SENSE_COLOURS = palette.SENSE_COLOURS
 SENSE_MARK = {"ccw": "↺", "cw": "↻"}
 
