@@ -63,7 +63,9 @@ def fixed(values: Sequence[float | None], digits: int = 4, most: int = 4) -> lis
         elif not math.isfinite(c):
             out.append("∞" if c > 0 else "-∞")
         else:
-            out.append(f"{c:.{decimals}f}")
+            text = f"{c:.{decimals}f}"
+            # A value that rounds to zero has no sign to show ("-0.0000" is rounding noise).
+            out.append(text.lstrip("-") if float(text) == 0 else text)
     return out
 
 

@@ -121,3 +121,14 @@ def test_expand_prints_the_digits_of_the_scene(cli, write_scene) -> None:
     assert "position: [0.1, -25.0, 0.2], normal: [0.0, 0.0, 1.0]" in flat, flat
     numbers = NUMBER.findall(out.split("supports:", 1)[1])
     assert numbers and max(_digits(n) for n in numbers) <= COMPUTED_DIGITS, numbers
+
+
+def test_a_value_that_rounds_to_zero_has_no_minus_sign():
+    """A symmetric body's centre of mass comes out as -1e-17 or so from the mesh sums:
+    printed with its column's decimals it is zero, not "-0.0000" (seen on the ASPE
+    fixture's `kcheck check -v`)."""
+    from kcheck.report.tables import fixed
+
+    assert fixed([-1e-17, 2e-18, 0.0]) == ["0.0000", "0.0000", "0.0000"]
+    assert fixed([-0.004, 12.0]) == ["0.00", "12.00"]  # -0.004 at two decimals
+    assert fixed([-3.2, 1.0]) == ["-3.200", "1.000"]  # a real negative keeps its sign
