@@ -15,7 +15,7 @@ small dihedral angle.
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -23,7 +23,7 @@ import numpy as np
 from kcheck.body.closest_point import closest_point
 from kcheck.body.mesh_edges import Edges, edges_of, face_pairs
 from kcheck.body.meshio import Surface
-from kcheck.body.surface_fit import Primitive, fit_surface
+from kcheck.body.surface_fit import Primitive, fit_surface, residuals
 from kcheck.numerics.thresholds import SMOOTH_PATCH_DEG
 
 __all__ = [
@@ -64,13 +64,17 @@ class Near:
 class Region:
     """One contact region: the smooth patch on the body and on the base that touch there,
     the near points found (midpoints of vertex and closest point, m) and the smallest
-    signed distance between the surfaces there (m); once fitted, each side's fit, the fits
-    tried and the patch's vertices (m; where a line contact ends)."""
+    signed distance between the surfaces there (m); ``facing``, the mean cosine between the
+    two sides' face normals at those points (-1 for surfaces that face each other, as
+    touching ones do; +1 for a surface lying on another of the same orientation, one body
+    overlapping another); once fitted, each side's fit, the fits tried and the patch's
+    vertices (m; where a line contact ends)."""
 
     body_patch: int
     base_patch: int
     points: np.ndarray
     least_distance: float
+    facing: float = -1.0
     body_fit: Primitive | None = None
     base_fit: Primitive | None = None
     tried: dict[str, list[Primitive]] = field(default_factory=dict)
@@ -514,7 +518,53 @@ def contact_regions(
         regions.append(region)
     if touching is not None:
         touching.append(near.touching)
-    return regions, near.depth
+    return _one_per_place(regions, gap), near.depth
+
+
+def _one_per_place(regions: list[Region], gap: float) -> list[Region]:
+    """The regions with those that repeat another joined into it: the same patch on one side
+    and, on the other, a patch on the same fitted surface (within ``gap``) at the same place
+    (points within ``gap``). Two closed bodies of one mesh whose faces coincide where the
+    other part touches give two patches there, one contact."""
+    out: list[Region] = []
+    for region in regions:
+        for k, kept in enumerate(out):
+            if _repeats(kept, region, gap):
+                out[k] = replace(
+                    kept,
+                    points=np.concatenate([kept.points, region.points]),
+                    least_distance=min(kept.least_distance, region.least_distance),
+                )
+                break
+        else:
+            out.append(region)
+    return out
+
+
+def _repeats(a: Region, b: Region, gap: float) -> bool:
+    """Whether region ``b`` is region ``a`` again (:func:`_one_per_place`)."""
+    if a.base_patch == b.base_patch and a.body_patch != b.body_patch:
+        side = "body"
+    elif a.body_patch == b.body_patch and a.base_patch != b.base_patch:
+        side = "base"
+    else:
+        return False
+    fa, fb = getattr(a, f"{side}_fit"), getattr(b, f"{side}_fit")
+    if fa is None or fb is None or fa.kind != fb.kind:
+        return False
+    if fa.kind == "plane":
+        if float(fa.axis @ fb.axis) < np.cos(np.radians(SMOOTH_PATCH_DEG)):
+            return False
+    elif fa.outward != fb.outward:
+        return False
+    # Each patch's vertices on the other's fitted surface.
+    for fit, vertices in ((fa, b.vertices.get(side)), (fb, a.vertices.get(side))):
+        if vertices is None or np.max(np.abs(residuals(fit, vertices)), initial=0.0) > gap:
+            return False
+    from scipy.spatial import cKDTree
+
+    near, _ = cKDTree(a.points).query(b.points, k=1, distance_upper_bound=gap)
+    return bool(np.any(np.isfinite(near)))
 
 
 @dataclass(frozen=True)
@@ -558,6 +608,12 @@ def _near_patches(
     base_side = np.concatenate([base_labels[a.triangle], base_labels[fb]])
     points = np.concatenate([(pa + a.closest) / 2, (pb + b.closest) / 2])
     signed = np.concatenate([a.signed, b.signed])
+    cos = np.concatenate(
+        [
+            np.einsum("ij,ij->i", body_faces.normals[fa], base_faces.normals[a.triangle]),
+            np.einsum("ij,ij->i", base_faces.normals[fb], body_faces.normals[b.triangle]),
+        ]
+    )
     regions = []
     # Unique (body patch, base patch) rows in row order, through one integer key (labels
     # from -1, for a triangle outside the patches).
@@ -568,7 +624,15 @@ def _near_patches(
     inverse = np.ravel(inverse)
     for k, (p_body, p_base) in enumerate(pairs):
         here = inverse == k
-        regions.append(Region(int(p_body), int(p_base), points[here], float(signed[here].min())))
+        regions.append(
+            Region(
+                int(p_body),
+                int(p_base),
+                points[here],
+                float(signed[here].min()),
+                float(cos[here].mean()),
+            )
+        )
     touching = np.unique(fa[np.abs(a.signed) <= gap])
     return _NearPatches(regions, body_labels, body_facet, base_labels, base_facet, depth, touching)
 
@@ -612,7 +676,10 @@ def merged_pieces(
                 seated = _near_patches(
                     rest, mesh, body_faces.subset(others), body_faces.subset(mine), gap
                 ).regions
-                swallowed = sum(r.least_distance <= gap for r in seated) >= 2
+                # Seated: on surfaces that face each other (normals within 60 degrees of
+                # opposite); a face lying on the rest's face of the same orientation, or crossing
+                # it, is two bodies overlapping there, not a ball in a groove.
+                swallowed = sum(r.least_distance <= gap and r.facing < -0.5 for r in seated) >= 2
         out.append((piece, swallowed))
     return out
 

@@ -29,6 +29,7 @@ __all__ = [
     "fit_cone",
     "fit_torus",
     "fit_surface",
+    "residuals",
 ]
 
 
@@ -279,19 +280,23 @@ def fit_surface(
     return None, tried
 
 
-def _with_rms(fit: Primitive, points: np.ndarray) -> Primitive:
-    """The fit with its RMS residual and size over all ``points``."""
+def residuals(fit: Primitive, points: np.ndarray) -> np.ndarray:
+    """The signed distance of each of ``points`` (n, 3, m) from the fitted surface (m)."""
     d = points - fit.point
     if fit.kind == "plane":
-        r = d @ fit.axis
-    elif fit.kind == "sphere":
-        r = np.linalg.norm(d, axis=1) - fit.radius
-    elif fit.kind == "cone":
-        r = _cone_distance(points, fit.point, fit.axis, fit.half_angle)
-    elif fit.kind == "torus":
-        r = _torus_distance(points, fit.point, fit.axis, fit.radius, fit.tube)
-    else:
-        r = np.linalg.norm(d - np.outer(d @ fit.axis, fit.axis), axis=1) - fit.radius
+        return np.asarray(d @ fit.axis)
+    if fit.kind == "sphere":
+        return np.asarray(np.linalg.norm(d, axis=1) - fit.radius)
+    if fit.kind == "cone":
+        return np.asarray(_cone_distance(points, fit.point, fit.axis, fit.half_angle))
+    if fit.kind == "torus":
+        return np.asarray(_torus_distance(points, fit.point, fit.axis, fit.radius, fit.tube))
+    return np.asarray(np.linalg.norm(d - np.outer(d @ fit.axis, fit.axis), axis=1) - fit.radius)
+
+
+def _with_rms(fit: Primitive, points: np.ndarray) -> Primitive:
+    """The fit with its RMS residual and size over all ``points``."""
+    r = residuals(fit, points)
     return replace(fit, rms=float(np.sqrt(np.mean(r**2))), size=_size(points))
 
 

@@ -245,3 +245,32 @@ def test_canoe_ball_in_a_vee():
     assert np.allclose(b["surface_radii"], [along, 8.0], atol=POSITION_TOL)
     assert abs(abs(unit(b["surface_direction"]) @ [1, 0, 0]) - 1) < 1e-9
     _match(found, [(-8.0 * n, n) for n in normals])
+
+
+def test_two_bodies_whose_faces_coincide_under_the_ball_give_one_contact():
+    """A body file of two closed bodies, a box and a smaller one inside it whose top face lies
+    on the box's top face where the ball touches: one contact (not the same one twice, with a
+    0/0 in its geometry), and neither body is taken for part of the base (they overlap; nothing
+    of the base sits in a groove)."""
+    import warnings
+
+    from kcheck.body.contact_regions import merged_pieces
+
+    c = np.array([0.0, 0.0, 0.0])
+    n = unit([0.2, -0.1, 1.0])
+    base = ball(c)
+    body = combine([flat(c, n), flat(c, n, side=6.0, thickness=2.0)])
+    size = float(np.linalg.norm(np.ptp(np.vstack([base.bounds, body.bounds]), axis=0)))
+    gap = CONTACT_GAP_RTOL * size
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the repeated contact divided 0 by 0
+        found, _ = _found(base, body)
+    assert [e.kind for e in found.elements] == ["ball-flat"]
+    assert found.contact_count == 1
+    # The ball is the base's: the normal points into the body, down the flat's.
+    _match(found, [(c - R * n, -n)])
+    pieces = merged_pieces(body, base, gap)
+    # The boxes' volumes in closed form: 1.6 R x 1.6 R x 4 and 6 x 6 x 2 (mm^3).
+    volumes = sorted(piece.volume for piece, _ in pieces)
+    assert np.allclose(volumes, [6.0 * 6.0 * 2.0, (1.6 * R) ** 2 * 4.0])
+    assert [swallowed for _, swallowed in pieces] == [False, False]
