@@ -360,8 +360,8 @@ def _read_all(sources: Any, scale: float) -> list[Any]:
     :class:`kcheck.body.meshio.Surface`, its shared edges worked out) or raising its error.
     Two binary STL files are read at once, in two threads: kcheck's own reader is numpy
     calls that release the GIL (the file read, the vertex merge's sort, the edges' sort),
-    about 0.6 of one file's time saved on two cores; other files one after the other (trimesh
-    and the STEP reader are not known to be thread-safe)."""
+    while the main thread imports scipy's modules the finding and the fits use; other files
+    one after the other (trimesh and the STEP reader are not known to be thread-safe)."""
     import threading
 
     from kcheck.body.meshio import load_surface
@@ -387,10 +387,16 @@ def _read_all(sources: Any, scale: float) -> list[Any]:
         except BaseException as exc:  # raised again in the main thread, in order
             done[k] = (False, exc)
 
-    other = threading.Thread(target=keep, args=(1,), daemon=True)
-    other.start()
-    keep(0)
-    other.join()
+    readers = [threading.Thread(target=keep, args=(k,), daemon=True) for k in (0, 1)]
+    for reader in readers:
+        reader.start()
+    # Meanwhile, what the finding and the fits import (the GIL is free while numpy works).
+    import scipy.optimize
+    import scipy.sparse.csgraph
+    import scipy.spatial  # noqa: F401
+
+    for reader in readers:
+        reader.join()
 
     def result(k: int) -> Any:
         ok, value = done[k]
