@@ -14,6 +14,10 @@ from kcheck.cli.common import ExitCode, fail, write_text
 
 __all__ = ["add_parser", "run", "scene_text"]
 
+#: Two binary STL files read at once, in two threads (:func:`_read_all`); False reads them one
+#: after the other (benchmarks/bench_contacts_command.py times both).
+READ_IN_THREADS = True
+
 
 def add_parser(sub: Any) -> None:
     """Register the ``contacts`` command."""
@@ -375,8 +379,10 @@ def _read_all(sources: Any, scale: float) -> list[Any]:
     def later(path: Path, what: str, part: str | None) -> Any:
         return lambda: read(path, what, part)
 
-    if len(sources) != 2 or any(
-        part is not None or path.suffix.lower() != ".stl" for path, _, part in sources
+    if (
+        not READ_IN_THREADS
+        or len(sources) != 2
+        or any(part is not None or path.suffix.lower() != ".stl" for path, _, part in sources)
     ):
         return [later(*source) for source in sources]
     done: dict[int, Any] = {}
