@@ -401,6 +401,8 @@ def _read_all(sources: Any, scale: float) -> list[Any]:
     import scipy.sparse.csgraph
     import scipy.spatial  # noqa: F401
 
+    import kcheck.scene.couplings  # noqa: F401  (the shorthands' geometry, for recognise)
+
     for reader in readers:
         reader.join()
 
