@@ -14,9 +14,11 @@ from kcheck.cli.common import ExitCode, fail, write_text
 
 __all__ = ["add_parser", "run", "scene_text"]
 
-#: Two binary STL files read at once, in two threads (:func:`_read_all`); False reads them one
-#: after the other (benchmarks/bench_contacts_command.py times both).
-READ_IN_THREADS = True
+#: Two binary STL files read at once, in two threads (:func:`_read_all`), scipy imported
+#: meanwhile. Off: on the shared 2-core machine (load 5-6) it cost 0.1-0.2 s CPU and 1.2 s of
+#: wall time (a thread waiting for the GIL waits on a busy core too);
+#: benchmarks/bench_contacts_command.py times both, to decide on a quiet machine.
+READ_IN_THREADS = False
 
 
 def add_parser(sub: Any) -> None:
@@ -362,10 +364,11 @@ def planar_scene_text(
 def _read_all(sources: Any, scale: float) -> list[Any]:
     """For each (path, what, part) of ``sources``, a function giving its mesh (a
     :class:`kcheck.body.meshio.Surface`, its shared edges worked out) or raising its error.
-    Two binary STL files are read at once, in two threads: kcheck's own reader is numpy
-    calls that release the GIL (the file read, the vertex merge's sort, the edges' sort),
-    while the main thread imports scipy's modules the finding and the fits use; other files
-    one after the other (trimesh and the STEP reader are not known to be thread-safe)."""
+    With :data:`READ_IN_THREADS`, two binary STL files are read at once, in two threads
+    (kcheck's own reader is numpy calls that release the GIL: the file read, the vertex
+    merge's sort, the edges' sort) while the main thread imports scipy's modules the finding
+    and the fits use; otherwise, and for other files, one after the other (trimesh and the
+    STEP reader are not known to be thread-safe). Errors are raised in the files' order."""
     import threading
 
     from kcheck.body.meshio import load_surface

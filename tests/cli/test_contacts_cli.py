@@ -413,3 +413,28 @@ def test_written_by_line_gives_the_options_that_shaped_the_scene(tmp_path, capsy
         f"# Written by `kcheck contacts {paths[0]} {paths[1]} --units mm --gap 0.05 "
         "--material steel --friction 0.2`:"
     )
+
+
+def test_files_read_in_two_threads_give_the_same_scene_and_errors(tmp_path, capsys, monkeypatch):
+    """kcheck.cli.contacts.READ_IN_THREADS (off by default): the same scene and report as
+    the files read one after the other; the base's error said first when both are bad."""
+    import kcheck.cli.contacts as contacts
+
+    base, body = three_vee()
+    _write(tmp_path, base, body)
+    args = ["contacts", str(tmp_path / "base.stl"), str(tmp_path / "body.stl"), "--units", "mm"]
+    out = {}
+    for threads in (False, True):
+        monkeypatch.setattr(contacts, "READ_IN_THREADS", threads)
+        assert main(args) == 0
+        out[threads] = capsys.readouterr()
+    assert out[True].out == out[False].out and out[True].err == out[False].err
+    open_body = body.copy()
+    open_body.update_faces(np.arange(len(open_body.faces)) > 0)
+    open_body.export(tmp_path / "open.stl")
+    (tmp_path / "empty.stl").write_bytes(b"\0" * 80 + (1).to_bytes(4, "little"))
+    code = main(["contacts", str(tmp_path / "empty.stl"), str(tmp_path / "open.stl")])
+    err = capsys.readouterr().err
+    assert code == 2 and "empty.stl" in err and "open.stl" not in err
+    code = main(["contacts", str(tmp_path / "base.stl"), str(tmp_path / "open.stl")])
+    assert code == 2 and "not watertight" in capsys.readouterr().err
