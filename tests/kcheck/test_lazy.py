@@ -132,6 +132,9 @@ def test_json_run_on_a_planar_scene_imports_only_what_it_needs(write_scene):
         "kcheck.pictures.plotting",
         # scene fields and check options are read without pydantic (issue 24)
         "kcheck.scene.models",
+        # the mesh reader: explicit mass properties read no mesh (issue 24)
+        "kcheck.body.meshio",
+        "kcheck.body.mesh_edges",
         # the other commands' modules: only the command asked for is built (issue 24)
         "kcheck.cli.init",
         "kcheck.cli.contacts",
