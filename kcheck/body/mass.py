@@ -14,18 +14,10 @@ import contextlib
 import dataclasses
 from collections.abc import Iterator, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from kcheck.body.meshio import (
-    MAX_COORDINATE_M,
-    MERGE_RTOL,
-    load_mesh,
-    not_watertight,
-    release_memory,
-    step_length_unit,
-)
 from kcheck.errors import FieldPath, MeshError
 from kcheck.numerics.thresholds import DEGENERATE_FACE_RTOL, NO_VOLUME_RTOL
 from kcheck.result import Finding, MassProperties
@@ -34,6 +26,8 @@ from kcheck.scene.limits import LIMITS
 
 if TYPE_CHECKING:
     import trimesh
+
+    from kcheck.body.meshio import MERGE_RTOL, load_mesh, step_length_unit
 
 __all__ = [
     "MERGE_RTOL",
@@ -50,6 +44,20 @@ __all__ = [
     "step_length_unit",
     "transformed",
 ]
+
+
+#: The mesh reader's names this module gives too. The reader (:mod:`kcheck.body.meshio`) is
+#: imported when a mesh is read, not with this module: a body with explicit mass properties
+#: never needs it (its import is 3-5 ms of every start, issue 24).
+_FROM_MESHIO = frozenset({"MERGE_RTOL", "load_mesh", "step_length_unit"})
+
+
+def __getattr__(name: str) -> Any:
+    if name in _FROM_MESHIO:
+        from kcheck.body import meshio
+
+        return getattr(meshio, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def principal_axes(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -182,6 +190,8 @@ def mesh_mass_properties(
                 )
             )
     if not mesh.is_watertight:
+        from kcheck.body.meshio import not_watertight
+
         raise not_watertight(mesh, path, field, scale, units)
     if not mesh.is_winding_consistent:
         raise MeshError(
@@ -262,6 +272,8 @@ def shared_meshes() -> Iterator[None]:
 def _load(part: Part, max_mesh_bytes: int | None) -> trimesh.Trimesh:
     """The part's mesh in metres (unplaced): read, or a copy of the one read already within
     :func:`shared_meshes` (a copy: repairs and placement change a mesh in place)."""
+    from kcheck.body.meshio import load_mesh
+
     field = (*part.field, "mesh")
     if _SHARED is None:
         return load_mesh(part.mesh, part.scale, field, max_bytes=max_mesh_bytes)
@@ -286,6 +298,8 @@ def part_mass_properties(part: Part, max_mesh_bytes: int | None = None) -> MassP
         units=part.units,
     )
     if part.is_step:
+        from kcheck.body.meshio import step_length_unit
+
         declared = step_length_unit(part.mesh)
         note = f"{part.mesh.name}: STEP, declared unit {declared or 'unknown'}, read in metres"
         props = dataclasses.replace(props, notes=(*props.notes, note))
@@ -295,6 +309,8 @@ def part_mass_properties(part: Part, max_mesh_bytes: int | None = None) -> MassP
     placed = transformed(props, rotation, np.asarray(part.translation, dtype=float))
     assert placed.bounds is not None
     largest = float(np.abs(placed.bounds).max())
+    from kcheck.body.meshio import MAX_COORDINATE_M
+
     if not largest <= MAX_COORDINATE_M:  # the mesh's own coordinates were checked on reading
         raise MeshError(
             part.mesh,
@@ -368,6 +384,8 @@ def body_mass_properties(
             return explicit
         combined = combine([explicit, *points])
         return dataclasses.replace(combined, notes=(*notes, added))
+    from kcheck.body.meshio import release_memory
+
     props = combine([*(part_mass_properties(p, max_mesh_bytes) for p in body.parts), *points])
     release_memory(collect=sum(_file_size(p.mesh) for p in body.parts) >= COLLECT_BYTES)
     if points:

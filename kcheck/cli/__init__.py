@@ -15,13 +15,25 @@ import types
 from collections.abc import Sequence
 
 from kcheck import __version__
-from kcheck.cli import check, config, contacts, expand, info, init, mass, study, suggest
 from kcheck.cli.common import ExitCode, Parser
 from kcheck.errors import KcheckError
 
 __all__ = ["ExitCode", "main"]
 
-COMMANDS = (check, config, init, contacts, expand, mass, suggest, study, info)
+#: Every command, in the order ``kcheck --help`` lists them, with the module (in this
+#: package) whose ``add_parser`` adds it.
+COMMANDS = {
+    "check": "check",
+    "config": "config",
+    "init": "init",
+    "contacts": "contacts",
+    "expand": "expand",
+    "mass": "mass",
+    "suggest": "suggest",
+    "study": "study",
+    "schema": "info",
+    "plugins": "info",
+}
 
 #: Thread counts of the BLAS/OpenMP libraries numpy may load. kcheck's matrices are tiny
 #: (3x3 to 6x36): threads only add overhead, and parallelism comes from --jobs processes.
@@ -73,16 +85,25 @@ def skip_pydantic_plugins() -> None:
     sys.modules[name] = loader
 
 
-def _parser() -> argparse.ArgumentParser:
+def _parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The command line's parser: every command's, or (``command`` given) only that one's.
+
+    Only one command's: the other command modules are not imported and their parsers not
+    built (about 10 ms of every start, issue 24). The usage line still names every command
+    (the same ``metavar`` argparse would print), so errors read the same either way; only
+    ``kcheck --help`` needs every command's help, and it builds the full parser.
+    """
     parser = Parser(
         prog="kcheck",
         description="Check the repositioning behaviour of kinematic couplings from CAD exports.",
         epilog="exit codes: 0 every check passed, 1 a check failed, 2 bad input or usage",
     )
     parser.add_argument("--version", action="version", version=f"kcheck {__version__}")
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
-    for command in COMMANDS:
-        command.add_parser(sub)
+    metavar = None if command is None else "{" + ",".join(COMMANDS) + "}"
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser, metavar=metavar)
+    names = COMMANDS.values() if command is None else (COMMANDS[command],)
+    for name in dict.fromkeys(names):
+        importlib.import_module(f"kcheck.cli.{name}").add_parser(sub)
     return parser
 
 
@@ -104,7 +125,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     pin_blas_threads()
     skip_pydantic_plugins()
     escape_unprintable()
-    args = _parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    # The command comes first (kcheck's own options, -h and --version, end the run).
+    args = _parser(argv[0] if argv and argv[0] in COMMANDS else None).parse_args(argv)
     try:
         return int(args.handler(args))
     except KcheckError as exc:

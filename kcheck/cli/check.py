@@ -627,6 +627,8 @@ def _run(
 def _errors_to_stderr(results: list[SceneResult]) -> None:
     """Input errors on stderr, once each, when stdout is not the text report (which shows
     them in the scene's block)."""
+    if not any(r.error for r in results):
+        return  # the usual case: no report helpers to import (issue 24: start-up)
     from kcheck.report import views
     from kcheck.report.safe import printable
 

@@ -348,10 +348,11 @@ def body_mass_properties_cached(
     body's mass properties come from meshes (None: no cache), and with ``memo`` through this
     process's memory first."""
     from kcheck.body.mass import body_mass_properties
-    from kcheck.body.meshio import check_mesh_file
 
     if (folder is None and not memo) or body.explicit is not None or not body.parts:
         return body_mass_properties(body, scale, max_mesh_bytes)
+    from kcheck.body.meshio import check_mesh_file  # meshes only (issue 24: start-up)
+
     for part in body.parts:  # before hashing it: a file past the limit is not read at all
         check_mesh_file(part.mesh, (*part.field, "mesh"), max_mesh_bytes)
     try:

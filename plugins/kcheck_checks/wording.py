@@ -8,6 +8,7 @@ same way. A finding names the retracted support (``("supports", i)``) or the loa
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import re
 from collections.abc import Callable, Sequence
@@ -477,8 +478,12 @@ def _into_range(
     return "; or ".join(ways) or None
 
 
-#: A hint that already names a number to change: a friction bound, force angles, a direction.
-NUMERIC_WAY_OUT = re.compile(r"μ [≤≥] \d|below \d|force angles \d|turn the force to")
+@functools.cache
+def numeric_way_out() -> re.Pattern[str]:
+    """A hint that already names a number to change: a friction bound, force angles, a
+    direction. (Compiled when first needed, not on import: start-up, issue 24.)"""
+    return re.compile(r"μ [≤≥] \d|below \d|force angles \d|turn the force to")
+
 
 #: Findings about the whole safe set, which a friction search can answer for the whole check.
 CHECK_LEVEL = ("margin", "design-outside", "ranges-disjoint", "no-safe-direction")
@@ -493,7 +498,7 @@ def with_friction_way_out(
     wanting = [
         i
         for i, f in enumerate(result.findings)
-        if f.code in CHECK_LEVEL and not NUMERIC_WAY_OUT.search(f.hint or "")
+        if f.code in CHECK_LEVEL and not numeric_way_out().search(f.hint or "")
     ]
     if result.status != Status.FAIL or not wanting:
         return result

@@ -189,3 +189,32 @@ def test_kcheck_config_refuses_an_unknown_format(project, cli):
     (project / "kcheck.toml").write_text('format = "nope"\n')
     code, _, err = cli("config")
     assert code == 2 and "kcheck.toml: `format`: unknown format `nope`" in err
+
+
+@pytest.mark.parametrize(
+    ("xdg", "home"),
+    [
+        (None, "/home/someone"),
+        ("", "/home/someone"),
+        ("/var/tmp/xdg-cache", "/home/someone"),
+        ("/var/tmp/xdg-cache/", None),
+        ("relative/cache", "/home/someone"),  # platformdirs decides (4.x: ignored)
+        (None, None),
+    ],
+)
+def test_default_cache_folder_is_platformdirs_answer(
+    monkeypatch: pytest.MonkeyPatch, xdg: str | None, home: str | None
+) -> None:
+    # Issue 24: the common Linux cases are answered without importing platformdirs; the
+    # answer must be platformdirs' own (the library itself is the reference here).
+    import platformdirs
+
+    from kcheck.gate.config import user_cache_dir
+
+    monkeypatch.delenv("KCHECK_CACHE_DIR", raising=False)
+    for name, value in (("XDG_CACHE_HOME", xdg), ("HOME", home)):
+        if value is None:
+            monkeypatch.delenv(name, raising=False)
+        else:
+            monkeypatch.setenv(name, value)
+    assert user_cache_dir() == Path(platformdirs.user_cache_dir("kcheck", appauthor=False))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 import subprocess
 import sys
@@ -131,6 +132,22 @@ def test_json_run_on_a_planar_scene_imports_only_what_it_needs(write_scene):
         "kcheck.pictures.plotting",
         # scene fields and check options are read without pydantic (issue 24)
         "kcheck.scene.models",
+        # the mesh reader: explicit mass properties read no mesh (issue 24)
+        "kcheck.body.meshio",
+        "kcheck.body.mesh_edges",
+        # the report's shared views: a JSON report of a scene without input errors needs none
+        "kcheck.report.views",
+        # the default cache folder on Linux is platformdirs' answer without importing it
+        "platformdirs",
+        # the other commands' modules: only the command asked for is built (issue 24)
+        "kcheck.cli.init",
+        "kcheck.cli.contacts",
+        "kcheck.cli.expand",
+        "kcheck.cli.mass",
+        "kcheck.cli.suggest",
+        "kcheck.cli.suggest_report",
+        "kcheck.cli.study",
+        "kcheck.cli.info",
     }
     assert modules & unwanted == set()
     assert {"kcheck.report.json", "kcheck.gate.runner", "kcheck.gate.cache"} <= modules
@@ -190,3 +207,22 @@ def test_contacts_on_binary_stls_imports_no_trimesh(tmp_path):
     result = _imported("contacts", *paths, "--units", "mm")
     # An area contact: found (exit 1, no scene), with scipy and without trimesh.
     assert result == {"code": 1, "heavy": ["scipy"]}
+
+
+def _commands(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
+    """The command parsers of a parser's subcommand action, by name."""
+    (action,) = (a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return dict(action.choices)
+
+
+def test_one_command_parser_reads_as_the_full_one():
+    # Issue 24: `kcheck CMD ...` builds only CMD's parser; its usage line, and so every usage
+    # error, is the one the parser of every command prints.
+    import kcheck.cli as cli
+
+    full = cli._parser()
+    assert list(_commands(full)) == list(cli.COMMANDS)
+    for name in cli.COMMANDS:
+        one = cli._parser(name)
+        assert one.format_usage() == full.format_usage()
+        assert _commands(one)[name].format_help() == _commands(full)[name].format_help()

@@ -487,18 +487,18 @@ def test_weight_as_the_closing_force(write_scene: Callable[..., Path]) -> None:
 
 def test_centre_of_mass_comes_from_the_runner_once(monkeypatch: pytest.MonkeyPatch) -> None:
     """The force acts at the centre of mass: the runner reads the mesh once for every check."""
-    import kcheck.body.mass
+    import kcheck.body.meshio
     from kcheck.gate.runner import check_scene
     from kcheck.plugin import load_checks
 
     calls: list[Path] = []
-    original = kcheck.body.mass.load_mesh
+    original = kcheck.body.meshio.load_mesh
 
     def counting(path: Path, scale: float, field: object, **kwargs: object) -> object:
         calls.append(path)
         return original(path, scale, field, **kwargs)
 
-    monkeypatch.setattr(kcheck.body.mass, "load_mesh", counting)
+    monkeypatch.setattr(kcheck.body.meshio, "load_mesh", counting)
     scene = Path(__file__).resolve().parents[2] / "fixtures" / "planar-block" / "block.kcheck.yaml"
     result = check_scene(scene, load_checks())
     statuses = {c.id: c.status for c in result.checks}
