@@ -25,7 +25,15 @@ from kcheck.result import CheckResult, Finding, MassProperties, SceneResult, Sev
 from kcheck.scene import Scene, describe_pydantic, load_scene
 from kcheck.scene.yamlio import DEFAULT_LIMITS
 
-__all__ = ["Settings", "discover", "check_scene", "check_scenes", "run_batch", "scene_status"]
+__all__ = [
+    "Settings",
+    "discover",
+    "check_scene",
+    "check_scenes",
+    "check_files",
+    "run_batch",
+    "scene_status",
+]
 
 #: Top-level modules of the `plot` extra: only their absence means "install the extra".
 PLOT_EXTRA = ("matplotlib", "networkx")
@@ -263,7 +271,23 @@ def check_scenes(
     every check is given all the scenes it runs on at once (``Check.run_many``, which may
     stack their algebra). Each result is the one :func:`check_scene` gives its scene alone
     (``runtime_s`` aside: a batch's time is shared equally among its scenes)."""
-    prepared = [_prepare(path, checks, settings, load) for load in loads]
+    return _check_many([(path, load) for load in loads], checks, settings)
+
+
+def check_files(
+    paths: Sequence[Path], checks: Sequence[LoadedCheck], settings: Settings
+) -> list[SceneResult]:
+    """:func:`check_scenes` of several scene files (a worker's chunk of ``kcheck check``):
+    each result is the one :func:`check_scene` gives its file alone (``runtime_s`` aside)."""
+    return _check_many([(path, None) for path in paths], checks, settings)
+
+
+def _check_many(
+    items: Sequence[tuple[Path, Callable[[], Scene] | None]],
+    checks: Sequence[LoadedCheck],
+    settings: Settings,
+) -> list[SceneResult]:
+    prepared = [_prepare(path, checks, settings, load) for path, load in items]
     for lc in checks:
         batch = [
             (p, k)
@@ -289,7 +313,8 @@ def check_scenes(
         for (p, k), result in zip(batch, results, strict=True):
             p.results[k] = dataclasses.replace(result, runtime_s=share)
     return [
-        p if isinstance(p, SceneResult) else _finish(path, checks, settings, p) for p in prepared
+        p if isinstance(p, SceneResult) else _finish(path, checks, settings, p)
+        for (path, _), p in zip(items, prepared, strict=True)
     ]
 
 
@@ -620,8 +645,11 @@ def run_batch(
     in the order of the files.
 
     With ``settings.jobs`` > 0 (and on Linux) scenes run in that many worker processes, each
+    given a few consecutive files at once (:func:`chunk_size`, :func:`check_files`), each
     scene within the time and memory budget of ``settings``; a scene that exceeds one is an
-    error result naming the budget, and the batch goes on. Otherwise they run here, in turn.
+    error result naming the budget, and the batch goes on: a chunk that exceeds one scene's
+    budget is checked again file by file, each with its own budget
+    (:func:`kcheck.gate.pool.run_chunks_in_workers`). Otherwise they run here, in turn.
     ``tick`` is called now and then while workers run (:func:`kcheck.gate.pool.run_in_workers`).
     """
     from kcheck.gate import pool
@@ -634,8 +662,8 @@ def run_batch(
                 yield _budget_error(path, pool.BudgetExceeded("memory", ""), settings)
         return
 
-    def work(path: Path) -> SceneResult:
-        return check_scene(path, checks, settings=settings)
+    def work(chunk: Sequence[Path]) -> list[SceneResult]:
+        return check_files(chunk, checks, settings)
 
     # Workers that draw pictures grow (matplotlib's caches): recycled past a threshold.
     recycle = pool.RECYCLE_RSS_BYTES if settings.plots is not None else None
@@ -645,9 +673,28 @@ def run_batch(
         import matplotlib.figure  # noqa: F401
         from matplotlib.backends import backend_agg  # noqa: F401
     budget = pool.Budget(settings.timeout_s, settings.memory_bytes, recycle)
-    outcomes = pool.run_in_workers(files, work, jobs=settings.jobs, budget=budget, tick=tick)
+    outcomes = pool.run_chunks_in_workers(
+        files,
+        work,
+        jobs=settings.jobs,
+        budget=budget,
+        chunk=chunk_size(len(files), settings.jobs),
+        tick=tick,
+    )
     for path, outcome in zip(files, outcomes, strict=True):
         if isinstance(outcome, pool.BudgetExceeded):
             yield _budget_error(path, outcome, settings)
         else:
             yield outcome
+
+
+#: Most scene files a worker is given at once (:func:`chunk_size`).
+CHUNK_SCENES = 8
+
+
+def chunk_size(files: int, jobs: int) -> int:
+    """How many scene files a worker checks at once: up to :data:`CHUNK_SCENES` (the checks'
+    ``run_many`` batches, one message each way), but small enough that every worker gets
+    about four chunks or more (results stream and the workers end together); 1 for small
+    batches."""
+    return max(1, min(CHUNK_SCENES, files // (4 * max(jobs, 1))))
