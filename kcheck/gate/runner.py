@@ -484,6 +484,7 @@ def _matter(
     supports checked against its mesh (:func:`_placement`)."""
     from kcheck.gate.cache import body_mass_properties_cached
 
+    key = _body_key(scene, settings)  # hashed once: mass properties, surface, placement
     mass = None
     if any(needs_mass for *_, needs_mass, _ in plan):
         if scene.body is None:
@@ -499,6 +500,7 @@ def _matter(
                 settings.cache_dir,
                 settings.max_mesh_bytes,
                 memo=settings.memo_mass,
+                key=key,
             )
         except SceneError as exc:
             where = exc.where or ("body",)
@@ -508,21 +510,49 @@ def _matter(
         problem = body_limits_problem(mass)
         if problem is not None:
             raise scene.error(("body",), problem)
-    placement = _placement(scene, settings)
+    placement = _placement(scene, settings, key)
     return mass, placement
 
 
-def _placement(scene: Scene, settings: Settings) -> tuple[Finding, ...]:
+def _body_key(scene: Scene, settings: Settings) -> str | None:
+    """The body's cache key (:func:`kcheck.gate.cache.body_key`) when something is cached
+    (the cache folder, or ``memo_mass``); None otherwise, or when its meshes cannot be keyed
+    (too large, unreadable: the computations then report why, as without a cache)."""
+    if (settings.cache_dir is None and not settings.memo_mass) or scene.body is None:
+        return None
+    if not scene.body.parts:
+        return None
+    from kcheck.body.meshio import check_mesh_file
+    from kcheck.gate.cache import body_key
+
+    try:
+        for part in scene.body.parts:  # before hashing it: a file past the limit is not read
+            check_mesh_file(part.mesh, (*part.field, "mesh"), settings.max_mesh_bytes)
+        return body_key(scene.body, scene.scale)
+    except (SceneError, OSError):
+        return None
+
+
+def _placement(scene: Scene, settings: Settings, key: str | None = None) -> tuple[Finding, ...]:
     """The supports against the body's mesh (:mod:`kcheck.analysis.placement`): raises the
     errors (a support off the body, a normal pointing out of it) as input errors; returns the
-    warnings (where the mesh cannot tell)."""
+    warnings (where the mesh cannot tell). With a cache folder and the body's ``key``, the
+    warnings of a placement without errors are stored there
+    (:class:`kcheck.gate.cache.PlacementCache`): a warm run reads no mesh for them."""
     if scene.body is None or not scene.body.parts:
         return ()
     from kcheck.analysis.placement import support_placement
     from kcheck.body.surface import body_surface
+    from kcheck.gate.cache import PlacementCache, placement_key
 
+    cache = None
+    if key is not None and settings.cache_dir is not None:
+        cache = (PlacementCache(settings.cache_dir), placement_key(key, scene))
+        hit = cache[0].get(cache[1])
+        if hit is not None:
+            return hit
     try:
-        surface = _surface(scene, settings) if settings.memo_mass else None
+        surface = _surface(scene, settings, key) if settings.memo_mass else None
         if surface is None:
             surface = body_surface(scene.body, settings.max_mesh_bytes)
     except SceneError as exc:
@@ -538,6 +568,8 @@ def _placement(scene: Scene, settings: Settings) -> tuple[Finding, ...]:
                 for f in found.errors
             ]
         )
+    if cache is not None:
+        cache[0].put(cache[1], found.warnings)
     return found.warnings
 
 
@@ -546,17 +578,16 @@ def _placement(scene: Scene, settings: Settings) -> tuple[Finding, ...]:
 _SURFACES: dict[tuple[str, int | None], Any] = {}
 
 
-def _surface(scene: Scene, settings: Settings) -> Any:
-    """The body's surface through :data:`_SURFACES` (None: its meshes cannot be keyed; the
-    caller builds it and reports why)."""
+def _surface(scene: Scene, settings: Settings, body: str | None) -> Any:
+    """The body's surface through :data:`_SURFACES`, by the body's key ``body`` (None: its
+    meshes cannot be keyed; the caller builds it and reports why)."""
     from kcheck.body.surface import body_surface
-    from kcheck.gate.cache import MEMO_ENTRIES, body_key
+    from kcheck.gate.cache import MEMO_ENTRIES
 
     assert scene.body is not None
-    try:
-        key = (body_key(scene.body, scene.scale), settings.max_mesh_bytes)
-    except OSError:
+    if body is None:
         return None
+    key = (body, settings.max_mesh_bytes)
     if key not in _SURFACES:
         if len(_SURFACES) >= MEMO_ENTRIES:
             _SURFACES.pop(next(iter(_SURFACES)))
