@@ -1,14 +1,15 @@
 """Issue 24's batch targets, paired: ``kcheck check`` of N generated scenes with ``--jobs``,
 this tree against a baseline commit in the same run.
 
-Run: ``python benchmarks/bench_chunks.py [--baseline 3d1a361] [--count 1000] [--jobs 2]
+Run: ``python benchmarks/bench_chunks.py [--baseline 56e5ffb] [--count 1000] [--jobs 2]
 [--rounds 1] [--kinds spatial,planar]``.
 
 The scenes are :mod:`bench_gate`'s (planar: a box mesh each; spatial: the three-groove fixture
 with its own scaled copy of the top plate each, without ``tolerances:``). The baseline commit
 is extracted (``git archive``) and put first on ``PYTHONPATH`` (its ``kcheck`` and
 ``plugins``), so ``python -m kcheck`` runs it with this environment's packages (run from a
-temporary folder, which ``python -m`` puts first); the new side is this tree as installed.
+temporary folder, which ``python -m`` puts first); the new side is this tree, put first on
+``PYTHONPATH`` the same way.
 Each side prints which ``kcheck`` it imports. Each round runs, per kind, baseline then
 new: spatial cold (an empty cache) then warm (the same cache again), planar warm. Printed:
 wall and CPU time (``os.wait4``, kcheck and its workers) of each, and new / baseline of the
@@ -31,11 +32,12 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from bench_gate import ENV, KCHECK, make_planar, make_spatial, run  # noqa: E402
 
 
-def side_env(tree: Path | None) -> dict[str, str]:
-    """kcheck's environment: the baseline tree first on the path, or this one as installed."""
+def side_env(tree: Path) -> dict[str, str]:
+    """kcheck's environment: ``tree`` (the baseline's export, or this tree) first on the path
+    (an installed kcheck may be another checkout's: a helper's worktree shares the lead's
+    environment)."""
     env = {k: v for k, v in ENV.items() if k != "PYTHONPATH"}
-    if tree is not None:
-        env["PYTHONPATH"] = os.pathsep.join([str(tree), str(tree / "plugins")])
+    env["PYTHONPATH"] = os.pathsep.join([str(tree), str(tree / "plugins")])
     return env
 
 
@@ -52,7 +54,7 @@ def check(folder: Path, jobs: int, cache: Path, env: dict[str, str]) -> tuple[fl
 
 def main() -> None:
     parser = argparse.ArgumentParser()
-    parser.add_argument("--baseline", default="3d1a361")
+    parser.add_argument("--baseline", default="56e5ffb")
     parser.add_argument("--count", type=int, default=1000)
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--rounds", type=int, default=1)
@@ -69,7 +71,7 @@ def main() -> None:
             ["git", "archive", args.baseline], cwd=ROOT, capture_output=True, check=True
         ).stdout
         subprocess.run(["tar", "-x", "-C", str(base)], input=archive, check=True)
-        sides = {"baseline": side_env(base), "new": side_env(None)}
+        sides = {"baseline": side_env(base), "new": side_env(ROOT)}
         for kind in args.kinds.split(","):
             folder = tmp / kind
             (make_planar if kind == "planar" else make_spatial)(folder, args.count)
@@ -92,19 +94,22 @@ def main() -> None:
                         samples.setdefault((kind, state), {}).setdefault(label, []).append(
                             (wall, cpu)
                         )
-                        print(f"{kind} {state} {label}: {wall:.1f} s wall, {cpu:.1f} s CPU")
+                        print(
+                            f"{kind} {state} {label}: {wall:.1f} s wall, {cpu:.1f} s CPU "
+                            f"(load {os.getloadavg()[0]:.1f})"
+                        )
     print(f"load average after: {os.getloadavg()}")
     print(
         f"| {args.count} scenes, -j {args.jobs} | baseline ({args.baseline}) wall / CPU "
-        "| new wall / CPU | new / baseline (wall) |"
+        "| new wall / CPU | new / baseline (wall) | new / baseline (CPU) |"
     )
-    print("| --- | --- | --- | --- |")
+    print("| --- | --- | --- | --- | --- |")
     for (kind, state), by in samples.items():
         old = [statistics.median(x) for x in zip(*by["baseline"], strict=True)]
         new = [statistics.median(x) for x in zip(*by["new"], strict=True)]
         print(
             f"| {kind}, {state} | {old[0]:.1f} s / {old[1]:.1f} s | {new[0]:.1f} s / "
-            f"{new[1]:.1f} s | {new[0] / old[0]:.2f} |"
+            f"{new[1]:.1f} s | {new[0] / old[0]:.2f} | {new[1] / old[1]:.2f} |"
         )
 
 

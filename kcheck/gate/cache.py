@@ -1,4 +1,5 @@
-"""Cache of mesh mass properties, keyed by everything that determines them.
+"""Cache of mesh mass properties (and of the supports against the mesh: :class:`PlacementCache`,
+under ``placement/``), keyed by everything that determines them.
 
 The key is a SHA-256 over: each part's mesh content (SHA-256 of the file's bytes), file name
 (it appears in notes) and field in the scene file (warnings point at it), every other field of
@@ -41,7 +42,15 @@ if TYPE_CHECKING:
     from kcheck.result import Finding, MassProperties
     from kcheck.scene import Body
 
-__all__ = ["CACHE_FOLDER", "FORMAT", "MassCache", "body_key", "body_mass_properties_cached"]
+__all__ = [
+    "CACHE_FOLDER",
+    "FORMAT",
+    "MassCache",
+    "PlacementCache",
+    "body_key",
+    "body_mass_properties_cached",
+    "placement_key",
+]
 
 CACHE_FOLDER = ".kcheck_cache"
 #: Format of an entry; raised whenever what an entry holds changes (2: bounds, part bounds
@@ -343,10 +352,12 @@ def body_mass_properties_cached(
     folder: Path | None,
     max_mesh_bytes: int | None = None,
     memo: bool = False,
+    key: str | None = None,
 ) -> MassProperties:
     """:func:`kcheck.body.mass.body_mass_properties`, through the cache in ``folder`` when the
     body's mass properties come from meshes (None: no cache), and with ``memo`` through this
-    process's memory first."""
+    process's memory first. ``key``: the body's :func:`body_key` when the caller has it
+    already (its meshes are then not hashed again)."""
     from kcheck.body.mass import body_mass_properties
 
     if (folder is None and not memo) or body.explicit is not None or not body.parts:
@@ -355,10 +366,11 @@ def body_mass_properties_cached(
 
     for part in body.parts:  # before hashing it: a file past the limit is not read at all
         check_mesh_file(part.mesh, (*part.field, "mesh"), max_mesh_bytes)
-    try:
-        key = body_key(body, scale)
-    except OSError:  # the mesh cannot be read: let the computation report it
-        return body_mass_properties(body, scale, max_mesh_bytes)
+    if key is None:
+        try:
+            key = body_key(body, scale)
+        except OSError:  # the mesh cannot be read: let the computation report it
+            return body_mass_properties(body, scale, max_mesh_bytes)
     if memo and (key, max_mesh_bytes) in _MEMO:
         return _MEMO[key, max_mesh_bytes]
     if folder is None:
@@ -376,3 +388,108 @@ def body_mass_properties_cached(
             _MEMO.pop(next(iter(_MEMO)))
         _MEMO[key, max_mesh_bytes] = mass
     return mass
+
+
+# -- the supports against the body's mesh ---------------------------------------------------
+
+#: Format of a placement entry (:class:`PlacementCache`).
+PLACEMENT_FORMAT = 1
+#: What computes a placement's warnings besides ``kcheck/body/`` (in :func:`_code_fingerprint`):
+#: their sources are in the key, so a changed rule or message never reads an old answer.
+_PLACEMENT_SOURCES = (
+    "kcheck.analysis.placement",
+    "kcheck.fmt",
+    "kcheck.result",
+    "kcheck.scene.types",
+    "kcheck.scene.units",
+    "kcheck.numerics.thresholds",
+)
+_PLACEMENT_FINGERPRINT: str | None = None
+
+
+def _placement_fingerprint() -> str:
+    global _PLACEMENT_FINGERPRINT
+    if _PLACEMENT_FINGERPRINT is None:
+        import importlib.util
+
+        digest = _sha256(_code_fingerprint().encode())
+        for name in _PLACEMENT_SOURCES:
+            spec = importlib.util.find_spec(name)
+            if spec is not None and spec.origin is not None:
+                digest.update(f"|{name}|".encode() + Path(spec.origin).read_bytes())
+        _PLACEMENT_FINGERPRINT = digest.hexdigest()
+    return _PLACEMENT_FINGERPRINT
+
+
+def placement_key(body: str, scene: Any) -> str:
+    """The cache key of the supports against a body's mesh
+    (:func:`kcheck.analysis.placement.support_placement`): the body's :func:`body_key` and
+    everything of the scene the placement reads: its kind, units, length scale and supports
+    (every field: position, normal, coupling geometry, where each is written)."""
+    material = {
+        "format": PLACEMENT_FORMAT,
+        "code": _placement_fingerprint(),
+        "body": body,
+        "kind": scene.kind,
+        "units": scene.units,
+        "scale": scene.scale,
+        "supports": _plain(list(scene.supports)),
+    }
+    return _sha256(json.dumps(material, sort_keys=True).encode()).hexdigest()
+
+
+class PlacementCache:
+    """The warnings of the supports against a body's mesh on disk under
+    ``folder/placement/``: a warm run reads no mesh for them. Only placements without errors
+    are stored (errors are never cached). An entry is trusted as a mass entry is (its format,
+    its own key, its checksum, exactly its fields)."""
+
+    def __init__(self, folder: Path) -> None:
+        self.folder = Path(folder)
+
+    def _path(self, key: str) -> Path:
+        return self.folder / "placement" / key[:2] / f"{key}.json"
+
+    def get(self, key: str) -> tuple[Finding, ...] | None:
+        """The warnings stored for ``key``, or None when absent, unreadable or corrupt."""
+        try:
+            entry = json.loads(self._path(key).read_text(encoding="utf-8"))
+            if not isinstance(entry, dict) or entry.get("format") != PLACEMENT_FORMAT:
+                return None
+            payload = entry["payload"]
+            if entry["key"] != key or entry["checksum"] != _checksum(payload):
+                return None
+            if not isinstance(payload, dict) or set(payload) != {"warnings"}:
+                return None
+            warnings = [_finding(w) for w in payload["warnings"]]
+            if any(w is None for w in warnings):
+                return None
+            return tuple(w for w in warnings if w is not None)
+        except (OSError, ValueError, KeyError, TypeError, AttributeError, IndexError):
+            return None
+
+    def put(self, key: str, warnings: tuple[Finding, ...]) -> None:
+        """Store an entry atomically; a cache that cannot be written is silently skipped."""
+        import tempfile
+
+        payload = {"warnings": [_finding_payload(w) for w in warnings]}
+        entry = {
+            "format": PLACEMENT_FORMAT,
+            "key": key,
+            "checksum": _checksum(payload),
+            "payload": payload,
+        }
+        path = self._path(key)
+        try:
+            MassCache(self.folder)._prepare()
+            path.parent.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-")
+            try:
+                with os.fdopen(fd, "w", encoding="utf-8") as fh:
+                    json.dump(entry, fh)
+                os.replace(tmp, path)
+            except BaseException:
+                os.unlink(tmp)
+                raise
+        except OSError:
+            pass

@@ -33,6 +33,8 @@ __all__ = [
     "Budget",
     "BudgetExceeded",
     "run_in_workers",
+    "run_chunks_in_workers",
+    "chunks_of",
     "resident_bytes",
     "RECYCLE_RSS_BYTES",
 ]
@@ -298,39 +300,80 @@ def run_in_workers(
     clock): the parent runs no thread of its own, since workers are forked from it, and a
     fork while another thread runs may deadlock the child (Python 3.12 warns of it).
     """
-    pool: _Pool[T, R] = _Pool(work, budget)
-    pending = list(enumerate(tasks))
-    pending.reverse()
+
+    def one(chunk: Sequence[T]) -> list[R]:
+        return [work(chunk[0])]
+
+    return run_chunks_in_workers(tasks, one, jobs=jobs, budget=budget, chunk=1, tick=tick)
+
+
+def chunks_of(count: int, size: int) -> list[tuple[int, ...]]:
+    """Indices ``0 .. count - 1`` in consecutive chunks of at most ``size``."""
+    size = max(1, size)
+    return [tuple(range(s, min(s + size, count))) for s in range(0, count, size)]
+
+
+def run_chunks_in_workers(
+    tasks: Sequence[T],
+    work: Callable[[Sequence[T]], Sequence[R]],
+    *,
+    jobs: int,
+    budget: Budget,
+    chunk: int,
+    tick: Callable[[], None] | None = None,
+) -> Iterator[R | BudgetExceeded]:
+    """:func:`run_in_workers` with each worker given up to ``chunk`` consecutive tasks at a
+    time: ``work`` gets them together and returns one result per task, in their order.
+
+    Each task's outcome is still its own. A chunk of several tasks has one task's budget
+    (``budget.time_s`` for all of them together, the memory budget while it runs); a chunk
+    that runs out of it, whose worker dies, or whose ``work`` raises or answers with the
+    wrong number of results is run again task by task, each in a chunk of its own with the
+    whole budget, before any later chunk. So a hung or huge task gets its budget result
+    alone, and the others of its chunk get theirs as if they had never been chunked.
+    """
+    pool: _Pool[Sequence[T], Sequence[R]] = _Pool(work, budget)
+    pending: list[tuple[int, ...]] = chunks_of(len(tasks), chunk)
+    pending.reverse()  # popped from the end
     done: dict[int, R | BudgetExceeded] = {}
+    held: dict[int, tuple[int, ...]] = {}  # by worker pid: the task indices it holds
     next_out = 0
 
-    def assign(worker: _Worker[T]) -> None:
+    def assign(worker: _Worker[Sequence[T]]) -> None:
         if not pending:
             worker.index = None
             return
-        index, task = pending[-1]
+        indices = pending[-1]
         try:
-            _write(worker.tasks, (index, task))
-        except OSError:  # the worker died while idle: replace it, the task waits
+            _write(worker.tasks, (indices[0], [tasks[i] for i in indices]))
+        except OSError:  # the worker died while idle: replace it, the chunk waits
             worker.index = None
             pool.retire(worker, kill=True)
             assign(pool.spawn())
             return
         pending.pop()
-        worker.index = index
+        worker.index = indices[0]
+        held[worker.pid] = indices
         worker.deadline = (
             float("inf") if budget.time_s is None else time.monotonic() + budget.time_s
         )
 
-    def replace(worker: _Worker[T], outcome: BudgetExceeded) -> None:
-        assert worker.index is not None
-        done[worker.index] = outcome
+    def fail(indices: tuple[int, ...], outcome: BudgetExceeded) -> None:
+        """A chunk without results: one task's outcome, or its tasks again one by one."""
+        if len(indices) == 1:
+            done[indices[0]] = outcome
+        else:
+            pending.extend((i,) for i in reversed(indices))
+
+    def replace(worker: _Worker[Sequence[T]], outcome: BudgetExceeded) -> None:
+        fail(held.pop(worker.pid), outcome)
+        worker.index = None
         pool.retire(worker, kill=True)
         if pending:
             assign(pool.spawn())
 
     try:
-        for _ in range(max(1, min(jobs, len(tasks)))):
+        for _ in range(max(1, min(jobs, len(pending)))):
             assign(pool.spawn())
         while next_out < len(tasks):
             while next_out in done:
@@ -339,6 +382,10 @@ def run_in_workers(
             if next_out >= len(tasks):
                 break
             busy = [w for w in pool.workers if w.index is not None]
+            if not busy:  # tasks split after the last worker retired: start one
+                assert pending, "a task neither done, held nor pending"
+                assign(pool.spawn())
+                continue
             # At most an hour at a time: a deadline of 1e300 s overflows select's time_t.
             wait = min(min(w.deadline for w in busy) - time.monotonic(), MAX_WAIT_S)
             if tick is not None:
@@ -347,16 +394,17 @@ def run_in_workers(
             ready, _, _ = select.select([w.results for w in busy], [], [], max(wait, 0))
             for worker in [w for w in busy if w.results in ready]:
                 try:
-                    # what _child writes: (index, status, work's result or why it has none,
-                    # whether the worker ends after it: past its resident-memory threshold)
-                    index, status, value, retiring = cast(
+                    # what _child writes: (first index, status, work's results or why it has
+                    # none, whether the worker ends after it: past its resident-memory
+                    # threshold)
+                    _, status, value, retiring = cast(
                         "tuple[int, str, object, bool]", _read(worker.results)
                     )
                 except (EOFError, pickle.UnpicklingError, OSError):
-                    assert worker.index is not None  # a busy worker
                     how = pool.retire(worker, kill=True)
-                    done[worker.index] = BudgetExceeded(
-                        "died", f"the worker process checking it ended ({how})"
+                    fail(
+                        held.pop(worker.pid),
+                        BudgetExceeded("died", f"the worker process checking it ended ({how})"),
                     )
                     if pending:
                         assign(pool.spawn())
@@ -364,11 +412,12 @@ def run_in_workers(
                 if status == "memory":
                     replace(worker, BudgetExceeded("memory", "it ran out of its memory budget"))
                     continue
-                done[index] = (
-                    BudgetExceeded("crashed", str(value))
-                    if status == "crashed"
-                    else cast(R, value)  # status "ok": work's result
-                )
+                indices = held.pop(worker.pid)
+                results = cast("Sequence[R]", value) if status == "ok" else None
+                if results is None or len(results) != len(indices):
+                    fail(indices, BudgetExceeded("crashed", str(value)))
+                else:
+                    done.update(zip(indices, results, strict=True))
                 if retiring:  # it ends by itself: wait for it, fork a fresh one
                     worker.index = None
                     pool.retire(worker, kill=False)
@@ -379,6 +428,11 @@ def run_in_workers(
             now = time.monotonic()
             for worker in [w for w in pool.workers if w.index is not None and w.deadline <= now]:
                 replace(worker, BudgetExceeded("time", "it ran past its time budget"))
+            # Chunks split above are first in line: give them to idle workers now.
+            for worker in [w for w in pool.workers if w.index is None]:
+                if not pending:
+                    break
+                assign(worker)
         pool.close()
     finally:
         pool.kill_all()

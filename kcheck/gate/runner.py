@@ -25,7 +25,15 @@ from kcheck.result import CheckResult, Finding, MassProperties, SceneResult, Sev
 from kcheck.scene import Scene, describe_pydantic, load_scene
 from kcheck.scene.yamlio import DEFAULT_LIMITS
 
-__all__ = ["Settings", "discover", "check_scene", "check_scenes", "run_batch", "scene_status"]
+__all__ = [
+    "Settings",
+    "discover",
+    "check_scene",
+    "check_scenes",
+    "check_files",
+    "run_batch",
+    "scene_status",
+]
 
 #: Top-level modules of the `plot` extra: only their absence means "install the extra".
 PLOT_EXTRA = ("matplotlib", "networkx")
@@ -263,7 +271,23 @@ def check_scenes(
     every check is given all the scenes it runs on at once (``Check.run_many``, which may
     stack their algebra). Each result is the one :func:`check_scene` gives its scene alone
     (``runtime_s`` aside: a batch's time is shared equally among its scenes)."""
-    prepared = [_prepare(path, checks, settings, load) for load in loads]
+    return _check_many([(path, load) for load in loads], checks, settings)
+
+
+def check_files(
+    paths: Sequence[Path], checks: Sequence[LoadedCheck], settings: Settings
+) -> list[SceneResult]:
+    """:func:`check_scenes` of several scene files (a worker's chunk of ``kcheck check``):
+    each result is the one :func:`check_scene` gives its file alone (``runtime_s`` aside)."""
+    return _check_many([(path, None) for path in paths], checks, settings)
+
+
+def _check_many(
+    items: Sequence[tuple[Path, Callable[[], Scene] | None]],
+    checks: Sequence[LoadedCheck],
+    settings: Settings,
+) -> list[SceneResult]:
+    prepared = [_prepare(path, checks, settings, load) for path, load in items]
     for lc in checks:
         batch = [
             (p, k)
@@ -289,7 +313,8 @@ def check_scenes(
         for (p, k), result in zip(batch, results, strict=True):
             p.results[k] = dataclasses.replace(result, runtime_s=share)
     return [
-        p if isinstance(p, SceneResult) else _finish(path, checks, settings, p) for p in prepared
+        p if isinstance(p, SceneResult) else _finish(path, checks, settings, p)
+        for (path, _), p in zip(items, prepared, strict=True)
     ]
 
 
@@ -459,6 +484,7 @@ def _matter(
     supports checked against its mesh (:func:`_placement`)."""
     from kcheck.gate.cache import body_mass_properties_cached
 
+    key = _body_key(scene, settings)  # hashed once: mass properties, surface, placement
     mass = None
     if any(needs_mass for *_, needs_mass, _ in plan):
         if scene.body is None:
@@ -474,6 +500,7 @@ def _matter(
                 settings.cache_dir,
                 settings.max_mesh_bytes,
                 memo=settings.memo_mass,
+                key=key,
             )
         except SceneError as exc:
             where = exc.where or ("body",)
@@ -483,21 +510,49 @@ def _matter(
         problem = body_limits_problem(mass)
         if problem is not None:
             raise scene.error(("body",), problem)
-    placement = _placement(scene, settings)
+    placement = _placement(scene, settings, key)
     return mass, placement
 
 
-def _placement(scene: Scene, settings: Settings) -> tuple[Finding, ...]:
+def _body_key(scene: Scene, settings: Settings) -> str | None:
+    """The body's cache key (:func:`kcheck.gate.cache.body_key`) when something is cached
+    (the cache folder, or ``memo_mass``); None otherwise, or when its meshes cannot be keyed
+    (too large, unreadable: the computations then report why, as without a cache)."""
+    if (settings.cache_dir is None and not settings.memo_mass) or scene.body is None:
+        return None
+    if not scene.body.parts:
+        return None
+    from kcheck.body.meshio import check_mesh_file
+    from kcheck.gate.cache import body_key
+
+    try:
+        for part in scene.body.parts:  # before hashing it: a file past the limit is not read
+            check_mesh_file(part.mesh, (*part.field, "mesh"), settings.max_mesh_bytes)
+        return body_key(scene.body, scene.scale)
+    except (SceneError, OSError):
+        return None
+
+
+def _placement(scene: Scene, settings: Settings, key: str | None = None) -> tuple[Finding, ...]:
     """The supports against the body's mesh (:mod:`kcheck.analysis.placement`): raises the
     errors (a support off the body, a normal pointing out of it) as input errors; returns the
-    warnings (where the mesh cannot tell)."""
+    warnings (where the mesh cannot tell). With a cache folder and the body's ``key``, the
+    warnings of a placement without errors are stored there
+    (:class:`kcheck.gate.cache.PlacementCache`): a warm run reads no mesh for them."""
     if scene.body is None or not scene.body.parts:
         return ()
     from kcheck.analysis.placement import support_placement
     from kcheck.body.surface import body_surface
+    from kcheck.gate.cache import PlacementCache, placement_key
 
+    cache = None
+    if key is not None and settings.cache_dir is not None:
+        cache = (PlacementCache(settings.cache_dir), placement_key(key, scene))
+        hit = cache[0].get(cache[1])
+        if hit is not None:
+            return hit
     try:
-        surface = _surface(scene, settings) if settings.memo_mass else None
+        surface = _surface(scene, settings, key) if settings.memo_mass else None
         if surface is None:
             surface = body_surface(scene.body, settings.max_mesh_bytes)
     except SceneError as exc:
@@ -513,6 +568,8 @@ def _placement(scene: Scene, settings: Settings) -> tuple[Finding, ...]:
                 for f in found.errors
             ]
         )
+    if cache is not None:
+        cache[0].put(cache[1], found.warnings)
     return found.warnings
 
 
@@ -521,17 +578,16 @@ def _placement(scene: Scene, settings: Settings) -> tuple[Finding, ...]:
 _SURFACES: dict[tuple[str, int | None], Any] = {}
 
 
-def _surface(scene: Scene, settings: Settings) -> Any:
-    """The body's surface through :data:`_SURFACES` (None: its meshes cannot be keyed; the
-    caller builds it and reports why)."""
+def _surface(scene: Scene, settings: Settings, body: str | None) -> Any:
+    """The body's surface through :data:`_SURFACES`, by the body's key ``body`` (None: its
+    meshes cannot be keyed; the caller builds it and reports why)."""
     from kcheck.body.surface import body_surface
-    from kcheck.gate.cache import MEMO_ENTRIES, body_key
+    from kcheck.gate.cache import MEMO_ENTRIES
 
     assert scene.body is not None
-    try:
-        key = (body_key(scene.body, scene.scale), settings.max_mesh_bytes)
-    except OSError:
+    if body is None:
         return None
+    key = (body, settings.max_mesh_bytes)
     if key not in _SURFACES:
         if len(_SURFACES) >= MEMO_ENTRIES:
             _SURFACES.pop(next(iter(_SURFACES)))
@@ -620,8 +676,11 @@ def run_batch(
     in the order of the files.
 
     With ``settings.jobs`` > 0 (and on Linux) scenes run in that many worker processes, each
+    given a few consecutive files at once (:func:`chunk_size`, :func:`check_files`), each
     scene within the time and memory budget of ``settings``; a scene that exceeds one is an
-    error result naming the budget, and the batch goes on. Otherwise they run here, in turn.
+    error result naming the budget, and the batch goes on: a chunk that exceeds one scene's
+    budget is checked again file by file, each with its own budget
+    (:func:`kcheck.gate.pool.run_chunks_in_workers`). Otherwise they run here, in turn.
     ``tick`` is called now and then while workers run (:func:`kcheck.gate.pool.run_in_workers`).
     """
     from kcheck.gate import pool
@@ -634,8 +693,8 @@ def run_batch(
                 yield _budget_error(path, pool.BudgetExceeded("memory", ""), settings)
         return
 
-    def work(path: Path) -> SceneResult:
-        return check_scene(path, checks, settings=settings)
+    def work(chunk: Sequence[Path]) -> list[SceneResult]:
+        return check_files(chunk, checks, settings)
 
     # Workers that draw pictures grow (matplotlib's caches): recycled past a threshold.
     recycle = pool.RECYCLE_RSS_BYTES if settings.plots is not None else None
@@ -645,9 +704,28 @@ def run_batch(
         import matplotlib.figure  # noqa: F401
         from matplotlib.backends import backend_agg  # noqa: F401
     budget = pool.Budget(settings.timeout_s, settings.memory_bytes, recycle)
-    outcomes = pool.run_in_workers(files, work, jobs=settings.jobs, budget=budget, tick=tick)
+    outcomes = pool.run_chunks_in_workers(
+        files,
+        work,
+        jobs=settings.jobs,
+        budget=budget,
+        chunk=chunk_size(len(files), settings.jobs),
+        tick=tick,
+    )
     for path, outcome in zip(files, outcomes, strict=True):
         if isinstance(outcome, pool.BudgetExceeded):
             yield _budget_error(path, outcome, settings)
         else:
             yield outcome
+
+
+#: Most scene files a worker is given at once (:func:`chunk_size`).
+CHUNK_SCENES = 8
+
+
+def chunk_size(files: int, jobs: int) -> int:
+    """How many scene files a worker checks at once: up to :data:`CHUNK_SCENES` (the checks'
+    ``run_many`` batches, one message each way), but small enough that every worker gets
+    about four chunks or more (results stream and the workers end together); 1 for small
+    batches."""
+    return max(1, min(CHUNK_SCENES, files // (4 * max(jobs, 1))))

@@ -94,13 +94,15 @@ def inline_suppressions(text: str) -> list[Suppression]:
     """Every ``# kcheck: ignore[...] -- reason`` comment of a scene's text; raises
     :class:`SuppressionError` for a malformed one."""
     found: list[Suppression] = []
+    if _MARK.search(text) is None:  # most scenes: no kcheck comment to look for, line by line
+        return found
     pending: list[tuple[tuple[str, ...], str, int]] = []
     header = True
     for number, raw in enumerate(text.splitlines(), start=1):
         stripped = raw.strip()
         if not stripped or stripped == "---":
             continue
-        start = _comment_start(raw)
+        start = _comment_start(raw) if _MARK.search(raw) else None
         own_line = stripped.startswith("#")
         if start is not None:
             codes, reason = _parse(raw[start:], number, start + 1)

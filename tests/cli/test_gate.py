@@ -272,6 +272,78 @@ def test_jobs_2_gives_the_report_of_jobs_1(cli, tmp_path):
     assert len(json.loads(runs["1"][1])["scenes"]) >= 10
 
 
+# -- chunks: a worker given several scene files at once ---------------------------------------
+
+
+def _chunks_of(monkeypatch, size):
+    """Give each worker ``size`` scene files at a time (the default gives small batches one
+    file a time: :func:`kcheck.gate.runner.chunk_size`)."""
+    import kcheck.gate.runner
+
+    monkeypatch.setattr(kcheck.gate.runner, "chunk_size", lambda files, jobs: size)
+
+
+@pytest.mark.parametrize(
+    ("behaviour", "options", "expected"),
+    [
+        ("sleep", ("--timeout", "1"), "exceeded its time budget of 1 s"),
+        ("allocate", ("--memory-limit", "1500"), "exceeded its memory budget of 1500 MiB"),
+        ("exit", (), "the worker process checking it ended (exit status 9)"),
+    ],
+)
+def test_a_chunk_with_a_scene_past_its_budget_checks_the_others(
+    cli_json, write_scene, monkeypatch, behaviour, options, expected
+):
+    """Chunks of three (the bad scene second in the first): the bad scene gets its budget
+    result, every other scene of its chunk and after it its own result."""
+    import time
+
+    action = {
+        "sleep": lambda: time.sleep(30),
+        "allocate": lambda: bytearray(3 * 2**30),
+        "exit": lambda: os._exit(9),
+    }[behaviour]
+    _patch_maxwell(monkeypatch, action)
+    _chunks_of(monkeypatch, 3)
+    started = time.monotonic()
+    code, doc = cli_json(*_batch(write_scene, n_good=5), *options, "--jobs", "2")
+    assert time.monotonic() - started < 20  # the hung scene is killed, not waited for
+    assert code == 2
+    assert [s for _, s in _statuses(doc)] == ["pass", "error", *["pass"] * 4]
+    assert expected in doc["scenes"][1]["error"]
+    assert all(s["checks"] for k, s in enumerate(doc["scenes"]) if k != 1)
+
+
+@pytest.mark.slow
+def test_chunked_workers_give_the_report_of_one_worker_and_of_one_scene_at_a_time(
+    cli, write_scene, monkeypatch
+):
+    """Every fixture, a scene with bad input (exit 2) and a failing one: ``-j 2`` with
+    chunks of four, ``-j 1`` with one file a time, and each file checked alone give the same
+    scenes, floats by their repr (the JSON text), run times aside."""
+    bad = write_scene(PLANAR_SCENE.replace("friction: 0.1", "friction: -1"), "bad.kcheck.yaml")
+    failing = write_scene(
+        PLANAR_SCENE.replace("friction: 0.1", "friction: 0.9"), "failing.kcheck.yaml"
+    )
+    paths = [str(FIXTURES), str(bad), str(failing)]
+
+    def scenes(*args: str) -> tuple[int, list[str]]:
+        code, out, _ = cli("check", *args, "--format", "json", "--no-cache")
+        return code, [json.dumps(s) for s in json.loads(_without_timings(out))["scenes"]]
+
+    _chunks_of(monkeypatch, 4)
+    chunked = scenes(*paths, "--jobs", "2")
+    _chunks_of(monkeypatch, 1)
+    one_worker = scenes(*paths, "--jobs", "1")
+    assert chunked == one_worker
+    code, found = chunked
+    assert code == 2 and len(found) >= 12
+    statuses = [json.loads(s)["status"] for s in found]
+    assert statuses[-2:] == ["error", "fail"] and "pass" in statuses
+    alone = [scenes(json.loads(s)["path"], "--jobs", "1")[1] for s in found]
+    assert [s for (s,) in alone] == found
+
+
 def test_blas_pinned_to_one_thread_unless_the_user_chose():
     import subprocess
     import sys

@@ -132,3 +132,60 @@ def test_a_worker_past_its_resident_threshold_is_replaced_after_its_task():
     # Without a threshold, one worker keeps growing.
     kept = list(run_in_workers(list(range(5)), grow, jobs=1, budget=Budget()))
     assert [r[2] for r in kept] == [1, 2, 3, 4, 5] and len({r[1] for r in kept}) == 1
+
+
+def work_chunk(chunk):
+    return [work(task) for task in chunk]
+
+
+def test_chunks_keep_each_tasks_outcome_and_the_task_order():
+    """Chunks of three: the tasks of a chunk that ran out of a budget, died or raised are run
+    again one by one, so each gets its own outcome, as with chunks of one."""
+    from kcheck.gate.pool import run_chunks_in_workers
+
+    tasks = [
+        ("sleep", 0.0),
+        ("sleep", 5.0),  # past the time budget
+        ("sleep", 0.0),
+        ("allocate", 2**31),  # past the memory budget
+        ("sleep", 0.0),
+        ("exit", 3),  # the worker dies
+        ("raise", 0),  # the task raises
+        ("sleep", 0.0),
+        ("sleep", 0.0),
+        ("sleep", 0.0),
+    ]
+    budget = Budget(0.5, 1024 * 2**20)
+    started = time.monotonic()
+    out = list(run_chunks_in_workers(tasks, work_chunk, jobs=2, budget=budget, chunk=3))
+    assert time.monotonic() - started < 6
+    kinds = [o.kind if isinstance(o, BudgetExceeded) else o.split(" in ")[0] for o in out]
+    assert kinds == [
+        "sleep 0.0", "time", "sleep 0.0", "memory", "sleep 0.0", "died", "crashed",
+        "sleep 0.0", "sleep 0.0", "sleep 0.0",
+    ]  # fmt: skip
+    assert out[5].detail.endswith("(exit status 3)")
+    assert out[6].detail == "ValueError: boom"
+
+
+def test_a_chunk_goes_to_one_worker_at_once():
+    from kcheck.gate.pool import chunks_of, run_chunks_in_workers
+
+    assert chunks_of(7, 3) == [(0, 1, 2), (3, 4, 5), (6,)]
+    assert chunks_of(2, 0) == [(0,), (1,)]
+    out = list(
+        run_chunks_in_workers([("sleep", 0.0)] * 7, work_chunk, jobs=2, budget=Budget(), chunk=3)
+    )
+    workers = [int(r.split(" in ")[1]) for r in out]
+    assert len(out) == 7
+    assert workers[0] == workers[1] == workers[2] and workers[3] == workers[4] == workers[5]
+
+
+def test_a_chunk_answering_for_fewer_tasks_is_run_again_task_by_task():
+    from kcheck.gate.pool import run_chunks_in_workers
+
+    def short(chunk):
+        return [work(t) for t in chunk][: 1 if len(chunk) > 1 else None]
+
+    out = list(run_chunks_in_workers([("sleep", 0.0)] * 5, short, jobs=2, budget=Budget(), chunk=2))
+    assert [r.split(" in ")[0] for r in out] == ["sleep 0.0"] * 5
