@@ -16,7 +16,7 @@ from kcheck.mechanics.friction import FrictionIntervals, friction_intervals_batc
 from kcheck.mechanics.kinematics import Frame, cross3, row_norms, unit_rows
 from kcheck.mechanics.lift_off import lift_off
 from kcheck.mechanics.outcomes import Outcome, outcome, safe_arcs
-from kcheck.mechanics.statics import Statics, holds_exactly
+from kcheck.mechanics.statics import Statics, contact_columns, holds_exactly
 from kcheck.numerics.thresholds import IN_SWEEP_PLANE, INFINITE_POLE, NO_PITCH, UNDETERMINED
 from kcheck.result import CaseResult, MassProperties
 from kcheck.scene import Scene
@@ -206,6 +206,7 @@ def _evaluated(
     direction: np.ndarray | None,
     intervals: FrictionIntervals,
     details: dict[str, object],
+    holding: _Holding,
 ) -> tuple[str, dict[str, float] | None, float | None]:
     """Outcome, normal forces (N) and acceleration (m/s^2) at a direction (or under the fixed
     wrench alone); adds the friction details."""
@@ -213,8 +214,8 @@ def _evaluated(
     verdict, x = outcome(case, direction)
     forces = accel = None
     if verdict == "jams":
-        verdict, forces, accel = _jam_or_lift(problem, case, direction, details)
-    elif verdict in MOVING and _may_hold(problem, case, direction):
+        verdict, forces, accel = _jam_or_lift(problem, case, holding, details)
+    elif verdict in MOVING and _may_hold(problem, case, holding):
         details["friction_may_hold"] = True
     if x is not None:
         # Forces beyond the largest float (a mass of 1e308 kg) become inf: JSON null.
@@ -252,19 +253,46 @@ def _about_com(problem: Problem, wrench: np.ndarray) -> Statics:
     )
 
 
-def _may_hold(problem: Problem, case: Case, direction: np.ndarray | None) -> bool:
+class _Holding:
+    """Whether friction holds the body on a case's kept contacts, at one scene's wrench: the
+    wrench, the statics about the centre of mass and every support's equilibrium columns are
+    built once per scene (on first use), not once per case."""
+
+    def __init__(self, problem: Problem, direction: np.ndarray | None) -> None:
+        self.problem, self.direction = problem, direction
+        self._parts: tuple[np.ndarray, Statics, np.ndarray | None] | None = None
+
+    @property
+    def wrench(self) -> np.ndarray:
+        """The external wrench about the centre of mass at the direction."""
+        return self._built()[0]
+
+    def _built(self) -> tuple[np.ndarray, Statics, np.ndarray | None]:
+        if self._parts is None:
+            wrench = self.problem.wrench(self.direction)
+            statics = _about_com(self.problem, wrench)
+            columns = contact_columns(statics) if self.problem.dim == 3 else None
+            self._parts = (wrench, statics, columns)
+        return self._parts
+
+    def holds(self, keep: np.ndarray) -> bool:
+        """:func:`~kcheck.mechanics.statics.holds_exactly` on the contacts ``keep``."""
+        wrench, statics, columns = self._built()
+        return holds_exactly(statics, keep, wrench, columns=columns)
+
+
+def _may_hold(problem: Problem, case: Case, holding: _Holding) -> bool:
     """Whether friction can also hold the body of a moving case: an equilibrium exists on the
     kept contacts, so rest is a second answer of the rigid model (the `jamming` check's
     question; frictionless kept contacts hold nothing the free motion moves)."""
     keep = np.asarray(case.keep)
     if not np.any(problem.friction[keep] > 0):
         return False
-    wrench = problem.wrench(direction)
-    return holds_exactly(_about_com(problem, wrench), keep, wrench)
+    return holding.holds(keep)
 
 
 def _jam_or_lift(
-    problem: Problem, case: Case, direction: np.ndarray | None, details: dict[str, object]
+    problem: Problem, case: Case, holding: _Holding, details: dict[str, object]
 ) -> tuple[Outcome, dict[str, float] | None, float | None]:
     """A case neither sliding assumption fits: ``jams`` when friction can hold the body (an
     equilibrium exists on the kept contacts), else the first motion with contacts free to lift
@@ -272,9 +300,9 @@ def _jam_or_lift(
     the outcome, the normal forces (N) and the retracted contact's acceleration towards its
     support (m/s^2)."""
     keep = np.asarray(case.keep)
-    wrench = problem.wrench(direction)
-    if holds_exactly(_about_com(problem, wrench), keep, wrench):
+    if holding.holds(keep):
         return "jams", None, None
+    wrench = holding.wrench
     r = case.retracted
     motion = lift_off(
         problem.points[keep],
@@ -384,6 +412,7 @@ def _assemble(
     results = []
     max_condition = 0.0
     names = problem.names
+    holding = _Holding(problem, design)
     for r, case in enumerate(cases):
         details = _case_details(problem, case)
         if not case.determined:
@@ -395,7 +424,7 @@ def _assemble(
             continue
         verdict, forces, accel, intervals = "swept", None, None, case_friction[r]
         if intervals is not None:
-            verdict, forces, accel = _evaluated(problem, case, design, intervals, details)
+            verdict, forces, accel = _evaluated(problem, case, design, intervals, details, holding)
         results.append(
             CaseResult(
                 names[r],
