@@ -29,6 +29,7 @@ __all__ = [
     "Analysis",
     "analyse_fixed",
     "analyse_fixed_many",
+    "cases_close",
     "swept_design",
     "sweep_ranges",
     "nearest_end",
@@ -385,6 +386,22 @@ def analyse_fixed_many(
             _assemble(scene, problem, cases, case_friction, design, sweeping and sweep, plane)
         )
     return out
+
+
+def cases_close(scene: Scene, mass: MassProperties) -> bool:
+    """Whether every case of the scene, at its (fixed) friction coefficients, is determined,
+    well-conditioned and closes at the design direction (or is swept, without one): the
+    outcomes :func:`analyse_fixed` reports, from the cases' algebra alone — no friction
+    intervals, equilibrium tests, safe ranges or details, which cannot turn a case that does not
+    close into one that does (a search that judges many trial scenes rejects most with this)."""
+    problem = problem_for(scene, mass)
+    sweeping, design = _design(scene, problem.dim)
+    for case in analyse_cases_many([problem])[0]:
+        if not (case.determined and case.well_conditioned):
+            return False
+        if (design is not None or not sweeping) and outcome(case, design)[0] != "closes":
+            return False
+    return True
 
 
 def scene_plane_ranges(scene: Scene, analysis: Analysis) -> Analysis:

@@ -18,7 +18,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from kcheck.analysis import analyse, analyse_many
-from kcheck.analysis.cases import Analysis, closing_force_reason, describe_ranges, sweep_ranges
+from kcheck.analysis.cases import (
+    Analysis,
+    cases_close,
+    closing_force_reason,
+    describe_ranges,
+    sweep_ranges,
+)
 from kcheck.analysis.friction_ranges import range_details
 from kcheck.fmt import clean, format_angle, format_share, format_vector
 from kcheck.plugin import Check, Field, Inputs
@@ -453,6 +459,12 @@ class Analytical3D(Check):
         mass, options = inputs.mass, inputs.options
 
         def passes(scene: Scene) -> bool:
+            # Exact shortcut: the outcomes from the cases' algebra alone (cases_close) reject
+            # most trial forces of a failing scene before the friction intervals, equilibrium
+            # tests and safe ranges of a full analysis (a case that does not close fails below).
+            low, high = scene.friction_range("kinetic")
+            if np.array_equal(low, high) and not cases_close(scene, mass):
+                return False
             trial = analyse(scene, mass)
             # Exact shortcut: a case that does not close (or an untrustworthy analysis) fails
             # the check whatever the sphere map finds, as spatial_result keeps every case
