@@ -29,7 +29,7 @@ __all__ = [
     "Analysis",
     "analyse_fixed",
     "analyse_fixed_many",
-    "cases_close",
+    "closing_analysis",
     "swept_design",
     "sweep_ranges",
     "nearest_end",
@@ -205,18 +205,19 @@ def _evaluated(
     problem: Problem,
     case: Case,
     direction: np.ndarray | None,
-    intervals: FrictionIntervals,
+    intervals: FrictionIntervals | None,
     details: dict[str, object],
     holding: _Holding,
 ) -> tuple[str, dict[str, float] | None, float | None]:
     """Outcome, normal forces (N) and acceleration (m/s^2) at a direction (or under the fixed
-    wrench alone); adds the friction details."""
+    wrench alone); adds the friction details (without ``intervals``: none of them, and no
+    ``friction_may_hold``)."""
     names = problem.names
     verdict, x = outcome(case, direction)
     forces = accel = None
     if verdict == "jams":
         verdict, forces, accel = _jam_or_lift(problem, case, holding, details)
-    elif verdict in MOVING and _may_hold(problem, case, holding):
+    elif verdict in MOVING and intervals is not None and _may_hold(problem, case, holding):
         details["friction_may_hold"] = True
     if x is not None:
         # Forces beyond the largest float (a mass of 1e308 kg) become inf: JSON null.
@@ -224,6 +225,8 @@ def _evaluated(
         forces = {names[j]: float(newtons[i]) for i, j in enumerate(case.keep)}
         with np.errstate(over="ignore"):
             accel = float(x[0] * problem.acceleration_scale() * case.free.closing)
+    if intervals is None:
+        return verdict, forces, accel
     details["friction_intervals"] = intervals_json(intervals.intervals)
     if intervals.errors:
         details["friction_intervals_error"] = [list(e) for e in intervals.errors]
@@ -388,20 +391,26 @@ def analyse_fixed_many(
     return out
 
 
-def cases_close(scene: Scene, mass: MassProperties) -> bool:
-    """Whether every case of the scene, at its (fixed) friction coefficients, is determined,
-    well-conditioned and closes at the design direction (or is swept, without one): the
-    outcomes :func:`analyse_fixed` reports, from the cases' algebra alone — no friction
-    intervals, equilibrium tests, safe ranges or details, which cannot turn a case that does not
-    close into one that does (a search that judges many trial scenes rejects most with this)."""
+def closing_analysis(scene: Scene, mass: MassProperties) -> Analysis | None:
+    """:func:`analyse_fixed` (the scene's fixed coefficients) of a scene whose every case is
+    determined, well-conditioned and closes at the design direction (or is swept, without
+    one); None for any other scene, decided from the cases' algebra alone.
+
+    For a search that judges many trial scenes by a verdict (a way-out search): most trials
+    are rejected before the friction intervals, equilibrium tests and safe ranges, which do
+    not change whether a case closes. The analysis returned has the same outcomes, forces,
+    safe ranges and margins as :func:`analyse_fixed`'s, but no friction intervals (``friction``
+    all None, no ``limiting_friction``, no friction details) and no ``friction_may_hold``."""
     problem = problem_for(scene, mass)
     sweeping, design = _design(scene, problem.dim)
-    for case in analyse_cases_many([problem])[0]:
+    evaluated = design is not None or not sweeping
+    cases = analyse_cases_many([problem])[0]
+    for case in cases:
         if not (case.determined and case.well_conditioned):
-            return False
-        if (design is not None or not sweeping) and outcome(case, design)[0] != "closes":
-            return False
-    return True
+            return None
+        if evaluated and outcome(case, design)[0] != "closes":
+            return None
+    return _assemble(scene, problem, cases, [None] * len(cases), design, sweeping, None, evaluated)
 
 
 def scene_plane_ranges(scene: Scene, analysis: Analysis) -> Analysis:
@@ -424,8 +433,10 @@ def _assemble(
     design: np.ndarray | None,
     sweeping: bool,
     plane: tuple[np.ndarray, np.ndarray] | None,
+    evaluate: bool = False,
 ) -> Analysis:
-    """The analysis of a scene from its solved cases and friction intervals."""
+    """The analysis of a scene from its solved cases and friction intervals; ``evaluate``:
+    the outcomes at the design direction of the cases without intervals too."""
     results = []
     max_condition = 0.0
     names = problem.names
@@ -440,7 +451,7 @@ def _assemble(
             results.append(CaseResult(names[r], "ill_conditioned", details=details))
             continue
         verdict, forces, accel, intervals = "swept", None, None, case_friction[r]
-        if intervals is not None:
+        if intervals is not None or evaluate:
             verdict, forces, accel = _evaluated(problem, case, design, intervals, details, holding)
         results.append(
             CaseResult(

@@ -20,7 +20,7 @@ import numpy as np
 from kcheck.analysis import analyse, analyse_many
 from kcheck.analysis.cases import (
     Analysis,
-    cases_close,
+    closing_analysis,
     closing_force_reason,
     describe_ranges,
     sweep_ranges,
@@ -459,13 +459,18 @@ class Analytical3D(Check):
         mass, options = inputs.mass, inputs.options
 
         def passes(scene: Scene) -> bool:
-            # Exact shortcut: the outcomes from the cases' algebra alone (cases_close) reject
-            # most trial forces of a failing scene before the friction intervals, equilibrium
-            # tests and safe ranges of a full analysis (a case that does not close fails below).
+            # Exact shortcut: the outcomes from the cases' algebra alone reject most trial
+            # forces of a failing scene (a case that does not close fails below), and the
+            # rest need no friction intervals nor friction_may_hold, which only word the
+            # findings (closing_analysis).
             low, high = scene.friction_range("kinetic")
-            if np.array_equal(low, high) and not cases_close(scene, mass):
-                return False
-            trial = analyse(scene, mass)
+            if np.array_equal(low, high):
+                found = closing_analysis(scene, mass)
+                if found is None:
+                    return False
+                trial = found
+            else:
+                trial = analyse(scene, mass)
             # Exact shortcut: a case that does not close (or an untrustworthy analysis) fails
             # the check whatever the sphere map finds, as spatial_result keeps every case
             # finding; only the rest need the map (a failing scene's closing-force search
