@@ -37,6 +37,7 @@ __all__ = [
     "analyse_fixed",
     "analyse_fixed_many",
     "closing_analysis",
+    "cases_close_many",
     "swept_design",
     "sweep_ranges",
     "nearest_end",
@@ -433,6 +434,29 @@ def analyse_fixed_many(
     return out
 
 
+def cases_close_many(scenes: Sequence[Scene], masses: Sequence[MassProperties]) -> list[bool]:
+    """Per scene (at its fixed friction coefficients), whether every case is determined,
+    well-conditioned and closes at the design direction (or is swept, without one): the first
+    test of :func:`closing_analysis` (None there exactly where False here), for many trial
+    scenes in one batch of the cases' algebra."""
+    problems = [problem_for(s, m) for s, m in zip(scenes, masses, strict=True)]
+    out = []
+    for scene, problem, cases in zip(scenes, problems, analyse_cases_many(problems), strict=True):
+        out.append(_cases_close(scene, problem, cases))
+    return out
+
+
+def _cases_close(scene: Scene, problem: Problem, cases: Sequence[Case]) -> bool:
+    sweeping, design = _design(scene, problem.dim)
+    evaluated = design is not None or not sweeping
+    for case in cases:
+        if not (case.determined and case.well_conditioned):
+            return False
+        if evaluated and outcome(case, design)[0] != "closes":
+            return False
+    return True
+
+
 def closing_analysis(scene: Scene, mass: MassProperties) -> Analysis | None:
     """:func:`analyse_fixed` (the scene's fixed coefficients) of a scene whose every case is
     determined, well-conditioned and closes at the design direction (or is swept, without
@@ -444,14 +468,11 @@ def closing_analysis(scene: Scene, mass: MassProperties) -> Analysis | None:
     safe ranges and margins as :func:`analyse_fixed`'s, but no friction intervals (``friction``
     all None, no ``limiting_friction``, no friction details) and no ``friction_may_hold``."""
     problem = problem_for(scene, mass)
+    cases = analyse_cases_many([problem])[0]
+    if not _cases_close(scene, problem, cases):
+        return None
     sweeping, design = _design(scene, problem.dim)
     evaluated = design is not None or not sweeping
-    cases = analyse_cases_many([problem])[0]
-    for case in cases:
-        if not (case.determined and case.well_conditioned):
-            return None
-        if evaluated and outcome(case, design)[0] != "closes":
-            return None
     return _assemble(scene, problem, cases, [None] * len(cases), design, sweeping, None, evaluated)
 
 

@@ -20,6 +20,7 @@ import numpy as np
 from kcheck.analysis import analyse, analyse_many
 from kcheck.analysis.cases import (
     Analysis,
+    cases_close_many,
     closing_analysis,
     closing_force_reason,
     describe_ranges,
@@ -480,7 +481,14 @@ class Analytical3D(Check):
             again = spatial_result(self.id, scene, trial, options)[0]
             return again.status == Status.PASS
 
+        def screen(scenes: Sequence[Scene]) -> list[bool]:
+            # passes' own first test (closing_analysis), for a scan's trial scenes in one batch.
+            fixed = [np.array_equal(*s.friction_range("kinetic")) for s in scenes]
+            kept = [s for s, f in zip(scenes, fixed, strict=True) if f]
+            tested = iter(cases_close_many(kept, [mass] * len(kept)))
+            return [next(tested) if f else True for f in fixed]
+
         if not inputs.hints:
             return result
-        result = with_friction_way_out(result, inputs.scene, passes)
-        return with_closing_force_way_out(result, inputs.scene, passes)
+        result = with_friction_way_out(result, inputs.scene, passes, screen)
+        return with_closing_force_way_out(result, inputs.scene, passes, screen)
