@@ -26,6 +26,7 @@ import math
 import sys
 
 __all__ = [
+    "MARGIN_SCREEN_DEG",
     "THERMAL_CENTRE_DET",
     "EPS",
     "DET_ROUNDING",
@@ -190,6 +191,11 @@ INFINITE_POLE: float = 1e-12
 #: reported as a pure rotation: the pitch of a pure rotation computed in floats is rounding,
 #: about 1e-16.
 NO_PITCH: float = 1e-9
+#: A trial scene of a way-out search is rejected before its sphere map when the design
+#: direction's margin in closed form (the least over the closing caps) lies this far (deg)
+#: below the margin the check asks for; the map's own margin agrees to about 1e-12 rad, so
+#: the band only keeps a tie for the map to decide.
+MARGIN_SCREEN_DEG: float = 1e-6
 
 # --- directions, planes and same points ----------------------------------------------------
 

@@ -28,6 +28,7 @@ from kcheck.analysis.cases import (
 )
 from kcheck.analysis.friction_ranges import range_details
 from kcheck.fmt import clean, format_angle, format_share, format_vector
+from kcheck.numerics.thresholds import MARGIN_SCREEN_DEG
 from kcheck.plugin import Check, Field, Inputs
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
@@ -415,6 +416,27 @@ def _ranges(analysis: Analysis) -> tuple[tuple[float, float], ...]:
     return ranges_deg(analysis.combined)
 
 
+def _short_of_margin(analysis: Analysis, options: Analytical3DOptions) -> bool:
+    """Whether the design load direction of an analysis whose every case closes there is
+    surely closer to the safe region's edge than the check allows (a `margin` finding, or the
+    `marginal` band): its margin in closed form, the least over every case's closing caps
+    (:func:`kcheck.mechanics.arcs.cap_margins`: inside every cap, the distance to the
+    intersection's boundary), below the limit by more than MARGIN_SCREEN_DEG. A cheap first
+    test of a way-out trial before its sphere map; False where the map must decide (gravity
+    swept, no design direction)."""
+    from kcheck.analysis.sphere_map import direction_caps
+    from kcheck.mechanics.arcs import cap_margins
+
+    design = analysis.design
+    if design is None or analysis.problem.swept != "load":
+        return False
+    _, a, c, _, _ = direction_caps(analysis.problem, analysis)
+    d = np.asarray(design, float)
+    margin = float(np.degrees(cap_margins(a, c, (d / np.linalg.norm(d))[None, :])[0]))
+    limit = max(options.min_margin_deg, options.marginal_deg)
+    return margin < limit - MARGIN_SCREEN_DEG
+
+
 class Analytical3D(Check):
     """Every retracted support of a spatial scene: free screw, outcome, forces, ranges, map."""
 
@@ -467,7 +489,7 @@ class Analytical3D(Check):
             low, high = scene.friction_range("kinetic")
             if np.array_equal(low, high):
                 found = closing_analysis(scene, mass)
-                if found is None:
+                if found is None or _short_of_margin(found, options):
                     return False
                 trial = found
             else:
