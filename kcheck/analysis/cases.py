@@ -4,7 +4,7 @@ checks (planar and spatial use the same code, only ``dim`` differs)."""
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -19,6 +19,8 @@ from kcheck.mechanics.lift_off import lift_off
 from kcheck.mechanics.outcomes import Outcome, outcome, safe_arcs
 from kcheck.mechanics.statics import Statics, contact_columns, holds_exactly
 from kcheck.numerics.thresholds import (
+    EPS,
+    FORCE_SCREEN_RTOL,
     IN_SWEEP_PLANE,
     INFINITE_POLE,
     NO_PITCH,
@@ -37,6 +39,7 @@ __all__ = [
     "analyse_fixed",
     "analyse_fixed_many",
     "closing_analysis",
+    "closing_force_screen",
     "cases_close_many",
     "swept_design",
     "sweep_ranges",
@@ -455,6 +458,51 @@ def _cases_close(scene: Scene, problem: Problem, cases: Sequence[Case]) -> bool:
         if evaluated and outcome(case, design)[0] != "closes":
             return False
     return True
+
+
+def closing_force_screen(
+    scene: Scene, mass: MassProperties, preload: bool
+) -> Callable[[float], bool] | None:
+    """For trial scenes that differ from ``scene`` only by a factor ``t`` on its closing force
+    (the preloads with ``preload``, else the load magnitude; :mod:`kcheck.analysis.way_out`):
+    a test of ``t``, False where :func:`cases_close` surely fails. None when it cannot tell.
+
+    Every case's system matrices do not depend on the force (nondimensional masses and lengths,
+    the friction's directions), so its forward unknowns at the design direction are
+    ``K^-1 (u + t v)`` (``v`` the part that scales) up to a positive factor: solved once here,
+    each trial is a few multiplications. A case that is undetermined, ill-conditioned or
+    Painlevé-type is so at every force (every trial fails)."""
+    problem = problem_for(scene, mass)
+    sweeping, design = _design(scene, problem.dim)
+    if sweeping and design is None:
+        return None  # nothing evaluated at a direction: cases_close asks the cases only
+    b0, big_b = problem.load_basis()
+    loaded = np.zeros_like(b0) if design is None else big_b @ design
+    if preload:
+        if problem.preload is None:
+            return None
+        scaled, fixed = problem.preload, b0 - problem.preload + loaded
+    else:
+        scaled, fixed = loaded, b0
+    cases = analyse_cases_many([problem])[0]
+    if any(not (c.determined and c.well_conditioned) or c.painleve for c in cases):
+        return lambda t: False
+    parts = []
+    for case in cases:
+        assert case.forward is not None
+        solved = with_load(case, fixed, scaled[:, None]).forward
+        assert solved is not None
+        rtol = max(FORCE_SCREEN_RTOL, 1e3 * case.forward.condition * EPS)
+        parts.append((solved.a, solved.c[:, 0], rtol))
+
+    def may_close(t: float) -> bool:
+        for u, v, rtol in parts:
+            x = u + t * v
+            if np.any(x < -rtol * (np.abs(u) + abs(t) * np.abs(v))):
+                return False
+        return True
+
+    return may_close
 
 
 def closing_analysis(scene: Scene, mass: MassProperties) -> Analysis | None:

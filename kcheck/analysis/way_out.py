@@ -141,14 +141,18 @@ def passing_closing_force(
     answer is bracketed between a failing and a passing value, so "at least" is the least to
     the resolution of the bisection between them, not a claim about every larger value (more
     force can jam): the value returned is judged to pass. ``screen`` tests each sense's scan
-    of trial forces in one call first (the same answer, sooner)."""
+    of trial forces in one call first, and each further trial alone (the same answer,
+    sooner)."""
     force = closing_force(scene)
     if force is None:
         return None
     base = force.value
 
     def judged(value: float) -> bool:
-        return passes(with_closing_force(scene, force, value))
+        trial = with_closing_force(scene, force, value)
+        if screen is not None and not screen([trial])[0]:
+            return False
+        return passes(trial)
 
     for sense, sign in (("at least", 1), ("at most", -1)):
         fails = base

@@ -1,7 +1,8 @@
 """analytical-3d's way-out searches (the friction and the closing force at which a failing
-scene passes) judge their trial scenes through cheap first tests: the cases' algebra alone
-(a case that does not close fails), a scan's trials in one batch, and the design direction's
-margin in closed form before the sphere map. They only skip work: the check's result must be
+scene passes) judge their trial scenes through cheap first tests: the trial's factor on the
+closing force in closed form, the cases' algebra alone (a case that does not close fails), a
+scan's trials in one batch, and the design direction's margin in closed form before the
+sphere map. They only skip work: the check's result must be
 the one the searches give when every trial is judged in full (computed here by switching the
 first tests off), on generated spatial scenes that fail and search.
 """
@@ -50,6 +51,7 @@ def test_first_tests_change_no_way_out(tmp_path, monkeypatch):
     monkeypatch.setattr(module, "closing_analysis", in_full)
     monkeypatch.setattr(module, "cases_close_many", lambda s, m: [True] * len(s))
     monkeypatch.setattr(module, "_short_of_margin", lambda analysis, options: False)
+    monkeypatch.setattr(module, "_force_screen", lambda *_: lambda trials: [True] * len(trials))
     assert _results(scenes, masses) == screened
 
 
