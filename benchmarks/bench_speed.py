@@ -1,14 +1,16 @@
 """Issue 24's paired benchmark: this tree against a baseline commit, in the same run.
 
-Run: ``python benchmarks/bench_speed.py [--baseline f0391ad] [--count 50] [--rounds 5]``.
+Run: ``python benchmarks/bench_speed.py [--baseline f0391ad] [--count 50] [--rounds 5]
+[--what analyse,analyse_many]``.
 
 The baseline commit is extracted (``git archive``) into a temporary folder and imported from
-there (its ``kcheck`` and ``plugins`` first on ``sys.path``); this tree is imported as
-installed. Rounds alternate baseline / new, each a fresh process measuring, per scene and in
+there (its ``kcheck`` and ``plugins`` first on ``sys.path``); this tree likewise from
+its own folder. Rounds alternate baseline / new, each a fresh process measuring, per scene and in
 CPU time (``time.process_time``, less disturbed than wall time by other jobs on a shared
 machine), with mass properties computed beforehand and not timed:
 
 * ``analyse``: the six retraction cases (outcome, forces, friction intervals, safe ranges);
+* ``analyse_many``: the same for the whole set of scenes in one batch;
 * ``limiting friction``: the problem, the six cases and their friction intervals (what
   ``benchmarks/bench_peer.py`` pairs with Patti & Vogels' method);
 * ``analytical-3d`` and ``jamming``: each check's ``run``;
@@ -43,7 +45,7 @@ WORKER = r"""
 import json, sys, time
 from pathlib import Path
 import kcheck
-from kcheck.analysis import analyse
+from kcheck.analysis import analyse, analyse_many
 from kcheck.analysis.cases import problem_for
 from kcheck.body.mass import body_mass_properties
 from kcheck.mechanics.dynamics import analyse_cases
@@ -77,11 +79,14 @@ for name, paths in sets.items():
         return [check.run(i) for i in inputs]
     runs = {
         "analyse": lambda: [analyse(s, m) for s, m in zip(scenes, masses)],
+        "analyse_many": lambda: analyse_many(scenes, masses),
         "limiting friction": lambda: [limiting(s, m) for s, m in zip(scenes, masses)],
         "analytical-3d": lambda: run_check("analytical-3d"),
         "jamming": lambda: run_check("jamming"),
     }
     for what, fn in runs.items():
+        if WHAT and what not in WHAT:
+            continue
         fn()  # warm-up (lazy imports, caches)
         start = time.process_time()
         fn()
@@ -90,17 +95,19 @@ print(json.dumps(out))
 """
 
 
-def measure(tree: Path | None, count: int, tmp: Path) -> dict[str, float]:
+def measure(tree: Path | None, count: int, tmp: Path, what: list[str]) -> dict[str, float]:
     """One fresh process: mean CPU seconds per scene of each measurement."""
     tmp.mkdir(exist_ok=True)
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     expect = str(ROOT / "kcheck")
+    # This tree first on the path too: with the lead's venv kcheck may be installed elsewhere.
+    tree = ROOT if tree is None else tree
     if tree is not None:
         env["PYTHONPATH"] = os.pathsep.join([str(tree), str(tree / "plugins")])
         expect = str(tree / "kcheck")
     header = (
         f"TESTS = {str(ROOT / 'tests')!r}\nROOT = {str(ROOT)!r}\nFIXTURES = {FIXTURES!r}\n"
-        f"TMP = {str(tmp)!r}\nCOUNT = {count}\nEXPECT = {expect!r}\n"
+        f"TMP = {str(tmp)!r}\nCOUNT = {count}\nEXPECT = {expect!r}\nWHAT = {what!r}\n"
     )
     run = subprocess.run(
         [sys.executable, "-c", header + WORKER], capture_output=True, text=True, env=env, cwd=tmp
@@ -115,6 +122,12 @@ def main() -> None:
     parser.add_argument("--baseline", default="f0391ad")
     parser.add_argument("--count", type=int, default=50)
     parser.add_argument("--rounds", type=int, default=5)
+    parser.add_argument(
+        "--what",
+        default="",
+        help="comma-separated subset of: analyse, analyse_many, limiting friction, "
+        "analytical-3d, jamming (default: all)",
+    )
     args = parser.parse_args()
     print(f"load average before: {os.getloadavg()}")
     with tempfile.TemporaryDirectory() as tmp:
@@ -125,9 +138,10 @@ def main() -> None:
         ).stdout
         subprocess.run(["tar", "-x", "-C", str(base)], input=archive, check=True)
         samples: dict[str, dict[str, list[float]]] = {"baseline": {}, "new": {}}
+        what = [w.strip() for w in args.what.split(",") if w.strip()]
         for _ in range(args.rounds):
             for label, tree in (("baseline", base), ("new", None)):
-                for key, value in measure(tree, args.count, Path(tmp) / label).items():
+                for key, value in measure(tree, args.count, Path(tmp) / label, what).items():
                     samples[label].setdefault(key, []).append(value)
     print(f"load average after: {os.getloadavg()}")
     print(f"| scenes | what | baseline ({args.baseline}) | new | new / baseline |")

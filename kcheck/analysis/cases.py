@@ -3,7 +3,8 @@ checks (planar and spatial use the same code, only ``dim`` differs)."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -13,11 +14,19 @@ from kcheck.fmt import clean, format_ranges
 from kcheck.mechanics.arcs import FULL, ArcSet, contains, intersect, margin, to_degrees
 from kcheck.mechanics.dynamics import Case, Problem, analyse_cases_many, build_problem, with_load
 from kcheck.mechanics.friction import FrictionIntervals, friction_intervals_batch
-from kcheck.mechanics.kinematics import Frame, cross3, row_norms, unit_rows
+from kcheck.mechanics.kinematics import Frame, row_norms, unit_rows
 from kcheck.mechanics.lift_off import lift_off
 from kcheck.mechanics.outcomes import Outcome, outcome, safe_arcs
-from kcheck.mechanics.statics import Statics, holds_exactly
-from kcheck.numerics.thresholds import IN_SWEEP_PLANE, INFINITE_POLE, NO_PITCH, UNDETERMINED
+from kcheck.mechanics.statics import Statics, contact_columns, holds_exactly
+from kcheck.numerics.thresholds import (
+    EPS,
+    FORCE_SCREEN_RTOL,
+    IN_SWEEP_PLANE,
+    INFINITE_POLE,
+    NO_PITCH,
+    NOISE_RTOL,
+    UNDETERMINED,
+)
 from kcheck.result import CaseResult, MassProperties
 from kcheck.scene import Scene
 
@@ -29,6 +38,9 @@ __all__ = [
     "Analysis",
     "analyse_fixed",
     "analyse_fixed_many",
+    "closing_analysis",
+    "closing_force_screen",
+    "cases_close_many",
     "swept_design",
     "sweep_ranges",
     "nearest_end",
@@ -106,19 +118,54 @@ def motion_details(problem: Problem, case: Case) -> dict[str, object]:
             ),
             "sense": "ccw" if w[0] > 0 else "cw",
         }
-    axis = unit_rows(clean(w / wn))
+    # Plain float arithmetic on the three components (numpy's per-call overhead on 3-vectors
+    # was most of this function's time): the operations of clean, unit_rows, row_norms and
+    # cross3 in their order, so the same bits; the norms and the dot product stay numpy's.
+    w0, w1, w2 = w.tolist()
+    v0, v1, v2 = v.tolist()
+    axis = _unit3(_clean3([w0 / wn, w1 / wn, w2 / wn]))
     pitch = float(w @ v) / wn**2
-    moment = cross3(w, v)
-    foot = clean(moment / wn**2, 1.0 + float(row_norms(moment)) / wn**2)
-    point = frame.origin + frame.length * foot
+    moment = [w1 * v2 - w2 * v1, w2 * v0 - w0 * v2, w0 * v1 - w1 * v0]
+    square = wn**2
+    foot = _clean3([m / square for m in moment], 1.0 + _norm3(moment) / square)
+    length = frame.length
+    point = [o + length * f for o, f in zip(frame.origin.tolist(), foot, strict=True)]
     if abs(pitch) <= NO_PITCH:
-        return {"motion": "rotation", "axis": axis.tolist(), "axis_point": point.tolist()}
+        return {"motion": "rotation", "axis": axis, "axis_point": point}
     return {
         "motion": "screw",
-        "axis": axis.tolist(),
-        "axis_point": point.tolist(),
+        "axis": axis,
+        "axis_point": point,
         "pitch_m": pitch * frame.length,
     }
+
+
+def _clean3(values: list[float], scale: float | None = None) -> list[float]:
+    """:func:`kcheck.fmt.clean` of a few floats, in plain float arithmetic."""
+    if scale is None:
+        scale = max((abs(x) for x in values if math.isfinite(x)), default=0.0)
+    limit = NOISE_RTOL * scale
+    return [(0.0 if math.isfinite(x) and abs(x) <= limit else x) + 0.0 for x in values]
+
+
+def _norm3(values: list[float]) -> float:
+    """:func:`kcheck.mechanics.kinematics.row_norms` of one vector, in plain float arithmetic
+    (numpy sums three terms left to right)."""
+    big = max(abs(x) for x in values)
+    safe = big if big > 0 else 1.0
+    a, b, c = (x / safe for x in values)
+    return math.sqrt(a * a + b * b + c * c) * big
+
+
+def _unit3(values: list[float]) -> list[float]:
+    """:func:`kcheck.mechanics.kinematics.unit_rows` of one vector, in plain float arithmetic."""
+    big = max(abs(x) for x in values)
+    safe = big if big > 0 else 1.0
+    scaled = [x / safe for x in values]
+    a, b, c = scaled
+    norm = math.sqrt(a * a + b * b + c * c)
+    safe = norm if norm > 0 else 1.0
+    return [x / safe for x in scaled]
 
 
 def _pad(vector: np.ndarray, dim: int) -> np.ndarray:
@@ -204,17 +251,19 @@ def _evaluated(
     problem: Problem,
     case: Case,
     direction: np.ndarray | None,
-    intervals: FrictionIntervals,
+    intervals: FrictionIntervals | None,
     details: dict[str, object],
+    holding: _Holding,
 ) -> tuple[str, dict[str, float] | None, float | None]:
     """Outcome, normal forces (N) and acceleration (m/s^2) at a direction (or under the fixed
-    wrench alone); adds the friction details."""
+    wrench alone); adds the friction details (without ``intervals``: none of them, and no
+    ``friction_may_hold``)."""
     names = problem.names
     verdict, x = outcome(case, direction)
     forces = accel = None
     if verdict == "jams":
-        verdict, forces, accel = _jam_or_lift(problem, case, direction, details)
-    elif verdict in MOVING and _may_hold(problem, case, direction):
+        verdict, forces, accel = _jam_or_lift(problem, case, holding, details)
+    elif verdict in MOVING and intervals is not None and _may_hold(problem, case, holding):
         details["friction_may_hold"] = True
     if x is not None:
         # Forces beyond the largest float (a mass of 1e308 kg) become inf: JSON null.
@@ -222,6 +271,8 @@ def _evaluated(
         forces = {names[j]: float(newtons[i]) for i, j in enumerate(case.keep)}
         with np.errstate(over="ignore"):
             accel = float(x[0] * problem.acceleration_scale() * case.free.closing)
+    if intervals is None:
+        return verdict, forces, accel
     details["friction_intervals"] = intervals_json(intervals.intervals)
     if intervals.errors:
         details["friction_intervals_error"] = [list(e) for e in intervals.errors]
@@ -252,19 +303,46 @@ def _about_com(problem: Problem, wrench: np.ndarray) -> Statics:
     )
 
 
-def _may_hold(problem: Problem, case: Case, direction: np.ndarray | None) -> bool:
+class _Holding:
+    """Whether friction holds the body on a case's kept contacts, at one scene's wrench: the
+    wrench, the statics about the centre of mass and every support's equilibrium columns are
+    built once per scene (on first use), not once per case."""
+
+    def __init__(self, problem: Problem, direction: np.ndarray | None) -> None:
+        self.problem, self.direction = problem, direction
+        self._parts: tuple[np.ndarray, Statics, np.ndarray | None] | None = None
+
+    @property
+    def wrench(self) -> np.ndarray:
+        """The external wrench about the centre of mass at the direction."""
+        return self._built()[0]
+
+    def _built(self) -> tuple[np.ndarray, Statics, np.ndarray | None]:
+        if self._parts is None:
+            wrench = self.problem.wrench(self.direction)
+            statics = _about_com(self.problem, wrench)
+            columns = contact_columns(statics) if self.problem.dim == 3 else None
+            self._parts = (wrench, statics, columns)
+        return self._parts
+
+    def holds(self, keep: np.ndarray) -> bool:
+        """:func:`~kcheck.mechanics.statics.holds_exactly` on the contacts ``keep``."""
+        wrench, statics, columns = self._built()
+        return holds_exactly(statics, keep, wrench, columns=columns)
+
+
+def _may_hold(problem: Problem, case: Case, holding: _Holding) -> bool:
     """Whether friction can also hold the body of a moving case: an equilibrium exists on the
     kept contacts, so rest is a second answer of the rigid model (the `jamming` check's
     question; frictionless kept contacts hold nothing the free motion moves)."""
     keep = np.asarray(case.keep)
     if not np.any(problem.friction[keep] > 0):
         return False
-    wrench = problem.wrench(direction)
-    return holds_exactly(_about_com(problem, wrench), keep, wrench)
+    return holding.holds(keep)
 
 
 def _jam_or_lift(
-    problem: Problem, case: Case, direction: np.ndarray | None, details: dict[str, object]
+    problem: Problem, case: Case, holding: _Holding, details: dict[str, object]
 ) -> tuple[Outcome, dict[str, float] | None, float | None]:
     """A case neither sliding assumption fits: ``jams`` when friction can hold the body (an
     equilibrium exists on the kept contacts), else the first motion with contacts free to lift
@@ -272,9 +350,9 @@ def _jam_or_lift(
     the outcome, the normal forces (N) and the retracted contact's acceleration towards its
     support (m/s^2)."""
     keep = np.asarray(case.keep)
-    wrench = problem.wrench(direction)
-    if holds_exactly(_about_com(problem, wrench), keep, wrench):
+    if holding.holds(keep):
         return "jams", None, None
+    wrench = holding.wrench
     r = case.retracted
     motion = lift_off(
         problem.points[keep],
@@ -359,6 +437,93 @@ def analyse_fixed_many(
     return out
 
 
+def cases_close_many(scenes: Sequence[Scene], masses: Sequence[MassProperties]) -> list[bool]:
+    """Per scene (at its fixed friction coefficients), whether every case is determined,
+    well-conditioned and closes at the design direction (or is swept, without one): the first
+    test of :func:`closing_analysis` (None there exactly where False here), for many trial
+    scenes in one batch of the cases' algebra."""
+    problems = [problem_for(s, m) for s, m in zip(scenes, masses, strict=True)]
+    out = []
+    for scene, problem, cases in zip(scenes, problems, analyse_cases_many(problems), strict=True):
+        out.append(_cases_close(scene, problem, cases))
+    return out
+
+
+def _cases_close(scene: Scene, problem: Problem, cases: Sequence[Case]) -> bool:
+    sweeping, design = _design(scene, problem.dim)
+    evaluated = design is not None or not sweeping
+    for case in cases:
+        if not (case.determined and case.well_conditioned):
+            return False
+        if evaluated and outcome(case, design)[0] != "closes":
+            return False
+    return True
+
+
+def closing_force_screen(
+    scene: Scene, mass: MassProperties, preload: bool
+) -> Callable[[float], bool] | None:
+    """For trial scenes that differ from ``scene`` only by a factor ``t`` on its closing force
+    (the preloads with ``preload``, else the load magnitude; :mod:`kcheck.analysis.way_out`):
+    a test of ``t``, False where :func:`cases_close` surely fails. None when it cannot tell.
+
+    Every case's system matrices do not depend on the force (nondimensional masses and lengths,
+    the friction's directions), so its forward unknowns at the design direction are
+    ``K^-1 (u + t v)`` (``v`` the part that scales) up to a positive factor: solved once here,
+    each trial is a few multiplications. A case that is undetermined, ill-conditioned or
+    Painlevé-type is so at every force (every trial fails)."""
+    problem = problem_for(scene, mass)
+    sweeping, design = _design(scene, problem.dim)
+    if sweeping and design is None:
+        return None  # nothing evaluated at a direction: cases_close asks the cases only
+    b0, big_b = problem.load_basis()
+    loaded = np.zeros_like(b0) if design is None else big_b @ design
+    if preload:
+        if problem.preload is None:
+            return None
+        scaled, fixed = problem.preload, b0 - problem.preload + loaded
+    else:
+        scaled, fixed = loaded, b0
+    cases = analyse_cases_many([problem])[0]
+    if any(not (c.determined and c.well_conditioned) or c.painleve for c in cases):
+        return lambda t: False
+    parts = []
+    for case in cases:
+        assert case.forward is not None
+        solved = with_load(case, fixed, scaled[:, None]).forward
+        assert solved is not None
+        rtol = max(FORCE_SCREEN_RTOL, 1e3 * case.forward.condition * EPS)
+        parts.append((solved.a, solved.c[:, 0], rtol))
+
+    def may_close(t: float) -> bool:
+        for u, v, rtol in parts:
+            x = u + t * v
+            if np.any(x < -rtol * (np.abs(u) + abs(t) * np.abs(v))):
+                return False
+        return True
+
+    return may_close
+
+
+def closing_analysis(scene: Scene, mass: MassProperties) -> Analysis | None:
+    """:func:`analyse_fixed` (the scene's fixed coefficients) of a scene whose every case is
+    determined, well-conditioned and closes at the design direction (or is swept, without
+    one); None for any other scene, decided from the cases' algebra alone.
+
+    For a search that judges many trial scenes by a verdict (a way-out search): most trials
+    are rejected before the friction intervals, equilibrium tests and safe ranges, which do
+    not change whether a case closes. The analysis returned has the same outcomes, forces,
+    safe ranges and margins as :func:`analyse_fixed`'s, but no friction intervals (``friction``
+    all None, no ``limiting_friction``, no friction details) and no ``friction_may_hold``."""
+    problem = problem_for(scene, mass)
+    cases = analyse_cases_many([problem])[0]
+    if not _cases_close(scene, problem, cases):
+        return None
+    sweeping, design = _design(scene, problem.dim)
+    evaluated = design is not None or not sweeping
+    return _assemble(scene, problem, cases, [None] * len(cases), design, sweeping, None, evaluated)
+
+
 def scene_plane_ranges(scene: Scene, analysis: Analysis) -> Analysis:
     """The ranges in the scene's sweep plane that :func:`analyse_fixed_many` leaves out with
     ``sweep`` False (the analysis unchanged when it has them, or when no load is swept)."""
@@ -379,11 +544,14 @@ def _assemble(
     design: np.ndarray | None,
     sweeping: bool,
     plane: tuple[np.ndarray, np.ndarray] | None,
+    evaluate: bool = False,
 ) -> Analysis:
-    """The analysis of a scene from its solved cases and friction intervals."""
+    """The analysis of a scene from its solved cases and friction intervals; ``evaluate``:
+    the outcomes at the design direction of the cases without intervals too."""
     results = []
     max_condition = 0.0
     names = problem.names
+    holding = _Holding(problem, design)
     for r, case in enumerate(cases):
         details = _case_details(problem, case)
         if not case.determined:
@@ -394,8 +562,8 @@ def _assemble(
             results.append(CaseResult(names[r], "ill_conditioned", details=details))
             continue
         verdict, forces, accel, intervals = "swept", None, None, case_friction[r]
-        if intervals is not None:
-            verdict, forces, accel = _evaluated(problem, case, design, intervals, details)
+        if intervals is not None or evaluate:
+            verdict, forces, accel = _evaluated(problem, case, design, intervals, details, holding)
         results.append(
             CaseResult(
                 names[r],

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -25,6 +25,7 @@ __all__ = [
     "closing_force",
     "with_closing_force",
     "passing_closing_force",
+    "Screen",
 ]
 
 #: Steps of the scan from the scene's coefficient down to zero, and bisection steps after it.
@@ -37,6 +38,10 @@ BISECTIONS = 8
 FORCE_OCTAVES = 10
 FORCE_BISECTIONS = 12
 
+#: A cheaper first test of many trial scenes at once: False where ``passes`` is surely False
+#: (its own first test, e.g. a case that does not close), True where it must be asked.
+Screen = Callable[[Sequence[Scene]], Sequence[bool]]
+
 
 def with_friction(scene: Scene, mu: float) -> Scene:
     """The scene with every rough support's coefficient scaled so the largest is ``mu``."""
@@ -46,18 +51,24 @@ def with_friction(scene: Scene, mu: float) -> Scene:
     return dataclasses.replace(scene, supports=supports)
 
 
-def passing_friction(scene: Scene, passes: Callable[[Scene], bool]) -> float | None:
+def passing_friction(
+    scene: Scene, passes: Callable[[Scene], bool], screen: Screen | None = None
+) -> float | None:
     """The largest coefficient below the scene's (the largest one; the others in proportion)
     at which ``passes`` holds, to three significant digits rounded down, judged again there;
-    None for coefficient ranges or static/kinetic pairs, or when no coefficient passes."""
+    None for coefficient ranges or static/kinetic pairs, or when no coefficient passes.
+    ``screen`` tests the scan's trial scenes in one call first (the same answer, sooner)."""
     if any(not s.coefficients.plain for s in scene.supports):
         return None  # ranges and static/kinetic pairs: no one number to lower
     mu = max(s.friction for s in scene.supports)
     if not mu > 0:
         return None
     fails = mu
-    for value in np.linspace(mu, 0.0, SCAN_STEPS + 1)[1:]:
-        if passes(with_friction(scene, float(value))):
+    values = [float(v) for v in np.linspace(mu, 0.0, SCAN_STEPS + 1)[1:]]
+    trials = [with_friction(scene, v) for v in values]
+    worth = [True] * len(trials) if screen is None else list(screen(trials))
+    for value, trial, ask in zip(values, trials, worth, strict=True):
+        if ask and passes(trial):
             good = float(value)
             break
         fails = float(value)
@@ -119,7 +130,7 @@ def with_closing_force(scene: Scene, force: ClosingForce, value: float) -> Scene
 
 
 def passing_closing_force(
-    scene: Scene, passes: Callable[[Scene], bool]
+    scene: Scene, passes: Callable[[Scene], bool], screen: Screen | None = None
 ) -> tuple[ClosingForce, float, str] | None:
     """The closing force nearest the scene's at which ``passes`` holds: (the force, its value in
     N, ``"at least"`` or ``"at most"``), rounded outward to three significant digits (up for a
@@ -129,20 +140,28 @@ def passing_closing_force(
     Upwards first: a coupling that loses contact or jams mostly wants more closing force. The
     answer is bracketed between a failing and a passing value, so "at least" is the least to
     the resolution of the bisection between them, not a claim about every larger value (more
-    force can jam): the value returned is judged to pass."""
+    force can jam): the value returned is judged to pass. ``screen`` tests each sense's scan
+    of trial forces in one call first, and each further trial alone (the same answer,
+    sooner)."""
     force = closing_force(scene)
     if force is None:
         return None
     base = force.value
 
     def judged(value: float) -> bool:
-        return passes(with_closing_force(scene, force, value))
+        trial = with_closing_force(scene, force, value)
+        if screen is not None and not screen([trial])[0]:
+            return False
+        return passes(trial)
 
     for sense, sign in (("at least", 1), ("at most", -1)):
         fails = base
-        for k in range(1, FORCE_OCTAVES + 1):
-            value = base * 2.0 ** (sign * k)
-            if judged(value):
+        values = [base * 2.0 ** (sign * k) for k in range(1, FORCE_OCTAVES + 1)]
+        worth = [True] * len(values)
+        if screen is not None:
+            worth = list(screen([with_closing_force(scene, force, v) for v in values]))
+        for value, ask in zip(values, worth, strict=True):
+            if ask and judged(value):
                 good = value
                 break
             fails = value

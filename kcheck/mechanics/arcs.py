@@ -81,6 +81,8 @@ def affine_arcs(
     b, s = c @ e1, c @ e2
     if len(a) == 1:
         return _one_arc(float(a[0]), float(b[0]), float(s[0]), float(np.abs(c).max()), error)
+    if len(a) <= FEW_CONDITIONS:
+        return _few_arcs(a, b, s, c, error)
     # Per condition: a direction term below rounding of that condition's own size is no term.
     # A tolerance shared by all would erase the direction term of a small unknown whenever
     # another one is huge (e.g. a heavy body's weight on one support).
@@ -114,6 +116,64 @@ def affine_arcs(
         per = np.where(slope > 0, (error / size + rounding) / slope, np.inf) + EPS * TAU
     active = np.argmin(miss, axis=1)
     return arcs, float(np.max(per[active]))
+
+
+#: Up to this many conditions :func:`affine_arcs` works in plain float arithmetic: a case's
+#: own conditions (its unknowns, about six), where numpy's per-call overhead on arrays this
+#: small was most of the time. The same formulas in the same order; ``math``'s hypot, acos,
+#: atan2, cos and sin may differ from numpy's in the last bit, far inside the ends' error.
+FEW_CONDITIONS = 12
+
+
+def _few_arcs(
+    a: np.ndarray, b: np.ndarray, s: np.ndarray, c: np.ndarray, error: np.ndarray | None
+) -> tuple[ArcSet, float | None]:
+    """:func:`affine_arcs` for a few conditions (``b = c . e1``, ``s = c . e2``) in plain
+    float arithmetic."""
+    al, bl, sl = a.tolist(), b.tolist(), s.tolist()
+    singles = []
+    for ak, bk, sk, ck in zip(al, bl, sl, c.tolist(), strict=True):
+        # Per condition, as in affine_arcs: a direction term below rounding of its own size.
+        zero_tol = ARC_ZERO_RTOL * max(abs(ak), max(abs(x) for x in ck))
+        r = math.hypot(bk, sk)
+        if r <= zero_tol:
+            if ak > 0:
+                continue  # holds everywhere
+            return (), None
+        ratio = -ak / r
+        if ratio >= 1.0:
+            return (), None
+        if ratio > -1.0:
+            half = math.acos(ratio)
+            start = (math.atan2(sk, bk) - half) % TAU
+            singles.append(((start, start + 2.0 * half),))
+    arcs = intersect(*singles)
+    if error is None or not arcs or arcs == FULL:
+        return arcs, None
+    ends = sorted(x % TAU for arc in arcs for x in arc)
+    errors = np.broadcast_to(np.asarray(error, float), a.shape).tolist()
+    terms = []  # per condition: (an, bn, sn, slope, error per unit of slope)
+    for ak, bk, sk, ek in zip(al, bl, sl, errors, strict=True):
+        size = max(abs(ak), abs(bk), abs(sk))
+        size = size if size > 0 else 1.0
+        an, bn, sn = ak / size, bk / size, sk / size
+        slope = math.sqrt(max(bn * bn + sn * sn - an * an, 0.0))
+        rounding = EPS * (abs(an) + math.hypot(bn, sn))
+        per = (ek / size + rounding) / slope + EPS * TAU if slope > 0 else math.inf
+        terms.append((an, bn, sn, slope, per))
+    worst = -math.inf
+    for end in ends:
+        cos_e, sin_e = math.cos(end), math.sin(end)
+        # The condition that vanishes at this end: the least angular distance to its zero
+        # (the first on ties, as numpy's argmin).
+        best, best_per = math.inf, math.inf
+        first = True
+        for an, bn, sn, slope, per in terms:
+            miss = abs(an + cos_e * bn + sin_e * sn) / slope if slope > 0 else math.inf
+            if first or miss < best:
+                best, best_per, first = miss, per, False
+        worst = max(worst, best_per)
+    return arcs, float(worst)
 
 
 def _one_arc(

@@ -53,6 +53,7 @@ __all__ = [
     "holds",
     "holds_exactly",
     "equilibrium_forces",
+    "contact_columns",
 ]
 
 #: Sides of the pyramid approximating a spatial friction cone. The inscribed and the
@@ -353,17 +354,31 @@ def holds(
 
 
 def holds_exactly(
-    statics: Statics, keep: np.ndarray, wrench: np.ndarray, mu: np.ndarray | None = None
+    statics: Statics,
+    keep: np.ndarray,
+    wrench: np.ndarray,
+    mu: np.ndarray | None = None,
+    columns: np.ndarray | None = None,
 ) -> bool:
     """Whether ``wrench`` is balanced with forces in the exact circular friction cones.
 
     Spatial: :func:`equilibrium_forces` (clarabel); planar cones are polyhedral and decided
-    exactly by :func:`holds`.
+    exactly by :func:`holds`. ``columns``: :func:`contact_columns` of every support, for a
+    caller asking about several ``keep`` of one statics (the kept rows are the same numbers).
     """
     mu = statics.friction if mu is None else np.asarray(mu, float)
     if statics.dim == 2:
         return holds(statics, keep, wrench, mu)
-    return equilibrium_forces(statics, keep, wrench, mu) is not None
+    if columns is None:
+        return equilibrium_forces(statics, keep, wrench, mu) is not None
+    kept = columns.reshape(len(statics.points), 3, -1)[keep].reshape(3 * len(keep), -1)
+    return _solve_conic(kept, wrench, mu[keep], None) is not None
+
+
+def contact_columns(statics: Statics) -> np.ndarray:
+    """The equilibrium columns (3k, 6) of every support (:func:`_contact_axes`): three per
+    support, its normal's and its two tangents' unit wrenches."""
+    return _contact_axes(statics, np.arange(len(statics.points)))[1]
 
 
 def equilibrium_forces(

@@ -26,6 +26,8 @@ import math
 import sys
 
 __all__ = [
+    "MARGIN_SCREEN_DEG",
+    "FORCE_SCREEN_RTOL",
     "THERMAL_CENTRE_DET",
     "EPS",
     "DET_ROUNDING",
@@ -190,6 +192,16 @@ INFINITE_POLE: float = 1e-12
 #: reported as a pure rotation: the pitch of a pure rotation computed in floats is rounding,
 #: about 1e-16.
 NO_PITCH: float = 1e-9
+#: A trial scene of a way-out search is rejected before its sphere map when the design
+#: direction's margin in closed form (the least over the closing caps) lies this far (deg)
+#: below the margin the check asks for; the map's own margin agrees to about 1e-12 rad, so
+#: the band only keeps a tie for the map to decide.
+MARGIN_SCREEN_DEG: float = 1e-6
+#: A way-out trial closing force is rejected in closed form only where a closing condition is
+#: negative by more than this share of its terms' sizes (or by a thousand times its system's
+#: rounding, condition number times eps, when that is larger): near a sign change the trial
+#: is judged in full.
+FORCE_SCREEN_RTOL: float = 1e-6
 
 # --- directions, planes and same points ----------------------------------------------------
 

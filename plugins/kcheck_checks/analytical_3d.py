@@ -12,17 +12,25 @@ the body (its tilt).
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from kcheck.analysis import analyse, analyse_many
-from kcheck.analysis.cases import Analysis, closing_force_reason, describe_ranges, sweep_ranges
+from kcheck.analysis.cases import (
+    Analysis,
+    cases_close_many,
+    closing_analysis,
+    closing_force_reason,
+    describe_ranges,
+    sweep_ranges,
+)
 from kcheck.analysis.friction_ranges import range_details
 from kcheck.fmt import clean, format_angle, format_share, format_vector
+from kcheck.numerics.thresholds import MARGIN_SCREEN_DEG
 from kcheck.plugin import Check, Field, Inputs
-from kcheck.result import CheckResult, Finding, Status
+from kcheck.result import CheckResult, Finding, MassProperties, Status
 from kcheck.scene import Scene
 from kcheck_checks.marginal import with_angle_margin
 from kcheck_checks.options import AnalyticalOptions
@@ -408,6 +416,64 @@ def _ranges(analysis: Analysis) -> tuple[tuple[float, float], ...]:
     return ranges_deg(analysis.combined)
 
 
+def _force_screen(
+    scene: Scene, mass: MassProperties, screen: Callable[[Sequence[Scene]], list[bool]]
+) -> Callable[[Sequence[Scene]], list[bool]]:
+    """The closing-force search's first test of its trial scenes: the trial's factor on the
+    scene's closing force in closed form (:func:`kcheck.analysis.cases.closing_force_screen`),
+    then, for a scan's several trials, ``screen`` (the cases' algebra in one batch) on those
+    left; one trial alone is left to ``passes``, whose own first test that is."""
+    from kcheck.analysis.cases import closing_force_screen
+    from kcheck.analysis.way_out import closing_force
+
+    force = closing_force(scene)
+    built: list[Callable[[float], bool] | None] = []  # on first use: most scenes never search
+
+    def first(trials: Sequence[Scene]) -> list[bool]:
+        if not built:
+            fixed = np.array_equal(*scene.friction_range("kinetic"))
+            usable = force is not None and fixed
+            built.append(
+                closing_force_screen(scene, mass, force.kind == "preload")
+                if usable and force is not None
+                else None
+            )
+        quick = built[0]
+        out = [True] * len(trials)
+        if quick is not None and force is not None:
+            for i, trial in enumerate(trials):
+                now = closing_force(trial)
+                out[i] = now is None or quick(now.value / force.value)
+        if len(trials) > 1:
+            left = [i for i, ok in enumerate(out) if ok]
+            for i, ok in zip(left, screen([trials[i] for i in left]), strict=True):
+                out[i] = ok
+        return out
+
+    return first
+
+
+def _short_of_margin(analysis: Analysis, options: Analytical3DOptions) -> bool:
+    """Whether the design load direction of an analysis whose every case closes there is
+    surely closer to the safe region's edge than the check allows (a `margin` finding, or the
+    `marginal` band): its margin in closed form, the least over every case's closing caps
+    (:func:`kcheck.mechanics.arcs.cap_margins`: inside every cap, the distance to the
+    intersection's boundary), below the limit by more than MARGIN_SCREEN_DEG. A cheap first
+    test of a way-out trial before its sphere map; False where the map must decide (gravity
+    swept, no design direction)."""
+    from kcheck.analysis.sphere_map import direction_caps
+    from kcheck.mechanics.arcs import cap_margins
+
+    design = analysis.design
+    if design is None or analysis.problem.swept != "load":
+        return False
+    _, a, c, _, _ = direction_caps(analysis.problem, analysis)
+    d = np.asarray(design, float)
+    margin = float(np.degrees(cap_margins(a, c, (d / np.linalg.norm(d))[None, :])[0]))
+    limit = max(options.min_margin_deg, options.marginal_deg)
+    return margin < limit - MARGIN_SCREEN_DEG
+
+
 class Analytical3D(Check):
     """Every retracted support of a spatial scene: free screw, outcome, forces, ranges, map."""
 
@@ -453,7 +519,18 @@ class Analytical3D(Check):
         mass, options = inputs.mass, inputs.options
 
         def passes(scene: Scene) -> bool:
-            trial = analyse(scene, mass)
+            # Exact shortcut: the outcomes from the cases' algebra alone reject most trial
+            # forces of a failing scene (a case that does not close fails below), and the
+            # rest need no friction intervals nor friction_may_hold, which only word the
+            # findings (closing_analysis).
+            low, high = scene.friction_range("kinetic")
+            if np.array_equal(low, high):
+                found = closing_analysis(scene, mass)
+                if found is None or _short_of_margin(found, options):
+                    return False
+                trial = found
+            else:
+                trial = analyse(scene, mass)
             # Exact shortcut: a case that does not close (or an untrustworthy analysis) fails
             # the check whatever the sphere map finds, as spatial_result keeps every case
             # finding; only the rest need the map (a failing scene's closing-force search
@@ -463,7 +540,16 @@ class Analytical3D(Check):
             again = spatial_result(self.id, scene, trial, options)[0]
             return again.status == Status.PASS
 
+        def screen(scenes: Sequence[Scene]) -> list[bool]:
+            # passes' own first test (closing_analysis), for a scan's trial scenes in one batch.
+            fixed = [np.array_equal(*s.friction_range("kinetic")) for s in scenes]
+            kept = [s for s, f in zip(scenes, fixed, strict=True) if f]
+            tested = iter(cases_close_many(kept, [mass] * len(kept)))
+            return [next(tested) if f else True for f in fixed]
+
         if not inputs.hints:
             return result
-        result = with_friction_way_out(result, inputs.scene, passes)
-        return with_closing_force_way_out(result, inputs.scene, passes)
+        result = with_friction_way_out(result, inputs.scene, passes, screen)
+        return with_closing_force_way_out(
+            result, inputs.scene, passes, _force_screen(inputs.scene, mass, screen)
+        )

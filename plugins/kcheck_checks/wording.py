@@ -490,7 +490,10 @@ CHECK_LEVEL = ("margin", "design-outside", "ranges-disjoint", "no-safe-direction
 
 
 def with_friction_way_out(
-    result: CheckResult, scene: Scene, passes: Callable[[Scene], bool]
+    result: CheckResult,
+    scene: Scene,
+    passes: Callable[[Scene], bool],
+    screen: Callable[[Sequence[Scene]], Sequence[bool]] | None = None,
 ) -> CheckResult:
     """A failing result whose findings about the safe set name no number to change, with the
     friction at which the whole check passes added to their hints ("the check passes for
@@ -504,7 +507,7 @@ def with_friction_way_out(
         return result
     from kcheck.analysis.way_out import passing_friction
 
-    mu = passing_friction(scene, passes)
+    mu = passing_friction(scene, passes, screen)
     if mu is None:
         return result
     uniform = len({s.friction for s in scene.supports if s.friction > 0}) <= 1
@@ -532,7 +535,10 @@ def closing_force_text(name: str, kind: str, value: float, sense: str, proportio
 
 
 def with_closing_force_way_out(
-    result: CheckResult, scene: Scene, passes: Callable[[Scene], bool]
+    result: CheckResult,
+    scene: Scene,
+    passes: Callable[[Scene], bool],
+    screen: Callable[[Sequence[Scene]], Sequence[bool]] | None = None,
 ) -> CheckResult:
     """A failing result whose findings a closing force can answer (a support loses contact,
     friction holds it, the safe set), with the least preload (or load magnitude) at which the
@@ -543,7 +549,7 @@ def with_closing_force_way_out(
         return result
     from kcheck.analysis.way_out import passing_closing_force
 
-    found = passing_closing_force(scene, passes)
+    found = passing_closing_force(scene, passes, screen)
     if found is None:
         return result
     force, value, sense = found

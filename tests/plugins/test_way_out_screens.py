@@ -1,0 +1,83 @@
+"""analytical-3d's way-out searches (the friction and the closing force at which a failing
+scene passes) judge their trial scenes through cheap first tests: the trial's factor on the
+closing force in closed form, the cases' algebra alone (a case that does not close fails), a
+scan's trials in one batch, and the design direction's margin in closed form before the
+sphere map. They only skip work: the check's result must be
+the one the searches give when every trial is judged in full (computed here by switching the
+first tests off), on generated spatial scenes that fail and search.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from spatial_scenes import write_spatial_scenes  # noqa: E402
+
+from kcheck.body.mass import body_mass_properties  # noqa: E402
+from kcheck.plugin import Inputs  # noqa: E402
+from kcheck.scene import load_scene  # noqa: E402
+
+
+def _results(scenes, masses):
+    from kcheck_checks.analytical_3d import Analytical3D
+
+    check = Analytical3D()
+    return [
+        check.run(Inputs(s, m, check.options(**s.check_options.get(check.id, {}))))
+        for s, m in zip(scenes, masses, strict=True)
+    ]
+
+
+def test_first_tests_change_no_way_out(tmp_path, monkeypatch):
+    import kcheck_checks.analytical_3d as module
+
+    from kcheck.analysis import analyse
+
+    scenes = [load_scene(p) for p in write_spatial_scenes(tmp_path, range(16))]
+    masses = [body_mass_properties(s.body, s.scale) for s in scenes]
+    screened = _results(scenes, masses)
+    searched = [r for r in screened if "passing_closing_force" in r.details]
+    assert len(searched) >= 3  # the scenes exercise the closing-force search
+
+    def in_full(scene, mass):
+        # Every trial through the full analysis: None only where a case does not close.
+        full = analyse(scene, mass)
+        closes = full.trustworthy and all(r.outcome in ("closes", "swept") for r in full.results)
+        return full if closes else None
+
+    monkeypatch.setattr(module, "closing_analysis", in_full)
+    monkeypatch.setattr(module, "cases_close_many", lambda s, m: [True] * len(s))
+    monkeypatch.setattr(module, "_short_of_margin", lambda analysis, options: False)
+    monkeypatch.setattr(module, "_force_screen", lambda *_: lambda trials: [True] * len(trials))
+    assert _results(scenes, masses) == screened
+
+
+def test_margin_screen_agrees_with_the_sphere_map(tmp_path):
+    """The closed-form margin of the design direction equals the sphere map's (the check's
+    ``design_margin_deg``) to within the screen's band: asked for that margin plus twice the
+    band the trial is short of it, asked for that margin minus twice the band it is not."""
+    from kcheck_checks.analytical_3d import Analytical3D, _short_of_margin
+
+    from kcheck.analysis import analyse
+    from kcheck.numerics.thresholds import MARGIN_SCREEN_DEG
+
+    check = Analytical3D()
+    scenes = [load_scene(p) for p in write_spatial_scenes(tmp_path, range(30))]
+    tried = 0
+    for scene in scenes:
+        mass = body_mass_properties(scene.body, scene.scale)
+        analysis = analyse(scene, mass)
+        if not all(r.outcome == "closes" for r in analysis.results):
+            continue
+        result = check.run(Inputs(scene, mass, check.options()))
+        margin = result.details.get("design_margin_deg")
+        if margin is None or margin < 1e-3:
+            continue
+        tried += 1
+        for shift, short in ((2 * MARGIN_SCREEN_DEG, True), (-2 * MARGIN_SCREEN_DEG, False)):
+            options = check.options(min_margin_deg=margin + shift, marginal_deg=0.0)
+            assert _short_of_margin(analysis, options) is short
+    assert tried >= 3
