@@ -75,6 +75,8 @@ Outcome = Literal["jams", "holds", "moves", "swept", "undetermined"]
 
 #: Directions measured exactly first, for a lower bound of the freest direction's depth.
 FREE_SAMPLE = 64
+#: Rounds of raising the freest direction's floor from the cells that survive the last.
+FLOOR_ROUNDS = 3
 #: Absolute guard on per-cell bounds of unit-vector products against rounding (1e-16).
 CELL_GUARD = 1e-12
 
@@ -487,16 +489,50 @@ def _freest(sets: list[Equilibria], cells: LatticeCells, slacks: list[np.ndarray
     sample = candidates[:: max(1, len(candidates) // FREE_SAMPLE)]
     floor = float(_free_depth(sets, dirs[sample]).max())
     if floor > 0:
-        for held in cones:
-            ratio, axes, radius = cap_geometry(held.a, held.c)
-            bound = np.cos(np.minimum(radius + floor, np.pi)) + FREE_CANDIDATE_TOL
-            bound = np.where(ratio >= 1.0, np.inf, np.where(ratio <= -1.0, -np.inf, bound))
+        geometry = [cap_geometry(held.a, held.c) for held in cones]
+        for _ in range(FLOOR_ROUNDS):
+            tests = [_depth_test(ratio, axes, radius, floor) for ratio, axes, radius in geometry]
+            # Whole cells first, every case: a cell no member of which lies below any facet
+            # of some case drops out before any case tests the directions one by one.
+            for axes, bound in tests:
+                candidates = candidates[~_none_below(cells, candidates, axes, bound)]
+            # The survivors lie in the deepest cells: a sample of them may raise the floor.
+            # (It keeps the direction that gave the floor: the screens are conservative.)
+            sample = candidates[:: max(1, len(candidates) // FREE_SAMPLE)]
+            raised = float(_free_depth(sets, dirs[sample]).max(initial=-np.inf))
+            if raised <= floor:
+                break
+            floor = raised
+        else:
+            tests = [_depth_test(ratio, axes, radius, floor) for ratio, axes, radius in geometry]
+        for axes, bound in tests:
             candidates = candidates[_any_below(cells, candidates, axes, bound)]
     depth = _free_depth(sets, dirs[candidates])
     best = int(np.argmax(depth))
     if depth[best] > 0 and np.isfinite(depth[best]):
         return int(candidates[best])
     return None
+
+
+def _depth_test(
+    ratio: np.ndarray, axes: np.ndarray, radius: np.ndarray, floor: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """``(axes, bound)``: a direction is deeper than ``floor`` outside a facet's circle iff
+    ``axes . d < cos(radius + floor)`` (``bound`` with a margin for rounding)."""
+    bound = np.cos(np.minimum(radius + floor, np.pi)) + FREE_CANDIDATE_TOL
+    return axes, np.where(ratio >= 1.0, np.inf, np.where(ratio <= -1.0, -np.inf, bound))
+
+
+def _none_below(
+    cells: LatticeCells, candidates: np.ndarray, axes: np.ndarray, bound: np.ndarray
+) -> np.ndarray:
+    """Per candidate lattice direction, whether its cell's bound shows ``axes_f . d > bound_f``
+    for every facet ``f`` and every member ``d`` (as in :func:`_any_below`, cells only)."""
+    owner = cells.owner[candidates]
+    which, cell = np.unique(owner, return_inverse=True)
+    width = cells.radius[which, None] * np.linalg.norm(axes, axis=1) + CELL_GUARD
+    at_centre = cells.coarse[which] @ axes.T
+    return ~np.any(at_centre - width <= bound, axis=1)[cell]
 
 
 def _any_below(
