@@ -529,10 +529,14 @@ def _none_below(
     """Per candidate lattice direction, whether its cell's bound shows ``axes_f . d > bound_f``
     for every facet ``f`` and every member ``d`` (as in :func:`_any_below`, cells only)."""
     owner = cells.owner[candidates]
-    which, cell = np.unique(owner, return_inverse=True)
+    used = np.zeros(len(cells.coarse), bool)
+    used[owner] = True
+    which = np.flatnonzero(used)  # only the cells that hold a candidate
+    position = np.zeros(len(cells.coarse), int)
+    position[which] = np.arange(len(which))
     width = cells.radius[which, None] * np.linalg.norm(axes, axis=1) + CELL_GUARD
     at_centre = cells.coarse[which] @ axes.T
-    return ~np.any(at_centre - width <= bound, axis=1)[cell]
+    return ~np.any(at_centre - width <= bound, axis=1)[position[owner]]
 
 
 def _any_below(
