@@ -75,6 +75,8 @@ Outcome = Literal["jams", "holds", "moves", "swept", "undetermined"]
 
 #: Directions measured exactly first, for a lower bound of the freest direction's depth.
 FREE_SAMPLE = 64
+#: Rounds of raising the freest direction's floor from the cells that survive the last.
+FLOOR_ROUNDS = 3
 #: Absolute guard on per-cell bounds of unit-vector products against rounding (1e-16).
 CELL_GUARD = 1e-12
 
@@ -441,7 +443,21 @@ def _lattice_slack(
     if held.kind != "cone" or not len(held.a):
         return held.least_slack(cells.fine, floor)
     slack, open_ = bounded_slack(held.a, held.c, cells, floor, FREE_CANDIDATE_TOL, where)
-    slack[open_] = held.least_slack(cells.fine[open_], floor)
+    # An undecided direction below the floor at its cell's likeliest facet (least at the
+    # centre) is settled by that one value (the map compares slacks with the floor and
+    # above only); the others meet every facet.
+    owner = cells.owner[open_]
+    used = np.zeros(len(cells.coarse), bool)
+    used[owner] = True
+    which = np.flatnonzero(used)
+    likeliest = np.zeros(len(cells.coarse), int)
+    likeliest[which] = np.argmin(held.a + cells.coarse[which] @ held.c.T, axis=1)
+    f = likeliest[owner]
+    value = held.a[f] + np.einsum("ij,ij->i", cells.fine[open_], held.c[f])
+    below = value < floor
+    slack[open_[below]] = value[below]
+    rest = open_[~below]
+    slack[rest] = held.least_slack(cells.fine[rest], floor)
     if where is not None:
         slack[~where] = -np.inf
     return slack
@@ -487,16 +503,54 @@ def _freest(sets: list[Equilibria], cells: LatticeCells, slacks: list[np.ndarray
     sample = candidates[:: max(1, len(candidates) // FREE_SAMPLE)]
     floor = float(_free_depth(sets, dirs[sample]).max())
     if floor > 0:
-        for held in cones:
-            ratio, axes, radius = cap_geometry(held.a, held.c)
-            bound = np.cos(np.minimum(radius + floor, np.pi)) + FREE_CANDIDATE_TOL
-            bound = np.where(ratio >= 1.0, np.inf, np.where(ratio <= -1.0, -np.inf, bound))
+        geometry = [cap_geometry(held.a, held.c) for held in cones]
+        for _ in range(FLOOR_ROUNDS):
+            tests = [_depth_test(ratio, axes, radius, floor) for ratio, axes, radius in geometry]
+            # Whole cells first, every case: a cell no member of which lies below any facet
+            # of some case drops out before any case tests the directions one by one.
+            for axes, bound in tests:
+                candidates = candidates[~_none_below(cells, candidates, axes, bound)]
+            # The survivors lie in the deepest cells: a sample of them may raise the floor.
+            # (It keeps the direction that gave the floor: the screens are conservative.)
+            sample = candidates[:: max(1, len(candidates) // FREE_SAMPLE)]
+            raised = float(_free_depth(sets, dirs[sample]).max(initial=-np.inf))
+            if raised <= floor:
+                break
+            floor = raised
+        else:
+            tests = [_depth_test(ratio, axes, radius, floor) for ratio, axes, radius in geometry]
+        for axes, bound in tests:
             candidates = candidates[_any_below(cells, candidates, axes, bound)]
     depth = _free_depth(sets, dirs[candidates])
     best = int(np.argmax(depth))
     if depth[best] > 0 and np.isfinite(depth[best]):
         return int(candidates[best])
     return None
+
+
+def _depth_test(
+    ratio: np.ndarray, axes: np.ndarray, radius: np.ndarray, floor: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """``(axes, bound)``: a direction is deeper than ``floor`` outside a facet's circle iff
+    ``axes . d < cos(radius + floor)`` (``bound`` with a margin for rounding)."""
+    bound = np.cos(np.minimum(radius + floor, np.pi)) + FREE_CANDIDATE_TOL
+    return axes, np.where(ratio >= 1.0, np.inf, np.where(ratio <= -1.0, -np.inf, bound))
+
+
+def _none_below(
+    cells: LatticeCells, candidates: np.ndarray, axes: np.ndarray, bound: np.ndarray
+) -> np.ndarray:
+    """Per candidate lattice direction, whether its cell's bound shows ``axes_f . d > bound_f``
+    for every facet ``f`` and every member ``d`` (as in :func:`_any_below`, cells only)."""
+    owner = cells.owner[candidates]
+    used = np.zeros(len(cells.coarse), bool)
+    used[owner] = True
+    which = np.flatnonzero(used)  # only the cells that hold a candidate
+    position = np.zeros(len(cells.coarse), int)
+    position[which] = np.arange(len(which))
+    width = cells.radius[which, None] * np.linalg.norm(axes, axis=1) + CELL_GUARD
+    at_centre = cells.coarse[which] @ axes.T
+    return ~np.any(at_centre - width <= bound, axis=1)[position[owner]]
 
 
 def _any_below(
@@ -520,7 +574,14 @@ def _any_below(
     cell = position[owner]
     below = every[cell]
     open_ = np.flatnonzero(~below & ~none[cell])
-    rows, facets = np.nonzero(possible[cell[open_]])
+    # The pairs (undecided direction, facet its cell leaves possible), from each cell's list
+    # of facets (about 15 of 150) instead of a boolean row per direction.
+    cell_rows, cell_facets = np.nonzero(possible)
+    counts = np.bincount(cell_rows, minlength=len(which))
+    per = counts[cell[open_]]
+    rows = np.repeat(np.arange(len(open_)), per)
+    shift = (np.cumsum(counts) - counts)[cell[open_]] - (np.cumsum(per) - per)
+    facets = cell_facets[np.repeat(shift, per) + np.arange(len(rows))]
     dots = np.einsum("ij,ij->i", cells.fine[candidates[open_[rows]]], axes[facets])
     hit = np.zeros(len(open_), bool)
     hit[rows[dots <= bound[facets]]] = True

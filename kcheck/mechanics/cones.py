@@ -8,6 +8,7 @@ only then) and small linear programmes solved by clarabel.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Literal
 
 import numpy as np
@@ -23,9 +24,12 @@ from kcheck.numerics.thresholds import (
     WELL_INSIDE,
 )
 
-__all__ = ["FACET_TOL", "cone_facets", "pointing", "essential_rows"]
+__all__ = ["FACET_TOL", "cone_facets", "pointing", "essential_rows", "inside_image"]
 
 PERCEPTRON_STEPS = 50
+#: Perceptron steps before a caller's guess (:func:`pointing`): most cones that have a
+#: direction with the margin give it within a few steps; the guess is one small programme.
+GUESS_AFTER = 12
 
 
 def cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "flat"]:
@@ -58,23 +62,31 @@ def cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "f
     return unique_rounded_rows(facets, HULL_FACET_DECIMALS if n > 3 else FACET_DECIMALS)
 
 
-def pointing(vectors: np.ndarray) -> np.ndarray | None:
+def pointing(
+    vectors: np.ndarray, guess: Callable[[], np.ndarray | None] | None = None
+) -> np.ndarray | None:
     """A direction ``h`` with ``vectors @ h > 0`` (the cone they span is pointed), or None.
 
-    Perceptron steps from the mean of the unit vectors first (enough for most cones), else a
-    linear programme maximising the smallest ``v . h`` over ``|h_i| <= 1``.
+    Perceptron steps from the mean of the unit vectors first (enough for most cones), then
+    ``guess()`` when given (a caller's cheaper way to one, kept if it has the perceptron's
+    margin), else a linear programme maximising the smallest ``v . h`` over ``|h_i| <= 1``.
     """
     unit = vectors / np.linalg.norm(vectors, axis=1, keepdims=True)
     h = unit.mean(axis=0)
     # Perceptron steps towards the violated vectors: converges when the cone is pointed with
     # some margin, at the cost of a few matrix-vector products. A direction barely inside
     # makes a badly scaled section, so a small margin goes on to the linear programme.
-    for _ in range(PERCEPTRON_STEPS):
+    for _ in range(PERCEPTRON_STEPS if guess is None else GUESS_AFTER):
         side = unit @ h
         bad = side <= WELL_INSIDE * np.linalg.norm(h)
         if not np.any(bad):
             return h
         h = h + unit[bad].mean(axis=0)
+    if guess is not None:
+        h = guess()
+        # The programme's own acceptance below: every margin above LP_POSITIVE at |h_i| <= 1.
+        if h is not None and np.all(unit @ h > LP_POSITIVE * np.abs(h).max()):
+            return h
     n = vectors.shape[1]
     # maximise t subject to unit @ h >= t, |h_i| <= 1, t <= 1 (an LP, solved by clarabel:
     # a tenth of scipy's per-call overhead, and already imported for the conic problems).
@@ -111,6 +123,50 @@ def _solve_lp(cost: np.ndarray, rows: np.ndarray, rhs: np.ndarray) -> np.ndarray
     )
     solution = solver.solve()
     return np.asarray(solution.x) if str(solution.status) == "Solved" else None
+
+
+def inside_image(generators: np.ndarray, image: np.ndarray) -> np.ndarray | None:
+    """An ``x`` with ``image @ x`` inside the cone the generators (g, n) span, as deep as a
+    linear programme finds it: ``image @ x = sum lambda_i g_i`` with ``sum lambda = 1`` and
+    the least ``lambda_i`` largest; None when it is not positive (above LP_POSITIVE).
+
+    Then ``f . image @ x > 0`` for every facet ``f`` of that cone that some generator lies
+    strictly inside of: a pointing direction for the rows ``F @ image`` (``image`` (n, m)),
+    from a programme with g + m + 1 variables and g + n + 1 rows, whatever the facets' count.
+    """
+    import clarabel
+
+    from kcheck.mechanics.csc import Csc
+
+    g, n = generators.shape
+    m = image.shape[1]
+    # Variables (lambda (g), x (m), t); rows: G^T lambda - image x = 0, sum lambda = 1 (zero
+    # cone), then t - lambda_i <= 0 (non-negative cone).
+    rows = np.zeros((n + 1 + g, g + m + 1))
+    rows[:n, :g] = generators.T
+    rows[:n, g : g + m] = -image
+    rows[n, :g] = 1.0
+    rows[n + 1 :, :g] = -np.eye(g)
+    rows[n + 1 :, -1] = 1.0
+    rhs = np.zeros(n + 1 + g)
+    rhs[n] = 1.0
+    cost = np.zeros(g + m + 1)
+    cost[-1] = -1.0
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    solver = clarabel.DefaultSolver(
+        Csc.empty(g + m + 1),
+        cost,
+        Csc.of(rows),
+        rhs,
+        [clarabel.ZeroConeT(n + 1), clarabel.NonnegativeConeT(g)],
+        settings,
+    )
+    solution = solver.solve()
+    if str(solution.status) != "Solved":
+        return None
+    x = np.asarray(solution.x)
+    return x[g : g + m] if x[-1] > LP_POSITIVE else None
 
 
 def _section(vectors: np.ndarray, h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -196,16 +252,29 @@ def _lineality(generators: np.ndarray) -> np.ndarray:
     return u[:, s > FACET_TOL * s[0]]
 
 
-def essential_rows(rows: np.ndarray) -> np.ndarray | None:
+def essential_rows(
+    rows: np.ndarray, inside: Callable[[], np.ndarray | None] | None = None
+) -> np.ndarray | None:
     """Indices of the rows that are extreme rays of the cone they span: the others are
     non-negative combinations of them, so ``rows @ x >= 0`` keeps its solutions without them.
-    None when that cone is not pointed (the solution set has an empty interior)."""
+    None when that cone is not pointed (the solution set has an empty interior).
+
+    ``inside()``: the caller's way to an ``x`` with ``rows @ x > 0``, tried where perceptron
+    steps find none (:func:`pointing`); the rows kept do not depend on it."""
     if len(rows) <= rows.shape[1]:
         return np.arange(len(rows))
     _, s, vt = np.linalg.svd(rows, full_matrices=False)
     rank = int(np.count_nonzero(s > FACET_TOL * s[0]))
     reduced = rows @ vt[:rank].T
-    h = pointing(reduced)
+    guess = None
+    if inside is not None:
+        found = inside
+
+        def guess() -> np.ndarray | None:
+            x = found()
+            return None if x is None else vt[:rank] @ x
+
+    h = pointing(reduced, guess)
     if h is None:
         return None
     if rank <= 2:

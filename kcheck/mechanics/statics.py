@@ -32,7 +32,7 @@ from typing import Literal
 import numpy as np
 
 from kcheck.mechanics.arcs import FULL, ArcSet, affine_arcs
-from kcheck.mechanics.cones import FACET_TOL, cone_facets, essential_rows
+from kcheck.mechanics.cones import FACET_TOL, cone_facets, essential_rows, inside_image
 from kcheck.mechanics.csc import Csc
 from kcheck.mechanics.dynamics import friction_directions
 from kcheck.mechanics.kinematics import Frame, cross3, wrenches
@@ -274,7 +274,8 @@ def equilibria(
     """
     mu = statics.friction if mu is None else np.asarray(mu, float)
     forces = friction_edges(statics.normals[keep], mu[keep], edges, pyramid)
-    facets = cone_facets(edge_wrenches(statics.points[keep], forces))
+    generators = edge_wrenches(statics.points[keep], forces)
+    facets = cone_facets(generators)
     dim = statics.dim
     if isinstance(facets, str):
         return Equilibria(facets, np.zeros(0), np.zeros((0, dim)))
@@ -282,7 +283,10 @@ def equilibria(
     if dim == 3:
         # Most facets of the six-dimensional cone never bound the three-dimensional set of
         # swept directions; keep those that do (same set, far fewer caps to evaluate).
-        rows = essential_rows(np.column_stack([c, a]))
+        # A direction inside the held set, where perceptron steps find none: a balance by
+        # every edge at once (a programme over the edges, not over the facets' rows).
+        image = -np.column_stack([statics.swept, statics.fixed])
+        rows = essential_rows(np.column_stack([c, a]), lambda: inside_image(generators, image))
         if rows is None:
             return Equilibria("flat", np.zeros(0), np.zeros((0, dim)))
         a, c = a[rows], c[rows]
@@ -346,7 +350,8 @@ def holds(
     friction cones; exact for planar scenes."""
     mu = statics.friction if mu is None else np.asarray(mu, float)
     forces = friction_edges(statics.normals[keep], mu[keep], edges, pyramid)
-    facets = cone_facets(edge_wrenches(statics.points[keep], forces))
+    generators = edge_wrenches(statics.points[keep], forces)
+    facets = cone_facets(generators)
     if isinstance(facets, str):
         return facets == "everywhere"
     scale = float(np.linalg.norm(wrench)) or 1.0

@@ -411,3 +411,38 @@ def test_a_case_held_for_every_weight_direction_is_not_told_to_turn_it(cli_json,
     assert "although the weight would close it" in finding["message"]
     assert finding["hint"].startswith("lower the friction") and "turn" not in finding["hint"]
     assert code == 1
+
+
+def test_freest_direction_is_the_deepest_of_every_free_direction(tmp_path: Path) -> None:
+    """The screened search for the freest lattice direction (cells first, a floor raised from
+    the surviving cells, then direction by direction) returns what measuring every free
+    direction's depth returns: the first of the deepest (the reference: ``_free_depth`` on
+    all 20,000 directions, no screen)."""
+    import sys
+
+    from kcheck.analysis.jamming_cases import (
+        _free_depth,
+        _freest,
+        _lattice_slack,
+        jam_statics,
+    )
+    from kcheck.mechanics.lattice_cells import lattice_cells
+
+    sys.path.insert(0, str(ROOT / "tests"))
+    from spatial_scenes import write_spatial_scenes
+
+    cells = lattice_cells(20000)
+    found = 0
+    for path in write_spatial_scenes(tmp_path, range(6)):
+        scene = load_scene(path)
+        assert scene.body is not None
+        statics, swept, design = jam_statics(scene, body_mass_properties(scene.body, scene.scale))
+        analysis = analyse_jamming(statics, swept, design)
+        sets = [c.held for c in analysis.cases if c.determined]
+        slacks = [_lattice_slack(h, cells) for h in sets]
+        depth = _free_depth(sets, cells.fine)
+        best = int(np.argmax(depth))
+        expected = best if depth[best] > 0 and np.isfinite(depth[best]) else None
+        assert _freest(sets, cells, slacks) == expected
+        found += expected is not None
+    assert found >= 3

@@ -1,0 +1,70 @@
+"""Polyhedral cones: a direction inside the image of a cone, and the essential rows found
+with it, against independent computations (scipy's NNLS for membership, brute force for the
+rows)."""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.optimize import nnls
+
+from kcheck.mechanics import cones
+from kcheck.mechanics.cones import cone_facets, essential_rows, inside_image
+
+
+def test_inside_image_lies_strictly_inside_the_cone() -> None:
+    """Random six-dimensional cones (30 generators) and random four-column images: the ``x``
+    found puts ``image @ x`` strictly inside every facet (facets from qhull), and NNLS
+    writes it as a non-negative combination of the generators (residual ~0)."""
+    rng = np.random.default_rng(7)
+    checked = 0
+    for _ in range(20):
+        generators = rng.normal(size=(30, 6)) + np.array([3.0, 0, 0, 0, 0, 0])
+        image = rng.normal(size=(6, 4))
+        x = inside_image(generators, image)
+        facets = cone_facets(generators)
+        assert not isinstance(facets, str)
+        if x is None:
+            continue
+        y = image @ x
+        assert np.all(facets @ y > 0)
+        _, residual = nnls(generators.T, y)
+        assert residual < 1e-9 * np.linalg.norm(y)
+        checked += 1
+    assert checked >= 10
+
+
+def test_inside_image_is_none_where_the_image_misses_the_cone() -> None:
+    """A cone in the half-space ``x_0 > 0`` and an image in ``x_0 = 0``: only the apex is
+    shared, so no direction lies inside."""
+    rng = np.random.default_rng(3)
+    generators = np.abs(rng.normal(size=(20, 6))) * np.array([1.0, 1, 1, 1, 1, 1])
+    generators[:, 0] += 1.0
+    image = np.vstack([np.zeros((1, 4)), rng.normal(size=(5, 4))])
+    assert inside_image(generators, image) is None
+
+
+def test_essential_rows_do_not_depend_on_the_inside_direction(monkeypatch) -> None:
+    """The rows kept with a caller's inside direction (no perceptron step before it, so that
+    it is used every time) are those kept without it, and every row left out is a
+    non-negative combination of the kept ones (NNLS residual ~0): the extreme rays, by brute
+    force."""
+    monkeypatch.setattr(cones, "GUESS_AFTER", 0)
+    rng = np.random.default_rng(11)
+    compared = 0
+    for _ in range(10):
+        generators = rng.normal(size=(24, 6)) + np.array([2.5, 0, 0, 0, 0, 0])
+        image = rng.normal(size=(6, 4))
+        facets = cone_facets(generators)
+        assert not isinstance(facets, str)
+        rows = facets @ image
+        plain = essential_rows(rows)
+        guided = essential_rows(rows, lambda g=generators, i=image: inside_image(g, i))
+        if plain is None:
+            continue
+        assert guided is not None
+        compared += 1
+        assert np.array_equal(plain, guided)
+        for r in np.setdiff1d(np.arange(len(rows)), plain):
+            _, residual = nnls(rows[plain].T, rows[r])
+            assert residual < 1e-7 * np.linalg.norm(rows[r])
+    assert compared >= 5
