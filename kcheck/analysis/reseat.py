@@ -5,7 +5,8 @@ For one retracted support a case runs three stretches of time:
 0. *settle*: the body, placed on its supports, comes to rest under its loads (the seat every
    error is measured from, so the contacts' small soft-contact overlap cancels);
 1. *retract*: the support jumps back by the retraction distance along its normal, and the
-   body moves under the closing force, its weight and its preloads;
+   body moves under the closing force, its weight and its preloads (with ``retraction_time``
+   set, the support backs off on a half-cosine over that time instead of jumping);
 2. *return*: the support comes back to its place (a smooth half-cosine over a quarter of the
    phase), and the body must come back to its seat.
 
@@ -26,6 +27,7 @@ import numpy as np
 from kcheck.numerics.thresholds import (
     RESEAT_JAM_FACTOR,
     RESEAT_LOST_SHARE,
+    RESEAT_RELEASE_TIME_CONSTANTS,
     RESEAT_REST_SPEED,
     RESEAT_STICK_SHARE,
     RESEAT_WINDOW_SHARE,
@@ -85,6 +87,7 @@ class ReseatSettings:
     impedance: float = 0.99
     tolerance: float = 1e-6
     noslip_iterations: int = 0
+    retraction_time: float = 0.0  # s, the support backs off on a half-cosine over it (0: jumps)
     window: float | None = None  # s, phase 1 alone when shorter than ``duration`` (first motion)
 
 
@@ -320,14 +323,22 @@ def simulate(
             return min(1.0, t / (0.5 * settings.duration))
         return 1.0
 
-    def run(steps: int, t0: float, support: np.ndarray | None = None) -> None:
+    def run(
+        steps: int,
+        t0: float,
+        start: np.ndarray | None = None,
+        end: np.ndarray | None = None,
+        over: float = 0.0,
+    ) -> None:
+        """``steps`` steps from ``t0``; with ``start`` and ``end`` the retracted support moves
+        between them on a half-cosine over ``over`` seconds."""
         done = 0
         while done < steps:
             n = min(chunk, steps - done)
             t = t0 + done * dt
-            if support is not None:
-                share = min(1.0, (done * dt) / (RETURN_SHARE * settings.duration))
-                data.mocap_pos[retracted] = support + (seats[retracted] - support) * 0.5 * (
+            if start is not None and end is not None:
+                share = min(1.0, (done * dt) / over) if over > 0 else 1.0
+                data.mocap_pos[retracted] = start + (end - start) * 0.5 * (
                     1 - math.cos(math.pi * share)
                 )
             data.xfrc_applied[body] = _wrench(scene, data.xipos[body], load_scale(t))
@@ -366,14 +377,21 @@ def simulate(
     seated_quat = data.xquat[body].copy()
     model.pair_friction[:, :2] = rough
     backed = seats[retracted] - settings.retraction * normals[retracted]
-    data.mocap_pos[retracted] = backed
-    mujoco.mj_forward(model, data)
-    sample(0.0)
-    start = len(rows) - 1
-    run(n_phase, 0.0)
+    if settings.retraction_time > 0:
+        sample(0.0)
+        start = len(rows) - 1
+        run(n_phase, 0.0, seats[retracted], backed, settings.retraction_time)
+    else:
+        data.mocap_pos[retracted] = backed
+        mujoco.mj_forward(model, data)
+        sample(0.0)
+        start = len(rows) - 1
+        run(n_phase, 0.0)
     end1 = len(rows) - 1
     if returns:
-        run(n_phase, n_phase * dt, support=backed)
+        # From where the support got to (a back-off longer than phase 1 stops part-way).
+        reached = data.mocap_pos[retracted].copy()
+        run(n_phase, n_phase * dt, reached, seats[retracted], RETURN_SHARE * settings.duration)
 
     time = np.array([row[0] for row in rows])
     centres = np.array([row[1] for row in rows])
@@ -501,10 +519,17 @@ def first_motion(
     reach = RESEAT_WINDOW_SHARE * settings.retraction
     limit = RESEAT_JAM_FACTOR * math.sqrt(2 * reach / max(accel, 1e-300))
     moved = np.max(np.linalg.norm(contact - contact[0], axis=2), axis=1)
+    # A support backing off over retraction_time releases the body that much later.
+    limit += settings.retraction_time
     inside = np.nonzero((moved >= reach) & (time - time[0] <= limit))[0]
     if len(inside) == 0:
         return "jams"
     end = int(inside[0])
+    # A contact the rigid motion unloads at once comes out of its seated overlap only as the
+    # body moves: the class is read no earlier than RESEAT_RELEASE_TIME_CONSTANTS after the
+    # release (the support's back-off included).
+    release = settings.retraction_time + RESEAT_RELEASE_TIME_CONSTANTS * settings.time_constant
+    end = max(end, int(np.searchsorted(time - time[0], min(release, time[-1] - time[0]))))
     towards = -float((contact[end, retracted] - contact[0, retracted]) @ normals[retracted])
     others = np.delete(np.arange(gaps.shape[1]), retracted)
     late = slice(max(1, end // 2), end + 1)
