@@ -21,7 +21,15 @@ from kcheck.body.mass import body_mass_properties  # noqa: E402
 from kcheck.numerics.thresholds import RESEAT_REST_SPEED  # noqa: E402
 from kcheck.scene import load_scene  # noqa: E402
 from tests.conftest import FIXTURES  # noqa: E402
-from tests.plugins.reseat_agreement import Compared, compare_scene, generated, reason  # noqa: E402
+from tests.plugins.reseat_agreement import (  # noqa: E402
+    OR_HELD_MOTION,
+    SECOND_ANSWER,
+    UNLOADING,
+    Compared,
+    compare_scene,
+    generated,
+    reason,
+)
 
 #: Short phases keep each test to a few seconds; every case here settles within 0.1 s.
 SHORT = ReseatSettings(duration=0.2)
@@ -238,6 +246,8 @@ def test_first_motion_agrees_with_the_analytical_outcome(tmp_path: Path) -> None
             "simulated": c.simulated,
             "compared": premise(c) is None,
             "reason": premise(c) or reason(c),
+            "rigid_motion": c.rigid_motion,
+            "stiffer": list(c.stiffer),
         }
         for c in rows
         if not c.agrees
@@ -251,12 +261,9 @@ def test_first_motion_agrees_with_the_analytical_outcome(tmp_path: Path) -> None
             "retracted": c.retracted,
             "analytical": c.analytical + (" or held" if c.may_hold else ""),
             "simulated": c.simulated,
-            "reason": (
-                "the analysis's motion and jamming's equilibrium are both consistent (the "
-                "analysis says 'or held'); from the released seat the body takes the motion"
-            )
-            if c.agrees
-            else reason(c),
+            "reason": OR_HELD_MOTION if c.agrees else reason(c),
+            "rigid_motion": c.rigid_motion,
+            "stiffer": list(c.stiffer),
         }
         for c in held
         if c.simulated != "jams"
@@ -280,6 +287,9 @@ def test_first_motion_agrees_with_the_analytical_outcome(tmp_path: Path) -> None
         "share_of_every_non_painleve_case": round(sum(c.agrees for c in moving) / len(moving), 4),
         "held_by_jamming_compared": len(held),
         "held_by_jamming_and_simulated_jams": sum(c.simulated == "jams" for c in held),
+        "held_by_jamming_and_simulated_moving_by_reason": dict(
+            Counter(d["reason"] for d in held_moving)
+        ),
         "held_by_jamming_and_simulated_moving": held_moving,
         "disagreements": listed,
     }
@@ -291,6 +301,15 @@ def test_first_motion_agrees_with_the_analytical_outcome(tmp_path: Path) -> None
     # Held stays held: measured 137 of 148 (not all, the issue's aim; every one that moves is
     # listed with its reason, docs/validation.md).
     assert sum(c.simulated == "jams" for c in held) >= MEASURED_HELD
+    # Every held case either stays held or moves for one of the specific reasons, each class
+    # bounded by its measured count (docs/validation.md); none is unexplained.
+    # (Another platform's MuJoCo build may move one case more: MEASURED_HELD's margin.)
+    by_class = Counter(HELD_MOVING_CLASS.get(d["reason"], "unexplained") for d in held_moving)
+    assert "unexplained" not in by_class
+    excess = sum(max(0, n - HELD_MOVING_BOUND[k]) for k, n in by_class.items())
+    assert excess <= HELD_MEASURED - MEASURED_HELD
+    # No disagreement is unexplained.
+    assert not [d for d in listed if d["reason"].startswith("unexplained")]
     # Every held case that moves is one the file lists with its reason.
     listed_moving = {
         (d["scene"], d["retracted"]) for d in recorded["held_by_jamming_and_simulated_moving"]
@@ -299,6 +318,20 @@ def test_first_motion_agrees_with_the_analytical_outcome(tmp_path: Path) -> None
     # Every disagreement now is one the file lists with its reason.
     known = {(d["scene"], d["retracted"]) for d in recorded["disagreements"]}
     assert {(d["scene"], d["retracted"]) for d in listed} <= known
+
+
+#: The reason classes a case `jamming` says friction holds may move for in the simulation ...
+HELD_MOVING_CLASS = {
+    OR_HELD_MOTION: "or held: the analysis's motion",
+    SECOND_ANSWER: "second rigid answer",
+    UNLOADING: "soft contact still unloading",
+}
+#: ... and how many of the 148 compared held cases each may take (measured: docs/validation.md).
+HELD_MOVING_BOUND = {
+    "or held: the analysis's motion": 6,
+    "second rigid answer": 2,
+    "soft contact still unloading": 3,
+}
 
 
 def premise(c: Compared) -> str | None:
@@ -326,20 +359,23 @@ def premise(c: Compared) -> str | None:
 
 #: Every support must carry at least this share of the largest seated normal force.
 SEAT_PRESSED = 0.01
-#: The share of compared cases measured on these scenes, every disagreement counted: 0.969
-#: (0.914 before analytical-2d/3d solved the lift-off of a case no sliding fits and said when
-#: friction can also hold the body; 0.892 before the stiffer first-motion contacts, noslip and
-#: the halved step). By the analysis's first-named class alone: 0.942.
-MEASURED_SHARE = 0.96
+#: The share of compared cases measured on these scenes, every disagreement counted: 0.983
+#: (0.969 before the first motion was read at least 8 contact time constants after the release,
+#: RESEAT_RELEASE_TIME_CONSTANTS; 0.914 before analytical-2d/3d solved the lift-off of a case
+#: no sliding fits and said when friction can also hold the body; 0.892 before the stiffer
+#: first-motion contacts, noslip and the halved step). By the analysis's first-named class
+#: alone: 0.957. Three cases of margin for another platform's MuJoCo build.
+MEASURED_SHARE = 0.975
 #: Compared cases `jamming` says friction holds that stay held in the simulation: 137 of 148
-#: measured, one case of margin (as MEASURED_SHARE's) for another platform's MuJoCo build.
+#: measured, one case of margin for another platform's MuJoCo build.
+HELD_MEASURED = 137
 MEASURED_HELD = 136
 
 #: Reasons a first motion may differ from the rigid analysis's class for physical reasons: the
 #: rigid model has no or a second consistent answer. A force near zero ("at the resolution
 #: limit") is not among them: a case is left out for resolution only when the analysis itself
 #: reports it unresolved (premise), and none of these scenes' cases is.
-PHYSICAL = ("Painlevé", "friction can hold")
+PHYSICAL = ("Painlevé", "friction can hold", "second rigid answer")
 
 
 def physical(why: str) -> bool:
