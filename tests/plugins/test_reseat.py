@@ -184,8 +184,13 @@ def test_a_lost_contact_is_linked_to_the_analysis(tmp_path: Path, cli_json) -> N
     assert "as analytical-2d predicts, then the body reseats" in check["message"]
 
 
-def test_bad_option_is_a_located_input_error(cli, write_scene) -> None:
-    """Options are validated like every check's: an unknown profile is exit 2, no traceback."""
+@pytest.mark.parametrize(
+    ("option", "name"),
+    [("profile: sine", "profile"), ("retraction_time_ms: -1", "retraction_time_ms")],
+)
+def test_bad_option_is_a_located_input_error(cli, write_scene, option: str, name: str) -> None:
+    """Options are validated like every check's: an unknown profile or a negative back-off
+    time is exit 2, no traceback, naming the option."""
     path = write_scene(
         """
         version: 1
@@ -197,13 +202,13 @@ def test_bad_option_is_a_located_input_error(cli, write_scene) -> None:
           - {name: x1, position: [-0.05, 0, 0], normal: [1, 0, 0]}
         load: {magnitude: 1, angle: 225}
         checks:
-          reseat: {profile: sine}
-        """
+          reseat: {OPTION}
+        """.replace("OPTION", option)
     )
     code, out, err = cli("check", str(path), "--select", "reseat")
     assert code == 2
     assert "Traceback" not in out + err
-    assert "profile" in out + err
+    assert name in out + err
 
 
 @pytest.mark.slow
@@ -396,6 +401,27 @@ def test_a_ramped_load_closes_later_than_a_step() -> None:
     assert step.closed_after is not None and ramp.closed_after is not None
     assert ramp.closed_after > step.closed_after
     assert ramp.seat_error < 1e-6 and step.seat_error < 1e-6
+
+
+def test_a_block_follows_a_support_backing_off_slowly() -> None:
+    """`retraction_time_ms`: the support backs off on a half-cosine over 20 ms instead of
+    jumping. The support's largest acceleration, pi² x 100 µm / (2 x (20 ms)²) = 1.2 m/s², is
+    below the planar block's towards it, (0.707 N - 0.1 x 0.707 N of friction) / 0.324 kg =
+    2.0 m/s², so the block keeps up: its gap there stays within the 1 µm tolerance, where after
+    a jump it opens the whole 100 µm. Both reseat; the first motion is `closes` either way."""
+    from dataclasses import replace
+
+    scene = load_scene(FIXTURES / "planar-block" / "block.kcheck.yaml")
+    assert scene.body is not None
+    mass = body_mass_properties(scene.body, scene.scale)
+    mu = scene.friction_range("kinetic")[1]
+    jump = simulate(scene, mass, 2, mu, SHORT)
+    slow = simulate(scene, mass, 2, mu, replace(SHORT, retraction_time=0.02))
+    assert jump.largest_gaps[2] == pytest.approx(SHORT.retraction, rel=1e-3)
+    assert slow.largest_gaps[2] < SHORT.tolerance
+    assert slow.closed_after == 0.0  # no gap ever beyond the tolerance in phase 1
+    assert jump.first == slow.first == "closes"
+    assert slow.seat_error < 1e-6 and jump.seat_error < 1e-6
 
 
 def test_a_friction_range_is_simulated_at_both_ends(tmp_path: Path, cli_json) -> None:
