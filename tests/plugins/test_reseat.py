@@ -223,10 +223,14 @@ def test_first_motion_agrees_with_the_analytical_outcome(tmp_path: Path) -> None
     or direction it could not resolve); every other case counts. A case the analysis reports
     as moving "or held" (friction_may_hold: an equilibrium exists too, the rigid model's second
     answer, which it tells the user) agrees when the simulation moves in its class or stays
-    held; `agree_by_class_alone` counts the named class only. Every other case, and every
-    disagreement, is written with its
-    reason to tests/plugins/data/reseat_disagreements.json (checked against the recording;
-    rewritten with KCHECK_RECORD_RESEAT=1). Measured: docs/validation.md."""
+    held; `agree_by_class_alone` counts the named class only. Every disagreement, and every
+    case `jamming` says friction holds that moves, is written with its reason to
+    tests/plugins/data/reseat_disagreements.json (checked against the recording; rewritten
+    with KCHECK_RECORD_RESEAT=1), with the evidence the reason rests on: whether the
+    simulation's motion is a rigid solution too (`rigid_motion`, the lift-off LCP on the
+    contacts it keeps) and its class at contacts 2 and 4 times stiffer (`stiffer`). None may
+    be unexplained, and each reason a held case moves for is bounded by its measured count.
+    Measured: docs/validation.md."""
     import os
 
     paths = [
