@@ -5,7 +5,8 @@ For one retracted support a case runs three stretches of time:
 0. *settle*: the body, placed on its supports, comes to rest under its loads (the seat every
    error is measured from, so the contacts' small soft-contact overlap cancels);
 1. *retract*: the support jumps back by the retraction distance along its normal, and the
-   body moves under the closing force, its weight and its preloads;
+   body moves under the closing force, its weight and its preloads (with ``retraction_time``
+   set, the support backs off on a half-cosine over that time instead of jumping);
 2. *return*: the support comes back to its place (a smooth half-cosine over a quarter of the
    phase), and the body must come back to its seat.
 
@@ -26,6 +27,7 @@ import numpy as np
 from kcheck.numerics.thresholds import (
     RESEAT_JAM_FACTOR,
     RESEAT_LOST_SHARE,
+    RESEAT_RELEASE_TIME_CONSTANTS,
     RESEAT_REST_SPEED,
     RESEAT_STICK_SHARE,
     RESEAT_WINDOW_SHARE,
@@ -42,6 +44,8 @@ __all__ = [
     "scene_xml",
     "simulate",
     "first_motion",
+    "first_motion_end",
+    "kept_contacts",
     "seat_errors",
     "ball_radius",
     "rotation_angle",
@@ -85,6 +89,7 @@ class ReseatSettings:
     impedance: float = 0.99
     tolerance: float = 1e-6
     noslip_iterations: int = 0
+    retraction_time: float = 0.0  # s, the support backs off on a half-cosine over it (0: jumps)
     window: float | None = None  # s, phase 1 alone when shorter than ``duration`` (first motion)
 
 
@@ -127,6 +132,8 @@ class ReseatRun:
     seat_forces: np.ndarray | None = None  # (k,) N, normal forces at the end of the settle
     steps: int = 0
     notes: tuple[str, ...] = field(default=())
+    # (k,) the supports pressed where the first motion is read; None when friction holds
+    kept: np.ndarray | None = None
 
 
 #: The first-motion run's phase 1 (s): the window ends within a few ms.
@@ -320,14 +327,22 @@ def simulate(
             return min(1.0, t / (0.5 * settings.duration))
         return 1.0
 
-    def run(steps: int, t0: float, support: np.ndarray | None = None) -> None:
+    def run(
+        steps: int,
+        t0: float,
+        start: np.ndarray | None = None,
+        end: np.ndarray | None = None,
+        over: float = 0.0,
+    ) -> None:
+        """``steps`` steps from ``t0``; with ``start`` and ``end`` the retracted support moves
+        between them on a half-cosine over ``over`` seconds."""
         done = 0
         while done < steps:
             n = min(chunk, steps - done)
             t = t0 + done * dt
-            if support is not None:
-                share = min(1.0, (done * dt) / (RETURN_SHARE * settings.duration))
-                data.mocap_pos[retracted] = support + (seats[retracted] - support) * 0.5 * (
+            if start is not None and end is not None:
+                share = min(1.0, (done * dt) / over) if over > 0 else 1.0
+                data.mocap_pos[retracted] = start + (end - start) * 0.5 * (
                     1 - math.cos(math.pi * share)
                 )
             data.xfrc_applied[body] = _wrench(scene, data.xipos[body], load_scale(t))
@@ -366,14 +381,21 @@ def simulate(
     seated_quat = data.xquat[body].copy()
     model.pair_friction[:, :2] = rough
     backed = seats[retracted] - settings.retraction * normals[retracted]
-    data.mocap_pos[retracted] = backed
-    mujoco.mj_forward(model, data)
-    sample(0.0)
-    start = len(rows) - 1
-    run(n_phase, 0.0)
+    if settings.retraction_time > 0:
+        sample(0.0)
+        start = len(rows) - 1
+        run(n_phase, 0.0, seats[retracted], backed, settings.retraction_time)
+    else:
+        data.mocap_pos[retracted] = backed
+        mujoco.mj_forward(model, data)
+        sample(0.0)
+        start = len(rows) - 1
+        run(n_phase, 0.0)
     end1 = len(rows) - 1
     if returns:
-        run(n_phase, n_phase * dt, support=backed)
+        # From where the support got to (a back-off longer than phase 1 stops part-way).
+        reached = data.mocap_pos[retracted].copy()
+        run(n_phase, n_phase * dt, reached, seats[retracted], RETURN_SHARE * settings.duration)
 
     time = np.array([row[0] for row in rows])
     centres = np.array([row[1] for row in rows])
@@ -404,6 +426,8 @@ def simulate(
     phase2 = slice(end1, len(rows))
     closing_gap = float(np.max(np.abs(gaps[end1])))
     seat_error = float(displacement[-1])
+    read_at = first_motion_end(time[phase1], contact[phase1], settings, accel)
+    kept = None if read_at is None else kept_contacts(forces[phase1], read_at)
     losses, sticks = _events(
         gaps[start:], forces[start:], slip[start:], np.asarray(friction), settings, retracted
     )
@@ -433,6 +457,7 @@ def simulate(
         steps=int(len(starts) * n_settle + (2 if returns else 1) * n_phase),
         settle_speed=settle_speed,
         seat_forces=seated_forces,
+        kept=kept,
     )
 
 
@@ -479,6 +504,36 @@ def _events(
     return lost.sum(axis=0), sticks.sum(axis=0)
 
 
+def first_motion_end(
+    time: np.ndarray, contact: np.ndarray, settings: ReseatSettings, accel: float
+) -> int | None:
+    """Index of phase 1's sample the first motion is read at, or None when friction holds the
+    body (see :func:`first_motion`)."""
+    reach = RESEAT_WINDOW_SHARE * settings.retraction
+    # A support backing off over retraction_time releases the body that much later.
+    limit = RESEAT_JAM_FACTOR * math.sqrt(2 * reach / max(accel, 1e-300))
+    limit += settings.retraction_time
+    moved = np.max(np.linalg.norm(contact - contact[0], axis=2), axis=1)
+    inside = np.nonzero((moved >= reach) & (time - time[0] <= limit))[0]
+    if len(inside) == 0:
+        return None
+    # A contact the rigid motion unloads at once comes out of its seated overlap only as the
+    # body moves: the class is read no earlier than RESEAT_RELEASE_TIME_CONSTANTS after the
+    # release (the support's back-off included).
+    release = settings.retraction_time + RESEAT_RELEASE_TIME_CONSTANTS * settings.time_constant
+    return max(
+        int(inside[0]), int(np.searchsorted(time - time[0], min(release, time[-1] - time[0])))
+    )
+
+
+def kept_contacts(forces: np.ndarray, end: int) -> np.ndarray:
+    """Which supports (k,) carry at least RESEAT_LOST_SHARE of the normal force over the second
+    half of phase 1's samples up to ``end`` (forces (n, k) N)."""
+    late = slice(max(1, end // 2), end + 1)
+    share = forces[late].mean(axis=0) / max(float(forces[late].sum(axis=1).mean()), 1e-300)
+    return np.asarray(share >= RESEAT_LOST_SHARE)
+
+
 def first_motion(
     time: np.ndarray,
     contact: np.ndarray,
@@ -492,27 +547,20 @@ def first_motion(
     """The class of the body's first motion in phase 1, in analytical-2d/3d's words.
 
     The window ends when a contact point has moved RESEAT_WINDOW_SHARE of the retraction
-    distance. If that takes longer than RESEAT_JAM_FACTOR times the time a free body would
-    need under the acceleration scale ``accel`` (m/s^2: loads over mass, plus gravity),
-    friction holds it (jams: soft friction only creeps). Otherwise: does the retracted contact
-    point move towards its support (closes) or away (opens), and is a remaining contact open
-    while carrying less than RESEAT_LOST_SHARE of the normal force over the window's second
-    half (loses contact)."""
-    reach = RESEAT_WINDOW_SHARE * settings.retraction
-    limit = RESEAT_JAM_FACTOR * math.sqrt(2 * reach / max(accel, 1e-300))
-    moved = np.max(np.linalg.norm(contact - contact[0], axis=2), axis=1)
-    inside = np.nonzero((moved >= reach) & (time - time[0] <= limit))[0]
-    if len(inside) == 0:
+    distance, and no earlier than RESEAT_RELEASE_TIME_CONSTANTS contact time constants after
+    the release. If moving that far takes longer than RESEAT_JAM_FACTOR times the time a free
+    body would need under the acceleration scale ``accel`` (m/s^2: loads over mass, plus
+    gravity), friction holds it (jams: soft friction only creeps). Otherwise: does the
+    retracted contact point move towards its support (closes) or away (opens), and is a
+    remaining contact open while carrying less than RESEAT_LOST_SHARE of the normal force over
+    the window's second half (loses contact)."""
+    end = first_motion_end(time, contact, settings, accel)
+    if end is None:
         return "jams"
-    end = int(inside[0])
     towards = -float((contact[end, retracted] - contact[0, retracted]) @ normals[retracted])
     others = np.delete(np.arange(gaps.shape[1]), retracted)
-    late = slice(max(1, end // 2), end + 1)
-    share = forces[late][:, others].mean(axis=0) / max(
-        float(forces[late].sum(axis=1).mean()), 1e-300
-    )
     opened = gaps[end, others] > 0
-    lost = bool(np.any((share < RESEAT_LOST_SHARE) & opened))
+    lost = bool(np.any(~kept_contacts(forces, end)[others] & opened))
     if towards > 0:
         return "loses_contact" if lost else "closes"
     return "opens_loses_contact" if lost else "opens"

@@ -37,6 +37,12 @@ class ReseatOptions(Options):
     retraction_um: float = Field(
         100.0, gt=0, le=1e5, description="How far the retracted support backs off (µm)"
     )
+    retraction_time_ms: float = Field(
+        0.0,
+        ge=0,
+        le=6e4,
+        description="Time the support takes to back off (ms, half-cosine); 0: it jumps back",
+    )
     profile: Literal["step", "ramp"] = Field(
         "step",
         description="Closing force in phases 1-2: step (constant) or ramp (let go when the "
@@ -66,6 +72,7 @@ def settings_of(options: ReseatOptions) -> ReseatSettings:
 
     return ReseatSettings(
         retraction=options.retraction_um * 1e-6,
+        retraction_time=options.retraction_time_ms * 1e-3,
         profile=options.profile,
         duration=options.duration_s,
         time_step=options.time_step_s,

@@ -5,21 +5,40 @@ reasons are written to tests/plugins/data/reseat_disagreements.json)."""
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from kcheck.analysis import analyse
 from kcheck.analysis.jamming_cases import analyse_jamming, held_at, jam_statics
-from kcheck.analysis.reseat import ReseatSettings, first_motion_settings, simulate
+from kcheck.analysis.reseat import (
+    ReseatRun,
+    ReseatSettings,
+    _wrench,
+    first_motion_settings,
+    simulate,
+)
 from kcheck.body.mass import body_mass_properties
+from kcheck.mechanics.kinematics import wrenches
+from kcheck.mechanics.lift_off import lift_off
 from kcheck.numerics.thresholds import RESEAT_JAM_FACTOR
-from kcheck.result import CaseResult
-from kcheck.scene import load_scene
+from kcheck.result import CaseResult, MassProperties
+from kcheck.scene import Scene, load_scene
 from tests.plugins.reseat_scenes import random_scene
 
-__all__ = ["Compared", "compare_scene", "generated", "reason", "unresolved"]
+__all__ = [
+    "Compared",
+    "compare_scene",
+    "generated",
+    "reason",
+    "rigid_motion",
+    "unresolved",
+    "SECOND_ANSWER",
+    "UNLOADING",
+    "OR_HELD_MOTION",
+    "STIFFER",
+]
 
 #: The check's own first-motion run (kcheck.analysis.reseat.first_motion_settings) at the
 #: default options: phase 1 of 50 ms, contacts 0.5 ms stiff (four times the check's default:
@@ -30,6 +49,9 @@ __all__ = ["Compared", "compare_scene", "generated", "reason", "unresolved"]
 #: contact time constant, the stiff contacts chattered after the sudden release, a light
 #: contact dropping to zero force and back every step or two: random-2d-2430, s1).
 FIRST_MOTION = first_motion_settings(ReseatSettings())
+#: Contact stiffness factors a disagreeing case is run at again (time constant and time step
+#: divided by each): does the simulation's class converge to the analysis's?
+STIFFER = (2, 4)
 #: A seated-case normal force within this share of the largest is "at the resolution limit".
 NEAR_ZERO = 0.05
 #: A remaining contact below this share of the largest normal force is lightly pressed.
@@ -50,12 +72,37 @@ class Compared:
     unresolved: bool = False  # the analysis itself reports the case unresolved
     may_hold: bool = False  # the analysis reports that friction can hold the body as well
     slow: bool = False  # the rigid first motion too slow for the window to tell from holding
+    # whether the simulation's first motion (the contacts it keeps, the others free) is a
+    # consistent rigid first motion too; None when the simulation jams
+    rigid_motion: bool | None = None
+    stiffer: tuple[str, ...] = ()  # the simulated class with contacts STIFFER times stiffer
 
     @property
     def agrees(self) -> bool:
         """The simulation does what the analysis says: its class, or, where the analysis says
         friction can also hold the body (the rigid model's second answer), stays held."""
         return self.analytical == self.simulated or (self.may_hold and self.simulated == "jams")
+
+
+#: A held case the analysis also says moves ("or held"), moving in the analysis's class.
+OR_HELD_MOTION = (
+    "the analysis's motion and jamming's equilibrium are both consistent (the analysis says "
+    "'or held'); from the released seat the body takes the motion"
+)
+#: Rest and the simulation's motion are both rigid solutions.
+SECOND_ANSWER = (
+    "second rigid answer: friction can hold the body (jamming: an equilibrium exists), and the "
+    "simulation's first motion is a rigid solution too (the lift-off LCP on the contacts the "
+    "simulation keeps lifts none of them, and every other contact separates); the rigid model "
+    "does not choose between rest and this motion, the soft one moves"
+)
+#: The simulation reads a contact as kept that is still coming out of its seated overlap.
+UNLOADING = (
+    "soft contact still unloading: the contacts the simulation keeps where it reads the first "
+    "motion are no rigid motion (the lift-off LCP on them lifts one), and with contacts 2 or 4 "
+    "times stiffer (time constant and step divided alike) the simulation gives the analysis's "
+    "class"
+)
 
 
 def reason(c: Compared) -> str:
@@ -73,6 +120,10 @@ def reason(c: Compared) -> str:
             "model's second consistent answer), and the simulation stays held; the analysis "
             "does not say so"
         )
+    if c.held and c.rigid_motion:
+        return SECOND_ANSWER
+    if c.rigid_motion is False and c.analytical in c.stiffer:
+        return UNLOADING
     if c.may_hold:
         return (
             "unexplained: the analysis says the body moves, or friction holds it (both "
@@ -122,6 +173,25 @@ def compare_scene(path: Path, settings: ReseatSettings = FIRST_MOTION) -> Iterat
         held = None
         if jams is not None and design is not None:
             held = held_at(jams, jams.cases[r], design, statics.friction)
+        may_hold = bool(result.details.get("friction_may_hold"))
+        agrees = result.outcome == run.first or (may_hold and run.first == "jams")
+        stiffer: tuple[str, ...] = ()
+        if result.outcome != "ambiguous" and (not agrees or (held and run.first != "jams")):
+            stiffer = tuple(
+                simulate(
+                    scene,
+                    mass,
+                    r,
+                    mu,
+                    replace(
+                        settings,
+                        time_constant=settings.time_constant / f,
+                        time_step=settings.time_step / f,
+                    ),
+                    returns=False,
+                ).first
+                for f in STIFFER
+            )
         share = None
         lifted = result.details.get("lifts_off") or []
         if result.normal_forces:  # lifted contacts carry nothing by construction
@@ -138,11 +208,48 @@ def compare_scene(path: Path, settings: ReseatSettings = FIRST_MOTION) -> Iterat
             run.settle_speed,
             _pressed(run.seat_forces),
             unresolved(result),
-            bool(result.details.get("friction_may_hold")),
+            may_hold,
             bool(lifted)
             and result.acceleration is not None
             and abs(result.acceleration) < scale / RESEAT_JAM_FACTOR**2,
+            rigid_motion(scene, mass, r, run),
+            stiffer,
         )
+
+
+def rigid_motion(scene: Scene, mass: MassProperties, retracted: int, run: ReseatRun) -> bool | None:
+    """Whether the simulation's first motion is a rigid solution too: the first motion from
+    rest on the contacts the simulation keeps (the lift-off LCP, kcheck.mechanics.lift_off)
+    lifts none of them, and every other remaining contact's normal acceleration separates it.
+    None when the simulation holds the body."""
+    if run.kept is None:
+        return None
+    dim = scene.dim
+    points = np.array([s.position for s in scene.supports])[:, :dim]
+    normals = np.array([s.normal / np.linalg.norm(s.normal) for s in scene.supports])[:, :dim]
+    com = mass.center_of_mass[:dim]
+    inertia = np.array([[mass.inertia[2, 2]]]) if dim == 2 else mass.inertia
+    gravity = np.concatenate([mass.mass * scene.gravity, np.zeros(3)])
+    load = _wrench(scene, mass.center_of_mass, 1.0) + gravity  # force, torque about the com
+    wrench = np.array([load[5], load[0], load[1]]) if dim == 2 else np.r_[load[3:], load[:3]]
+    kept = [i for i in range(len(points)) if run.kept[i] and i != retracted]
+    others = [i for i in range(len(points)) if i not in kept and i != retracted]
+    if not kept:  # the body leaves every support: not judged here
+        return None
+    mu = np.asarray(run.friction)
+    motion = lift_off(
+        points[kept],
+        normals[kept],
+        mu[kept],
+        com,
+        inertia / mass.mass,
+        wrench / mass.mass,
+        (points[retracted], normals[retracted]),
+    )
+    if motion is None or np.any(motion.lifted):
+        return False
+    separating = wrenches(points[others] - com, normals[others]) @ motion.acceleration
+    return bool(np.all(separating >= -1e-9 * np.linalg.norm(wrench) / mass.mass))
 
 
 def unresolved(result: CaseResult) -> bool:
