@@ -208,3 +208,15 @@ def test_a_worker_past_its_resident_threshold_is_replaced_after_its_chunk():
     assert [r[0] for r in results] == [t * t for t in range(10)]
     assert max(r[2] for r in results) == 4  # no worker held more than two chunks
     assert len({r[1] for r in results}) >= 3
+
+
+def test_after_a_chunk_ran_out_of_time_the_rest_goes_one_task_at_a_time():
+    from kcheck.gate.pool import run_chunks_in_workers
+
+    def sized(chunk):
+        return [(work(t).split(" in ")[0], len(chunk)) for t in chunk]
+
+    tasks = [("sleep", 0.0), ("sleep", 5.0), *[("sleep", 0.0)] * 7]
+    out = list(run_chunks_in_workers(tasks, sized, jobs=1, budget=Budget(0.5, None), chunk=3))
+    assert isinstance(out[1], BudgetExceeded) and out[1].kind == "time"
+    assert [o for k, o in enumerate(out) if k != 1] == [("sleep 0.0", 1)] * 8
