@@ -330,7 +330,9 @@ def run_chunks_in_workers(
     that runs out of it, whose worker dies, or whose ``work`` raises or answers with the
     wrong number of results is run again task by task, each in a chunk of its own with the
     whole budget, before any later chunk. So a hung or huge task gets its budget result
-    alone, and the others of its chunk get theirs as if they had never been chunked.
+    alone, and the others of its chunk get theirs as if they had never been chunked. After a
+    chunk ran out of time the remaining tasks go one at a time (tasks that slow gain nothing
+    from chunks, and each such chunk would cost its budget twice).
     """
     pool: _Pool[Sequence[T], Sequence[R]] = _Pool(work, budget)
     pending: list[tuple[int, ...]] = chunks_of(len(tasks), chunk)
@@ -366,7 +368,12 @@ def run_chunks_in_workers(
             pending.extend((i,) for i in reversed(indices))
 
     def replace(worker: _Worker[Sequence[T]], outcome: BudgetExceeded) -> None:
-        fail(held.pop(worker.pid), outcome)
+        indices = held.pop(worker.pid)
+        if outcome.kind == "time" and len(indices) > 1:
+            # Tasks slow enough to overrun one task's budget together: the rest of the batch
+            # one task at a time, so that such a chunk is wasted once, not once a chunk.
+            pending[:] = [(i,) for chunk in pending for i in reversed(chunk)]
+        fail(indices, outcome)
         worker.index = None
         pool.retire(worker, kill=True)
         if pending:

@@ -189,3 +189,34 @@ def test_a_chunk_answering_for_fewer_tasks_is_run_again_task_by_task():
 
     out = list(run_chunks_in_workers([("sleep", 0.0)] * 5, short, jobs=2, budget=Budget(), chunk=2))
     assert [r.split(" in ")[0] for r in out] == ["sleep 0.0"] * 5
+
+
+def test_a_worker_past_its_resident_threshold_is_replaced_after_its_chunk():
+    from kcheck.gate.pool import resident_bytes, run_chunks_in_workers
+
+    (start,) = run_in_workers([None], lambda _: resident_bytes(), jobs=1, budget=Budget())
+    assert isinstance(start, int) and start > 0
+    # Past start + 100 MB: a worker retires after its second chunk of two (40 MB a task).
+    budget = Budget(recycle_bytes=start + 100 * 2**20)
+
+    def grow_chunk(chunk):
+        return [grow(t) for t in chunk]
+
+    results = list(
+        run_chunks_in_workers(list(range(10)), grow_chunk, jobs=2, budget=budget, chunk=2)
+    )
+    assert [r[0] for r in results] == [t * t for t in range(10)]
+    assert max(r[2] for r in results) == 4  # no worker held more than two chunks
+    assert len({r[1] for r in results}) >= 3
+
+
+def test_after_a_chunk_ran_out_of_time_the_rest_goes_one_task_at_a_time():
+    from kcheck.gate.pool import run_chunks_in_workers
+
+    def sized(chunk):
+        return [(work(t).split(" in ")[0], len(chunk)) for t in chunk]
+
+    tasks = [("sleep", 0.0), ("sleep", 5.0), *[("sleep", 0.0)] * 7]
+    out = list(run_chunks_in_workers(tasks, sized, jobs=1, budget=Budget(0.5, None), chunk=3))
+    assert isinstance(out[1], BudgetExceeded) and out[1].kind == "time"
+    assert [o for k, o in enumerate(out) if k != 1] == [("sleep 0.0", 1)] * 8
