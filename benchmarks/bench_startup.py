@@ -7,7 +7,9 @@ Run: ``python benchmarks/bench_startup.py [--python PATH ...] [--repeat 15]``. `
 the interpreter of an install to measure (a non-editable ``pip install .`` into another venv,
 say; give it twice, a baseline's and the new one's, to pair them too); by default this one.
 Every case is a fresh process with bytecode caches (see bench_gate.py), started from a folder
-without a ``pyproject.toml``. Wall and CPU (user + sys, ``os.wait4``).
+without a ``pyproject.toml``. Wall and CPU (user + sys, ``os.wait4``). The ratios are against
+``python -c "import numpy"`` as it runs by default (its BLAS starting a thread per core);
+``import numpy, one BLAS thread`` is numpy as kcheck imports it, for the stricter reading.
 """
 
 from __future__ import annotations
@@ -22,12 +24,17 @@ from pathlib import Path
 
 from bench_gate import ENV, explicit_scene, run
 
+ONE_THREAD_NUMPY = "import os; os.environ['OPENBLAS_NUM_THREADS'] = '1'; import numpy"
+
 
 def cases(pythons: list[str], scene: Path) -> dict[str, list[str]]:
     first = pythons[0]
     todo = {
         "python -c pass": [first, "-c", "pass"],
         'python -c "import numpy"': [first, "-c", "import numpy"],
+        # kcheck pins numpy's BLAS to one thread (kcheck.cli.pin_blas_threads); numpy's own
+        # default starts a thread per core at import, which costs CPU that varies with load.
+        "import numpy, one BLAS thread": [first, "-c", ONE_THREAD_NUMPY],
         "import numpy, pydantic": [first, "-c", "import numpy, pydantic"],
     }
     for python in pythons:

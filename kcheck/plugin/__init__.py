@@ -176,10 +176,14 @@ def find_checks() -> list[CheckSpec]:
                     specs.setdefault((package, ep.name), CheckSpec(package, dist.version, ep))
         return sorted(specs.values(), key=lambda s: (s.name, s.package))
     for folder in dists:
-        for entry in folder.entry_points(GROUP):
-            package = folder.name or "unknown"
+        entries = folder.entry_points(GROUP)
+        if not entries:
+            continue
+        # Its metadata read once for all its checks (start-up, issue 24).
+        package, version = folder.name or "unknown", folder.version
+        for entry in entries:
             # A distribution seen twice on sys.path (e.g. editable + installed) counts once.
-            specs.setdefault((package, entry.name), CheckSpec(package, folder.version, entry))
+            specs.setdefault((package, entry.name), CheckSpec(package, version, entry))
     return sorted(specs.values(), key=lambda s: (s.name, s.package))
 
 

@@ -226,3 +226,28 @@ def test_one_command_parser_reads_as_the_full_one():
         one = cli._parser(name)
         assert one.format_usage() == full.format_usage()
         assert _commands(one)[name].format_help() == _commands(full)[name].format_help()
+
+
+def test_check_restores_the_collector(write_scene, capsys):
+    # Issue 24: `kcheck check` runs its start-up without the garbage collector and freezes
+    # what start-up made before the scenes run (gc.freeze); called in-process, it leaves the
+    # collector as it found it: on and nothing frozen, or the caller's own state.
+    import gc
+
+    from kcheck.cli import main
+
+    scene = str(write_scene(PLANAR_SCENE))
+    assert gc.isenabled() and gc.get_freeze_count() == 0
+    assert main(["check", scene, "--format", "json", "--jobs", "1"]) == 0
+    assert gc.isenabled() and gc.get_freeze_count() == 0
+    gc.disable()
+    gc.freeze()
+    try:
+        frozen = gc.get_freeze_count()
+        assert main(["check", scene, "--format", "json", "--jobs", "1"]) == 0
+        # still frozen (a frozen object that dies leaves the count, nothing else does)
+        assert not gc.isenabled() and 0.99 * frozen < gc.get_freeze_count() <= frozen
+    finally:
+        gc.unfreeze()
+        gc.enable()
+    capsys.readouterr()
