@@ -157,7 +157,8 @@ def first_motion_settings(settings: ReseatSettings) -> ReseatSettings:
 
     return replace(
         settings,
-        window=min(settings.duration, FIRST_MOTION_WINDOW),
+        # The window opens when the support has backed off (retraction_time after the start).
+        window=min(settings.duration, FIRST_MOTION_WINDOW + settings.retraction_time),
         time_constant=min(settings.time_constant, FIRST_MOTION_TIME_CONSTANT),
         time_step=min(settings.time_step / 2, FIRST_MOTION_TIME_STEP),
         noslip_iterations=max(settings.noslip_iterations, FIRST_MOTION_NOSLIP),

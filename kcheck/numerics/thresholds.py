@@ -109,6 +109,7 @@ __all__ = [
     "RESEAT_WINDOW_SHARE",
     "RESEAT_JAM_FACTOR",
     "RESEAT_RELEASE_TIME_CONSTANTS",
+    "RESEAT_BACKOFF_SHARE",
     "RESEAT_LOST_SHARE",
     "RESEAT_STICK_SHARE",
     "RESEAT_ESTIMATE_FACTOR",
@@ -498,6 +499,11 @@ RESEAT_JAM_FACTOR: float = 20.0
 #: at 10 µm read it as kept. 8 was the best of 0, 5, 8, 12 and 16 on the agreement scenes
 #: (404, 405, 410, 408, 407 of 417 agree); longer windows start to see the later motion.
 RESEAT_RELEASE_TIME_CONSTANTS: float = 8.0
+#: reseat: the longest back-off of a support (``retraction_time_ms``) as a share of a phase
+#: (``duration_s``; nondimensional): the body needs the rest of phase 1 to move, so its first
+#: motion is read and the support returns only once the back-off is over.
+RESEAT_BACKOFF_SHARE: float = 0.5
+
 #: A remaining support that is open and carries less than this share of the normal force over
 #: the window's second half has lost contact (nondimensional); judged by force, because a kept
 #: contact's soft overlap changes with its force by tenths of a µm.

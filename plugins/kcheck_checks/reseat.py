@@ -17,8 +17,12 @@ import numpy as np
 from kcheck.analysis import analyse
 from kcheck.analysis.cases import closing_force_reason
 from kcheck.fmt import format_number
-from kcheck.numerics.thresholds import RESEAT_ESTIMATE_FACTOR, RESEAT_SEAT_RESOLUTION
-from kcheck.plugin import Check, Field, Inputs, Options
+from kcheck.numerics.thresholds import (
+    RESEAT_BACKOFF_SHARE,
+    RESEAT_ESTIMATE_FACTOR,
+    RESEAT_SEAT_RESOLUTION,
+)
+from kcheck.plugin import Check, Field, Inputs, Options, model_validator
 from kcheck.result import CaseResult, CheckResult, Finding, MassProperties, Status
 from kcheck.scene import Scene
 
@@ -64,6 +68,20 @@ class ReseatOptions(Options):
     contact_impedance: float = Field(
         0.99, ge=0.9, lt=1.0, description="Constraint impedance (MuJoCo solimp, 1 = hard)"
     )
+
+    @model_validator(mode="after")
+    def _backs_off_within_a_phase(self) -> ReseatOptions:
+        # A support still backing off when phase 1 ends would be read (and returned) part-way:
+        # the body needs the rest of the phase to move.
+        longest_ms = RESEAT_BACKOFF_SHARE * self.duration_s * 1e3
+        if self.retraction_time_ms > longest_ms:
+            raise ValueError(
+                f"retraction_time_ms {format_number(self.retraction_time_ms, 4)} is longer than "
+                f"{RESEAT_BACKOFF_SHARE:g} of a phase (duration_s "
+                f"{format_number(self.duration_s, 4)} s): at most "
+                f"{format_number(longest_ms, 4)} ms, or raise duration_s"
+            )
+        return self
 
 
 def settings_of(options: ReseatOptions) -> ReseatSettings:

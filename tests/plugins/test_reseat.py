@@ -186,7 +186,12 @@ def test_a_lost_contact_is_linked_to_the_analysis(tmp_path: Path, cli_json) -> N
 
 @pytest.mark.parametrize(
     ("option", "name"),
-    [("profile: sine", "profile"), ("retraction_time_ms: -1", "retraction_time_ms")],
+    [
+        ("profile: sine", "profile"),
+        ("retraction_time_ms: -1", "retraction_time_ms"),
+        # Longer than half of the default 0.5 s phase: the body would have no time to move.
+        ("retraction_time_ms: 300", "retraction_time_ms"),
+    ],
 )
 def test_bad_option_is_a_located_input_error(cli, write_scene, option: str, name: str) -> None:
     """Options are validated like every check's: an unknown profile or a negative back-off
@@ -426,6 +431,24 @@ def test_a_block_follows_a_support_backing_off_slowly() -> None:
     assert slow.closed_after == 0.0  # no gap ever beyond the tolerance in phase 1
     assert jump.first == slow.first == "closes"
     assert slow.seat_error < 1e-6 and jump.seat_error < 1e-6
+
+
+def test_the_first_motion_is_read_after_a_slow_back_off() -> None:
+    """A back-off of 300 ms, longer than the first-motion run's 50 ms window: the window
+    grows by the back-off time, so the block's first motion is read once the support has
+    backed off and is `closes`, as after a jump (the same block as above: it keeps up with
+    the support)."""
+    from dataclasses import replace
+
+    from kcheck.analysis.reseat import first_motion_settings
+
+    scene = load_scene(FIXTURES / "planar-block" / "block.kcheck.yaml")
+    assert scene.body is not None
+    mass = body_mass_properties(scene.body, scene.scale)
+    mu = scene.friction_range("kinetic")[1]
+    slow = first_motion_settings(replace(SHORT, duration=1.0, retraction_time=0.3))
+    assert slow.window is not None and slow.window > 0.3
+    assert simulate(scene, mass, 2, mu, slow, returns=False).first == "closes"
 
 
 def test_a_friction_range_is_simulated_at_both_ends(tmp_path: Path, cli_json) -> None:
