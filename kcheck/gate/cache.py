@@ -49,6 +49,7 @@ __all__ = [
     "PlacementCache",
     "body_key",
     "body_mass_properties_cached",
+    "mesh_body_key",
     "placement_key",
 ]
 
@@ -157,7 +158,21 @@ def body_key(body: Body, scale: float) -> str:
     return _sha256(json.dumps(material, sort_keys=True).encode()).hexdigest()
 
 
-def _checksum(payload: dict[str, Any]) -> str:
+def mesh_body_key(body: Body, scale: float, max_mesh_bytes: int | None) -> str | None:
+    """:func:`body_key` of a body with meshes, their sizes checked first (a file past
+    ``max_mesh_bytes`` is not read at all: :class:`~kcheck.errors.SceneError`); None when a
+    mesh cannot be read (the computation then reports why, as without a cache)."""
+    from kcheck.body.meshio import check_mesh_file  # meshes only (issue 24: start-up)
+
+    for part in body.parts:
+        check_mesh_file(part.mesh, (*part.field, "mesh"), max_mesh_bytes)
+    try:
+        return body_key(body, scale)
+    except OSError:
+        return None
+
+
+def _checksum(payload: Any) -> str:
     return _sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
 
 
@@ -172,44 +187,60 @@ class MassCache:
 
     def get(self, key: str) -> MassProperties | None:
         """The entry for ``key``, or None when absent, unreadable, corrupt or implausible."""
+        payload = _read_entry(self._path(key), FORMAT, key)
         try:
-            entry = json.loads(self._path(key).read_text(encoding="utf-8"))
-            if not isinstance(entry, dict) or entry.get("format") != FORMAT:
-                return None  # another format: recomputed, never half-read
-            payload = entry["payload"]
-            if entry["key"] != key or entry["checksum"] != _checksum(payload):
-                return None
-            return _from_payload(payload)
-        except (OSError, ValueError, KeyError, TypeError, AttributeError, IndexError):
+            return None if payload is None else _from_payload(payload)
+        except (ValueError, KeyError, TypeError, AttributeError, IndexError):
             return None
 
     def put(self, key: str, mass: MassProperties) -> None:
         """Store an entry atomically; a cache that cannot be written is silently skipped."""
-        import tempfile
+        _write_entry(self.folder, self._path(key), FORMAT, key, _to_payload(mass))
 
-        payload = _to_payload(mass)
-        entry = {"format": FORMAT, "key": key, "checksum": _checksum(payload), "payload": payload}
-        path = self._path(key)
+
+def _read_entry(path: Path, format: int | str, key: str) -> Any:
+    """The payload of the cache entry at ``path``, or None when absent, unreadable, of another
+    format (recomputed, never half-read), not ``key``'s or not matching its checksum."""
+    try:
+        entry = json.loads(path.read_text(encoding="utf-8"))
+        if not isinstance(entry, dict) or entry.get("format") != format:
+            return None
+        payload = entry["payload"]
+        if entry["key"] != key or entry["checksum"] != _checksum(payload):
+            return None
+        return payload
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+
+
+def _write_entry(folder: Path, path: Path, format: int | str, key: str, payload: Any) -> None:
+    """Store a cache entry atomically (a temporary file renamed over ``path``), tagging the
+    cache ``folder`` first; a cache that cannot be written is silently skipped."""
+    import tempfile
+
+    entry = {"format": format, "key": key, "checksum": _checksum(payload), "payload": payload}
+    try:
+        _prepare(folder)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-")
         try:
-            self._prepare()
-            path.parent.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-")
-            try:
-                with os.fdopen(fd, "w", encoding="utf-8") as fh:
-                    json.dump(entry, fh)
-                os.replace(tmp, path)
-            except BaseException:
-                os.unlink(tmp)
-                raise
-        except OSError:
-            pass
+            with os.fdopen(fd, "w", encoding="utf-8") as fh:
+                json.dump(entry, fh)
+            os.replace(tmp, path)
+        except BaseException:
+            os.unlink(tmp)
+            raise
+    except OSError:
+        pass
 
-    def _prepare(self) -> None:
-        if (self.folder / "CACHEDIR.TAG").exists():
-            return
-        self.folder.mkdir(parents=True, exist_ok=True)
-        (self.folder / ".gitignore").write_text("# Created by kcheck.\n*\n", encoding="utf-8")
-        (self.folder / "CACHEDIR.TAG").write_text(_TAG, encoding="utf-8")
+
+def _prepare(folder: Path) -> None:
+    """Create the cache folder with its CACHEDIR.TAG and a .gitignore of everything."""
+    if (folder / "CACHEDIR.TAG").exists():
+        return
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / ".gitignore").write_text("# Created by kcheck.\n*\n", encoding="utf-8")
+    (folder / "CACHEDIR.TAG").write_text(_TAG, encoding="utf-8")
 
 
 def _to_payload(mass: MassProperties) -> dict[str, Any]:
@@ -362,14 +393,9 @@ def body_mass_properties_cached(
 
     if (folder is None and not memo) or body.explicit is not None or not body.parts:
         return body_mass_properties(body, scale, max_mesh_bytes)
-    from kcheck.body.meshio import check_mesh_file  # meshes only (issue 24: start-up)
-
-    for part in body.parts:  # before hashing it: a file past the limit is not read at all
-        check_mesh_file(part.mesh, (*part.field, "mesh"), max_mesh_bytes)
     if key is None:
-        try:
-            key = body_key(body, scale)
-        except OSError:  # the mesh cannot be read: let the computation report it
+        key = mesh_body_key(body, scale, max_mesh_bytes)
+        if key is None:  # a mesh cannot be read: let the computation report it
             return body_mass_properties(body, scale, max_mesh_bytes)
     if memo and (key, max_mesh_bytes) in _MEMO:
         return _MEMO[key, max_mesh_bytes]
@@ -452,13 +478,8 @@ class PlacementCache:
 
     def get(self, key: str) -> tuple[Finding, ...] | None:
         """The warnings stored for ``key``, or None when absent, unreadable or corrupt."""
+        payload = _read_entry(self._path(key), PLACEMENT_FORMAT, key)
         try:
-            entry = json.loads(self._path(key).read_text(encoding="utf-8"))
-            if not isinstance(entry, dict) or entry.get("format") != PLACEMENT_FORMAT:
-                return None
-            payload = entry["payload"]
-            if entry["key"] != key or entry["checksum"] != _checksum(payload):
-                return None
             if not isinstance(payload, dict) or set(payload) != {"warnings"}:
                 return None
             warnings = [_finding(w) for w in payload["warnings"]]
@@ -470,26 +491,5 @@ class PlacementCache:
 
     def put(self, key: str, warnings: tuple[Finding, ...]) -> None:
         """Store an entry atomically; a cache that cannot be written is silently skipped."""
-        import tempfile
-
         payload = {"warnings": [_finding_payload(w) for w in warnings]}
-        entry = {
-            "format": PLACEMENT_FORMAT,
-            "key": key,
-            "checksum": _checksum(payload),
-            "payload": payload,
-        }
-        path = self._path(key)
-        try:
-            MassCache(self.folder)._prepare()
-            path.parent.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-")
-            try:
-                with os.fdopen(fd, "w", encoding="utf-8") as fh:
-                    json.dump(entry, fh)
-                os.replace(tmp, path)
-            except BaseException:
-                os.unlink(tmp)
-                raise
-        except OSError:
-            pass
+        _write_entry(self.folder, self._path(key), PLACEMENT_FORMAT, key, payload)

@@ -522,14 +522,11 @@ def _body_key(scene: Scene, settings: Settings) -> str | None:
         return None
     if not scene.body.parts:
         return None
-    from kcheck.body.meshio import check_mesh_file
-    from kcheck.gate.cache import body_key
+    from kcheck.gate.cache import mesh_body_key
 
     try:
-        for part in scene.body.parts:  # before hashing it: a file past the limit is not read
-            check_mesh_file(part.mesh, (*part.field, "mesh"), settings.max_mesh_bytes)
-        return body_key(scene.body, scene.scale)
-    except (SceneError, OSError):
+        return mesh_body_key(scene.body, scene.scale, settings.max_mesh_bytes)
+    except SceneError:
         return None
 
 
