@@ -8,9 +8,10 @@ Paired, interleaved in the same run, against the kcheck of git revision REF (def
 STLs were read without trimesh, ``03dc445`` before the merged-parts finding was split once),
 exported to a temporary folder and run with the same Python. Wall time is the child's
 (``time.perf_counter`` around it), CPU time its user + system time (``resource``); all must
-write the same scene and the same report. Beside kcheck as it is, the same kcheck with the
-two STL files read at once in two threads (``kcheck.cli.contacts.READ_IN_THREADS``, off by
-default). Medians of N rounds (default 5), the load average before and after.
+write the same scene and the same report. Beside kcheck as it is (the two STL files read at
+once, in two threads), the same kcheck with them read one after the other
+(``kcheck.cli.contacts.READ_IN_THREADS`` off). Medians of N rounds (default 5), the load
+average before and after.
 """
 
 from __future__ import annotations
@@ -33,21 +34,21 @@ from bench_contacts import assembly  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 
 
-#: The command with the two files read at once in two threads (kcheck.cli.contacts's switch).
-THREADS = (
-    "import sys; import kcheck.cli.contacts as c; c.READ_IN_THREADS = True; "
+#: The command with the two files read one after the other (kcheck.cli.contacts's switch).
+SERIAL = (
+    "import sys; import kcheck.cli.contacts as c; c.READ_IN_THREADS = False; "
     "from kcheck.cli import main; sys.exit(main(sys.argv[1:]))"
 )
 
 
-def run(src: Path, folder: Path, threads: bool = False) -> tuple[float, float, str, str]:
-    """Wall and CPU time of one command run with kcheck from ``src`` (with ``threads``, the
-    two files read at once), its scene and report."""
+def run(src: Path, folder: Path, serial: bool = False) -> tuple[float, float, str, str]:
+    """Wall and CPU time of one command run with kcheck from ``src`` (with ``serial``, the
+    two files read one after the other), its scene and report."""
     command = ["contacts", "base.stl", "body.stl", "--units", "mm"]
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     done = subprocess.run(
-        [sys.executable, *(["-c", THREADS] if threads else ["-m", "kcheck"]), *command],
+        [sys.executable, *(["-c", SERIAL] if serial else ["-m", "kcheck"]), *command],
         cwd=folder,
         env={**os.environ, "PYTHONPATH": str(src)},
         capture_output=True,
@@ -79,28 +80,28 @@ def main() -> None:
             ["git", "archive", ref, "kcheck"], cwd=ROOT, capture_output=True, check=True
         ).stdout
         subprocess.run(["tar", "-x", "-C", str(old)], input=archive, check=True)
-        times: dict = {"now": [], "threads": [], "before": []}
+        times: dict = {"now": [], "serial": [], "before": []}
         out = {}
         for _ in range(args.rounds):
-            for name, src, threads in (
+            for name, src, serial in (
                 ("now", ROOT, False),
-                ("threads", ROOT, True),
+                ("serial", ROOT, True),
                 ("before", old, False),
             ):
-                wall, cpu, scene, report = run(src, folder, threads)
+                wall, cpu, scene, report = run(src, folder, serial)
                 times[name].append((wall, cpu))
                 out[name] = (scene, report)
-    same = all(out[name] == out["before"] for name in ("now", "threads"))
+    same = all(out[name] == out["before"] for name in ("now", "serial"))
     print(f"491,520 faces per part; the same scene and report as {ref}: {same}")
     for name, what in (
         ("now", "kcheck contacts"),
-        ("threads", "kcheck contacts, the two files read at once in two threads"),
+        ("serial", "kcheck contacts, the two files read one after the other"),
         ("before", f"kcheck contacts at {ref}"),
     ):
         wall = statistics.median(t[0] for t in times[name])
         cpu = statistics.median(t[1] for t in times[name])
         print(f"{what}: {wall:.2f} s wall, {cpu:.2f} s CPU (medians of {args.rounds})")
-    for name in ("now", "threads"):
+    for name in ("now", "serial"):
         cpu = [b[1] / n[1] for n, b in zip(times[name], times["before"], strict=True)]
         wall = [b[0] / n[0] for n, b in zip(times[name], times["before"], strict=True)]
         print(

@@ -49,11 +49,14 @@ NEAR_GAPS = 5.0
 NEIGHBOURS = 8
 #: Most cubes of the grid that drops far points held as a dense array of flags (1 byte each).
 DENSE_CELLS = 2**24
-#: Cubes per reach of that dense grid: finer cubes drop more of the far points (on the
-#: benchmark's assembly 95,538 of 149,406 body points kept with one, 83,134 with two, 78,825
-#: with three, for a dearer filter; 44,514 are within reach).
-
-FINE_CUBES = 2
+#: Cubes per reach of that dense grid. Finer cubes drop more of the far points (on the
+#: benchmark's assembly 95,538 of 149,406 body points kept with one, 83,134 with two; 44,514
+#: are within reach) but keep fewer samples in the KD-tree, whose shape then differs, and so
+#: which of two equally near samples of a regular tessellation a query returns: a point is
+#: then measured against another triangle, maybe of another patch (a block on a table
+#: against three pins lost one of its 3 line ends with two). One keeps the answers as they
+#: were.
+FINE_CUBES = 1
 
 
 @dataclass(frozen=True)

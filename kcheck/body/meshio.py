@@ -146,13 +146,19 @@ def _equal_runs(q: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     return order, start
 
 
-def _merged_equal(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _merged_equal(
+    vertices: np.ndarray, faces: np.ndarray, soup: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
     """The vertices kept and the new id of every vertex when vertices equal once rounded to
     1e-8 (m) are joined: what trimesh's ``process()`` does to a mesh without texture
     coordinates or vertex normals (the same vertices in the same order, each group kept at
-    its first occurrence, unreferenced vertices dropped)."""
-    ref = np.flatnonzero(np.bincount(faces.ravel(), minlength=len(vertices)) > 0)
-    every = len(ref) == len(vertices)  # an STL's soup: no gathers through ``ref``
+    its first occurrence, unreferenced vertices dropped). ``soup``: every vertex is known
+    to be used (an STL's, three per face), so nothing is counted."""
+    if soup:
+        ref, every = np.zeros(0, np.int64), True
+    else:
+        ref = np.flatnonzero(np.bincount(faces.ravel(), minlength=len(vertices)) > 0)
+        every = len(ref) == len(vertices)  # an STL's soup: no gathers through ``ref``
     used = vertices if every else vertices[ref]
     q = []
     for k in range(3):
@@ -521,7 +527,7 @@ def load_surface(
                 vertices *= scale
             _check_reach(vertices, path, field)
             faces = np.arange(len(vertices), dtype=np.int64).reshape(-1, 3)
-            keep, inverse = _merged_equal(vertices, faces)
+            keep, inverse = _merged_equal(vertices, faces, soup=True)
             vertices, faces = vertices[keep], inverse[faces]
             merged = 0
             extent = float(np.ptp(vertices, axis=0).max())

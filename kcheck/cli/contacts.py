@@ -15,10 +15,10 @@ from kcheck.cli.common import ExitCode, fail, write_text
 __all__ = ["add_parser", "run", "scene_text"]
 
 #: Two binary STL files read at once, in two threads (:func:`_read_all`), scipy imported
-#: meanwhile. Off: on the shared 2-core machine (load 5-6) it cost 0.1-0.2 s CPU and 1.2 s of
-#: wall time (a thread waiting for the GIL waits on a busy core too);
-#: benchmarks/bench_contacts_command.py times both, to decide on a quiet machine.
-READ_IN_THREADS = False
+#: meanwhile: 2.59 s wall against 2.98 s one after the other at load 1.3-2.2 on the 2-core
+#: machine, for 0.1 s more CPU; at load 5-6 it went either way (the threads wait for the GIL
+#: on busy cores). benchmarks/bench_contacts_command.py times both.
+READ_IN_THREADS = True
 
 
 def add_parser(sub: Any) -> None:
@@ -368,7 +368,8 @@ def _read_all(sources: Any, scale: float) -> list[Any]:
     (kcheck's own reader is numpy calls that release the GIL: the file read, the vertex
     merge's sort, the edges' sort) while the main thread imports scipy's modules the finding
     and the fits use; otherwise, and for other files, one after the other (trimesh and the
-    STEP reader are not known to be thread-safe). Errors are raised in the files' order."""
+    STEP reader are not known to be thread-safe, and import in a thread). Errors are raised
+    in the files' order."""
     import threading
 
     from kcheck.body.meshio import load_surface
@@ -385,7 +386,7 @@ def _read_all(sources: Any, scale: float) -> list[Any]:
     if (
         not READ_IN_THREADS
         or len(sources) != 2
-        or any(part is not None or path.suffix.lower() != ".stl" for path, _, part in sources)
+        or any(part is not None or not _binary_stl_file(path) for path, _, part in sources)
     ):
         return [later(*source) for source in sources]
     done: dict[int, Any] = {}
@@ -416,6 +417,20 @@ def _read_all(sources: Any, scale: float) -> list[Any]:
         return value
 
     return [lambda: result(0), lambda: result(1)]
+
+
+def _binary_stl_file(path: Path) -> bool:
+    """Whether ``path`` looks like a binary STL file (its name, and its length as its header
+    announces it), which kcheck reads by numpy alone, without trimesh."""
+    if path.suffix.lower() != ".stl":
+        return False
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(84)
+        size = os.stat(path).st_size
+    except OSError:
+        return False
+    return len(head) == 84 and size == 84 + 50 * int.from_bytes(head[80:84], "little") > 84
 
 
 def _mesh_field(body: Path, output: Path | None) -> str:

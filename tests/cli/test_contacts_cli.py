@@ -416,7 +416,7 @@ def test_written_by_line_gives_the_options_that_shaped_the_scene(tmp_path, capsy
 
 
 def test_files_read_in_two_threads_give_the_same_scene_and_errors(tmp_path, capsys, monkeypatch):
-    """kcheck.cli.contacts.READ_IN_THREADS (off by default): the same scene and report as
+    """kcheck.cli.contacts.READ_IN_THREADS (on by default): the same scene and report as
     the files read one after the other; the base's error said first when both are bad."""
     import kcheck.cli.contacts as contacts
 
@@ -432,9 +432,15 @@ def test_files_read_in_two_threads_give_the_same_scene_and_errors(tmp_path, caps
     open_body = body.copy()
     open_body.update_faces(np.arange(len(open_body.faces)) > 0)
     open_body.export(tmp_path / "open.stl")
-    (tmp_path / "empty.stl").write_bytes(b"\0" * 80 + (1).to_bytes(4, "little"))
-    code = main(["contacts", str(tmp_path / "empty.stl"), str(tmp_path / "open.stl")])
+    monkeypatch.setattr(contacts, "READ_IN_THREADS", True)
+    # A binary STL of one face with a NaN corner: read in a thread, its error said first.
+    face = np.zeros(12, "<f4")
+    face[3] = np.nan
+    (tmp_path / "nan.stl").write_bytes(
+        b"\0" * 80 + (1).to_bytes(4, "little") + face.tobytes() + b"\0\0"
+    )
+    code = main(["contacts", str(tmp_path / "nan.stl"), str(tmp_path / "open.stl")])
     err = capsys.readouterr().err
-    assert code == 2 and "empty.stl" in err and "open.stl" not in err
+    assert code == 2 and "nan.stl" in err and "non-finite" in err and "open.stl" not in err
     code = main(["contacts", str(tmp_path / "base.stl"), str(tmp_path / "open.stl")])
     assert code == 2 and "not watertight" in capsys.readouterr().err
