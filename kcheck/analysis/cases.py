@@ -470,8 +470,10 @@ def closing_force_screen(
     Every case's system matrices do not depend on the force (nondimensional masses and lengths,
     the friction's directions), so its forward unknowns at the design direction are
     ``K^-1 (u + t v)`` (``v`` the part that scales) up to a positive factor: solved once here,
-    each trial is a few multiplications. A case that is undetermined, ill-conditioned or
-    Painlevé-type is so at every force (every trial fails)."""
+    each trial is a few multiplications; a trial fails only where an unknown is negative by
+    more than FORCE_SCREEN_RTOL of the solution's size (near a sign change it is judged in
+    full). A case that is undetermined, ill-conditioned or Painlevé-type is so at every force
+    (every trial fails)."""
     problem = problem_for(scene, mass)
     sweeping, design = _design(scene, problem.dim)
     if sweeping and design is None:
@@ -493,12 +495,14 @@ def closing_force_screen(
         solved = with_load(case, fixed, scaled[:, None]).forward
         assert solved is not None
         rtol = max(FORCE_SCREEN_RTOL, 1e3 * case.forward.condition * EPS)
-        parts.append((solved.a, solved.c[:, 0], rtol))
+        u, v = solved.a, solved.c[:, 0]
+        parts.append((u, v, rtol, float(np.abs(u).max()), float(np.abs(v).max())))
 
     def may_close(t: float) -> bool:
-        for u, v, rtol in parts:
-            x = u + t * v
-            if np.any(x < -rtol * (np.abs(u) + abs(t) * np.abs(v))):
+        # The band is on the size of the whole solution: an unknown that is itself a
+        # cancellation carries the rounding of the largest one.
+        for u, v, rtol, u_size, v_size in parts:
+            if np.any(u + t * v < -rtol * (u_size + abs(t) * v_size)):
                 return False
         return True
 

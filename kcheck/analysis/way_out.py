@@ -16,6 +16,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from kcheck.fmt import rounded_bound
+from kcheck.result import MassProperties
 from kcheck.scene import Scene
 
 __all__ = [
@@ -26,6 +27,7 @@ __all__ = [
     "with_closing_force",
     "passing_closing_force",
     "Screen",
+    "trial_screens",
 ]
 
 #: Steps of the scan from the scene's coefficient down to zero, and bisection steps after it.
@@ -178,3 +180,48 @@ def passing_closing_force(
             if candidate > 0 and judged(candidate):
                 return force, candidate, sense
     return None
+
+
+def trial_screens(scene: Scene, mass: MassProperties) -> tuple[Screen, Screen]:
+    """First tests of an analytical check's way-out trials, for :func:`passing_friction` and
+    :func:`passing_closing_force`: False only where a case of the trial does not close at the
+    design direction (or is undetermined, ill-conditioned), which fails the check whatever
+    else is found — so the check's ``passes`` must reject such a trial too.
+
+    The friction scan's trials: the cases' algebra of them all in one batch
+    (:func:`kcheck.analysis.cases.cases_close_many`). The closing force's trials: first the
+    trial's factor on the scene's closing force in closed form
+    (:func:`kcheck.analysis.cases.closing_force_screen`, built on first use: most scenes
+    never search), then for a scan's several trials the same batch; one trial alone is left
+    to ``passes``. Scenes whose coefficients are ranges are not screened."""
+    from kcheck.analysis.cases import cases_close_many, closing_force_screen
+
+    def batch(trials: Sequence[Scene]) -> list[bool]:
+        fixed = [np.array_equal(*s.friction_range("kinetic")) for s in trials]
+        kept = [s for s, f in zip(trials, fixed, strict=True) if f]
+        tested = iter(cases_close_many(kept, [mass] * len(kept)))
+        return [next(tested) if f else True for f in fixed]
+
+    force = closing_force(scene)
+    built: list[Callable[[float], bool] | None] = []
+
+    def forces(trials: Sequence[Scene]) -> list[bool]:
+        if not built:
+            usable = force is not None and np.array_equal(*scene.friction_range("kinetic"))
+            quick = None
+            if usable and force is not None:
+                quick = closing_force_screen(scene, mass, force.kind == "preload")
+            built.append(quick)
+        quick = built[0]
+        out = [True] * len(trials)
+        if quick is not None and force is not None:
+            for i, trial in enumerate(trials):
+                now = closing_force(trial)
+                out[i] = now is None or quick(now.value / force.value)
+        if len(trials) > 1:
+            left = [i for i, ok in enumerate(out) if ok]
+            for i, ok in zip(left, batch([trials[i] for i in left]), strict=True):
+                out[i] = ok
+        return out
+
+    return batch, forces

@@ -200,9 +200,9 @@ NO_PITCH: float = 1e-9
 #: the band only keeps a tie for the map to decide.
 MARGIN_SCREEN_DEG: float = 1e-6
 #: A way-out trial closing force is rejected in closed form only where a closing condition is
-#: negative by more than this share of its terms' sizes (or by a thousand times its system's
-#: rounding, condition number times eps, when that is larger): near a sign change the trial
-#: is judged in full.
+#: negative by more than this share of its case's solution size (or by a thousand times its
+#: system's rounding, condition number times eps, when that is larger): near a sign change
+#: the trial is judged in full.
 FORCE_SCREEN_RTOL: float = 1e-6
 
 # --- directions, planes and same points ----------------------------------------------------

@@ -7,7 +7,13 @@ import dataclasses
 import numpy as np
 
 from kcheck.analysis import analyse
-from kcheck.analysis.cases import Analysis, closing_force_reason, describe_ranges, ranges_deg
+from kcheck.analysis.cases import (
+    Analysis,
+    closing_analysis,
+    closing_force_reason,
+    describe_ranges,
+    ranges_deg,
+)
 from kcheck.analysis.friction_ranges import range_details
 from kcheck.fmt import format_angle
 from kcheck.mechanics.arcs import ArcSet, affine_arcs
@@ -145,11 +151,22 @@ class Analytical2D(Check):
         result = judged(inputs.scene, analysis)
 
         def passes(scene: Scene) -> bool:
+            # Exact shortcut: a case that does not close (or is undetermined, ill-conditioned)
+            # fails the check whatever else is found (its case finding); the rest are judged
+            # without friction intervals and friction_may_hold, which only word findings.
+            if np.array_equal(*scene.friction_range("kinetic")):
+                trial = closing_analysis(scene, mass)
+                if trial is None:
+                    return False
+                return judged(scene, trial).status == Status.PASS
             return judged(scene, analyse(scene, mass)).status == Status.PASS
 
         if inputs.hints:
-            result = with_friction_way_out(result, inputs.scene, passes)
-            result = with_closing_force_way_out(result, inputs.scene, passes)
+            from kcheck.analysis.way_out import trial_screens
+
+            by_friction, by_force = trial_screens(inputs.scene, mass)
+            result = with_friction_way_out(result, inputs.scene, passes, by_friction)
+            result = with_closing_force_way_out(result, inputs.scene, passes, by_force)
         result = with_partial_ranges(result, analysis, inputs.scene)
         if result.error_estimate is None and analysis.trustworthy and inputs.scene.load is None:
             result = dataclasses.replace(result, error_estimate=_gravity_error_deg(analysis))

@@ -12,7 +12,7 @@ the body (its tilt).
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -20,7 +20,6 @@ import numpy as np
 from kcheck.analysis import analyse, analyse_many
 from kcheck.analysis.cases import (
     Analysis,
-    cases_close_many,
     closing_analysis,
     closing_force_reason,
     describe_ranges,
@@ -30,7 +29,7 @@ from kcheck.analysis.friction_ranges import range_details
 from kcheck.fmt import clean, format_angle, format_share, format_vector
 from kcheck.numerics.thresholds import MARGIN_SCREEN_DEG
 from kcheck.plugin import Check, Field, Inputs
-from kcheck.result import CheckResult, Finding, MassProperties, Status
+from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.marginal import with_angle_margin
 from kcheck_checks.options import AnalyticalOptions
@@ -416,43 +415,6 @@ def _ranges(analysis: Analysis) -> tuple[tuple[float, float], ...]:
     return ranges_deg(analysis.combined)
 
 
-def _force_screen(
-    scene: Scene, mass: MassProperties, screen: Callable[[Sequence[Scene]], list[bool]]
-) -> Callable[[Sequence[Scene]], list[bool]]:
-    """The closing-force search's first test of its trial scenes: the trial's factor on the
-    scene's closing force in closed form (:func:`kcheck.analysis.cases.closing_force_screen`),
-    then, for a scan's several trials, ``screen`` (the cases' algebra in one batch) on those
-    left; one trial alone is left to ``passes``, whose own first test that is."""
-    from kcheck.analysis.cases import closing_force_screen
-    from kcheck.analysis.way_out import closing_force
-
-    force = closing_force(scene)
-    built: list[Callable[[float], bool] | None] = []  # on first use: most scenes never search
-
-    def first(trials: Sequence[Scene]) -> list[bool]:
-        if not built:
-            fixed = np.array_equal(*scene.friction_range("kinetic"))
-            usable = force is not None and fixed
-            built.append(
-                closing_force_screen(scene, mass, force.kind == "preload")
-                if usable and force is not None
-                else None
-            )
-        quick = built[0]
-        out = [True] * len(trials)
-        if quick is not None and force is not None:
-            for i, trial in enumerate(trials):
-                now = closing_force(trial)
-                out[i] = now is None or quick(now.value / force.value)
-        if len(trials) > 1:
-            left = [i for i, ok in enumerate(out) if ok]
-            for i, ok in zip(left, screen([trials[i] for i in left]), strict=True):
-                out[i] = ok
-        return out
-
-    return first
-
-
 def _short_of_margin(analysis: Analysis, options: Analytical3DOptions) -> bool:
     """Whether the design load direction of an analysis whose every case closes there is
     surely closer to the safe region's edge than the check allows (a `margin` finding, or the
@@ -540,16 +502,10 @@ class Analytical3D(Check):
             again = spatial_result(self.id, scene, trial, options)[0]
             return again.status == Status.PASS
 
-        def screen(scenes: Sequence[Scene]) -> list[bool]:
-            # passes' own first test (closing_analysis), for a scan's trial scenes in one batch.
-            fixed = [np.array_equal(*s.friction_range("kinetic")) for s in scenes]
-            kept = [s for s, f in zip(scenes, fixed, strict=True) if f]
-            tested = iter(cases_close_many(kept, [mass] * len(kept)))
-            return [next(tested) if f else True for f in fixed]
-
         if not inputs.hints:
             return result
-        result = with_friction_way_out(result, inputs.scene, passes, screen)
-        return with_closing_force_way_out(
-            result, inputs.scene, passes, _force_screen(inputs.scene, mass, screen)
-        )
+        from kcheck.analysis.way_out import trial_screens
+
+        by_friction, by_force = trial_screens(inputs.scene, mass)
+        result = with_friction_way_out(result, inputs.scene, passes, by_friction)
+        return with_closing_force_way_out(result, inputs.scene, passes, by_force)

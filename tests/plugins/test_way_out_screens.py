@@ -34,7 +34,7 @@ def _results(scenes, masses):
 def test_first_tests_change_no_way_out(tmp_path, monkeypatch):
     import kcheck_checks.analytical_3d as module
 
-    from kcheck.analysis import analyse
+    from kcheck.analysis import way_out
 
     scenes = [load_scene(p) for p in write_spatial_scenes(tmp_path, range(16))]
     masses = [body_mass_properties(s.body, s.scale) for s in scenes]
@@ -42,17 +42,71 @@ def test_first_tests_change_no_way_out(tmp_path, monkeypatch):
     searched = [r for r in screened if "passing_closing_force" in r.details]
     assert len(searched) >= 3  # the scenes exercise the closing-force search
 
-    def in_full(scene, mass):
-        # Every trial through the full analysis: None only where a case does not close.
-        full = analyse(scene, mass)
-        closes = full.trustworthy and all(r.outcome in ("closes", "swept") for r in full.results)
-        return full if closes else None
-
-    monkeypatch.setattr(module, "closing_analysis", in_full)
-    monkeypatch.setattr(module, "cases_close_many", lambda s, m: [True] * len(s))
+    monkeypatch.setattr(module, "closing_analysis", _in_full)
     monkeypatch.setattr(module, "_short_of_margin", lambda analysis, options: False)
-    monkeypatch.setattr(module, "_force_screen", lambda *_: lambda trials: [True] * len(trials))
+    monkeypatch.setattr(way_out, "trial_screens", _no_screens)
     assert _results(scenes, masses) == screened
+
+
+def _no_screens(scene, mass):
+    def every(trials):
+        return [True] * len(trials)
+
+    return every, every
+
+
+def _in_full(scene, mass):
+    """A trial through the full analysis: None only where a case does not close."""
+    from kcheck.analysis import analyse
+
+    full = analyse(scene, mass)
+    closes = full.trustworthy and all(r.outcome in ("closes", "swept") for r in full.results)
+    return full if closes else None
+
+
+PLANAR = """\
+version: 1
+name: planar block
+units: mm
+body: {{mass: 1.0, center_of_mass: [50, 30, 0], inertia: 0.001}}
+supports:
+  - {{name: y1, position: [{a}, 0, 0], normal: [0, 1, 0]}}
+  - {{name: y2, position: [80, 0, 0], normal: [0, 1, 0]}}
+  - {{name: x1, position: [0, 30, 0], normal: [1, 0, 0]}}
+friction: {mu}
+gravity: [0, -9.81, 0]
+load: {{magnitude: 1, angle: {angle}}}
+"""
+
+
+def test_first_tests_change_no_planar_way_out(tmp_path, monkeypatch):
+    """The same for analytical-2d, on planar blocks that jam or lose contact under a load at
+    several angles and frictions (some search the friction, some the load magnitude)."""
+    import kcheck_checks.analytical_2d as module
+    from kcheck_checks.analytical_2d import Analytical2D
+
+    from kcheck.analysis import way_out
+
+    check = Analytical2D()
+    scenes = []
+    for n, (mu, angle, a) in enumerate(
+        (mu, angle, a) for mu in (0.3, 0.9) for angle in (200, 212, 236, 260) for a in (20, 35)
+    ):
+        path = tmp_path / f"block-{n}.kcheck.yaml"
+        path.write_text(PLANAR.format(mu=mu, angle=angle, a=a), encoding="utf-8")
+        scenes.append(load_scene(path))
+    masses = [body_mass_properties(s.body, s.scale) for s in scenes]
+
+    def results():
+        # repr: the planar details hold arrays, which == does not compare.
+        pairs = zip(scenes, masses, strict=True)
+        return [repr(check.run(Inputs(s, m, check.options()))) for s, m in pairs]
+
+    screened = results()
+    assert sum("passing_closing_force" in r for r in screened) >= 2
+    monkeypatch.setattr(module, "closing_analysis", _in_full)
+    monkeypatch.setattr(way_out, "trial_screens", _no_screens)
+    assert results() == screened
 
 
 def test_margin_screen_agrees_with_the_sphere_map(tmp_path):
