@@ -20,6 +20,7 @@ from kcheck.mechanics.outcomes import Outcome, outcome, safe_arcs
 from kcheck.mechanics.statics import Statics, contact_columns, holds_exactly
 from kcheck.numerics.thresholds import (
     EPS,
+    FORCE_SCREEN_ROUNDINGS,
     FORCE_SCREEN_RTOL,
     IN_SWEEP_PLANE,
     INFINITE_POLE,
@@ -494,7 +495,7 @@ def closing_force_screen(
         assert case.forward is not None
         solved = with_load(case, fixed, scaled[:, None]).forward
         assert solved is not None
-        rtol = max(FORCE_SCREEN_RTOL, 1e3 * case.forward.condition * EPS)
+        rtol = max(FORCE_SCREEN_RTOL, FORCE_SCREEN_ROUNDINGS * case.forward.condition * EPS)
         u, v = solved.a, solved.c[:, 0]
         parts.append((u, v, rtol, float(np.abs(u).max()), float(np.abs(v).max())))
 

@@ -45,6 +45,10 @@ MAX_SAMPLES = 4_000_000
 #: Points within this many gaps of the other surface are near: those beyond one gap are near
 #: misses (a gap with no contact), those inside by more than one, interpenetration.
 NEAR_GAPS = 5.0
+#: A merged piece sits in the rest of the body (a ball in a groove) only on regions whose two
+#: sides face each other: the mean cosine of their normals below this (normals within 60
+#: degrees of opposite).
+SEATED_FACING = -0.5
 #: Samples of the other surface whose triangles are tried for each point.
 NEIGHBOURS = 8
 #: Most cubes of the grid that drops far points held as a dense array of flags (1 byte each).
@@ -727,10 +731,12 @@ def merged_pieces(
                 seated = _near_patches(
                     rest, mesh, body_faces.subset(others), body_faces.subset(mine), gap
                 ).regions
-                # Seated: on surfaces that face each other (normals within 60 degrees of
-                # opposite); a face lying on the rest's face of the same orientation, or crossing
-                # it, is two bodies overlapping there, not a ball in a groove.
-                swallowed = sum(r.least_distance <= gap and r.facing < -0.5 for r in seated) >= 2
+                # Seated: on surfaces that face each other; a face lying on the rest's face of
+                # the same orientation, or crossing it, is two bodies overlapping there, not a
+                # ball in a groove.
+                swallowed = (
+                    sum(r.least_distance <= gap and r.facing < SEATED_FACING for r in seated) >= 2
+                )
         out.append((piece, swallowed))
     return out
 

@@ -305,6 +305,8 @@ def _read(
             mesh = _single_mesh(scene) if part is None else _named_part(scene, part)
     except MeshError as exc:
         raise MeshError(path, exc.message, field=field) from None
+    except MemoryError:  # the scene's memory budget, not a bad file: the gate reports it
+        raise
     except Exception as exc:  # trimesh raises many types for unreadable files
         if step:
             # OpenCASCADE writes its reason to the terminal and trimesh then fails to

@@ -28,6 +28,7 @@ import sys
 __all__ = [
     "MARGIN_SCREEN_DEG",
     "FORCE_SCREEN_RTOL",
+    "FORCE_SCREEN_ROUNDINGS",
     "THERMAL_CENTRE_DET",
     "EPS",
     "DET_ROUNDING",
@@ -200,10 +201,14 @@ NO_PITCH: float = 1e-9
 #: the band only keeps a tie for the map to decide.
 MARGIN_SCREEN_DEG: float = 1e-6
 #: A way-out trial closing force is rejected in closed form only where a closing condition is
-#: negative by more than this share of its case's solution size (or by a thousand times its
-#: system's rounding, condition number times eps, when that is larger): near a sign change
-#: the trial is judged in full.
+#: negative by more than this share of its case's solution size (nondimensional; or by
+#: FORCE_SCREEN_ROUNDINGS times its system's rounding, condition number times eps, when that
+#: is larger): near a sign change the trial is judged in full.
 FORCE_SCREEN_RTOL: float = 1e-6
+#: How many times its system's rounding (condition number times eps) a closing condition must
+#: be negative by before the closed-form screen rejects a trial force (nondimensional; see
+#: FORCE_SCREEN_RTOL): a wide margin over the rounding a solve can carry.
+FORCE_SCREEN_ROUNDINGS: float = 1e3
 
 # --- directions, planes and same points ----------------------------------------------------
 

@@ -134,6 +134,19 @@ def test_a_mesh_trimesh_cannot_read_says_what_was_expected(tmp_path, monkeypatch
     )
 
 
+def test_running_out_of_memory_while_reading_is_not_a_bad_mesh(tmp_path, monkeypatch):
+    """A MemoryError inside trimesh is the scene's memory budget running out (the gate
+    reports it as such), not an unreadable file: it is not turned into an input error."""
+    path = _box(tmp_path / "box.ply", 10.0)
+
+    def exhausted(*args, **kwargs):
+        raise MemoryError
+
+    monkeypatch.setattr(trimesh, "load_scene", exhausted)
+    with pytest.raises(MemoryError):
+        load_mesh(path, 1.0, ("body", "mesh"))
+
+
 def test_mass_properties_of_a_scene_respect_the_configured_limit(tmp_path):
     _box(tmp_path / "box.stl", 10.0)
     (tmp_path / "s.kcheck.yaml").write_text(
