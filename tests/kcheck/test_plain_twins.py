@@ -1,0 +1,59 @@
+"""Plain-float twins of numpy helpers (written where numpy's per-call overhead on three or
+six elements was most of the time, issue 24) against the numpy functions they copy: the
+3-vector helpers bit for bit, the few-condition arcs within the ends' stated error."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from kcheck.analysis import cases
+from kcheck.fmt import clean
+from kcheck.mechanics import arcs
+from kcheck.mechanics.kinematics import row_norms, unit_rows
+
+
+def _vectors(rng: np.random.Generator, count: int) -> np.ndarray:
+    """Random 3-vectors across magnitudes, with exact zeros and rounding-noise entries."""
+    v = rng.normal(size=(count, 3)) * 10.0 ** rng.integers(-300, 300, size=(count, 1))
+    v[rng.random((count, 3)) < 0.15] = 0.0
+    noisy = rng.random((count, 3)) < 0.1
+    v[noisy] *= 1e-17
+    return v
+
+
+def test_three_vector_helpers_equal_their_numpy_twins_bit_for_bit():
+    rng = np.random.default_rng(24)
+    for v in _vectors(rng, 5000):
+        values = [float(x) for x in v]
+        assert np.array_equal(np.array(cases._clean3(values)), clean(v))
+        assert np.array_equal(np.array(cases._clean3(values, 2.5)), clean(v, 2.5))
+        if np.any(v):
+            assert cases._norm3(values) == row_norms(v)
+            assert np.array_equal(np.array(cases._unit3(values)), unit_rows(v))
+
+
+@pytest.mark.parametrize("k", [2, 3, 6, 12])
+def test_few_condition_arcs_equal_numpys_within_their_error(k, monkeypatch):
+    """The same arc structure; each end within the error the arcs state (at least eps of
+    2 pi), numpy's path (FEW_CONDITIONS = 0) against the plain-float one."""
+    rng = np.random.default_rng(k)
+    e1, e2 = np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
+    compared = 0
+    for _ in range(400):
+        a = rng.uniform(0.0, 1.5, size=k)  # mostly wide arcs, so 12 still overlap
+        c = rng.normal(size=(k, 3))
+        error = np.abs(a) * 1e-12 + 1e-15
+        few, few_err = arcs.affine_arcs(a, c, e1, e2, error)
+        with monkeypatch.context() as m:
+            m.setattr(arcs, "FEW_CONDITIONS", 0)
+            many, many_err = arcs.affine_arcs(a, c, e1, e2, error)
+        assert len(few) == len(many)
+        if few_err is None:
+            assert many_err is None and few == many
+            continue
+        assert many_err is not None
+        bound = max(few_err, many_err)
+        assert np.allclose(np.array(few), np.array(many), rtol=0, atol=bound)
+        compared += 1
+    assert compared > 100  # a good share of the draws have arcs with ends
