@@ -357,6 +357,7 @@ def test_least_friction_where_the_supports_squeeze_equals_bisection(monkeypatch)
         scene = load_scene(root / fixture / "coupling.kcheck.yaml")
         assert scene.body is not None
         statics, swept, design = jam_statics(scene, body_mass_properties(scene.body, scene.scale))
+        assert design is not None  # both fixtures have a load direction
         keep = analyse_jamming(statics, swept, design, 8).cases[case].keep
         wrench = statics.wrench(design)
         scale = np.ones(len(statics.friction))
