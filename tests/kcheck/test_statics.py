@@ -326,3 +326,49 @@ def test_least_friction_ends_at_an_infimum_zero_does_not_attain() -> None:
 
     found = least_friction(feasible, 0.5, rtol=1e-4)
     assert found is not None and 0 < found <= 2 * MU_FLOOR and len(calls) < 100
+
+
+def test_least_friction_where_the_supports_squeeze_equals_bisection(monkeypatch) -> None:
+    """``three-groove-beta-15`` (case 0) and ``kelvin`` (case 5): the remaining supports can
+    squeeze the body, so the plain Dinkelbach-type step is unbounded below and the steps go
+    on in homogeneous form (normalised forces, the wrench scaled by a variable). The result
+    against bisection over the exact conic decision run to 1e-8 (the reference): not below it
+    by more than the solver's tolerance, within the requested 1e-4 above it; the homogeneous
+    steps ran, and the first lowered the ratio below the coefficient it was asked at."""
+    from pathlib import Path
+
+    import kcheck.mechanics.least_friction as lf
+    from kcheck.analysis.jamming_cases import analyse_jamming, jam_statics
+    from kcheck.body.mass import body_mass_properties
+    from kcheck.scene import load_scene
+
+    steps: list[tuple[float, float]] = []
+    plain = lf._homogeneous_step
+
+    def recorded(columns, wrench, mu, shrink):
+        found = plain(columns, wrench, mu, shrink)
+        if found is not None:  # every coefficient is mu.max() here (scale 1)
+            steps.append((float(mu.max()), lf._largest_ratio(found[0], np.ones(len(mu)))))
+        return found
+
+    monkeypatch.setattr(lf, "_homogeneous_step", recorded)
+    root = Path(__file__).resolve().parents[2] / "fixtures"
+    for fixture, case in (("three-groove-beta-15", 0), ("kelvin", 5)):
+        scene = load_scene(root / fixture / "coupling.kcheck.yaml")
+        assert scene.body is not None
+        statics, swept, design = jam_statics(scene, body_mass_properties(scene.body, scene.scale))
+        assert design is not None  # both fixtures have a load direction
+        keep = analyse_jamming(statics, swept, design, 8).cases[case].keep
+        wrench = statics.wrench(design)
+        scale = np.ones(len(statics.friction))
+
+        def feasible(mu: float, t=statics, k=keep, w=wrench, s=scale) -> bool:
+            return holds_exactly(t, k, w, mu * s)
+
+        reference = least_friction(feasible, 0.1, rtol=1e-8)
+        count = len(steps)
+        found = lf.least_friction_exactly(statics, keep, wrench, scale, 0.1, rtol=1e-4)
+        assert reference is not None and found is not None
+        assert reference * (1 - 1e-6) <= found <= reference * (1 + 1e-4)
+        assert len(steps) > count
+        assert steps[count][1] < steps[count][0]
