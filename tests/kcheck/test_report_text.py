@@ -321,7 +321,8 @@ def test_ascii_terminal_and_lone_surrogates(write_scene, tmp_path: Path) -> None
 
 
 def test_progress_line_goes_to_stderr_and_disappears(write_scene) -> None:
-    proc = run("check", str(write_scene(PLANAR_SCENE)), "--progress", "always")
+    # Wide enough for the temporary path: at 80 columns a long one wraps inside its name.
+    proc = run("check", str(write_scene(PLANAR_SCENE)), "--progress", "always", COLUMNS="400")
     assert "[1/1]" in proc.stderr and "scene.kcheck.yaml" in proc.stderr
     assert proc.stderr.rstrip("\n").endswith("\x1b[?25h") or "\x1b[2K" in proc.stderr
     assert "[1/1]" not in proc.stdout
