@@ -8,11 +8,13 @@ only then) and small linear programmes solved by clarabel.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from typing import Literal
 
 import numpy as np
 
+from kcheck.mechanics.kinematics import cross3
 from kcheck.numerics.arrays import unique_rounded_rows
 from kcheck.numerics.thresholds import (
     FACET_DECIMALS,
@@ -43,23 +45,36 @@ def cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "f
     pyramids' coplanar edges are degenerate for exact arithmetic; facets move by about 1e-11).
     """
     n = generators.shape[1]
-    if np.linalg.matrix_rank(generators, tol=FACET_TOL) < n:
+    # np.linalg.matrix_rank(generators, tol=FACET_TOL) < n, without its wrapper's cost (a
+    # planar jamming check asks for a few thousand cones): the same singular values.
+    if np.count_nonzero(np.linalg.svd(generators, compute_uv=False) > FACET_TOL) < n:
         return "flat"
     if n == 3:
-        i, j = np.triu_indices(len(generators), 1)
-        normals = np.cross(generators[i], generators[j])
-        size = np.linalg.norm(normals, axis=1)
+        i, j = _pairs(len(generators))
+        # cross3 and sqrt(sum of squares) are np.cross and np.linalg.norm(axis=1) without
+        # their per-call overhead (the same operations in the same order: bit-identical).
+        normals = cross3(generators[i], generators[j])
+        size = np.sqrt(np.add.reduce(normals * normals, axis=1))
         normals = normals[size > FACET_TOL] / size[size > FACET_TOL, None]
     else:
         normals = _hull_facets(generators)
     side = normals @ generators.T
     tol = HULL_FACET_TOL if n > 3 else FACET_TOL
-    upper = np.all(side >= -tol, axis=1)
-    lower = np.all(side <= tol, axis=1)
+    upper = np.logical_and.reduce(side >= -tol, axis=1)
+    lower = np.logical_and.reduce(side <= tol, axis=1)
     facets = np.vstack([normals[upper], -normals[lower & ~upper]])
     if not len(facets):
         return "everywhere"
     return unique_rounded_rows(facets, HULL_FACET_DECIMALS if n > 3 else FACET_DECIMALS)
+
+
+@functools.cache
+def _pairs(count: int) -> tuple[np.ndarray, np.ndarray]:
+    """``np.triu_indices(count, 1)``, read-only, once per count."""
+    i, j = np.triu_indices(count, 1)
+    i.setflags(write=False)
+    j.setflags(write=False)
+    return i, j
 
 
 def pointing(
