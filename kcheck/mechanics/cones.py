@@ -45,6 +45,30 @@ def cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "f
     pyramids' coplanar edges are degenerate for exact arithmetic; facets move by about 1e-11).
     """
     n = generators.shape[1]
+    if n == 3:
+        # A planar check asks for the same cone again (a fifth of its calls: the scene's
+        # friction, mu = 0, a case's cone in several checks); facets are a pure function of
+        # the generators' bits, so the last few answers are kept (read-only).
+        key = generators.tobytes() + bytes([len(generators)])
+        known = _RECENT_PLANAR.get(key)
+        if known is None:
+            known = _cone_facets(generators)
+            if isinstance(known, np.ndarray):
+                known.setflags(write=False)
+            if len(_RECENT_PLANAR) >= RECENT_PLANAR:
+                del _RECENT_PLANAR[next(iter(_RECENT_PLANAR))]
+            _RECENT_PLANAR[key] = known
+        return known
+    return _cone_facets(generators)
+
+
+#: Planar cones' facets recently computed (:func:`cone_facets`), oldest first.
+_RECENT_PLANAR: dict[bytes, np.ndarray | Literal["everywhere", "flat"]] = {}
+RECENT_PLANAR = 64
+
+
+def _cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "flat"]:
+    n = generators.shape[1]
     # np.linalg.matrix_rank(generators, tol=FACET_TOL) < n, without its wrapper's cost (a
     # planar jamming check asks for a few thousand cones): the same singular values.
     if np.count_nonzero(np.linalg.svd(generators, compute_uv=False) > FACET_TOL) < n:
