@@ -326,3 +326,29 @@ def test_least_friction_ends_at_an_infimum_zero_does_not_attain() -> None:
 
     found = least_friction(feasible, 0.5, rtol=1e-4)
     assert found is not None and 0 < found <= 2 * MU_FLOOR and len(calls) < 100
+
+
+def test_planar_generators_are_numpys_bits():
+    """The planar cone generators in plain float arithmetic (``_planar_generators``) are the
+    numpy path's (``edge_wrenches`` of ``friction_edges``) bit for bit, rows in its order,
+    on random contacts of every scale, axis-aligned normals, contacts at the origin and
+    frictionless supports (coinciding edges removed)."""
+    from kcheck.mechanics.statics import _planar_generators
+
+    rng = np.random.default_rng(24)
+    for _ in range(2000):
+        k = int(rng.integers(1, 5))
+        points = rng.normal(size=(k, 2)) * rng.choice([1e-3, 1.0, 1e3])
+        normals = rng.normal(size=(k, 2))
+        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+        if rng.random() < 0.3:
+            normals = np.round(normals * 2) / 2
+            normals[np.all(normals == 0, axis=1)] = (0.0, 1.0)
+        if rng.random() < 0.3:
+            points[rng.integers(k)] = 0.0
+        mu = rng.choice([0.0, 1e-9, 0.1, 0.3, 2.0], size=k)
+        fast = _planar_generators(points, normals, mu)
+        slow = edge_wrenches(points, friction_edges(normals, mu))
+        assert fast is not None
+        assert fast.shape == slow.shape
+        assert fast.tobytes() == slow.tobytes()
