@@ -8,13 +8,12 @@ only then) and small linear programmes solved by clarabel.
 
 from __future__ import annotations
 
-import functools
+import math
 from collections.abc import Callable
 from typing import Literal
 
 import numpy as np
 
-from kcheck.mechanics.kinematics import cross3
 from kcheck.numerics.arrays import unique_rounded_rows
 from kcheck.numerics.thresholds import (
     FACET_DECIMALS,
@@ -74,14 +73,8 @@ def _cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "
     if np.count_nonzero(np.linalg.svd(generators, compute_uv=False) > FACET_TOL) < n:
         return "flat"
     if n == 3:
-        i, j = _pairs(len(generators))
-        # cross3 and sqrt(sum of squares) are np.cross and np.linalg.norm(axis=1) without
-        # their per-call overhead (the same operations in the same order: bit-identical).
-        normals = cross3(generators[i], generators[j])
-        size = np.sqrt(np.add.reduce(normals * normals, axis=1))
-        normals = normals[size > FACET_TOL] / size[size > FACET_TOL, None]
-    else:
-        normals = _hull_facets(generators)
+        return _planar_facets(generators.tolist())
+    normals = _hull_facets(generators)
     side = normals @ generators.T
     tol = HULL_FACET_TOL if n > 3 else FACET_TOL
     upper = np.logical_and.reduce(side >= -tol, axis=1)
@@ -92,13 +85,47 @@ def _cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "
     return unique_rounded_rows(facets, HULL_FACET_DECIMALS if n > 3 else FACET_DECIMALS)
 
 
-@functools.cache
-def _pairs(count: int) -> tuple[np.ndarray, np.ndarray]:
-    """``np.triu_indices(count, 1)``, read-only, once per count."""
-    i, j = np.triu_indices(count, 1)
-    i.setflags(write=False)
-    j.setflags(write=False)
-    return i, j
+def _planar_facets(generators: list[list[float]]) -> np.ndarray | Literal["everywhere"]:
+    """Facets of a three-dimensional cone spanned by its generators (g, 3), of rank 3, in plain
+    float arithmetic: a planar jamming check asks for a few thousand such cones of at most
+    six generators, where numpy's per-call overhead was most of the time. Cross products of
+    pairs (i < j) normalised (squares summed left to right, as ``np.linalg.norm``), those
+    with every generator on one side (within FACET_TOL), rounded as ``np.round`` (``rint(x
+    10^d) / 10^d``, the zero's sign kept), sorted and deduplicated as ``unique_rows``."""
+    normals = []
+    count = len(generators)
+    for i in range(count):
+        a0, a1, a2 = generators[i]
+        for j in range(i + 1, count):
+            b0, b1, b2 = generators[j]
+            c = (a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0)
+            size = math.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
+            if size > FACET_TOL:
+                normals.append((c[0] / size, c[1] / size, c[2] / size))
+    upper, lower = [], []
+    for f0, f1, f2 in normals:
+        side = [f0 * g0 + f1 * g1 + f2 * g2 for g0, g1, g2 in generators]
+        if all(v >= -FACET_TOL for v in side):
+            upper.append((f0, f1, f2))
+        elif all(v <= FACET_TOL for v in side):
+            lower.append((-f0, -f1, -f2))
+    facets = upper + lower
+    if not facets:
+        return "everywhere"
+    scale = 10.0**FACET_DECIMALS
+    rows = []
+    for facet in facets:
+        rounded = []
+        for v in facet:
+            y = v * scale
+            rounded.append(math.copysign(float(round(y)), y) / scale)
+        rows.append(tuple(rounded))
+    rows.sort()
+    out = [rows[0]]
+    for row in rows[1:]:
+        if row != out[-1]:
+            out.append(row)
+    return np.array(out, dtype=float)
 
 
 def pointing(
