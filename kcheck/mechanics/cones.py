@@ -8,6 +8,7 @@ only then) and small linear programmes solved by clarabel.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import Literal
 
@@ -43,23 +44,88 @@ def cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "f
     pyramids' coplanar edges are degenerate for exact arithmetic; facets move by about 1e-11).
     """
     n = generators.shape[1]
-    if np.linalg.matrix_rank(generators, tol=FACET_TOL) < n:
+    if n == 3:
+        # A planar check asks for the same cone again (a fifth of its calls: the scene's
+        # friction, mu = 0, a case's cone in several checks); facets are a pure function of
+        # the generators' bits, so the last few answers are kept (read-only).
+        key = generators.tobytes() + bytes([len(generators)])
+        known = _RECENT_PLANAR.get(key)
+        if known is None:
+            known = _cone_facets(generators)
+            if isinstance(known, np.ndarray):
+                known.setflags(write=False)
+            if len(_RECENT_PLANAR) >= RECENT_PLANAR:
+                del _RECENT_PLANAR[next(iter(_RECENT_PLANAR))]
+            _RECENT_PLANAR[key] = known
+        return known
+    return _cone_facets(generators)
+
+
+#: Planar cones' facets recently computed (:func:`cone_facets`), oldest first.
+_RECENT_PLANAR: dict[bytes, np.ndarray | Literal["everywhere", "flat"]] = {}
+RECENT_PLANAR = 64
+
+
+def _cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "flat"]:
+    n = generators.shape[1]
+    # np.linalg.matrix_rank(generators, tol=FACET_TOL) < n, without its wrapper's cost (a
+    # planar jamming check asks for a few thousand cones): the same singular values.
+    if np.count_nonzero(np.linalg.svd(generators, compute_uv=False) > FACET_TOL) < n:
         return "flat"
     if n == 3:
-        i, j = np.triu_indices(len(generators), 1)
-        normals = np.cross(generators[i], generators[j])
-        size = np.linalg.norm(normals, axis=1)
-        normals = normals[size > FACET_TOL] / size[size > FACET_TOL, None]
-    else:
-        normals = _hull_facets(generators)
+        return _planar_facets(generators.tolist())
+    normals = _hull_facets(generators)
     side = normals @ generators.T
     tol = HULL_FACET_TOL if n > 3 else FACET_TOL
-    upper = np.all(side >= -tol, axis=1)
-    lower = np.all(side <= tol, axis=1)
+    upper = np.logical_and.reduce(side >= -tol, axis=1)
+    lower = np.logical_and.reduce(side <= tol, axis=1)
     facets = np.vstack([normals[upper], -normals[lower & ~upper]])
     if not len(facets):
         return "everywhere"
     return unique_rounded_rows(facets, HULL_FACET_DECIMALS if n > 3 else FACET_DECIMALS)
+
+
+def _planar_facets(generators: list[list[float]]) -> np.ndarray | Literal["everywhere"]:
+    """Facets of a three-dimensional cone spanned by its generators (g, 3), of rank 3, in plain
+    float arithmetic: a planar jamming check asks for a few thousand such cones of at most
+    six generators, where numpy's per-call overhead was most of the time. Cross products of
+    pairs (i < j) normalised (squares summed left to right, as ``np.linalg.norm``), those
+    with every generator on one side (within FACET_TOL), rounded as ``np.round`` (``rint(x
+    10^d) / 10^d``, the zero's sign kept), sorted and deduplicated as ``unique_rows``."""
+    normals = []
+    count = len(generators)
+    for i in range(count):
+        a0, a1, a2 = generators[i]
+        for j in range(i + 1, count):
+            b0, b1, b2 = generators[j]
+            c = (a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0)
+            size = math.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
+            if size > FACET_TOL:
+                normals.append((c[0] / size, c[1] / size, c[2] / size))
+    upper, lower = [], []
+    for f0, f1, f2 in normals:
+        side = [f0 * g0 + f1 * g1 + f2 * g2 for g0, g1, g2 in generators]
+        if all(v >= -FACET_TOL for v in side):
+            upper.append((f0, f1, f2))
+        elif all(v <= FACET_TOL for v in side):
+            lower.append((-f0, -f1, -f2))
+    facets = upper + lower
+    if not facets:
+        return "everywhere"
+    scale = 10.0**FACET_DECIMALS
+    rows = []
+    for facet in facets:
+        rounded = []
+        for v in facet:
+            y = v * scale
+            rounded.append(math.copysign(float(round(y)), y) / scale)
+        rows.append(tuple(rounded))
+    rows.sort()
+    out = [rows[0]]
+    for row in rows[1:]:
+        if row != out[-1]:
+            out.append(row)
+    return np.array(out, dtype=float)
 
 
 def pointing(

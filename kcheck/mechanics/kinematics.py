@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -208,8 +209,26 @@ def free_twists(
 
 def free_twist(points: np.ndarray, normals: np.ndarray, retracted: int) -> FreeTwist:
     """Free twist of the supports other than ``retracted``, oriented to close its gap
-    (:func:`free_twists` for one support)."""
-    return free_twists(points, normals, np.array([retracted]))[0]
+    (:func:`free_twists` for one support).
+
+    The last few answers are kept (the twist read-only): the planar checks (maxwell, the
+    friction-pole construction, jamming) each ask for every case's twist of the same
+    supports; the answer is a pure function of the arguments' bits."""
+    key: tuple[Any, ...] = (points.tobytes(), normals.tobytes(), int(retracted))
+    key += (points.shape, normals.shape, points.dtype.str, normals.dtype.str)
+    known = _RECENT_TWISTS.get(key)
+    if known is None:
+        known = free_twists(points, normals, np.array([retracted]))[0]
+        known.twist.setflags(write=False)
+        if len(_RECENT_TWISTS) >= RECENT_TWISTS:
+            del _RECENT_TWISTS[next(iter(_RECENT_TWISTS))]
+        _RECENT_TWISTS[key] = known
+    return known
+
+
+#: Free twists recently computed (:func:`free_twist`), oldest first.
+_RECENT_TWISTS: dict[tuple[Any, ...], FreeTwist] = {}
+RECENT_TWISTS = 32
 
 
 def maxwell_cos(free: FreeTwist, point: np.ndarray, normal: np.ndarray) -> float:

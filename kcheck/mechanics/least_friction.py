@@ -259,14 +259,25 @@ def friction_candidates(
     candidates (exact up to rounding).
     """
     points, normals = statics.points[keep], statics.normals[keep]
+    x = -np.asarray(wrench, float)
+    if statics.dim == 2:
+        coefficients = _planar_coefficients(points, normals, scale[keep], x)
+        return unique(_positive_roots(coefficients))
+    return unique(_positive_roots(_coefficients(points, normals, scale[keep], x)))
+
+
+def _coefficients(
+    points: np.ndarray, normals: np.ndarray, scale: np.ndarray, x: np.ndarray
+) -> np.ndarray:
+    """The polynomials of :func:`friction_candidates` (rows, highest power first): the
+    pairs' quadratics (a leading 0) then the triples' cubics."""
     tangents = tangent_frames(normals)[:, 0]
     a = wrenches(points, normals)
-    b = scale[keep, None] * wrenches(points, tangents)
+    b = scale[:, None] * wrenches(points, tangents)
     # Both edges of each cone, n + mu t and n - mu t; an edge that does not move with mu
     # (a frictionless support) once.
     moving = np.any(b != 0, axis=1)
     a, b = np.concatenate([a, a[moving]]), np.concatenate([b, -b[moving]])
-    x = -np.asarray(wrench, float)
     i, j = np.triu_indices(len(a), 1)
     # det[x, a_i + mu b_i, a_j + mu b_j]: coefficients of mu^2, mu, 1 (a leading 0: cubics)
     ax, bx = cross3(a, x), cross3(b, x)  # det[x, p, q] = -(p x x) . q
@@ -289,7 +300,69 @@ def friction_candidates(
             np.sum(aa * a[w], axis=1),
         ]
     )
-    return unique(_positive_roots(np.vstack([pairs, triples])))
+    return np.vstack([pairs, triples])
+
+
+def _planar_coefficients(
+    points: np.ndarray, normals: np.ndarray, scale: np.ndarray, x: np.ndarray
+) -> np.ndarray:
+    """:func:`_coefficients` of a planar scene in plain float arithmetic (numpy's per-call
+    overhead on 3-vectors was most of its time): the same operations in numpy's order
+    (``cross3``'s formulas, each row's three products summed left to right from +0.0 as
+    ``np.sum`` does: a sum of negative zeros is +0.0; the pairs' leading zero negated to
+    -0.0), so the same bits."""
+    a: list[tuple[float, float, float]] = []
+    b: list[tuple[float, float, float]] = []
+    for (px, py), (nx, ny), s in zip(
+        points.tolist(), normals.tolist(), scale.tolist(), strict=True
+    ):
+        tx, ty = -ny, nx
+        a.append((px * ny - py * nx, nx, ny))
+        b.append((s * (px * ty - py * tx), s * tx, s * ty))
+    moving = [k for k, v in enumerate(b) if v[0] != 0 or v[1] != 0 or v[2] != 0]
+    a = a + [a[k] for k in moving]
+    b = b + [(-b[k][0], -b[k][1], -b[k][2]) for k in moving]
+    x0, x1, x2 = x.tolist()
+
+    def cross(p: tuple[float, ...], q: tuple[float, ...]) -> tuple[float, float, float]:
+        return (p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0])
+
+    def dot(p: tuple[float, ...], q: tuple[float, ...]) -> float:
+        return 0.0 + p[0] * q[0] + p[1] * q[1] + p[2] * q[2]
+
+    n = len(a)
+    ax = [cross(v, (x0, x1, x2)) for v in a]
+    bx = [cross(v, (x0, x1, x2)) for v in b]
+    rows: list[tuple[float, float, float, float]] = []
+    for i in range(n):
+        for j in range(i + 1, n):
+            mixed = [ax[i][c] * b[j][c] + bx[i][c] * a[j][c] for c in range(3)]
+            rows.append(
+                (
+                    -0.0,
+                    -dot(bx[i], b[j]),
+                    -(0.0 + mixed[0] + mixed[1] + mixed[2]),
+                    -dot(ax[i], a[j]),
+                )
+            )
+    for u in range(n):
+        for v in range(u + 1, n):
+            aa, ab = cross(a[u], a[v]), cross(a[u], b[v])
+            ba, bb = cross(b[u], a[v]), cross(b[u], b[v])
+            both = [ab[c] + ba[c] for c in range(3)]
+            for w in range(v + 1, n):
+                aw, bw = a[w], b[w]
+                second = [bb[c] * aw[c] + both[c] * bw[c] for c in range(3)]
+                first = [both[c] * aw[c] + aa[c] * bw[c] for c in range(3)]
+                rows.append(
+                    (
+                        dot(bb, bw),
+                        0.0 + second[0] + second[1] + second[2],
+                        0.0 + first[0] + first[1] + first[2],
+                        dot(aa, aw),
+                    )
+                )
+    return np.array(rows, dtype=float).reshape(-1, 4)
 
 
 def _triples(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -26,6 +26,7 @@ factor (:mod:`kcheck.mechanics.least_friction`).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Literal
 
@@ -187,6 +188,61 @@ def edge_wrenches(points: np.ndarray, forces: np.ndarray) -> np.ndarray:
     return unique_rows(np.round(g, 14)) if len(g) > 1 else g
 
 
+def cone_generators(
+    statics: Statics,
+    keep: np.ndarray,
+    mu: np.ndarray,
+    edges: int = PYRAMID_EDGES,
+    pyramid: Pyramid = "circumscribed",
+) -> np.ndarray:
+    """``edge_wrenches`` of the kept supports' friction edges at coefficients ``mu`` (k,):
+    the generators of the contact-wrench cone (:func:`cone_facets`)."""
+    if statics.dim == 2:
+        fast = _planar_generators(statics.points[keep], statics.normals[keep], mu[keep])
+        if fast is not None:
+            return fast
+    forces = friction_edges(statics.normals[keep], mu[keep], edges, pyramid)
+    return edge_wrenches(statics.points[keep], forces)
+
+
+def _planar_generators(
+    points: np.ndarray, normals: np.ndarray, mu: np.ndarray
+) -> np.ndarray | None:
+    """Planar ``edge_wrenches(points, friction_edges(normals, mu))`` in plain float arithmetic
+    (numpy's per-call overhead on 2-vectors was most of a planar jamming check's time): the
+    same operations in numpy's order (``n + (mu s) t`` with ``t`` = ``n`` turned +90°, the
+    moment ``p_x f_y - p_y f_x``, the norm's squares summed left to right, ``np.round``'s
+    ``rint(x 10^14) / 10^14`` with the sign of zero kept, rows sorted and deduplicated as
+    ``unique_rows``), so the same bits. None (numpy's path) for fewer than one support or a
+    non-finite or zero edge."""
+    if not len(points):
+        return None
+    scale = 1e14  # np.round(g, 14)'s factor
+    rows: list[tuple[float, ...]] = []
+    for (px, py), (nx, ny), m in zip(points.tolist(), normals.tolist(), mu.tolist(), strict=True):
+        tx, ty = -ny, nx
+        for s in (m * 1.0, m * -1.0):
+            fx = nx + s * tx
+            fy = ny + s * ty
+            w = px * fy - py * fx
+            size = math.sqrt(w * w + fx * fx + fy * fy)
+            if not (0.0 < size < math.inf):
+                return None
+            parts = []
+            for v in (w / size, fx / size, fy / size):
+                y = v * scale
+                if not math.isfinite(y):
+                    return None
+                parts.append(math.copysign(float(round(y)), y) / scale)
+            rows.append(tuple(parts))
+    rows.sort()
+    out = [rows[0]]
+    for row in rows[1:]:
+        if row != out[-1]:
+            out.append(row)
+    return np.array(out, dtype=float)
+
+
 # --- equilibrium sets over the swept direction ------------------------------------------------
 
 
@@ -273,8 +329,7 @@ def equilibria(
     ``mu`` (k,) overrides the scene's coefficients (per support, all supports indexed).
     """
     mu = statics.friction if mu is None else np.asarray(mu, float)
-    forces = friction_edges(statics.normals[keep], mu[keep], edges, pyramid)
-    generators = edge_wrenches(statics.points[keep], forces)
+    generators = cone_generators(statics, keep, mu, edges, pyramid)
     facets = cone_facets(generators)
     dim = statics.dim
     if isinstance(facets, str):
@@ -323,7 +378,7 @@ def forward_limit(
     normal /= size
     if normal @ twist < 0:
         normal = -normal
-    facets = cone_facets(edge_wrenches(points, friction_edges(normals, mu[keep])))
+    facets = cone_facets(cone_generators(statics, keep, mu))
     if isinstance(facets, str):
         return None
     match = facets @ normal
@@ -349,9 +404,7 @@ def holds(
     """Whether the supports ``keep`` balance ``wrench`` with forces in the (polyhedral)
     friction cones; exact for planar scenes."""
     mu = statics.friction if mu is None else np.asarray(mu, float)
-    forces = friction_edges(statics.normals[keep], mu[keep], edges, pyramid)
-    generators = edge_wrenches(statics.points[keep], forces)
-    facets = cone_facets(generators)
+    facets = cone_facets(cone_generators(statics, keep, mu, edges, pyramid))
     if isinstance(facets, str):
         return facets == "everywhere"
     scale = float(np.linalg.norm(wrench)) or 1.0

@@ -68,3 +68,43 @@ def test_essential_rows_do_not_depend_on_the_inside_direction(monkeypatch) -> No
             _, residual = nnls(rows[plain].T, rows[r])
             assert residual < 1e-7 * np.linalg.norm(rows[r])
     assert compared >= 5
+
+
+def test_planar_facets_are_numpys_bits():
+    """Three-dimensional cones' facets in plain float arithmetic are, bit for bit and in the
+    same row order, those of the numpy formulation they replaced (cross products of pairs,
+    normalised, kept where every generator is on one side, rounded to FACET_DECIMALS and
+    deduplicated), written out here as the independent reference; random cones of three to
+    six generators and cones with parallel or coinciding generators."""
+    from kcheck.numerics.arrays import unique_rounded_rows
+    from kcheck.numerics.thresholds import FACET_DECIMALS, FACET_TOL
+
+    def reference(g: np.ndarray) -> np.ndarray | str:
+        if np.linalg.matrix_rank(g, tol=FACET_TOL) < 3:
+            return "flat"
+        i, j = np.triu_indices(len(g), 1)
+        normals = np.cross(g[i], g[j])
+        size = np.linalg.norm(normals, axis=1)
+        normals = normals[size > FACET_TOL] / size[size > FACET_TOL, None]
+        side = normals @ g.T
+        upper = np.all(side >= -FACET_TOL, axis=1)
+        lower = np.all(side <= FACET_TOL, axis=1)
+        facets = np.vstack([normals[upper], -normals[lower & ~upper]])
+        return unique_rounded_rows(facets, FACET_DECIMALS) if len(facets) else "everywhere"
+
+    rng = np.random.default_rng(24)
+    for _ in range(1500):
+        g = rng.normal(size=(int(rng.integers(3, 7)), 3))
+        if rng.random() < 0.3:
+            g[-1] = g[0] * rng.choice([1.0, -1.0, 2.0])
+        if rng.random() < 0.3:
+            g = np.round(g)
+            g[np.all(g == 0, axis=1)] = (0.0, 0.0, 1.0)
+        expected = reference(g)
+        got = cone_facets(g)
+        if isinstance(expected, str):
+            assert got == expected
+        else:
+            assert isinstance(got, np.ndarray)
+            assert got.tobytes() == expected.tobytes()
+            assert got.shape == expected.shape

@@ -372,3 +372,57 @@ def test_least_friction_where_the_supports_squeeze_equals_bisection(monkeypatch)
         assert reference * (1 - 1e-6) <= found <= reference * (1 + 1e-4)
         assert len(steps) > count
         assert steps[count][1] < steps[count][0]
+
+
+def test_planar_generators_are_numpys_bits():
+    """The planar cone generators in plain float arithmetic (``_planar_generators``) are the
+    numpy path's (``edge_wrenches`` of ``friction_edges``) bit for bit, rows in its order,
+    on random contacts of every scale, axis-aligned normals, contacts at the origin and
+    frictionless supports (coinciding edges removed)."""
+    from kcheck.mechanics.statics import _planar_generators
+
+    rng = np.random.default_rng(24)
+    for _ in range(2000):
+        k = int(rng.integers(1, 5))
+        points = rng.normal(size=(k, 2)) * rng.choice([1e-3, 1.0, 1e3])
+        normals = rng.normal(size=(k, 2))
+        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+        if rng.random() < 0.3:
+            normals = np.round(normals * 2) / 2
+            normals[np.all(normals == 0, axis=1)] = (0.0, 1.0)
+        if rng.random() < 0.3:
+            points[rng.integers(k)] = 0.0
+        mu = rng.choice([0.0, 1e-9, 0.1, 0.3, 2.0], size=k)
+        fast = _planar_generators(points, normals, mu)
+        slow = edge_wrenches(points, friction_edges(normals, mu))
+        assert fast is not None
+        assert fast.shape == slow.shape
+        assert fast.tobytes() == slow.tobytes()
+
+
+def test_planar_friction_candidates_polynomials_are_numpys_bits():
+    """The candidates' polynomials in plain float arithmetic (``_planar_coefficients``) are
+    the numpy formulation's (``_coefficients``, kept as the reference) bit for bit, signs of
+    zero included, on random planar contacts (frictionless ones, contacts at the origin,
+    loads with a zero component)."""
+    from kcheck.mechanics.least_friction import _coefficients, _planar_coefficients
+
+    rng = np.random.default_rng(24)
+    for _ in range(2000):
+        k = int(rng.integers(1, 5))
+        points = rng.normal(size=(k, 2)) * rng.choice([1e-3, 1.0, 1e3])
+        normals = rng.normal(size=(k, 2))
+        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+        if rng.random() < 0.3:
+            normals = np.round(normals * 2) / 2
+            normals[np.all(normals == 0, axis=1)] = (0.0, 1.0)
+        if rng.random() < 0.3:
+            points[rng.integers(k)] = 0.0
+        scale = rng.choice([0.0, 1.0], size=k)
+        x = rng.normal(size=3)
+        if rng.random() < 0.2:
+            x[rng.integers(3)] = 0.0
+        fast = _planar_coefficients(points, normals, scale, x)
+        slow = _coefficients(points, normals, scale, x)
+        assert fast.shape == slow.shape
+        assert fast.tobytes() == slow.tobytes()
