@@ -542,15 +542,24 @@ def _none_below(
 ) -> np.ndarray:
     """Per candidate lattice direction, whether its cell's bound shows ``axes_f . d > bound_f``
     for every facet ``f`` and every member ``d`` (as in :func:`_any_below`, cells only)."""
+    cell, at_centre, width = _cell_bounds(cells, candidates, axes)
+    return ~np.any(at_centre - width <= bound, axis=1)[cell]
+
+
+def _cell_bounds(
+    cells: LatticeCells, candidates: np.ndarray, axes: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For the cells that hold a candidate lattice direction (only those): each candidate's
+    row among them, ``axes_f . c`` at each cell's centre ``c`` (cells, facets), and how far a
+    member may lie from it (the cell's radius times ``|axes_f|``, plus CELL_GUARD)."""
     owner = cells.owner[candidates]
     used = np.zeros(len(cells.coarse), bool)
     used[owner] = True
-    which = np.flatnonzero(used)  # only the cells that hold a candidate
+    which = np.flatnonzero(used)
     position = np.zeros(len(cells.coarse), int)
     position[which] = np.arange(len(which))
     width = cells.radius[which, None] * np.linalg.norm(axes, axis=1) + CELL_GUARD
-    at_centre = cells.coarse[which] @ axes.T
-    return ~np.any(at_centre - width <= bound, axis=1)[position[owner]]
+    return position[owner], cells.coarse[which] @ axes.T, width
 
 
 def _any_below(
@@ -560,24 +569,16 @@ def _any_below(
     (axes unit or zero): decided per cell where its centre's values, give or take the cell's
     radius, decide every member alike; elsewhere direction by direction, against only the
     facets the cell's bound leaves possible (the others exceed ``bound`` at every member)."""
-    owner = cells.owner[candidates]
-    used = np.zeros(len(cells.coarse), bool)
-    used[owner] = True
-    which = np.flatnonzero(used)  # only the cells that hold a candidate
-    position = np.zeros(len(cells.coarse), int)
-    position[which] = np.arange(len(which))
-    width = cells.radius[which, None] * np.linalg.norm(axes, axis=1) + CELL_GUARD
-    at_centre = cells.coarse[which] @ axes.T
+    cell, at_centre, width = _cell_bounds(cells, candidates, axes)
     possible = at_centre - width <= bound  # (cells, facets): below for some member, maybe
     every = np.any(at_centre + width <= bound, axis=1)
     none = ~np.any(possible, axis=1)
-    cell = position[owner]
     below = every[cell]
     open_ = np.flatnonzero(~below & ~none[cell])
     # The pairs (undecided direction, facet its cell leaves possible), from each cell's list
     # of facets (about 15 of 150) instead of a boolean row per direction.
     cell_rows, cell_facets = np.nonzero(possible)
-    counts = np.bincount(cell_rows, minlength=len(which))
+    counts = np.bincount(cell_rows, minlength=len(at_centre))
     per = counts[cell[open_]]
     rows = np.repeat(np.arange(len(open_)), per)
     shift = (np.cumsum(counts) - counts)[cell[open_]] - (np.cumsum(per) - per)

@@ -14,7 +14,7 @@ from typing import Literal
 
 import numpy as np
 
-from kcheck.numerics.arrays import unique_rounded_rows
+from kcheck.numerics.arrays import round_like_numpy, sorted_unique_tuples, unique_rounded_rows
 from kcheck.numerics.thresholds import (
     FACET_DECIMALS,
     FACET_TOL,
@@ -113,19 +113,9 @@ def _planar_facets(generators: list[list[float]]) -> np.ndarray | Literal["every
     if not facets:
         return "everywhere"
     scale = 10.0**FACET_DECIMALS
-    rows = []
-    for facet in facets:
-        rounded = []
-        for v in facet:
-            y = v * scale
-            rounded.append(math.copysign(float(round(y)), y) / scale)
-        rows.append(tuple(rounded))
-    rows.sort()
-    out = [rows[0]]
-    for row in rows[1:]:
-        if row != out[-1]:
-            out.append(row)
-    return np.array(out, dtype=float)
+    return sorted_unique_tuples(
+        [tuple(round_like_numpy(v, scale) for v in facet) for facet in facets]
+    )
 
 
 def pointing(

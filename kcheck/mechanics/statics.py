@@ -37,7 +37,7 @@ from kcheck.mechanics.cones import FACET_TOL, cone_facets, essential_rows, insid
 from kcheck.mechanics.csc import Csc
 from kcheck.mechanics.dynamics import friction_directions
 from kcheck.mechanics.kinematics import Frame, cross3, wrenches
-from kcheck.numerics.arrays import unique_rows
+from kcheck.numerics.arrays import round_like_numpy, sorted_unique_tuples, unique_rows
 from kcheck.numerics.thresholds import EPS, SAME_FACET
 
 __all__ = [
@@ -228,19 +228,11 @@ def _planar_generators(
             size = math.sqrt(w * w + fx * fx + fy * fy)
             if not (0.0 < size < math.inf):
                 return None
-            parts = []
-            for v in (w / size, fx / size, fy / size):
-                y = v * scale
-                if not math.isfinite(y):
-                    return None
-                parts.append(math.copysign(float(round(y)), y) / scale)
-            rows.append(tuple(parts))
-    rows.sort()
-    out = [rows[0]]
-    for row in rows[1:]:
-        if row != out[-1]:
-            out.append(row)
-    return np.array(out, dtype=float)
+            parts = (w / size, fx / size, fy / size)
+            if not all(math.isfinite(v * scale) for v in parts):
+                return None
+            rows.append(tuple(round_like_numpy(v, scale) for v in parts))
+    return sorted_unique_tuples(rows)
 
 
 # --- equilibrium sets over the swept direction ------------------------------------------------

@@ -6,9 +6,17 @@ per process) in runs that use nothing else of it; these give the same results wi
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-__all__ = ["unique", "unique_rows", "unique_rounded_rows"]
+__all__ = [
+    "round_like_numpy",
+    "sorted_unique_tuples",
+    "unique",
+    "unique_rows",
+    "unique_rounded_rows",
+]
 
 
 def unique(values: np.ndarray) -> np.ndarray:
@@ -42,3 +50,22 @@ def unique_rounded_rows(rows: np.ndarray, decimals: int) -> np.ndarray:
     order = np.lexsort(keys.T[::-1])
     keys = keys[order]
     return rounded[order[np.concatenate([[True], np.any(keys[1:] != keys[:-1], axis=1)])]]
+
+
+def round_like_numpy(value: float, scale: float) -> float:
+    """``np.round(value, d)`` of one finite float, ``scale`` = 10^d: ``rint(value scale) /
+    scale`` with the sign of a zero kept, the same bits (for the plain-float twins of numpy
+    code on a few elements, where numpy's per-call overhead is most of the time)."""
+    y = value * scale
+    return math.copysign(float(round(y)), y) / scale
+
+
+def sorted_unique_tuples(rows: list[tuple[float, ...]]) -> np.ndarray:
+    """:func:`unique_rows` of rows given as tuples (at least one): sorted, duplicates
+    dropped, as a float array."""
+    rows = sorted(rows)
+    out = [rows[0]]
+    for row in rows[1:]:
+        if row != out[-1]:
+            out.append(row)
+    return np.array(out, dtype=float)
