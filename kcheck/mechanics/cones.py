@@ -124,8 +124,9 @@ def pointing(
     """A direction ``h`` with ``vectors @ h > 0`` (the cone they span is pointed), or None.
 
     Perceptron steps from the mean of the unit vectors first (enough for most cones), then
-    ``guess()`` when given (a caller's cheaper way to one, kept if it has the perceptron's
-    margin), else a linear programme maximising the smallest ``v . h`` over ``|h_i| <= 1``.
+    ``guess()`` when given (a caller's cheaper way to one, kept if it passes the linear
+    programme's own acceptance: every ``v . h`` above LP_POSITIVE at ``|h_i| <= 1``), else that
+    linear programme, maximising the smallest ``v . h`` over ``|h_i| <= 1``.
     """
     unit = vectors / np.linalg.norm(vectors, axis=1, keepdims=True)
     h = unit.mean(axis=0)
