@@ -44,6 +44,7 @@ from kcheck.mechanics.statics import (
     forward_limit,
     holds,
     holds_exactly,
+    planar_holding,
 )
 from kcheck.numerics.thresholds import (
     FREE_CANDIDATE_TOL,
@@ -334,8 +335,9 @@ def least_holding_friction(
             statics, case.keep, wrench, rough, start, rtol=JAM_MU_RTOL, upper_fails=fails
         )
     candidates = friction_candidates(statics, case.keep, wrench, rough)
+    # held_at(analysis, case, design, mu * rough), the case's parts built once.
     return least_friction(
-        lambda mu: held_at(analysis, case, design, mu * rough),
+        planar_holding(statics, case.keep, wrench, rough),
         start,
         rtol=JAM_MU_RTOL,
         candidates=candidates,

@@ -27,6 +27,7 @@ factor (:mod:`kcheck.mechanics.least_friction`).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal
 
@@ -217,9 +218,16 @@ def _planar_generators(
     non-finite or zero edge."""
     if not len(points):
         return None
+    return _planar_generators_of(points.tolist(), normals.tolist(), mu.tolist())
+
+
+def _planar_generators_of(
+    points: list[list[float]], normals: list[list[float]], mu: list[float]
+) -> np.ndarray | None:
+    """:func:`_planar_generators` of at least one support given as lists."""
     scale = 1e14  # np.round(g, 14)'s factor
     rows: list[tuple[float, ...]] = []
-    for (px, py), (nx, ny), m in zip(points.tolist(), normals.tolist(), mu.tolist(), strict=True):
+    for (px, py), (nx, ny), m in zip(points, normals, mu, strict=True):
         tx, ty = -ny, nx
         for s in (m * 1.0, m * -1.0):
             fx = nx + s * tx
@@ -401,6 +409,32 @@ def holds(
         return facets == "everywhere"
     scale = float(np.linalg.norm(wrench)) or 1.0
     return bool(np.all(facets @ -wrench >= -FACET_TOL * scale))
+
+
+def planar_holding(
+    statics: Statics, keep: np.ndarray, wrench: np.ndarray, scale: np.ndarray
+) -> Callable[[float], bool]:
+    """``lambda mu: holds(statics, keep, wrench, mu * scale)`` of a planar scene, the same
+    answers: the kept supports' rows, the wrench's size and the plain lists built once,
+    not at each of the 5-10 coefficients a least-friction search asks about."""
+    points, normals, rows = statics.points[keep], statics.normals[keep], scale[keep]
+    plain = (points.tolist(), normals.tolist()) if len(points) else None
+    against = -wrench
+    limit = -FACET_TOL * (float(np.linalg.norm(wrench)) or 1.0)
+
+    def decide(mu: float) -> bool:
+        kept = mu * rows  # (mu * scale)[keep], elementwise: the same bits
+        generators = None if plain is None else _planar_generators_of(*plain, kept.tolist())
+        if generators is None:
+            generators = edge_wrenches(
+                points, friction_edges(normals, kept, PYRAMID_EDGES, "circumscribed")
+            )
+        facets = cone_facets(generators)
+        if isinstance(facets, str):
+            return facets == "everywhere"
+        return bool(np.all(facets @ against >= limit))
+
+    return decide
 
 
 def holds_exactly(

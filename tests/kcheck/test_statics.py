@@ -374,6 +374,32 @@ def test_least_friction_where_the_supports_squeeze_equals_bisection(monkeypatch)
         assert steps[count][1] < steps[count][0]
 
 
+def test_planar_holding_answers_as_holds() -> None:
+    """``planar_holding`` (the case's parts built once, for the least-friction search) gives
+    ``holds``'s answer at every coefficient: 30 random scenes, every two-support case,
+    frictionless supports (scale 0), 5 load directions, coefficients from 0 to 50 and the
+    exact friction candidates (where the answer changes), both answers compared."""
+    from kcheck.mechanics.least_friction import friction_candidates
+    from kcheck.mechanics.statics import planar_holding
+
+    rng = np.random.default_rng(5)
+    answers = set()
+    for _ in range(30):
+        statics = random_planar(rng)
+        scale = (rng.uniform(size=3) < 0.8).astype(float)
+        for r in range(3):
+            keep = np.flatnonzero(np.arange(3) != r)
+            for angle in rng.uniform(0, TAU, 5):
+                wrench = statics.wrench(np.array([np.cos(angle), np.sin(angle)]))
+                decide = planar_holding(statics, keep, wrench, scale)
+                candidates = friction_candidates(statics, keep, wrench, scale)
+                for mu in [0.0, 0.05, 0.3, 1.0, 50.0, *candidates.tolist()]:
+                    expected = holds(statics, keep, wrench, mu * scale)
+                    assert decide(mu) == expected
+                    answers.add(expected)
+    assert answers == {True, False}
+
+
 def test_planar_generators_are_numpys_bits():
     """The planar cone generators in plain float arithmetic (``_planar_generators``) are the
     numpy path's (``edge_wrenches`` of ``friction_edges``) bit for bit, rows in its order,
