@@ -22,6 +22,7 @@ from kcheck.numerics.thresholds import (
     HULL_FACET_TOL,
     LP_EQUALITY_SLACK,
     LP_POSITIVE,
+    RANK_MINOR_MARGIN,
     WELL_INSIDE,
 )
 
@@ -68,12 +69,13 @@ RECENT_PLANAR = 64
 
 def _cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "flat"]:
     n = generators.shape[1]
-    # np.linalg.matrix_rank(generators, tol=FACET_TOL) < n, without its wrapper's cost (a
-    # planar jamming check asks for a few thousand cones): the same singular values.
-    if np.count_nonzero(np.linalg.svd(generators, compute_uv=False) > FACET_TOL) < n:
-        return "flat"
     if n == 3:
-        return _planar_facets(generators.tolist())
+        rows = generators.tolist()
+        if not _rank_three_by_minor(rows) and _flat(generators):
+            return "flat"
+        return _planar_facets(rows)
+    if _flat(generators):
+        return "flat"
     normals = _hull_facets(generators)
     side = normals @ generators.T
     tol = HULL_FACET_TOL if n > 3 else FACET_TOL
@@ -83,6 +85,28 @@ def _cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "
     if not len(facets):
         return "everywhere"
     return unique_rounded_rows(facets, HULL_FACET_DECIMALS if n > 3 else FACET_DECIMALS)
+
+
+def _flat(generators: np.ndarray) -> bool:
+    """``np.linalg.matrix_rank(generators, tol=FACET_TOL) < n``, without its wrapper's cost (a
+    planar jamming check asks for a few thousand cones): the same singular values."""
+    n = generators.shape[1]
+    return bool(np.count_nonzero(np.linalg.svd(generators, compute_uv=False) > FACET_TOL) < n)
+
+
+def _rank_three_by_minor(rows: list[list[float]]) -> bool:
+    """Whether the first three of three-dimensional rows certainly have rank 3 by
+    :func:`_flat`'s test, without an SVD: removing rows lowers no singular value, and three
+    rows' ``|det| = s1 s2 s3 <= s3 (s1^2 + s2^2) / 2 <= s3 |S|_F^2 / 2``, so ``2 |det| /
+    |S|_F^2`` bounds the least singular value from below; asked to exceed FACET_TOL by
+    RANK_MINOR_MARGIN, far beyond either computation's rounding. False: undecided (the SVD
+    decides)."""
+    if len(rows) < 3 or not math.isfinite(sum(v * v for row in rows for v in row)):
+        return False  # a non-finite generator: the SVD's answer, as before
+    (a0, a1, a2), (b0, b1, b2), (c0, c1, c2) = rows[0], rows[1], rows[2]
+    det = a0 * (b1 * c2 - b2 * c1) - a1 * (b0 * c2 - b2 * c0) + a2 * (b0 * c1 - b1 * c0)
+    frobenius = sum(v * v for row in rows[:3] for v in row)
+    return 2.0 * abs(det) > RANK_MINOR_MARGIN * FACET_TOL * frobenius
 
 
 def _planar_facets(generators: list[list[float]]) -> np.ndarray | Literal["everywhere"]:
@@ -104,10 +128,12 @@ def _planar_facets(generators: list[list[float]]) -> np.ndarray | Literal["every
                 normals.append((c[0] / size, c[1] / size, c[2] / size))
     upper, lower = [], []
     for f0, f1, f2 in normals:
+        # The sides are finite (unit normals, finite generators: _flat's SVD or the minor
+        # passed them), so min and max decide as the element-wise tests would.
         side = [f0 * g0 + f1 * g1 + f2 * g2 for g0, g1, g2 in generators]
-        if all(v >= -FACET_TOL for v in side):
+        if min(side) >= -FACET_TOL:
             upper.append((f0, f1, f2))
-        elif all(v <= FACET_TOL for v in side):
+        elif max(side) <= FACET_TOL:
             lower.append((-f0, -f1, -f2))
     facets = upper + lower
     if not facets:

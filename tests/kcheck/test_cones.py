@@ -108,3 +108,31 @@ def test_planar_facets_are_numpys_bits():
             assert isinstance(got, np.ndarray)
             assert got.tobytes() == expected.tobytes()
             assert got.shape == expected.shape
+
+
+def test_rank_three_by_minor_never_contradicts_the_singular_values():
+    """Where three generators' determinant settles the planar cone's rank
+    (``_rank_three_by_minor``), the SVD's count (``_flat``, the rank test it stands in for)
+    says rank 3 as well: random unit generators, coplanar ones and ones tilted off a plane by
+    1e-12 to 1e-6 (either side of the rank test's 1e-10), three to six rows. Both the settled
+    and the undecided sides are exercised, and every coplanar set stays undecided."""
+    rng = np.random.default_rng(7)
+    settled = undecided = 0
+    for _ in range(6000):
+        count = int(rng.integers(3, 7))
+        g = rng.normal(size=(count, 3))
+        if rng.random() < 0.6:  # near a plane: the third coordinate small
+            g[:, 2] = rng.normal(size=count) * 10.0 ** rng.uniform(-13, -5)
+            if rng.random() < 0.3:
+                g[:, 2] = 0.0
+        g /= np.linalg.norm(g, axis=1, keepdims=True)
+        g = np.round(g, 14)
+        if cones._rank_three_by_minor(g.tolist()):
+            settled += 1
+            assert not cones._flat(g)
+            assert np.linalg.matrix_rank(g, tol=cones.FACET_TOL) == 3
+        else:
+            undecided += 1
+        if not np.any(g[:, 2]):
+            assert not cones._rank_three_by_minor(g.tolist())
+    assert settled > 1000 and undecided > 1000
