@@ -38,7 +38,7 @@ from kcheck.mechanics.cones import FACET_TOL, cone_facets, essential_rows, insid
 from kcheck.mechanics.csc import Csc
 from kcheck.mechanics.dynamics import friction_directions
 from kcheck.mechanics.kinematics import Frame, cross3, wrenches
-from kcheck.numerics.arrays import round_like_numpy, sorted_unique_tuples, unique_rows
+from kcheck.numerics.arrays import sorted_unique_tuples, unique_rows
 from kcheck.numerics.thresholds import EPS, SAME_FACET
 
 __all__ = [
@@ -236,10 +236,17 @@ def _planar_generators_of(
             size = math.sqrt(w * w + fx * fx + fy * fy)
             if not (0.0 < size < math.inf):
                 return None
-            parts = (w / size, fx / size, fy / size)
-            if not all(math.isfinite(v * scale) for v in parts):
+            # round_like_numpy of each part, written out (a few thousand calls a scene).
+            r0, r1, r2 = w / size * scale, fx / size * scale, fy / size * scale
+            if not (math.isfinite(r0) and math.isfinite(r1) and math.isfinite(r2)):
                 return None
-            rows.append(tuple(round_like_numpy(v, scale) for v in parts))
+            rows.append(
+                (
+                    math.copysign(float(round(r0)), r0) / scale,
+                    math.copysign(float(round(r1)), r1) / scale,
+                    math.copysign(float(round(r2)), r2) / scale,
+                )
+            )
     return sorted_unique_tuples(rows)
 
 
