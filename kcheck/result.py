@@ -120,6 +120,23 @@ def _frozen(mapping: Mapping[str, Any] | None) -> Mapping[str, Any]:
 
 def to_json_value(value: Any) -> Any:
     """Plain JSON value: numpy to lists/floats, non-finite floats to null, mappings to dicts."""
+    # The plain built-in types first, by exact type (a report's 350 values a scene went
+    # through ``hasattr`` and the ABC checks below: most of the JSON report's time); any
+    # other type (numpy's, subclasses, enums) takes the general path, the same values.
+    kind = type(value)
+    if kind is float:
+        return value if math.isfinite(value) else None
+    if kind is str or kind is int or kind is bool or value is None:
+        return value
+    if kind is dict or kind is MappingProxyType:
+        return {str(k): to_json_value(v) for k, v in value.items()}
+    if kind is list or kind is tuple:
+        return [to_json_value(v) for v in value]
+    return _general_json_value(value)
+
+
+def _general_json_value(value: Any) -> Any:
+    """:func:`to_json_value` of any value."""
     if hasattr(value, "tolist"):
         value = value.tolist()
     if isinstance(value, float):
