@@ -70,13 +70,23 @@ def _default_of(spec: Any) -> tuple[bool, Any]:
     if isinstance(spec, _FieldSpec):
         if spec.default_factory is not None:
             return True, spec.default_factory()
-        return spec.default is not _MISSING, copy.deepcopy(spec.default)
+        return spec.default is not _MISSING, _copied(spec.default)
     if _is_pydantic_field(spec):
         if spec.default_factory is not None:
             return True, spec.default_factory()
         required = spec.is_required()
         return not required, None if required else copy.deepcopy(spec.default)
-    return True, copy.deepcopy(spec)
+    return True, _copied(spec)
+
+
+#: Types whose values ``copy.deepcopy`` returns as they are (immutable, atomic).
+_ATOMIC = frozenset({int, float, str, bool, type(None)})
+
+
+def _copied(value: Any) -> Any:
+    """``copy.deepcopy(value)``; an atomic value as it is, as deepcopy would return it (a
+    scene's options ask for some sixty defaults, most of them numbers)."""
+    return value if type(value) in _ATOMIC else copy.deepcopy(value)
 
 
 class _ClassAttribute:
