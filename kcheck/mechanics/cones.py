@@ -14,7 +14,7 @@ from typing import Literal
 
 import numpy as np
 
-from kcheck.numerics.arrays import round_like_numpy, sorted_unique_tuples, unique_rounded_rows
+from kcheck.numerics.arrays import sorted_unique_tuples, unique_rounded_rows
 from kcheck.numerics.thresholds import (
     FACET_DECIMALS,
     FACET_TOL,
@@ -139,9 +139,17 @@ def _planar_facets(generators: list[list[float]]) -> np.ndarray | Literal["every
     if not facets:
         return "everywhere"
     scale = 10.0**FACET_DECIMALS
-    return sorted_unique_tuples(
-        [tuple(round_like_numpy(v, scale) for v in facet) for facet in facets]
-    )
+    rounded: list[tuple[float, ...]] = []
+    for f0, f1, f2 in facets:  # round_like_numpy of each part, written out
+        r0, r1, r2 = f0 * scale, f1 * scale, f2 * scale
+        rounded.append(
+            (
+                math.copysign(float(round(r0)), r0) / scale,
+                math.copysign(float(round(r1)), r1) / scale,
+                math.copysign(float(round(r2)), r2) / scale,
+            )
+        )
+    return sorted_unique_tuples(rounded)
 
 
 def pointing(
