@@ -18,7 +18,7 @@ __all__ = ["held_alternatives"]
 
 
 def held_alternatives(
-    scene: Scene, mass: MassProperties, cases: Sequence[tuple[int, Sequence[int]]]
+    scene: Scene, mass: MassProperties, cases: Sequence[tuple[int, np.ndarray | Sequence[int]]]
 ) -> dict[int, list[str] | None]:
     """For each case ``(retracted, kept)`` (support indices), the supports the second answer's
     motion separates from (an empty list: it slides on every kept one), or None when the
