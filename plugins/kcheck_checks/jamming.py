@@ -9,18 +9,25 @@ stay put whatever the forward dynamics say. Outcomes per case at the design dire
 * ``holds``: an equilibrium exists although, without friction, the load would open the gap;
 * ``moves``: no equilibrium: friction cannot hold the body.
 
+A case friction holds may be held *or* move: the rigid model can admit a motion from rest
+beside the equilibrium (:mod:`kcheck.mechanics.second_answer`); its details then say
+``unique: false`` and the supports the motion lifts off, and its message says so. The
+verdict does not change.
+
 Planar scenes are exact. Spatial scenes decide the design direction exactly (second-order
 cones, clarabel) and bound the maps between inscribed and circumscribed pyramids.
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
 from kcheck.analysis.cases import ranges_deg
 from kcheck.analysis.friction_ranges import coefficients_used
+from kcheck.analysis.held_alternatives import held_alternatives
 from kcheck.analysis.jamming_cases import (
     CaseArcs,
     JamAnalysis,
@@ -48,7 +55,7 @@ from kcheck.mechanics.statics import PYRAMID_EDGES
 from kcheck.numerics.margins import MARGINAL_FRICTION_RATIO
 from kcheck.numerics.thresholds import IN_SWEEP_PLANE, UNDETERMINED
 from kcheck.plugin import Check, Field, Inputs, Options
-from kcheck.result import CaseResult, CheckResult, Finding, Status
+from kcheck.result import CaseResult, CheckResult, Finding, MassProperties, Status
 from kcheck.scene import Scene
 from kcheck_checks.marginal import with_margin
 
@@ -127,11 +134,62 @@ def _case(
     ), mu_least
 
 
+def _moves(lifted: list[str]) -> str:
+    """The second answer's motion in words."""
+    if not lifted:
+        return "it slides on every remaining support"
+    names = lifted[0] if len(lifted) == 1 else ", ".join(lifted[:-1]) + " and " + lifted[-1]
+    return f"it lifts off {names}"
+
+
+def _uniqueness(
+    scene: Scene,
+    analysis: JamAnalysis,
+    results: list[CaseResult],
+    mass: MassProperties | None,
+) -> tuple[list[CaseResult], dict[int, str]]:
+    """The cases friction holds at the design direction, with whether the rigid model also
+    admits a motion from rest (kcheck.analysis.held_alternatives): ``unique`` false and the
+    motion in ``alternative`` ("held or moves"). Needs the body's mass properties; without
+    them ``unique`` is None and says why. Returns the results and each non-unique case's
+    motion in words."""
+    held = [r for r, res in enumerate(results) if res.outcome in ("jams", "holds")]
+    if not held:
+        return results, {}
+    out = list(results)
+    if mass is None:
+        for r in held:
+            details = {
+                **results[r].details,
+                "unique": None,
+                "unique_not_checked": "the motion beside rest needs the body's mass and inertia "
+                "(give the scene a body)",
+            }
+            out[r] = replace(results[r], details=details)
+        return out, {}
+    found = held_alternatives(scene, mass, [(r, analysis.cases[r].keep) for r in held])
+    words: dict[int, str] = {}
+    for r in held:
+        lifted = found[r]
+        details = {**results[r].details, "unique": lifted is None}
+        if lifted is not None:
+            details["alternative_lifts_off"] = lifted
+            words[r] = _moves(lifted)
+        out[r] = replace(results[r], details=details)
+    return out, words
+
+
 def jamming_result(
-    check_id: str, scene: Scene, analysis: JamAnalysis, options: JammingOptions
+    check_id: str,
+    scene: Scene,
+    analysis: JamAnalysis,
+    options: JammingOptions,
+    mass: MassProperties | None = None,
 ) -> tuple[CheckResult, JamMap | None]:
     """Verdict: fail when friction can hold the body at the design direction in some case,
-    or, without one, when no swept direction closes every case free of jamming."""
+    or, without one, when no swept direction closes every case free of jamming. Where the
+    rigid model also admits a motion from rest (``mass`` given), the case is "held or
+    moves": the verdict stays, the message says which motion."""
     dim = analysis.statics.dim
     smap = jam_map(analysis, options.sphere_points) if dim == 3 else None
     e1, e2, chosen = _sweep_plane(scene, analysis, smap)
@@ -145,6 +203,7 @@ def jamming_result(
         res, mu = _case(analysis, r, all_arcs[r], angle)
         results.append(res)
         least.append(mu)
+    results, alternatives = _uniqueness(scene, analysis, results, mass)
     determined = [a for a in all_arcs if a is not None]
     # Rounding leaves slivers where boundaries of different cases coincide: drop them.
     jam_free = tidy(intersect(*(complement(a.held) for a in determined)))
@@ -176,6 +235,7 @@ def jamming_result(
                 least[r],
                 res.outcome,
                 _held_everywhere(smap, analysis, r),
+                alternatives.get(r),
             )
             if finding is not None:
                 findings.append(finding)
@@ -186,7 +246,12 @@ def jamming_result(
         if held_at_design:
             parts.append(
                 "friction can hold the body at the design direction: "
-                + ", ".join(f"retract {r.retracted} ({r.outcome})" for r in held_at_design)
+                + ", ".join(
+                    f"retract {r.retracted} ({r.outcome}"
+                    + (", or moves" if r.details.get("unique") is False else "")
+                    + ")"
+                    for r in held_at_design
+                )
             )
         else:
             # Good news said as good news: "friction cannot hold the body" read as a failure.
@@ -351,6 +416,7 @@ def _finding(
     least: float | None,
     outcome: str,
     everywhere: bool = False,
+    alternative: str | None = None,
 ) -> Finding | None:
     """Why case ``r`` fails: friction can hold the body (at the design, or somewhere);
     ``everywhere``: for every swept direction on the sphere, so turning it cannot help."""
@@ -390,6 +456,8 @@ def _finding(
         f"{closes}{'; ' + holds if holds else ''} (equilibrium exists for μ ≥ "
         f"{format_number(least, 3)}; the scene has {which} = {format_number(mu, 3)})"
     )
+    if alternative is not None:
+        message += f"; or {alternative} (the rigid model admits both: held or moves)"
     # Rounded down, so that the friction named is below the least that holds.
     if least is not None and least > 0:
         below = format_number(rounded_bound(least, 3, up=False), 7)
@@ -414,7 +482,7 @@ def run_jamming(inputs: Inputs) -> tuple[CheckResult, JamAnalysis | None, JamMap
     except NoClosingForce as exc:
         return CheckResult(Jamming.id, Status.SKIPPED, str(exc)), None, None
     analysis = analyse_jamming(statics, swept, design, opts.pyramid_edges)
-    result, smap = jamming_result(Jamming.id, scene, analysis, opts)
+    result, smap = jamming_result(Jamming.id, scene, analysis, opts, inputs.mass)
     return result, analysis, smap
 
 

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from kcheck.analysis import analyse
+from kcheck.analysis.held_alternatives import held_alternatives
 from kcheck.analysis.jamming_cases import analyse_jamming, held_at, jam_statics
 from kcheck.analysis.reseat import (
     ReseatRun,
@@ -35,6 +36,7 @@ __all__ = [
     "rigid_motion",
     "unresolved",
     "SECOND_ANSWER",
+    "HELD_UNIQUELY_MOVES",
     "UNLOADING",
     "OR_HELD_MOTION",
     "STIFFER",
@@ -76,6 +78,9 @@ class Compared:
     # consistent rigid first motion too; None when the simulation jams
     rigid_motion: bool | None = None
     stiffer: tuple[str, ...] = ()  # the simulated class with contacts STIFFER times stiffer
+    # for a case `jamming` says friction holds: whether the rigid model admits no motion
+    # beside rest (not "or held", and no second answer, kcheck.analysis.held_alternatives)
+    unique: bool | None = None
 
     @property
     def agrees(self) -> bool:
@@ -95,6 +100,13 @@ SECOND_ANSWER = (
     "simulation's first motion is a rigid solution too (the lift-off LCP on the contacts the "
     "simulation keeps lifts none of them, and every other contact separates); the rigid model "
     "does not choose between rest and this motion, the soft one moves"
+)
+#: Friction holds the body uniquely in the rigid model, and the soft one moves anyway.
+HELD_UNIQUELY_MOVES = (
+    "held uniquely in the rigid model as far as kcheck finds (jamming: an equilibrium exists; "
+    "no second answer on any subset of the remaining contacts, and the lift-off LCP on the "
+    "contacts the simulation keeps gives rest), but the simulation moves, its class changing "
+    "with the contact stiffness: the soft model's answer, not converged to a rigid one"
 )
 #: The simulation reads a contact as kept that is still coming out of its seated overlap.
 UNLOADING = (
@@ -124,6 +136,8 @@ def reason(c: Compared) -> str:
         return SECOND_ANSWER
     if c.rigid_motion is False and c.analytical in c.stiffer:
         return UNLOADING
+    if c.held and c.unique and c.simulated != "jams":
+        return HELD_UNIQUELY_MOVES
     if c.may_hold:
         return (
             "unexplained: the analysis says the body moves, or friction holds it (both "
@@ -174,6 +188,12 @@ def compare_scene(path: Path, settings: ReseatSettings = FIRST_MOTION) -> Iterat
         if jams is not None and design is not None:
             held = held_at(jams, jams.cases[r], design, statics.friction)
         may_hold = bool(result.details.get("friction_may_hold"))
+        unique = None
+        if held:
+            assert jams is not None
+            unique = not may_hold and (
+                held_alternatives(scene, mass, [(r, jams.cases[r].keep)])[r] is None
+            )
         agrees = result.outcome == run.first or (may_hold and run.first == "jams")
         stiffer: tuple[str, ...] = ()
         if result.outcome != "ambiguous" and (not agrees or (held and run.first != "jams")):
@@ -214,14 +234,16 @@ def compare_scene(path: Path, settings: ReseatSettings = FIRST_MOTION) -> Iterat
             and abs(result.acceleration) < scale / RESEAT_JAM_FACTOR**2,
             rigid_motion(scene, mass, r, run),
             stiffer,
+            unique,
         )
 
 
 def rigid_motion(scene: Scene, mass: MassProperties, retracted: int, run: ReseatRun) -> bool | None:
     """Whether the simulation's first motion is a rigid solution too: the first motion from
     rest on the contacts the simulation keeps (the lift-off LCP, kcheck.mechanics.lift_off)
-    lifts none of them, and every other remaining contact's normal acceleration separates it.
-    None when the simulation holds the body."""
+    moves the body and lifts none of them, and every other remaining contact's normal
+    acceleration separates it (rest on the kept contacts is no motion: False). None when the
+    simulation holds the body."""
     if run.kept is None:
         return None
     dim = scene.dim
@@ -246,7 +268,7 @@ def rigid_motion(scene: Scene, mass: MassProperties, retracted: int, run: Reseat
         wrench / mass.mass,
         (points[retracted], normals[retracted]),
     )
-    if motion is None or np.any(motion.lifted):
+    if motion is None or not motion.moves or np.any(motion.lifted):
         return False
     separating = wrenches(points[others] - com, normals[others]) @ motion.acceleration
     return bool(np.all(separating >= -1e-9 * np.linalg.norm(wrench) / mass.mass))

@@ -26,6 +26,7 @@ from kcheck.mechanics.outcomes import outcomes
 from kcheck.mechanics.sphere import fibonacci_sphere
 from kcheck.mechanics.statics import build_statics, equilibrium_forces
 from kcheck.plugin import Inputs
+from kcheck.result import Status
 from kcheck.scene import load_scene
 from tests.kcheck.test_statics import random_planar
 
@@ -246,6 +247,10 @@ def test_mass_only_when_the_weight_or_centre_of_mass_matters(write_scene) -> Non
     assert "no `body`" in (check.skip_reason(scene) or "")
     result = check.run(Inputs(load_scene(write_scene(point)), None, JammingOptions()))
     assert result.status.value == "fail"
+    # Without mass properties the motion beside rest is not looked for: uniqueness unclaimed.
+    held = [c for c in result.cases if c.outcome in ("jams", "holds")]
+    assert held and all(c.details["unique"] is None for c in held)
+    assert all("unique_not_checked" in c.details for c in held)
 
 
 def test_spatial_fixture_runs_with_map_and_exact_design(cli_json) -> None:
@@ -446,3 +451,29 @@ def test_freest_direction_is_the_deepest_of_every_free_direction(tmp_path: Path)
         assert _freest(sets, cells, slacks) == expected
         found += expected is not None
     assert found >= 3
+
+
+def test_a_held_case_the_rigid_model_also_moves_is_held_or_moves(tmp_path: Path) -> None:
+    """The reseat agreement test's random-3d-3391 (seed 26): friction can hold the body
+    retracting s4, and the rigid model also admits a motion from rest that keeps s1 and s6 and
+    lifts off s2, s3 and s5 (the simulation's own first motion there, measured with
+    kcheck.analysis.reseat.simulate; tests/kcheck/test_second_answer.py checks the motion
+    independently). The verdict stays fail; the case says it is not unique and which motion,
+    and every held case of the scene says whether it is unique."""
+    from tests.plugins.reseat_agreement import generated
+
+    path = next(p for p in generated(tmp_path, 100) if p.name == "random-3d-3391.kcheck.yaml")
+    scene = load_scene(path)
+    assert scene.body is not None
+    mass = body_mass_properties(scene.body, scene.scale)
+    result = Jamming().run(Inputs(scene, mass, JammingOptions()))
+    assert result.status is Status.FAIL
+    case = next(c for c in result.cases if c.retracted == "s4")
+    assert case.outcome in ("jams", "holds")
+    assert case.details["unique"] is False
+    assert case.details["alternative_lifts_off"] == ["s2", "s3", "s5"]
+    finding = next(f for f in result.findings if f.message.startswith("retract s4 "))
+    assert "or it lifts off s2, s3 and s5 (the rigid model admits both" in finding.message
+    assert "retract s4 (" + case.outcome + ", or moves)" in result.message
+    for c in result.cases:
+        assert ("unique" in c.details) == (c.outcome in ("jams", "holds"))

@@ -1,0 +1,45 @@
+"""Whether a body friction can hold is held uniquely: the rigid model's second answer
+(:mod:`kcheck.mechanics.second_answer`) for the cases the `jamming` check says friction holds,
+at the load's design direction (or the fixed wrench alone: weight, torque, preloads), with the
+supports' kinetic coefficients (the upper ends of their ranges) for the motion."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from kcheck.analysis.cases import problem_for
+from kcheck.mechanics.second_answer import second_answer
+from kcheck.result import MassProperties
+from kcheck.scene import Scene
+
+__all__ = ["held_alternatives"]
+
+
+def held_alternatives(
+    scene: Scene, mass: MassProperties, cases: Sequence[tuple[int, np.ndarray | Sequence[int]]]
+) -> dict[int, list[str] | None]:
+    """For each case ``(retracted, kept)`` (support indices), the supports the second answer's
+    motion separates from (an empty list: it slides on every kept one), or None when the
+    search finds no motion beside rest."""
+    problem = problem_for(scene, mass)
+    load = scene.load
+    direction = None
+    if load is not None and load.magnitude > 0 and load.direction is not None:
+        direction = load.direction[: problem.dim]
+    wrench = problem.wrench(direction)
+    found: dict[int, list[str] | None] = {}
+    for r, kept in cases:
+        keep = np.asarray(kept, dtype=int)
+        answer = second_answer(
+            problem.points[keep],
+            problem.normals[keep],
+            problem.friction[keep],
+            problem.com,
+            problem.inertia,
+            wrench,
+            (problem.points[r], problem.normals[r]),
+        )
+        found[r] = None if answer is None else [problem.names[int(j)] for j in keep[answer.lifted]]
+    return found
