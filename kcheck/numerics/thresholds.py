@@ -283,8 +283,9 @@ FACET_TOL: float = 1e-10
 #: looser.
 HULL_FACET_TOL: float = 1e3 * FACET_TOL
 #: A planar cone's rank is 3 without its singular values when three generators' determinant
-#: bounds the least singular value above this many times FACET_TOL (the rank test's own
-#: threshold; rounding of either is about 1e-15, so the SVD's count would be 3 as well).
+#: bounds the least singular value above this many times FACET_TOL (nondimensional; the rank
+#: test's own threshold; rounding of either is about 1e-15, so the SVD's count would be 3 as
+#: well).
 RANK_MINOR_MARGIN: float = 100.0
 #: Facet normals (unit, nondimensional) equal to this many decimals are one facet: exact
 #: cross products (three dimensions) agree to about 1e-15.
