@@ -400,6 +400,22 @@ def test_planar_holding_answers_as_holds() -> None:
     assert answers == {True, False}
 
 
+def _random_planar_contacts(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """1 to 4 random planar contacts (points, normals): points at every scale, normals of
+    unit length or, sometimes, rounded to halves (axis-aligned or diagonal), sometimes a
+    contact at the origin."""
+    k = int(rng.integers(1, 5))
+    points = rng.normal(size=(k, 2)) * rng.choice([1e-3, 1.0, 1e3])
+    normals = rng.normal(size=(k, 2))
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    if rng.random() < 0.3:
+        normals = np.round(normals * 2) / 2
+        normals[np.all(normals == 0, axis=1)] = (0.0, 1.0)
+    if rng.random() < 0.3:
+        points[rng.integers(k)] = 0.0
+    return points, normals
+
+
 def test_planar_generators_are_numpys_bits():
     """The planar cone generators in plain float arithmetic (``_planar_generators``) are the
     numpy path's (``edge_wrenches`` of ``friction_edges``) bit for bit, rows in its order,
@@ -409,15 +425,8 @@ def test_planar_generators_are_numpys_bits():
 
     rng = np.random.default_rng(24)
     for _ in range(2000):
-        k = int(rng.integers(1, 5))
-        points = rng.normal(size=(k, 2)) * rng.choice([1e-3, 1.0, 1e3])
-        normals = rng.normal(size=(k, 2))
-        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
-        if rng.random() < 0.3:
-            normals = np.round(normals * 2) / 2
-            normals[np.all(normals == 0, axis=1)] = (0.0, 1.0)
-        if rng.random() < 0.3:
-            points[rng.integers(k)] = 0.0
+        points, normals = _random_planar_contacts(rng)
+        k = len(points)
         mu = rng.choice([0.0, 1e-9, 0.1, 0.3, 2.0], size=k)
         fast = _planar_generators(points, normals, mu)
         slow = edge_wrenches(points, friction_edges(normals, mu))
@@ -435,15 +444,8 @@ def test_planar_friction_candidates_polynomials_are_numpys_bits():
 
     rng = np.random.default_rng(24)
     for _ in range(2000):
-        k = int(rng.integers(1, 5))
-        points = rng.normal(size=(k, 2)) * rng.choice([1e-3, 1.0, 1e3])
-        normals = rng.normal(size=(k, 2))
-        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
-        if rng.random() < 0.3:
-            normals = np.round(normals * 2) / 2
-            normals[np.all(normals == 0, axis=1)] = (0.0, 1.0)
-        if rng.random() < 0.3:
-            points[rng.integers(k)] = 0.0
+        points, normals = _random_planar_contacts(rng)
+        k = len(points)
         scale = rng.choice([0.0, 1.0], size=k)
         x = rng.normal(size=3)
         if rng.random() < 0.2:
