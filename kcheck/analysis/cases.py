@@ -42,6 +42,7 @@ __all__ = [
     "closing_analysis",
     "closing_force_screen",
     "cases_close_many",
+    "load_design",
     "swept_design",
     "sweep_ranges",
     "nearest_end",
@@ -391,7 +392,7 @@ def analyse_fixed(
     return analyse_fixed_many([scene], [mass], plane, friction)[0]
 
 
-def _design(scene: Scene, dim: int) -> tuple[bool, np.ndarray | None]:
+def load_design(scene: Scene, dim: int) -> tuple[bool, np.ndarray | None]:
     """Whether a load is swept, and the load's design direction (dim,) or None."""
     load = scene.load
     sweeping = load is not None and load.magnitude > 0
@@ -414,7 +415,7 @@ def analyse_fixed_many(
     those it gets alone. ``sweep`` False leaves the ranges in the scene's plane out (a caller
     that sweeps another plane; :func:`scene_plane_ranges` adds them as they would be)."""
     problems = [problem_for(s, m, friction) for s, m in zip(scenes, masses, strict=True)]
-    designs = [_design(s, p.dim) for s, p in zip(scenes, problems, strict=True)]
+    designs = [load_design(s, p.dim) for s, p in zip(scenes, problems, strict=True)]
     all_cases = analyse_cases_many(problems)
     goods = [[c.determined and c.well_conditioned for c in cases] for cases in all_cases]
     chosen = [
@@ -451,7 +452,7 @@ def cases_close_many(scenes: Sequence[Scene], masses: Sequence[MassProperties]) 
 
 
 def _cases_close(scene: Scene, problem: Problem, cases: Sequence[Case]) -> bool:
-    sweeping, design = _design(scene, problem.dim)
+    sweeping, design = load_design(scene, problem.dim)
     evaluated = design is not None or not sweeping
     for case in cases:
         if not (case.determined and case.well_conditioned):
@@ -476,7 +477,7 @@ def closing_force_screen(
     full). A case that is undetermined, ill-conditioned or Painlevé-type is so at every force
     (every trial fails)."""
     problem = problem_for(scene, mass)
-    sweeping, design = _design(scene, problem.dim)
+    sweeping, design = load_design(scene, problem.dim)
     if sweeping and design is None:
         return None  # nothing evaluated at a direction: cases_close asks the cases only
     b0, big_b = problem.load_basis()
@@ -524,7 +525,7 @@ def closing_analysis(scene: Scene, mass: MassProperties) -> Analysis | None:
     cases = analyse_cases_many([problem])[0]
     if not _cases_close(scene, problem, cases):
         return None
-    sweeping, design = _design(scene, problem.dim)
+    sweeping, design = load_design(scene, problem.dim)
     evaluated = design is not None or not sweeping
     return _assemble(scene, problem, cases, [None] * len(cases), design, sweeping, None, evaluated)
 
@@ -532,7 +533,7 @@ def closing_analysis(scene: Scene, mass: MassProperties) -> Analysis | None:
 def scene_plane_ranges(scene: Scene, analysis: Analysis) -> Analysis:
     """The ranges in the scene's sweep plane that :func:`analyse_fixed_many` leaves out with
     ``sweep`` False (the analysis unchanged when it has them, or when no load is swept)."""
-    sweeping, _ = _design(scene, analysis.problem.dim)
+    sweeping, _ = load_design(scene, analysis.problem.dim)
     if not sweeping or analysis.plane is not None:
         return analysis
     dim = analysis.problem.dim

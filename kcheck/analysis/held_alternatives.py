@@ -9,7 +9,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from kcheck.analysis.cases import problem_for
+from kcheck.analysis.cases import load_design, problem_for
 from kcheck.mechanics.second_answer import second_answer
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
@@ -24,11 +24,7 @@ def held_alternatives(
     motion separates from (an empty list: it slides on every kept one), or None when the
     search finds no motion beside rest."""
     problem = problem_for(scene, mass)
-    load = scene.load
-    direction = None
-    if load is not None and load.magnitude > 0 and load.direction is not None:
-        direction = load.direction[: problem.dim]
-    wrench = problem.wrench(direction)
+    wrench = problem.wrench(load_design(scene, problem.dim)[1])
     found: dict[int, list[str] | None] = {}
     for r, kept in cases:
         keep = np.asarray(kept, dtype=int)
