@@ -208,7 +208,7 @@ class _Worker(Generic[T]):
     pid: int
     tasks: int  # parent's write end
     results: int  # parent's read end
-    index: int | None = None
+    held: tuple[int, ...] | None = None  # the indices of the tasks it checks now
     deadline: float = float("inf")
 
 
@@ -338,24 +338,22 @@ def run_chunks_in_workers(
     pending: list[tuple[int, ...]] = chunks_of(len(tasks), chunk)
     pending.reverse()  # popped from the end
     done: dict[int, R | BudgetExceeded] = {}
-    held: dict[int, tuple[int, ...]] = {}  # by worker pid: the task indices it holds
     next_out = 0
 
     def assign(worker: _Worker[Sequence[T]]) -> None:
         if not pending:
-            worker.index = None
+            worker.held = None
             return
         indices = pending[-1]
         try:
             _write(worker.tasks, (indices[0], [tasks[i] for i in indices]))
         except OSError:  # the worker died while idle: replace it, the chunk waits
-            worker.index = None
+            worker.held = None
             pool.retire(worker, kill=True)
             assign(pool.spawn())
             return
         pending.pop()
-        worker.index = indices[0]
-        held[worker.pid] = indices
+        worker.held = indices
         worker.deadline = (
             float("inf") if budget.time_s is None else time.monotonic() + budget.time_s
         )
@@ -368,13 +366,14 @@ def run_chunks_in_workers(
             pending.extend((i,) for i in reversed(indices))
 
     def replace(worker: _Worker[Sequence[T]], outcome: BudgetExceeded) -> None:
-        indices = held.pop(worker.pid)
+        indices = worker.held
+        assert indices is not None  # a busy worker
         if outcome.kind == "time" and len(indices) > 1:
             # Tasks slow enough to overrun one task's budget together: the rest of the batch
             # one task at a time, so that such a chunk is wasted once, not once a chunk.
             pending[:] = [(i,) for chunk in pending for i in reversed(chunk)]
         fail(indices, outcome)
-        worker.index = None
+        worker.held = None
         pool.retire(worker, kill=True)
         if pending:
             assign(pool.spawn())
@@ -388,7 +387,7 @@ def run_chunks_in_workers(
                 next_out += 1
             if next_out >= len(tasks):
                 break
-            busy = [w for w in pool.workers if w.index is not None]
+            busy = [w for w in pool.workers if w.held is not None]
             if not busy:  # tasks split after the last worker retired: start one
                 assert pending, "a task neither done, held nor pending"
                 assign(pool.spawn())
@@ -400,6 +399,8 @@ def run_chunks_in_workers(
                 wait = min(wait, TICK_S)
             ready, _, _ = select.select([w.results for w in busy], [], [], max(wait, 0))
             for worker in [w for w in busy if w.results in ready]:
+                indices = worker.held
+                assert indices is not None  # a busy worker
                 try:
                     # what _child writes: (first index, status, work's results or why it has
                     # none, whether the worker ends after it: past its resident-memory
@@ -410,7 +411,7 @@ def run_chunks_in_workers(
                 except (EOFError, pickle.UnpicklingError, OSError):
                     how = pool.retire(worker, kill=True)
                     fail(
-                        held.pop(worker.pid),
+                        indices,
                         BudgetExceeded("died", f"the worker process checking it ended ({how})"),
                     )
                     if pending:
@@ -419,24 +420,23 @@ def run_chunks_in_workers(
                 if status == "memory":
                     replace(worker, BudgetExceeded("memory", "it ran out of its memory budget"))
                     continue
-                indices = held.pop(worker.pid)
                 results = cast("Sequence[R]", value) if status == "ok" else None
                 if results is None or len(results) != len(indices):
                     fail(indices, BudgetExceeded("crashed", str(value)))
                 else:
                     done.update(zip(indices, results, strict=True))
                 if retiring:  # it ends by itself: wait for it, fork a fresh one
-                    worker.index = None
+                    worker.held = None
                     pool.retire(worker, kill=False)
                     if pending:
                         assign(pool.spawn())
                     continue
                 assign(worker)
             now = time.monotonic()
-            for worker in [w for w in pool.workers if w.index is not None and w.deadline <= now]:
+            for worker in [w for w in pool.workers if w.held is not None and w.deadline <= now]:
                 replace(worker, BudgetExceeded("time", "it ran past its time budget"))
             # Chunks split above are first in line: give them to idle workers now.
-            for worker in [w for w in pool.workers if w.index is None]:
+            for worker in [w for w in pool.workers if w.held is None]:
                 if not pending:
                     break
                 assign(worker)
