@@ -27,6 +27,7 @@ __all__ = [
     "format_range",
     "format_ranges",
     "clean",
+    "clean3",
     "format_number",
     "format_share",
     "format_percent",
@@ -105,6 +106,15 @@ def clean(values: np.ndarray | Sequence[float] | float, scale: float | None = No
         scale = float(np.abs(array[finite]).max()) if np.any(finite) else 0.0
     array[finite & (np.abs(array) <= NOISE_RTOL * scale)] = 0.0
     return array + 0.0  # turns -0.0 into 0.0
+
+
+def clean3(values: list[float], scale: float | None = None) -> list[float]:
+    """:func:`clean` of a few floats, in plain float arithmetic (the same bits; for a few
+    values numpy's per-call overhead is most of the time)."""
+    if scale is None:
+        scale = max((abs(x) for x in values if math.isfinite(x)), default=0.0)
+    limit = NOISE_RTOL * scale
+    return [(0.0 if math.isfinite(x) and abs(x) <= limit else x) + 0.0 for x in values]
 
 
 def format_number(value: float | None, digits: int = 4) -> str:

@@ -3,18 +3,17 @@ checks (planar and spatial use the same code, only ``dim`` differs)."""
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from kcheck.fmt import clean, format_ranges
+from kcheck.fmt import clean, clean3, format_ranges
 from kcheck.mechanics.arcs import FULL, ArcSet, contains, intersect, margin, to_degrees
 from kcheck.mechanics.dynamics import Case, Problem, analyse_cases_many, build_problem, with_load
 from kcheck.mechanics.friction import FrictionIntervals, friction_intervals_batch
-from kcheck.mechanics.kinematics import Frame, row_norms, unit_rows
+from kcheck.mechanics.kinematics import Frame, norm3, row_norms, unit3, unit_rows
 from kcheck.mechanics.lift_off import lift_off
 from kcheck.mechanics.outcomes import Outcome, outcome, safe_arcs
 from kcheck.mechanics.statics import Statics, contact_columns, holds_exactly
@@ -25,7 +24,6 @@ from kcheck.numerics.thresholds import (
     IN_SWEEP_PLANE,
     INFINITE_POLE,
     NO_PITCH,
-    NOISE_RTOL,
     UNDETERMINED,
 )
 from kcheck.result import CaseResult, MassProperties
@@ -125,11 +123,11 @@ def motion_details(problem: Problem, case: Case) -> dict[str, object]:
     # cross3 in their order, so the same bits; the norms and the dot product stay numpy's.
     w0, w1, w2 = w.tolist()
     v0, v1, v2 = v.tolist()
-    axis = _unit3(_clean3([w0 / wn, w1 / wn, w2 / wn]))
+    axis = unit3(clean3([w0 / wn, w1 / wn, w2 / wn]))
     pitch = float(w @ v) / wn**2
     moment = [w1 * v2 - w2 * v1, w2 * v0 - w0 * v2, w0 * v1 - w1 * v0]
     square = wn**2
-    foot = _clean3([m / square for m in moment], 1.0 + _norm3(moment) / square)
+    foot = clean3([m / square for m in moment], 1.0 + norm3(moment) / square)
     length = frame.length
     point = [o + length * f for o, f in zip(frame.origin.tolist(), foot, strict=True)]
     if abs(pitch) <= NO_PITCH:
@@ -140,34 +138,6 @@ def motion_details(problem: Problem, case: Case) -> dict[str, object]:
         "axis_point": point,
         "pitch_m": pitch * frame.length,
     }
-
-
-def _clean3(values: list[float], scale: float | None = None) -> list[float]:
-    """:func:`kcheck.fmt.clean` of a few floats, in plain float arithmetic."""
-    if scale is None:
-        scale = max((abs(x) for x in values if math.isfinite(x)), default=0.0)
-    limit = NOISE_RTOL * scale
-    return [(0.0 if math.isfinite(x) and abs(x) <= limit else x) + 0.0 for x in values]
-
-
-def _norm3(values: list[float]) -> float:
-    """:func:`kcheck.mechanics.kinematics.row_norms` of one vector, in plain float arithmetic
-    (numpy sums three terms left to right)."""
-    big = max(abs(x) for x in values)
-    safe = big if big > 0 else 1.0
-    a, b, c = (x / safe for x in values)
-    return math.sqrt(a * a + b * b + c * c) * big
-
-
-def _unit3(values: list[float]) -> list[float]:
-    """:func:`kcheck.mechanics.kinematics.unit_rows` of one vector, in plain float arithmetic."""
-    big = max(abs(x) for x in values)
-    safe = big if big > 0 else 1.0
-    scaled = [x / safe for x in values]
-    a, b, c = scaled
-    norm = math.sqrt(a * a + b * b + c * c)
-    safe = norm if norm > 0 else 1.0
-    return [x / safe for x in scaled]
 
 
 def _pad(vector: np.ndarray, dim: int) -> np.ndarray:

@@ -14,6 +14,7 @@ commensurate and singular values do not depend on mm versus m.
 from __future__ import annotations
 
 import functools
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -25,6 +26,8 @@ __all__ = [
     "Frame",
     "unit_rows",
     "row_norms",
+    "norm3",
+    "unit3",
     "FreeTwist",
     "moment",
     "wrenches",
@@ -59,6 +62,27 @@ def unit_rows(vectors: np.ndarray) -> np.ndarray:
     scaled = v / np.where(big > 0, big, 1.0)
     norm = np.sqrt(np.sum(scaled * scaled, axis=-1, keepdims=True))
     return scaled / np.where(norm > 0, norm, 1.0)
+
+
+def norm3(values: list[float]) -> float:
+    """:func:`row_norms` of one 3-vector in plain float arithmetic, the same bits (numpy sums
+    the three terms left to right); for one vector numpy's per-call overhead is most of the
+    time."""
+    big = max(abs(x) for x in values)
+    safe = big if big > 0 else 1.0
+    a, b, c = (x / safe for x in values)
+    return math.sqrt(a * a + b * b + c * c) * big
+
+
+def unit3(values: list[float]) -> list[float]:
+    """:func:`unit_rows` of one 3-vector in plain float arithmetic, the same bits."""
+    big = max(abs(x) for x in values)
+    safe = big if big > 0 else 1.0
+    scaled = [x / safe for x in values]
+    a, b, c = scaled
+    norm = math.sqrt(a * a + b * b + c * c)
+    safe = norm if norm > 0 else 1.0
+    return [x / safe for x in scaled]
 
 
 @dataclass(frozen=True)

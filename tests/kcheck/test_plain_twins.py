@@ -7,10 +7,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from kcheck.analysis import cases
-from kcheck.fmt import clean
+from kcheck.fmt import clean, clean3
 from kcheck.mechanics import arcs
-from kcheck.mechanics.kinematics import row_norms, unit_rows
+from kcheck.mechanics.kinematics import norm3, row_norms, unit3, unit_rows
 
 
 def _vectors(rng: np.random.Generator, count: int) -> np.ndarray:
@@ -26,11 +25,11 @@ def test_three_vector_helpers_equal_their_numpy_twins_bit_for_bit():
     rng = np.random.default_rng(24)
     for v in _vectors(rng, 5000):
         values = [float(x) for x in v]
-        assert np.array_equal(np.array(cases._clean3(values)), clean(v))
-        assert np.array_equal(np.array(cases._clean3(values, 2.5)), clean(v, 2.5))
+        assert np.array_equal(np.array(clean3(values)), clean(v))
+        assert np.array_equal(np.array(clean3(values, 2.5)), clean(v, 2.5))
         if np.any(v):
-            assert cases._norm3(values) == row_norms(v)
-            assert np.array_equal(np.array(cases._unit3(values)), unit_rows(v))
+            assert norm3(values) == row_norms(v)
+            assert np.array_equal(np.array(unit3(values)), unit_rows(v))
 
 
 @pytest.mark.parametrize("k", [2, 3, 6, 12])
