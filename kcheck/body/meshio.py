@@ -43,6 +43,7 @@ __all__ = [
     "not_watertight",
     "release_memory",
     "reuse_freed_memory",
+    "stl_triangle_count",
     "step_length_unit",
 ]
 
@@ -488,6 +489,18 @@ class Surface:
 _STL_RECORD = np.dtype([("normal", "<f4", (3,)), ("vertices", "<f4", (3, 3)), ("extra", "<u2")])
 
 
+def stl_triangle_count(head: bytes, size: int) -> int | None:
+    """The triangles of a binary STL file from its first 84 bytes ``head`` and its length
+    ``size`` (bytes), or None when it is no binary STL with triangles (ASCII, a length its
+    header does not announce, or empty), as trimesh tells them apart."""
+    if len(head) < 84:
+        return None
+    count = int.from_bytes(head[80:84], "little")
+    if count == 0 or 84 + _STL_RECORD.itemsize * count != size:
+        return None
+    return count
+
+
 def _binary_stl(path: Path, field: FieldPath | str) -> np.ndarray | None:
     """The vertices (3 per face, float32) of a binary STL file, or None when the file is no
     binary STL with triangles (ASCII, a length its header does not announce, or empty), as
@@ -499,10 +512,8 @@ def _binary_stl(path: Path, field: FieldPath | str) -> np.ndarray | None:
         raise MeshError(
             path, f"cannot read the mesh ({describe_os_error(exc)})", field=field
         ) from None
-    if len(data) < 84:
-        return None
-    count = int.from_bytes(data[80:84], "little")
-    if count == 0 or 84 + _STL_RECORD.itemsize * count != len(data):
+    count = stl_triangle_count(data[:84], len(data))
+    if count is None:
         return None
     records = np.frombuffer(data, _STL_RECORD, count, 84)
     return np.ascontiguousarray(records["vertices"]).reshape(-1, 3)

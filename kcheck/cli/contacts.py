@@ -426,6 +426,8 @@ def _read_all(sources: Any, scale: float) -> list[Any]:
 def _binary_stl_file(path: Path) -> bool:
     """Whether ``path`` looks like a binary STL file (its name, and its length as its header
     announces it), which kcheck reads by numpy alone, without trimesh."""
+    from kcheck.body.meshio import stl_triangle_count
+
     if path.suffix.lower() != ".stl":
         return False
     try:
@@ -434,7 +436,7 @@ def _binary_stl_file(path: Path) -> bool:
         size = os.stat(path).st_size
     except OSError:
         return False
-    return len(head) == 84 and size == 84 + 50 * int.from_bytes(head[80:84], "little") > 84
+    return stl_triangle_count(head, size) is not None
 
 
 def _mesh_field(body: Path, output: Path | None) -> str:
