@@ -11,11 +11,12 @@ from __future__ import annotations
 import enum
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Literal
 
 from kcheck.errors import FieldPath, format_path
+from kcheck.records import dataclass
 
 if TYPE_CHECKING:
     import numpy as np

@@ -4,7 +4,6 @@ checks (planar and spatial use the same code, only ``dim`` differs)."""
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -26,6 +25,7 @@ from kcheck.numerics.thresholds import (
     NO_PITCH,
     UNDETERMINED,
 )
+from kcheck.records import dataclass
 from kcheck.result import CaseResult, MassProperties
 from kcheck.scene import Scene
 

@@ -14,7 +14,7 @@ friction intervals) as analysed at its worst coefficient.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 
 import numpy as np
 
@@ -24,6 +24,7 @@ from kcheck.mechanics.dynamics import Case, Problem
 from kcheck.mechanics.friction_range import FrictionPath, RangeCase, range_arcs, range_cases
 from kcheck.numerics import chebyshev as cheb
 from kcheck.numerics.thresholds import GOLDEN_XTOL
+from kcheck.records import dataclass
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 

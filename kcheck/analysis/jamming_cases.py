@@ -20,7 +20,6 @@ design direction exactly with a conic solver.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
@@ -53,6 +52,7 @@ from kcheck.numerics.thresholds import (
     SLIVER,
     UNDETERMINED,
 )
+from kcheck.records import dataclass
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 

@@ -32,8 +32,6 @@ instead of an error.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from kcheck.body.surface import (
@@ -45,6 +43,7 @@ from kcheck.body.surface import (
     section_segments,
 )
 from kcheck.fmt import format_length, format_vector
+from kcheck.records import dataclass
 from kcheck.result import Finding
 from kcheck.scene import Scene
 from kcheck.scene.units import LENGTH_TO_M

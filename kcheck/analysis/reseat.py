@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 
 import numpy as np
 
@@ -32,6 +32,7 @@ from kcheck.numerics.thresholds import (
     RESEAT_STICK_SHARE,
     RESEAT_WINDOW_SHARE,
 )
+from kcheck.records import dataclass
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 

@@ -34,6 +34,7 @@ import numpy as np
 
 from kcheck.errors import FieldPath
 from kcheck.fmt import format_length
+from kcheck.records import dataclass
 from kcheck.result import CheckResult, Finding
 from kcheck.scene import Scene
 
@@ -58,7 +59,7 @@ GYRATION_RATIO = 100.0
 MESH_STAND_IN_DENSITY = 1000.0
 
 
-@dataclasses.dataclass(frozen=True)
+@dataclass(frozen=True)
 class Box:
     """An oriented box: centre (m), axes (columns, unit), half extents (m)."""
 

@@ -7,7 +7,6 @@ default sweep plane.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
@@ -21,6 +20,7 @@ from kcheck.mechanics.kinematics import unit_rows
 from kcheck.mechanics.outcomes import closing_conditions
 from kcheck.mechanics.sphere import SafeFraction, safe_fraction
 from kcheck.numerics.thresholds import EPS, PLANE_BASIS_SIN
+from kcheck.records import dataclass
 from kcheck.scene import Scene
 
 __all__ = [

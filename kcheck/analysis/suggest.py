@@ -25,7 +25,6 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -44,6 +43,7 @@ from kcheck.numerics.thresholds import (
     POLISH_XTOL,
     SAME_POINT_RTOL,
 )
+from kcheck.records import dataclass
 from kcheck.scene import Load, Scene
 
 if TYPE_CHECKING:

@@ -16,6 +16,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from kcheck.fmt import rounded_bound
+from kcheck.records import dataclass
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 
@@ -90,7 +91,7 @@ def passing_friction(
     return good if passes(with_friction(scene, good)) else None
 
 
-@dataclasses.dataclass(frozen=True)
+@dataclass(frozen=True)
 class ClosingForce:
     """What a designer can set to close a scene harder: the preloads (the largest one named,
     the others in proportion) or, without preloads, the load magnitude (which only matters

@@ -15,7 +15,7 @@ small dihedral angle.
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from typing import Any
 
 import numpy as np
@@ -25,6 +25,7 @@ from kcheck.body.mesh_edges import Edges, edges_of, face_pairs
 from kcheck.body.meshio import Surface
 from kcheck.body.surface_fit import Primitive, fit_surface, residuals
 from kcheck.numerics.thresholds import SMOOTH_PATCH_DEG
+from kcheck.records import dataclass
 
 __all__ = [
     "Near",

@@ -12,7 +12,7 @@ support normals do.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from typing import Any
 
 import numpy as np
@@ -20,6 +20,7 @@ import numpy as np
 from kcheck.body.contact_regions import Region
 from kcheck.body.surface_fit import Primitive
 from kcheck.numerics.thresholds import EXTRUSION_DEG
+from kcheck.records import dataclass
 
 __all__ = [
     "PointContact",

@@ -4,9 +4,9 @@ one sort of integer edge keys over the faces' vertex ids."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
+
+from kcheck.records import dataclass
 
 __all__ = ["Edges", "edges_of", "face_pairs"]
 

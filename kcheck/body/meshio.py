@@ -17,7 +17,6 @@ import stat
 import sys
 import tempfile
 from collections.abc import Iterator
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -26,6 +25,7 @@ import numpy as np
 from kcheck.body.mesh_edges import Edges, edges_of
 from kcheck.errors import FieldPath, MeshError, describe_os_error
 from kcheck.numerics.thresholds import EPS, MERGE_RTOL
+from kcheck.records import dataclass
 from kcheck.scene.limits import LIMITS
 
 if TYPE_CHECKING:

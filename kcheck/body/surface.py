@@ -9,10 +9,11 @@ it, and :func:`closest_on_segments` measures in that plane.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
+
+from kcheck.records import dataclass
 
 if TYPE_CHECKING:
     from kcheck.scene import Body

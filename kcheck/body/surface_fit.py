@@ -11,11 +11,12 @@ their normals by the tube radius lie on a circle) and are refined geometrically 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 
 from kcheck.numerics.thresholds import SMOOTH_PATCH_DEG, SURFACE_FIT_RTOL
+from kcheck.records import dataclass
 
 #: Least squares run on at most this many of a patch's vertices (every k-th): a tessellated
 #: ball of 40,000 vertices fits to rounding on a few thousand, in a fraction of the time.

@@ -6,7 +6,6 @@ from __future__ import annotations
 import argparse
 import json
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -21,6 +20,7 @@ from kcheck.gate.config import (
     load_config,
     user_cache_dir,
 )
+from kcheck.records import dataclass
 
 if TYPE_CHECKING:
     from kcheck.plugin import LoadedCheck

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import argparse
 import sys
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from kcheck.cli.common import ExitCode, fail
+from kcheck.records import dataclass
 
 if TYPE_CHECKING:
     import numpy as np

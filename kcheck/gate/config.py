@@ -15,11 +15,12 @@ from __future__ import annotations
 import os
 import sys
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 from typing import Any
 
 from kcheck.errors import UsageError, describe_os_error
+from kcheck.records import dataclass
 
 __all__ = [
     "CONFIG_FILES",

@@ -24,9 +24,10 @@ import struct
 import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any, Generic, TypeVar, cast
+
+from kcheck.records import dataclass
 
 __all__ = [
     "available",
@@ -205,6 +206,8 @@ def _child(tasks: int, results: int, work: Callable[[T], R], budget: Budget) -> 
 
 @dataclass
 class _Worker(Generic[T]):
+    """A worker process: its pid, the parent's ends of its two pipes, what it checks now."""
+
     pid: int
     tasks: int  # parent's write end
     results: int  # parent's read end

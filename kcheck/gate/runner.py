@@ -13,7 +13,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 from typing import Any
 
@@ -21,6 +21,7 @@ from kcheck.analysis.sanity import scene_warnings
 from kcheck.errors import SceneError, SceneErrors
 from kcheck.gate.paths import Excluder, discover_paths
 from kcheck.plugin import Inputs, LoadedCheck, Options, SampleMap
+from kcheck.records import dataclass
 from kcheck.result import CheckResult, Finding, MassProperties, SceneResult, Severity, Status
 from kcheck.scene import Scene, describe_pydantic, load_scene
 from kcheck.scene.yamlio import DEFAULT_LIMITS

@@ -16,7 +16,6 @@ import json
 import math
 import shutil
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -25,6 +24,7 @@ import numpy as np
 from kcheck.errors import UsageError
 from kcheck.gate.runner import Settings, check_scenes
 from kcheck.plugin import LoadedCheck
+from kcheck.records import dataclass
 from kcheck.result import SceneResult, Status
 from kcheck.scene.study import Study, variant_document
 

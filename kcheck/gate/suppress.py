@@ -22,11 +22,12 @@ import os
 import re
 from collections import Counter
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 from kcheck.errors import format_path
+from kcheck.records import dataclass
 from kcheck.result import (
     BASELINE_REASON,
     PER_PATH_REASON,

@@ -22,7 +22,6 @@ intersection of all caps. Here, in closed form:
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 from itertools import combinations
 
 import numpy as np
@@ -30,6 +29,7 @@ import numpy as np
 from kcheck.mechanics.arcs import cap_geometry
 from kcheck.mechanics.kinematics import cross3
 from kcheck.numerics.thresholds import ATAN_SERIES, AXIS_FOOT, ON_BOUNDARY, SAME_CAP
+from kcheck.records import dataclass
 
 __all__ = [
     "FOUR_PI",

@@ -7,9 +7,9 @@ solves (:mod:`kcheck.mechanics.statics`, :mod:`kcheck.mechanics.cones`).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
+
+from kcheck.records import dataclass
 
 __all__ = ["Csc"]
 

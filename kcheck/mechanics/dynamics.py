@@ -24,7 +24,7 @@ rigid-body Coulomb friction gives more than one consistent outcome, or none: suc
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 
@@ -37,6 +37,7 @@ from kcheck.mechanics.kinematics import (
 )
 from kcheck.mechanics.problem import Problem, build_problem, log_size, relative
 from kcheck.numerics.thresholds import EPS, ILL_CONDITIONED, SLIP_TOL, TINY, UNDETERMINED
+from kcheck.records import dataclass
 
 __all__ = [
     "Problem",

@@ -18,7 +18,6 @@ The roots come from numpy alone: for a shift ``s`` with ``B = A0 + s A1`` well c
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -35,6 +34,7 @@ from kcheck.numerics.thresholds import (
     SAME_FRICTION_RTOL,
     SAME_ROOT_RTOL,
 )
+from kcheck.records import dataclass
 
 __all__ = [
     "FrictionIntervals",

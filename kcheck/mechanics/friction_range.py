@@ -23,7 +23,6 @@ These polynomials are interpolated exactly (Chebyshev series on the Lobatto poin
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -44,6 +43,7 @@ from kcheck.numerics.thresholds import (
     EPS,
     SAMPLE_STEP_FLOOR,
 )
+from kcheck.records import dataclass
 
 __all__ = [
     "FrictionPath",

@@ -26,11 +26,11 @@ is numpy, vectorised over contacts, SI units.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
 from kcheck.numerics.thresholds import AGM_ULP_FRACTION, CURVATURE_RTOL, EPS, PARALLEL_SIN
+from kcheck.records import dataclass
 
 __all__ = [
     "HertzContact",

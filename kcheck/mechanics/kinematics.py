@@ -15,12 +15,12 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from kcheck.numerics.thresholds import RANK_RTOL as RANK_RTOL  # re-exported
+from kcheck.records import dataclass
 
 __all__ = [
     "Frame",

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -24,6 +23,7 @@ from kcheck.mechanics.kinematics import (
 )
 from kcheck.numerics import chebyshev as cheb
 from kcheck.numerics.thresholds import EPS, TILTED_UNDETERMINED
+from kcheck.records import dataclass
 
 __all__ = [
     "GraphicalCase",

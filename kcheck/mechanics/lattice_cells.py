@@ -10,10 +10,11 @@ a fraction of the work. Nondimensional.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
+
+from kcheck.records import dataclass
 
 __all__ = ["LatticeCells", "lattice_cells", "bounded_slack"]
 

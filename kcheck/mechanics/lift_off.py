@@ -22,13 +22,12 @@ edges); spatial ones are inscribed pyramids of LIFT_EDGES edges. Solved by Lemke
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from kcheck.mechanics.kinematics import point_velocity, wrenches
 from kcheck.numerics.lemke import lemke
 from kcheck.numerics.thresholds import LIFT_SHARE
+from kcheck.records import dataclass
 
 __all__ = ["LIFT_EDGES", "LiftOff", "lift_off"]
 

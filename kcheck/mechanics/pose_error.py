@@ -25,8 +25,6 @@ Carlo is a matrix product, with no loop over samples.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from kcheck.mechanics.dynamics import ILL_CONDITIONED, solve_affine
@@ -34,6 +32,7 @@ from kcheck.mechanics.kinematics import wrenches
 from kcheck.mechanics.seat import seat_layout
 from kcheck.numerics.streams import chunk_bounds, chunk_generator
 from kcheck.numerics.thresholds import EPS, TINY
+from kcheck.records import dataclass
 
 #: Samples drawn and mapped per chunk (2^16: about 19 MB of draws at 36 error sources). Each
 #: chunk of independent draws has its own stream, so changing this changes the samples.

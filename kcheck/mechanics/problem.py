@@ -10,12 +10,12 @@ nondimensional mass is 1 and inertia is ``I / (m L^2)``). Wrenches are ordered
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
 
 from kcheck.mechanics.kinematics import Frame, row_norms, unit_rows, wrenches
+from kcheck.records import dataclass
 
 __all__ = ["Problem", "build_problem", "log_size", "relative"]
 

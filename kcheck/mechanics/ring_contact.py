@@ -52,9 +52,9 @@ axially ``2 pi r_c k'_m sin^2 h`` and radially ``pi r_c (k'_m cos^2 h + k'_c)``
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
+
+from kcheck.records import dataclass
 
 __all__ = [
     "LineContact",

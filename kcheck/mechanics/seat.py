@@ -23,13 +23,13 @@ nearly singular layout gives no numbers.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from kcheck.mechanics.dynamics import ILL_CONDITIONED, solve_affine
 from kcheck.mechanics.kinematics import Frame, wrenches
+from kcheck.records import dataclass
 from kcheck.scene import Preload, Scene
 
 if TYPE_CHECKING:

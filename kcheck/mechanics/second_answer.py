@@ -15,7 +15,6 @@ that none exists.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from itertools import combinations
 
 import numpy as np
@@ -23,6 +22,7 @@ import numpy as np
 from kcheck.mechanics.kinematics import point_velocity, wrenches
 from kcheck.mechanics.lift_off import LIFT_EDGES, LiftOff, lift_off
 from kcheck.numerics.thresholds import LIFT_SHARE
+from kcheck.records import dataclass
 
 __all__ = ["SecondAnswer", "second_answer", "subsets"]
 

@@ -13,11 +13,11 @@ the closed forms.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
 
 import numpy as np
 
 from kcheck.mechanics.arcs import cap_margins
+from kcheck.records import dataclass
 
 __all__ = [
     "GOLDEN_ANGLE",

@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
@@ -40,6 +39,7 @@ from kcheck.mechanics.dynamics import friction_directions
 from kcheck.mechanics.kinematics import Frame, cross3, wrenches
 from kcheck.numerics.arrays import sorted_unique_tuples, unique_rows
 from kcheck.numerics.thresholds import EPS, SAME_FACET
+from kcheck.records import dataclass
 
 __all__ = [
     "PYRAMID_EDGES",

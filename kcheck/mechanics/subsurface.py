@@ -19,9 +19,10 @@ Everything is numpy, vectorised over contacts, SI units.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import numpy as np
+
+from kcheck.records import dataclass
 
 __all__ = [
     "SubsurfaceStress",

@@ -24,12 +24,11 @@ is a rigid motion). A symmetric three-vee's thermal centre is its centre.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from kcheck.mechanics.seat import Seat, point_translation, twist_from_approach
 from kcheck.numerics.thresholds import THERMAL_CENTRE_DET, ZERO_GUARD
+from kcheck.records import dataclass
 
 __all__ = ["ThermalShift", "thermal_approach", "thermal_shift"]
 

@@ -23,8 +23,6 @@ samples fail (margin ``-pi``).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from kcheck.mechanics.dynamics import (
@@ -36,6 +34,7 @@ from kcheck.mechanics.dynamics import (
 )
 from kcheck.mechanics.kinematics import free_twist_arrays, wrenches
 from kcheck.numerics.streams import chunk_bounds, chunk_generator
+from kcheck.records import dataclass
 
 __all__ = [
     "Perturbed",

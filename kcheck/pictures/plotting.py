@@ -12,12 +12,12 @@ import re
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from contextvars import ContextVar
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from kcheck.pictures import PLOT_FORMATS
 from kcheck.pictures.colours import OUTCOME_COLOURS, VERDICT_COLOURS, outcome_colour
+from kcheck.records import dataclass
 from kcheck.result import CheckResult, Finding, Status
 
 if TYPE_CHECKING:

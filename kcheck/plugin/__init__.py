@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
 
@@ -17,6 +16,7 @@ from kcheck.errors import PluginError
 from kcheck.plugin.dist_info import EntryPoint, distributions
 from kcheck.plugin.options import Field, Options, model_validator
 from kcheck.plugin.samples import SampleMap, serial
+from kcheck.records import dataclass
 
 if TYPE_CHECKING:
     import importlib.metadata

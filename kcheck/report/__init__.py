@@ -9,8 +9,10 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import TYPE_CHECKING, Protocol, TextIO
+
+from kcheck.records import dataclass
 
 if TYPE_CHECKING:
     from rich.console import Console

@@ -17,9 +17,10 @@ from __future__ import annotations
 import re
 from collections import Counter
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import TYPE_CHECKING, Literal, TextIO
 
+from kcheck.records import dataclass
 from kcheck.result import CheckResult, Finding, SceneResult, Status
 
 if TYPE_CHECKING:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any
 
 import numpy as np
@@ -22,6 +22,7 @@ from kcheck.fmt import (
     format_point,
     format_ranges,
 )
+from kcheck.records import dataclass
 from kcheck.result import CheckResult
 from kcheck.scene.units import LENGTH_TO_M
 

@@ -15,7 +15,6 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -28,6 +27,7 @@ from kcheck.fmt import (
     format_ranges,
     format_share_bounds,
 )
+from kcheck.records import dataclass
 from kcheck.result import NOT_CHECKED, CheckResult, Finding, SceneResult, Status
 
 __all__ = [

@@ -23,12 +23,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
 
 from kcheck.numerics.thresholds import EPS, PARALLEL_COS
+from kcheck.records import dataclass
 from kcheck.scene.types import ContactGeometry, Support, Surface
 
 __all__ = [

@@ -8,7 +8,7 @@ the allowed range when they do.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from kcheck.records import dataclass
 
 __all__ = [
     "Range",

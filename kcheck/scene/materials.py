@@ -33,7 +33,9 @@ static load. Three bases are used, named per material:
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
+
+from kcheck.records import dataclass
 
 __all__ = [
     "Material",

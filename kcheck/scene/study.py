@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import copy
 import math
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 from typing import Any
 
@@ -23,6 +23,7 @@ import numpy as np
 
 from kcheck.errors import FieldPath, SceneError
 from kcheck.numerics.design import DESIGNS, grid_indices, quantiles, unit_points
+from kcheck.records import dataclass
 from kcheck.scene.units import LENGTH_TO_M
 from kcheck.scene.validate import Problems
 from kcheck.scene.yamlio import YamlDocument, read_yaml

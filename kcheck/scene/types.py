@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 from typing import Any, Literal
 
@@ -12,6 +12,7 @@ import numpy as np
 
 from kcheck.errors import FieldPath, SceneError
 from kcheck.numerics.thresholds import PLANAR_TOL
+from kcheck.records import dataclass
 from kcheck.scene.yamlio import LineMap
 
 __all__ = [

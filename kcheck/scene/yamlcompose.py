@@ -12,12 +12,12 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
 from typing import Any, Protocol
 
 import yaml
 
 from kcheck.errors import FieldPath, format_path
+from kcheck.records import dataclass
 
 __all__ = [
     "Located",

@@ -43,7 +43,6 @@ contact loss, and the message says so.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -75,6 +74,7 @@ from kcheck.mechanics.koster import (
 )
 from kcheck.numerics.thresholds import INFINITE_POLE
 from kcheck.plugin import Check, Inputs
+from kcheck.records import dataclass
 from kcheck.result import CaseResult, CheckResult, Finding, Status
 from kcheck.scene import Scene
 from kcheck_checks.graphical_attachment import (

@@ -5,13 +5,12 @@ scaled by the swept force. Scene level: no construction, no mesh read.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from kcheck.mechanics.dynamics import log_size, relative
 from kcheck.mechanics.kinematics import unit_rows
 from kcheck.plugin import Inputs
+from kcheck.records import dataclass
 from kcheck.scene import Scene
 
 __all__ = [

@@ -12,7 +12,6 @@ checked, and says how to give it.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -20,6 +19,7 @@ import numpy as np
 from kcheck.fmt import format_number, format_percent, format_vector
 from kcheck.numerics.thresholds import CURVATURE_RTOL, LIFTED_RTOL, ZERO_GUARD
 from kcheck.plugin import Check, Inputs
+from kcheck.records import dataclass
 from kcheck.result import CheckResult, Finding, Status
 from kcheck.scene import Preload, Scene, Support
 from kcheck_checks.hertz_materials import (

@@ -10,7 +10,6 @@ material, or one without elastic constants, is reported, never assumed.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -18,6 +17,7 @@ import numpy as np
 from kcheck.body.elastic import Material, elastic_names, material
 from kcheck.numerics.margins import MARGINAL_UTILISATION
 from kcheck.plugin import Field, Options, model_validator
+from kcheck.records import dataclass
 from kcheck.scene import Scene
 from kcheck.scene.yamlio import format_path
 

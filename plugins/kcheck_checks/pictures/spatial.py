@@ -11,7 +11,6 @@ line with its rotation sense: a circular arrow where the axis points at the view
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -22,6 +21,7 @@ from kcheck.pictures import colours as palette
 from kcheck.pictures.colours import outcome_colour
 from kcheck.pictures.plotting import figure, save, slug
 from kcheck.plugin import Check, Inputs
+from kcheck.records import dataclass
 from kcheck.report.tables import motion_text
 from kcheck.result import CaseResult, CheckResult
 from kcheck.scene import Scene
