@@ -14,10 +14,9 @@ import math
 import re
 from typing import Any, Protocol
 
-import yaml
-
 from kcheck.errors import FieldPath, format_path
 from kcheck.records import dataclass
+from kcheck.scene.yamllib import yaml
 
 __all__ = [
     "Located",

@@ -22,8 +22,6 @@ from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import Any, BinaryIO, Literal, NamedTuple
 
-import yaml
-
 from kcheck.errors import FieldPath, SceneError, describe_os_error, format_path
 from kcheck.scene.yamlcompose import (
     DEFAULT_LIMITS,
@@ -34,6 +32,7 @@ from kcheck.scene.yamlcompose import (
     YamlLimits,
     plain_scalar,
 )
+from kcheck.scene.yamllib import yaml
 
 __all__ = [
     "FieldPath",
