@@ -20,6 +20,7 @@ from __future__ import annotations
 import dataclasses
 import sys
 from operator import attrgetter
+from types import MethodType
 from typing import TYPE_CHECKING, Any
 
 __all__ = ["dataclass"]
@@ -152,6 +153,36 @@ def _init_fn(cls: type, fields: tuple[Any, ...], frozen: bool) -> Any:
     return made["__create_fn__"](**scope)
 
 
+class _FirstInit:
+    """A class's ``__init__`` until its first instance: then it writes the real one
+    (:func:`_init_fn`), puts it in its place and calls it. A class never instantiated in a run
+    (a third of those kcheck creates at start-up) costs no compilation. Its signature
+    (``inspect.signature``) is the real one's."""
+
+    def __init__(self, cls: type, fields: tuple[Any, ...], frozen: bool) -> None:
+        self.made = (cls, fields, frozen)
+
+    def real(self) -> Any:
+        cls, fields, frozen = self.made
+        init = cls.__dict__.get("__init__")
+        if init is self:
+            init = _init_fn(cls, fields, frozen)
+            _method(cls, init, "__init__")
+        return init
+
+    def __get__(self, obj: object, owner: type | None = None) -> Any:
+        return self if obj is None else MethodType(self, obj)
+
+    def __call__(self, obj: object, *args: Any, **kwargs: Any) -> None:
+        self.real()(obj, *args, **kwargs)
+
+    @property
+    def __signature__(self) -> Any:
+        import inspect
+
+        return inspect.signature(self.real())
+
+
 def _setattr_fns(cls: type, names: frozenset[str]) -> tuple[Any, Any]:
     """A frozen class's ``__setattr__`` and ``__delattr__`` (dataclasses._frozen_get_del_attr)."""
     from dataclasses import FrozenInstanceError
@@ -192,7 +223,7 @@ def _fast(
         init, repr, eq, frozen, match_args, kw_only
     )
     if init and "__init__" not in cls.__dict__:
-        _method(cls, _init_fn(cls, fields, frozen), "__init__")
+        _method(cls, _FirstInit(cls, fields, frozen), "__init__")
     if repr and "__repr__" not in cls.__dict__:
         _method(cls, _repr_fn(tuple(f.name for f in fields if f.repr)), "__repr__")
     if frozen:

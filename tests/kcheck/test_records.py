@@ -92,6 +92,25 @@ def test_the_fast_path_is_taken_for_a_plain_frozen_class():
     assert ours.__repr__.__code__.co_filename == fast.__code__.co_filename
 
 
+def test_the_signature_before_and_after_the_first_instance():
+    for decorator in ("frozen=True", ""):
+        standard, ours = _both(BODY, decorator)
+        assert str(inspect.signature(ours)) == str(inspect.signature(standard))
+        ours(1.0)
+        assert str(inspect.signature(ours)) == str(inspect.signature(standard))
+        assert ours.__init__.__qualname__ == standard.__init__.__qualname__
+
+
+def test_a_subclass_instantiated_first_writes_its_base_init():
+    _, ours = _both(BODY)
+
+    class Sub(ours):  # type: ignore[misc, valid-type]
+        """Not a dataclass itself."""
+
+    assert repr(Sub(2.0)).endswith("<locals>.Sub(a=2.0, b=(), c=(), e=0, f=1.0)")
+    assert ours(2.0) == ours(2.0) and "__init__" not in Sub.__dict__
+
+
 def test_a_recursive_repr_and_an_unhashable_field():
     body = '''
     """Holds anything."""
