@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import sys
+from kcheck.cli import run
 
-from kcheck.cli import main
-
-sys.exit(main())
+run()

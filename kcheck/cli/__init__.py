@@ -13,12 +13,13 @@ import os
 import sys
 import types
 from collections.abc import Sequence
+from typing import NoReturn
 
 from kcheck import __version__
 from kcheck.cli.common import ExitCode, Parser
 from kcheck.errors import KcheckError
 
-__all__ = ["ExitCode", "main"]
+__all__ = ["ExitCode", "main", "run"]
 
 #: Every command, in the order ``kcheck --help`` lists them, with the module (in this
 #: package) whose ``add_parser`` adds it.
@@ -138,3 +139,36 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("kcheck: interrupted", file=sys.stderr)
         return 130  # as a shell reports SIGINT
+
+
+def run() -> NoReturn:
+    """The ``kcheck`` command (console script and ``python -m kcheck``): :func:`main`, then
+    :func:`exit_now`."""
+    exit_now(main())
+
+
+def exit_now(code: int) -> NoReturn:
+    """End the process with ``code`` as the interpreter would, without tearing it down.
+
+    Python's own exit waits for threads, runs the ``atexit`` functions, flushes standard output
+    and error, then frees every object and module one by one: with numpy and kcheck loaded,
+    and their pages shared with a worker since the fork (each first write a page fault), that
+    last part alone was about a fifth of a one-scene run's CPU (issue 24). Here the first three
+    happen as they would, then the process ends (:func:`os._exit`). Report files are closed
+    before :func:`main` returns. With another thread still running, or when a flush fails
+    (the reader of a pipe went away), the interpreter's own exit does it all, as before.
+    """
+    import atexit
+    import threading
+
+    run_exitfuncs = getattr(atexit, "_run_exitfuncs", None)
+    if run_exitfuncs is None or threading.active_count() > 1:
+        sys.exit(code)
+    run_exitfuncs()  # the registered functions run once: the interpreter's exit clears them
+    try:
+        for stream in (sys.stdout, sys.stderr):
+            if stream is not None:
+                stream.flush()
+    except (OSError, ValueError):
+        sys.exit(code)  # the interpreter's exit reports it, as it always did
+    os._exit(code)
