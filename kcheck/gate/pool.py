@@ -213,6 +213,7 @@ class _Worker(Generic[T]):
     results: int  # parent's read end
     held: tuple[int, ...] | None = None  # the indices of the tasks it checks now
     deadline: float = float("inf")
+    ending: bool = False  # told to end after the chunk it holds (its last)
 
 
 class _Pool(Generic[T, R]):
@@ -347,6 +348,10 @@ def run_chunks_in_workers(
         if not pending:
             worker.held = None
             return
+        if worker.ending:  # it ends after its last chunk: a fresh one takes the rest
+            worker.held = None
+            pool.retire(worker, kill=False)
+            worker = pool.spawn()
         indices = pending[-1]
         try:
             _write(worker.tasks, (indices[0], [tasks[i] for i in indices]))
@@ -360,6 +365,16 @@ def run_chunks_in_workers(
         worker.deadline = (
             float("inf") if budget.time_s is None else time.monotonic() + budget.time_s
         )
+        if not pending:
+            # The last chunk: the worker is told to end with it, so that it ends while this
+            # process reads and reports its results instead of after (issue 24: a one-scene
+            # run waited for its worker to wake and exit). A chunk that fails and is split
+            # goes to fresh workers (above).
+            try:
+                _write(worker.tasks, None)
+                worker.ending = True
+            except OSError:
+                pass  # it died: its chunk's result says so
 
     def fail(indices: tuple[int, ...], outcome: BudgetExceeded) -> None:
         """A chunk without results: one task's outcome, or its tasks again one by one."""

@@ -220,3 +220,15 @@ def test_after_a_chunk_ran_out_of_time_the_rest_goes_one_task_at_a_time():
     out = list(run_chunks_in_workers(tasks, sized, jobs=1, budget=Budget(0.5, None), chunk=3))
     assert isinstance(out[1], BudgetExceeded) and out[1].kind == "time"
     assert [o for k, o in enumerate(out) if k != 1] == [("sleep 0.0", 1)] * 8
+
+
+def test_the_last_chunk_split_after_a_crash_goes_to_a_fresh_worker():
+    """The worker given the last chunk is told to end with it; when that chunk raises, its
+    tasks are run again one by one by a fresh worker, each with its own outcome."""
+    from kcheck.gate.pool import run_chunks_in_workers
+
+    tasks = [("sleep", 0.0), ("sleep", 0.0), ("raise", 0), ("sleep", 0.0)]
+    out = list(run_chunks_in_workers(tasks, work_chunk, jobs=1, budget=Budget(), chunk=2))
+    assert isinstance(out[2], BudgetExceeded) and out[2].kind == "crashed"
+    first, second, last = (int(out[k].split(" in ")[1]) for k in (0, 1, 3))
+    assert first == second != last
