@@ -251,3 +251,43 @@ def test_check_restores_the_collector(write_scene, capsys):
         gc.unfreeze()
         gc.enable()
     capsys.readouterr()
+
+
+COMPILED_PROBE = """
+import json, sys
+import kcheck.gate.pool
+kcheck.gate.pool.available = lambda: False
+from kcheck.cli import main
+code = main(sys.argv[1:])
+import yaml
+from kcheck.records import _FirstInit
+classes = {
+    "kcheck.result.CheckResult": sys.modules["kcheck.result"].CheckResult,
+    "kcheck.mechanics.csc.Csc": sys.modules["kcheck.mechanics.csc"].Csc,
+}
+print(json.dumps({
+    "code": code,
+    "reader pattern": type(yaml.reader.Reader.NON_PRINTABLE).__name__,
+    "libyaml": yaml.__with_libyaml__,
+    "written": {k: not isinstance(c.__dict__["__init__"], _FirstInit) for k, c in classes.items()},
+}), file=sys.stderr)
+"""
+
+
+def test_a_planar_run_compiles_only_what_it_uses(write_scene):
+    # Issue 24: PyYAML's pure-Python reader's pattern is not compiled (kcheck reads through
+    # libyaml), and a dataclass's __init__ is written at its first instance only
+    # (kcheck.records): results are made, the conic solver's matrices (spatial jamming) not.
+    proc = subprocess.run(
+        [sys.executable, "-c", COMPILED_PROBE, "check", str(write_scene(PLANAR_SCENE))]
+        + ["--format", "json"],
+        capture_output=True,
+        text=True,
+    )
+    result = json.loads(proc.stderr.strip().splitlines()[-1])
+    assert result["code"] == 0
+    assert result["reader pattern"] == ("_OnFirstUse" if result["libyaml"] else "Pattern")
+    assert result["written"] == {
+        "kcheck.result.CheckResult": True,
+        "kcheck.mechanics.csc.Csc": False,
+    }
