@@ -6,6 +6,7 @@ import argparse
 import enum
 import sys
 from pathlib import Path
+from typing import Any
 
 __all__ = ["ExitCode", "Parser", "write_text", "fail"]
 
@@ -20,6 +21,33 @@ class ExitCode(enum.IntEnum):
 
 class Parser(argparse.ArgumentParser):
     """argparse with kcheck's usage-error exit code."""
+
+    #: True while the parser is being built (:meth:`add_argument`, :meth:`add_subparsers`)
+    _building = False
+
+    def add_argument(self, *args: Any, **kwargs: Any) -> argparse.Action:
+        self._building = True
+        try:
+            return super().add_argument(*args, **kwargs)
+        finally:
+            self._building = False
+
+    def add_subparsers(self, **kwargs: Any) -> Any:
+        self._building = True
+        try:
+            return super().add_subparsers(**kwargs)
+        finally:
+            self._building = False
+
+    def _get_formatter(self) -> argparse.HelpFormatter:
+        # While it is built, argparse formats with a formatter that asks for the terminal's
+        # width (importing shutil: about 2 ms of every start, issue 24): to check an
+        # argument's metavar against its nargs, and for the subcommands' program name (the
+        # program's name and positionals, never wrapped). Neither depends on the width, so
+        # they get a fixed one; help, usage and errors are formatted at the terminal's width.
+        if self._building:
+            return self.formatter_class(prog=self.prog, width=80)  # type: ignore[call-arg]
+        return super()._get_formatter()
 
     def error(self, message: str) -> None:  # type: ignore[override]
         self.print_usage(sys.stderr)
