@@ -261,6 +261,8 @@ class _Pool(Generic[T, R]):
 
     def close(self) -> None:
         for worker in list(self.workers):
+            if worker.ending:  # told already; it may be gone (no write to a pipe without reader)
+                continue
             try:
                 _write(worker.tasks, None)
             except OSError:
