@@ -18,7 +18,6 @@ standard library as it is. Type checkers see the standard decorator itself.
 from __future__ import annotations
 
 import dataclasses
-import sys
 from operator import attrgetter
 from types import MethodType
 from typing import TYPE_CHECKING, Any
@@ -140,17 +139,15 @@ def _init_fn(cls: type, fields: tuple[Any, ...], frozen: bool) -> Any:
         body.append(f"{me}.__post_init__()")
     scope["_return_type"] = None
     lines = "\n".join(f"  {b}" for b in body or ["pass"])
-    text = (
-        f"def __create_fn__({', '.join(scope)}):\n"
-        f" def __init__({','.join(params)})->_return_type:\n{lines}\n return __init__"
-    )
-    module = sys.modules.get(cls.__module__)
-    made: dict[str, Any] = {}
+    text = f"def __init__({','.join(params)})->_return_type:\n{lines}"
+    # The names it reads are its globals (the standard library binds them through an outer
+    # function: a third more to compile); __name__ makes its __module__ the class's.
+    scope["__name__"] = cls.__module__
     # Compiled without this module's `from __future__ import annotations`, as dataclasses does:
     # the parameters' annotations are the fields' types, not the names holding them.
     code = compile(text, "<string>", "exec", dont_inherit=True)
-    exec(code, module.__dict__ if module is not None else {}, made)  # noqa: S102 - as dataclasses
-    return made["__create_fn__"](**scope)
+    exec(code, scope)  # noqa: S102 - as dataclasses
+    return scope["__init__"]
 
 
 class _FirstInit:

@@ -62,6 +62,7 @@ def _observed(cls: type, *args: Any, **kwargs: Any) -> dict[str, Any]:
         "asdict": dataclasses.asdict(one),
         "hashable": cls.__hash__ is not None,
         "names": [(n, getattr(cls, n).__qualname__) for n in ("__init__", "__repr__", "__eq__")],
+        "init": (cls.__init__.__module__, repr(cls.__init__.__defaults__)),
     }
     if cls.__hash__ is not None:
         seen["hash"] = (hash(one) == hash(two), hash(one) == hash(cls(*args, e=5)))
