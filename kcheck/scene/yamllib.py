@@ -1,11 +1,14 @@
-"""PyYAML, imported without compiling its pure-Python reader's character class (issue 24).
+"""PyYAML, imported without compiling its patterns (issue 24).
 
-``yaml.reader.Reader.NON_PRINTABLE``, a pattern over most of Unicode, costs about 3.5 ms to
-compile at every import of PyYAML, yet only the pure-Python reader uses it; kcheck reads
-through libyaml's parser when PyYAML has it (:mod:`kcheck.scene.yamlio`). While PyYAML is
-imported here, that one pattern is made a stand-in compiled on its first use (so the
-pure-Python reader, where libyaml is missing, still gets it); every other pattern is
-compiled as usual. Import ``yaml`` from here.
+PyYAML compiles ten patterns when it is imported, about 5 ms: the pure-Python reader's
+character class ``yaml.reader.Reader.NON_PRINTABLE`` (a class over most of Unicode, 3.5 ms
+alone), the resolver's implicit tags and the constructor's timestamp. kcheck reads scene files
+from libyaml's event stream (:mod:`kcheck.scene.yamlio`) and resolves plain scalars itself,
+so a check uses none of them; writing YAML (the resolver deciding what to quote) and the
+pure-Python reader (where libyaml is missing) do. While PyYAML is imported here, each pattern
+its modules compile is a stand-in that compiles it on first use and then answers as the
+compiled pattern; any other module's ``re.compile`` is untouched, and ``re.compile`` is
+restored after. Import ``yaml`` from here.
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ from typing import Any
 
 __all__ = ["yaml"]
 
-#: The pattern as PyYAML 3.x-6.x writes it (any other text is compiled as usual).
+#: The pure-Python reader's pattern as PyYAML 3.x-6.x writes it.
 NON_PRINTABLE = "[^\x09\x0a\x0d\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]"
 
 
@@ -39,7 +42,7 @@ def _import() -> None:
     compile_ = re.compile
 
     def deferred(pattern: Any, flags: int = 0) -> Any:
-        if pattern == NON_PRINTABLE:
+        if str(sys._getframe(1).f_globals.get("__name__")).startswith("yaml."):
             return _OnFirstUse(pattern, flags)
         return compile_(pattern, flags)
 

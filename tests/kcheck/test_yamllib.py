@@ -1,4 +1,4 @@
-"""kcheck.scene.yamllib: PyYAML with its pure-Python reader's pattern compiled on first use."""
+"""kcheck.scene.yamllib: PyYAML with its patterns compiled on first use."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from kcheck.scene.yamllib import NON_PRINTABLE, yaml
 
 
 def test_the_pattern_is_pyyamls_and_finds_the_same_characters():
-    # The stand-in replaces this very pattern, and answers as the compiled one.
+    # The stand-in answers as the compiled pattern, compiled from the same text.
     assert yaml.reader.Reader.NON_PRINTABLE.pattern == NON_PRINTABLE
     text = "ok\x01 \x7f\ufffe\U0001f600\t"
     found = [m.group() for m in re.finditer(NON_PRINTABLE, text)]
@@ -25,11 +25,24 @@ def test_the_pure_python_reader_still_refuses_a_control_character():
         yaml.load("a: \x01", Loader=yaml.SafeLoader)  # noqa: S506 - the pure-Python loader
 
 
-def test_importing_it_compiles_every_other_pattern_and_leaves_re_as_it_was():
+def test_resolver_and_constructor_answer_as_before():
+    # Implicit tags (YAML 1.1: dates, booleans, hex) and the timestamp, through the deferred
+    # patterns, against libyaml's loader; and what a dump quotes.
+    text = "a: 2001-12-14\nb: yes\nc: 1e3\nd: 0x10\ne: 2001-12-14t21:59:43.10-05:00\n"
+    pure = yaml.load(text, Loader=yaml.SafeLoader)  # noqa: S506
+    assert pure["a"].isoformat() == "2001-12-14" and pure["b"] is True and pure["d"] == 16
+    assert pure["c"] == "1e3" and pure["e"].utcoffset().total_seconds() == -5 * 3600
+    if yaml.__with_libyaml__:
+        assert pure == yaml.load(text, Loader=yaml.CSafeLoader)  # noqa: S506
+    assert yaml.safe_dump({"x": "yes", "y": "12", "z": "plain"}) == "x: 'yes'\ny: '12'\nz: plain\n"
+
+
+def test_importing_it_defers_only_yamls_patterns_and_leaves_re_as_it_was():
     code = (
         "import re; c = re.compile; from kcheck.scene.yamllib import yaml; "
         "print(re.compile is c, type(yaml.reader.Reader.NON_PRINTABLE).__name__, "
-        "isinstance(yaml.resolver.Resolver.yaml_implicit_resolvers['t'][0][1], re.Pattern))"
+        "type(yaml.resolver.Resolver.yaml_implicit_resolvers['t'][0][1]).__name__, "
+        "isinstance(re.compile('x'), re.Pattern))"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.split() == ["True", "_OnFirstUse", "True"]
+    assert out.stdout.split() == ["True", "_OnFirstUse", "_OnFirstUse", "True"]
