@@ -174,8 +174,8 @@ class _FirstInit:
     def __get__(self, obj: object, owner: type | None = None) -> Any:
         return self if obj is None else MethodType(self, obj)
 
-    def __call__(self, obj: object, *args: Any, **kwargs: Any) -> None:
-        self.real()(obj, *args, **kwargs)
+    def __call__(self, obj: object, /, *args: Any, **kwargs: Any) -> None:
+        self.real()(obj, *args, **kwargs)  # positional-only: a field may be called `obj`
 
     @property
     def __signature__(self) -> Any:

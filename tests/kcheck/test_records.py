@@ -112,6 +112,22 @@ def test_a_subclass_instantiated_first_writes_its_base_init():
     assert ours(2.0) == ours(2.0) and "__init__" not in Sub.__dict__
 
 
+def test_fields_named_like_the_methods_arguments():
+    body = '''
+    """Fields named as the arguments of the methods written here."""
+
+    obj: int
+    self: int = 0
+    name: str = ""
+    value: float = 0.0
+    other: int = 0
+'''
+    standard, ours = _both(body)
+    kwargs = {"obj": 1, "self": 2, "name": "n", "value": 3.0, "other": 4}
+    assert repr(ours(**kwargs)) == repr(standard(**kwargs))
+    assert ours(**kwargs) == ours(**kwargs) and hash(ours(**kwargs)) == hash(ours(**kwargs))
+
+
 def test_a_recursive_repr_and_an_unhashable_field():
     body = '''
     """Holds anything."""
