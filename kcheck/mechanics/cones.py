@@ -79,8 +79,10 @@ def _cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "
     normals = _hull_facets(generators)
     side = normals @ generators.T
     tol = HULL_FACET_TOL if n > 3 else FACET_TOL
-    upper = np.logical_and.reduce(side >= -tol, axis=1)
-    lower = np.logical_and.reduce(side <= tol, axis=1)
+    # The least and the largest side against the tolerance: every generator on one side
+    # (a NaN fails both, as the element-wise tests would).
+    upper = side.min(axis=1) >= -tol
+    lower = side.max(axis=1) <= tol
     facets = np.vstack([normals[upper], -normals[lower & ~upper]])
     if not len(facets):
         return "everywhere"

@@ -202,8 +202,51 @@ def cone_generators(
         fast = _planar_generators(statics.points[keep], statics.normals[keep], mu[keep])
         if fast is not None:
             return fast
-    forces = friction_edges(statics.normals[keep], mu[keep], edges, pyramid)
-    return edge_wrenches(statics.points[keep], forces)
+    if statics.dim == 2 or not len(statics.points) or not np.all(np.isfinite(mu)):
+        forces = friction_edges(statics.normals[keep], mu[keep], edges, pyramid)
+        return edge_wrenches(statics.points[keep], forces)
+    unit, rounded = _every_edge_wrench(statics, mu, edges, pyramid)
+    m = len(unit) // len(statics.points)
+    kept = np.arange(len(statics.points))[keep]  # indices, also of a boolean mask
+    rows = (m * kept[:, None] + np.arange(m)).ravel()
+    # edge_wrenches of the kept supports: every step is row by row, so the same bits.
+    return unique_rows(rounded[rows]) if len(rows) > 1 else unit[rows]
+
+
+def _every_edge_wrench(
+    statics: Statics, mu: np.ndarray, edges: int, pyramid: Pyramid
+) -> tuple[np.ndarray, np.ndarray]:
+    """Unit edge wrenches (k m, n) of every support's friction edges, as :func:`edge_wrenches`
+    makes them before removing duplicates, and rounded as it rounds them: a spatial jamming
+    check asks for the cones of six cases (each all supports but one) at two pyramids, and
+    the edges of a support are the same in each. The last few are kept (read-only)."""
+    key = b"|".join(
+        [
+            repr((edges, pyramid, statics.points.shape)).encode(),
+            np.ascontiguousarray(statics.points, float).tobytes(),
+            np.ascontiguousarray(statics.normals, float).tobytes(),
+            np.ascontiguousarray(mu, float).tobytes(),
+        ]
+    )
+    known = _EDGE_WRENCHES.get(key)
+    if known is None:
+        k = len(statics.points)
+        forces = friction_edges(statics.normals, mu, edges, pyramid)
+        m = forces.shape[1]
+        unit = wrenches(np.repeat(statics.points, m, axis=0), forces.reshape(k * m, -1))
+        unit = unit / np.linalg.norm(unit, axis=1, keepdims=True)
+        rounded = np.round(unit, 14)
+        unit.setflags(write=False)
+        rounded.setflags(write=False)
+        if len(_EDGE_WRENCHES) >= RECENT_EDGE_WRENCHES:
+            del _EDGE_WRENCHES[next(iter(_EDGE_WRENCHES))]
+        known = _EDGE_WRENCHES[key] = (unit, rounded)
+    return known
+
+
+#: Every support's edge wrenches recently computed (:func:`_every_edge_wrench`), oldest first.
+_EDGE_WRENCHES: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+RECENT_EDGE_WRENCHES = 8
 
 
 def _planar_generators(
