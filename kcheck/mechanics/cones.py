@@ -26,7 +26,14 @@ from kcheck.numerics.thresholds import (
     WELL_INSIDE,
 )
 
-__all__ = ["FACET_TOL", "cone_facets", "pointing", "essential_rows", "inside_image"]
+__all__ = [
+    "FACET_TOL",
+    "cone_facets",
+    "pointing",
+    "essential_rows",
+    "inside_image",
+    "balanced_image",
+]
 
 PERCEPTRON_STEPS = 50
 #: Perceptron steps before a caller's guess (:func:`pointing`): most cones that have a
@@ -154,32 +161,31 @@ def _planar_facets(generators: list[list[float]]) -> np.ndarray | Literal["every
     return sorted_unique_tuples(rounded)
 
 
-def pointing(
-    vectors: np.ndarray, guess: Callable[[], np.ndarray | None] | None = None
-) -> np.ndarray | None:
+def pointing(vectors: np.ndarray, *guesses: Callable[[], np.ndarray | None]) -> np.ndarray | None:
     """A direction ``h`` with ``vectors @ h > 0`` (the cone they span is pointed), or None.
 
     Perceptron steps from the mean of the unit vectors first (enough for most cones), then
-    ``guess()`` when given (a caller's cheaper way to one, kept if it passes the linear
-    programme's own acceptance: every ``v . h`` above LP_POSITIVE at ``|h_i| <= 1``), else that
-    linear programme, maximising the smallest ``v . h`` over ``|h_i| <= 1``.
+    each ``guess()`` in turn when given (a caller's cheaper ways to one, the first kept that
+    passes the linear programme's own acceptance: every ``v . h`` above LP_POSITIVE at
+    ``|h_i| <= 1``), else that linear programme, maximising the smallest ``v . h`` over
+    ``|h_i| <= 1``.
     """
     unit = vectors / np.linalg.norm(vectors, axis=1, keepdims=True)
     h = unit.mean(axis=0)
     # Perceptron steps towards the violated vectors: converges when the cone is pointed with
     # some margin, at the cost of a few matrix-vector products. A direction barely inside
     # makes a badly scaled section, so a small margin goes on to the linear programme.
-    for _ in range(PERCEPTRON_STEPS if guess is None else GUESS_AFTER):
+    for _ in range(GUESS_AFTER if guesses else PERCEPTRON_STEPS):
         side = unit @ h
         bad = side <= WELL_INSIDE * np.linalg.norm(h)
         if not np.any(bad):
             return h
         h = h + unit[bad].mean(axis=0)
-    if guess is not None:
-        h = guess()
+    for guess in guesses:
+        found = guess()
         # The programme's own acceptance below: every margin above LP_POSITIVE at |h_i| <= 1.
-        if h is not None and np.all(unit @ h > LP_POSITIVE * np.abs(h).max()):
-            return h
+        if found is not None and np.all(unit @ found > LP_POSITIVE * np.abs(found).max()):
+            return found
     n = vectors.shape[1]
     # maximise t subject to unit @ h >= t, |h_i| <= 1, t <= 1 (an LP, solved by clarabel:
     # a tenth of scipy's per-call overhead, and already imported for the conic problems).
@@ -260,6 +266,26 @@ def inside_image(generators: np.ndarray, image: np.ndarray) -> np.ndarray | None
         return None
     x = np.asarray(solution.x)
     return x[g : g + m] if x[-1] > LP_POSITIVE else None
+
+
+def balanced_image(generators: np.ndarray, image: np.ndarray) -> np.ndarray | None:
+    """An ``x`` with ``image @ x = sum lambda_i g_i``, every ``lambda_i`` positive, from least
+    squares (no programme): ``lambda`` the nearest to all ones whose combination lies in the
+    range of ``image`` (n, m); None where some ``lambda_i`` is not positive or the range is
+    not of full rank. A cheaper, less central :func:`inside_image`."""
+    n, m = image.shape
+    q, r = np.linalg.qr(image, mode="complete")
+    if not np.all(np.abs(np.diag(r[:m])) > FACET_TOL * np.abs(r).max()):
+        return None
+    across = q[:, m:].T @ generators.T  # (n - m, g): what leaves the range
+    gram = across @ across.T
+    try:
+        lam = 1.0 - across.T @ np.linalg.solve(gram, across.sum(axis=1))
+    except np.linalg.LinAlgError:
+        return None
+    if not lam.min() > 0:
+        return None
+    return np.linalg.solve(r[:m], q[:, :m].T @ (generators.T @ lam))
 
 
 def _section(vectors: np.ndarray, h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -345,29 +371,27 @@ def _lineality(generators: np.ndarray) -> np.ndarray:
     return u[:, s > FACET_TOL * s[0]]
 
 
-def essential_rows(
-    rows: np.ndarray, inside: Callable[[], np.ndarray | None] | None = None
-) -> np.ndarray | None:
+def essential_rows(rows: np.ndarray, *inside: Callable[[], np.ndarray | None]) -> np.ndarray | None:
     """Indices of the rows that are extreme rays of the cone they span: the others are
     non-negative combinations of them, so ``rows @ x >= 0`` keeps its solutions without them.
     None when that cone is not pointed (the solution set has an empty interior).
 
-    ``inside()``: the caller's way to an ``x`` with ``rows @ x > 0``, tried where perceptron
-    steps find none (:func:`pointing`); the rows kept do not depend on it."""
+    ``inside``: the caller's ways to an ``x`` with ``rows @ x > 0``, cheapest first, tried
+    where perceptron steps find none (:func:`pointing`); the rows kept do not depend on it."""
     if len(rows) <= rows.shape[1]:
         return np.arange(len(rows))
     _, s, vt = np.linalg.svd(rows, full_matrices=False)
     rank = int(np.count_nonzero(s > FACET_TOL * s[0]))
     reduced = rows @ vt[:rank].T
-    guess = None
-    if inside is not None:
-        found = inside
 
+    def reduce(found: Callable[[], np.ndarray | None]) -> Callable[[], np.ndarray | None]:
         def guess() -> np.ndarray | None:
             x = found()
             return None if x is None else vt[:rank] @ x
 
-    h = pointing(reduced, guess)
+        return guess
+
+    h = pointing(reduced, *(reduce(found) for found in inside))
     if h is None:
         return None
     if rank <= 2:

@@ -34,7 +34,13 @@ from typing import Literal
 import numpy as np
 
 from kcheck.mechanics.arcs import FULL, ArcSet, affine_arcs
-from kcheck.mechanics.cones import FACET_TOL, cone_facets, essential_rows, inside_image
+from kcheck.mechanics.cones import (
+    FACET_TOL,
+    balanced_image,
+    cone_facets,
+    essential_rows,
+    inside_image,
+)
 from kcheck.mechanics.csc import Csc
 from kcheck.mechanics.dynamics import friction_directions
 from kcheck.mechanics.kinematics import Frame, cross3, wrenches
@@ -391,7 +397,11 @@ def equilibria(
         # A direction inside the held set, where perceptron steps find none: a balance by
         # every edge at once (a programme over the edges, not over the facets' rows).
         image = -np.column_stack([statics.swept, statics.fixed])
-        rows = essential_rows(np.column_stack([c, a]), lambda: inside_image(generators, image))
+        rows = essential_rows(
+            np.column_stack([c, a]),
+            lambda: balanced_image(generators, image),
+            lambda: inside_image(generators, image),
+        )
         if rows is None:
             return Equilibria("flat", np.zeros(0), np.zeros((0, dim)))
         a, c = a[rows], c[rows]
