@@ -14,7 +14,7 @@ from typing import Literal
 
 import numpy as np
 
-from kcheck.numerics.arrays import sorted_unique_tuples, unique_rounded_rows
+from kcheck.numerics.arrays import sorted_unique_tuples, unique, unique_rounded_rows
 from kcheck.numerics.thresholds import (
     FACET_DECIMALS,
     FACET_TOL,
@@ -177,8 +177,9 @@ def pointing(vectors: np.ndarray, *guesses: Callable[[], np.ndarray | None]) -> 
     # makes a badly scaled section, so a small margin goes on to the linear programme.
     for _ in range(GUESS_AFTER if guesses else PERCEPTRON_STEPS):
         side = unit @ h
-        bad = side <= WELL_INSIDE * np.linalg.norm(h)
-        if not np.any(bad):
+        # |h| as np.linalg.norm computes it (sqrt of h . h), without its wrapper's cost.
+        bad = side <= WELL_INSIDE * math.sqrt(float(h.dot(h)))
+        if not bad.any():
             return h
         h = h + unit[bad].mean(axis=0)
     for guess in guesses:
@@ -400,7 +401,9 @@ def essential_rows(rows: np.ndarray, *inside: Callable[[], np.ndarray | None]) -
     from scipy.spatial import ConvexHull, QhullError
 
     points = _section(reduced, h)[0]
+    # A hull's vertices, sorted: the distinct indices of its simplices (what scipy's
+    # ``vertices`` is, without np.unique's cost).
     try:  # exact arithmetic first: joggling is relative to the spread of the points
-        return np.sort(ConvexHull(points).vertices)
+        return unique(ConvexHull(points).simplices)
     except QhullError:
-        return np.sort(ConvexHull(points, qhull_options="QJ").vertices)
+        return unique(ConvexHull(points, qhull_options="QJ").simplices)
