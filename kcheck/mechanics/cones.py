@@ -84,12 +84,14 @@ def _cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "
     if _flat(generators):
         return "flat"
     normals = _hull_facets(generators)
-    side = normals @ generators.T
+    # (generators, facets): the least and largest side of each facet reduce along the long
+    # axis (numpy's reductions along short rows cost a call per row).
+    side = generators @ normals.T
     tol = HULL_FACET_TOL if n > 3 else FACET_TOL
     # The least and the largest side against the tolerance: every generator on one side
     # (a NaN fails both, as the element-wise tests would).
-    upper = side.min(axis=1) >= -tol
-    lower = side.max(axis=1) <= tol
+    upper = side.min(axis=0) >= -tol
+    lower = side.max(axis=0) <= tol
     facets = np.vstack([normals[upper], -normals[lower & ~upper]])
     if not len(facets):
         return "everywhere"
