@@ -163,6 +163,18 @@ def _planar_facets(generators: list[list[float]]) -> np.ndarray | Literal["every
     return sorted_unique_tuples(rounded)
 
 
+def row_lengths(vectors: np.ndarray) -> np.ndarray:
+    """``np.linalg.norm(vectors, axis=1, keepdims=True)`` of rows (r, n), the same bits: numpy
+    sums a short row's squares left to right, done here column by column over all rows at
+    once (numpy's reduction along short rows costs a call per row: 25 against 5-10 µs for
+    690 rows)."""
+    squares = vectors * vectors
+    total = squares[:, 0].copy()
+    for j in range(1, vectors.shape[1]):
+        total += squares[:, j]
+    return np.sqrt(total)[:, None]
+
+
 def pointing(vectors: np.ndarray, *guesses: Callable[[], np.ndarray | None]) -> np.ndarray | None:
     """A direction ``h`` with ``vectors @ h > 0`` (the cone they span is pointed), or None.
 
@@ -172,7 +184,7 @@ def pointing(vectors: np.ndarray, *guesses: Callable[[], np.ndarray | None]) -> 
     ``|h_i| <= 1``), else that linear programme, maximising the smallest ``v . h`` over
     ``|h_i| <= 1``.
     """
-    unit = vectors / np.linalg.norm(vectors, axis=1, keepdims=True)
+    unit = vectors / row_lengths(vectors)
     h = unit.mean(axis=0)
     # Perceptron steps towards the violated vectors: converges when the cone is pointed with
     # some margin, at the cost of a few matrix-vector products. A direction barely inside
@@ -343,7 +355,7 @@ def _section_facets(generators: np.ndarray, h: np.ndarray) -> np.ndarray:
     eq = ConvexHull(y, qhull_options="QJ").equations
     # e . y + o <= 0 inside, with y = Q^T x on h . x = 1: (Q e + o h) . x <= 0.
     normals = -(eq[:, :-1] @ q.T) - eq[:, -1:] * h[None, :]
-    return normals / np.linalg.norm(normals, axis=1, keepdims=True)
+    return normals / row_lengths(normals)
 
 
 def _lineality(generators: np.ndarray) -> np.ndarray:
