@@ -40,10 +40,12 @@ def unique_rounded_rows(rows: np.ndarray, decimals: int) -> np.ndarray:
     rounded value is ``K / 10^decimals`` with an integer ``K`` that orders and identifies it
     exactly, and two ``K`` below ``2^30`` in size share one int64 key (half the sort keys of
     floats, and integer comparisons); rows sorted by the first key, ties by the others."""
-    rounded = np.round(rows, decimals)
-    if len(rounded) < 2 or not np.all(np.abs(rounded) * 10.0**decimals < 2.0**30 - 1):
+    scale = 10.0**decimals
+    whole = np.rint(rows * scale)  # np.round's own steps: rint(x 10^d) / 10^d
+    rounded = whole / scale
+    if len(rounded) < 2 or not np.all(np.abs(whole) < 2.0**30 - 1):
         return unique_rows(rounded)
-    k = np.rint(rounded * 10.0**decimals).astype(np.int64) + 2**30
+    k = whole.astype(np.int64) + 2**30
     if k.shape[1] % 2:
         k = np.column_stack([k, np.zeros(len(k), np.int64)])
     keys = k[:, 0::2] * 2**31 + k[:, 1::2]
