@@ -350,7 +350,9 @@ class Equilibria:
         """Up to CONTAINS_FIRST facet indices chosen greedily on a sample of ``directions``:
         each the one putting most of the sample still above ``floor`` below it."""
         sample = directions[:: max(1, len(directions) // CONTAINS_SAMPLE)]
-        above = self.a + sample @ self.c.T >= floor  # (s, f)
+        slack = sample @ self.c.T
+        slack += self.a  # in place: the same sums, one (s, f) temporary fewer
+        above = slack >= floor  # (s, f)
         alive = np.ones(len(sample), bool)
         chosen: list[int] = []
         for _ in range(min(CONTAINS_FIRST, len(self.a))):
