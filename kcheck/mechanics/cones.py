@@ -14,7 +14,7 @@ from typing import Literal
 
 import numpy as np
 
-from kcheck.numerics.arrays import sorted_unique_tuples, unique_rounded_rows
+from kcheck.numerics.arrays import sorted_unique_tuples, unique, unique_rounded_rows
 from kcheck.numerics.thresholds import (
     FACET_DECIMALS,
     FACET_TOL,
@@ -26,7 +26,14 @@ from kcheck.numerics.thresholds import (
     WELL_INSIDE,
 )
 
-__all__ = ["FACET_TOL", "cone_facets", "pointing", "essential_rows", "inside_image"]
+__all__ = [
+    "FACET_TOL",
+    "cone_facets",
+    "pointing",
+    "essential_rows",
+    "inside_image",
+    "balanced_image",
+]
 
 PERCEPTRON_STEPS = 50
 #: Perceptron steps before a caller's guess (:func:`pointing`): most cones that have a
@@ -77,10 +84,14 @@ def _cone_facets(generators: np.ndarray) -> np.ndarray | Literal["everywhere", "
     if _flat(generators):
         return "flat"
     normals = _hull_facets(generators)
-    side = normals @ generators.T
+    # (generators, facets): the least and largest side of each facet reduce along the long
+    # axis (numpy's reductions along short rows cost a call per row).
+    side = generators @ normals.T
     tol = HULL_FACET_TOL if n > 3 else FACET_TOL
-    upper = np.logical_and.reduce(side >= -tol, axis=1)
-    lower = np.logical_and.reduce(side <= tol, axis=1)
+    # The least and the largest side against the tolerance: every generator on one side
+    # (a NaN fails both, as the element-wise tests would).
+    upper = side.min(axis=0) >= -tol
+    lower = side.max(axis=0) <= tol
     facets = np.vstack([normals[upper], -normals[lower & ~upper]])
     if not len(facets):
         return "everywhere"
@@ -152,32 +163,44 @@ def _planar_facets(generators: list[list[float]]) -> np.ndarray | Literal["every
     return sorted_unique_tuples(rounded)
 
 
-def pointing(
-    vectors: np.ndarray, guess: Callable[[], np.ndarray | None] | None = None
-) -> np.ndarray | None:
+def row_lengths(vectors: np.ndarray) -> np.ndarray:
+    """``np.linalg.norm(vectors, axis=1, keepdims=True)`` of rows (r, n), the same bits: numpy
+    sums a short row's squares left to right, done here column by column over all rows at
+    once (numpy's reduction along short rows costs a call per row: 25 against 5-10 µs for
+    690 rows)."""
+    squares = vectors * vectors
+    total = squares[:, 0].copy()
+    for j in range(1, vectors.shape[1]):
+        total += squares[:, j]
+    return np.sqrt(total)[:, None]
+
+
+def pointing(vectors: np.ndarray, *guesses: Callable[[], np.ndarray | None]) -> np.ndarray | None:
     """A direction ``h`` with ``vectors @ h > 0`` (the cone they span is pointed), or None.
 
     Perceptron steps from the mean of the unit vectors first (enough for most cones), then
-    ``guess()`` when given (a caller's cheaper way to one, kept if it passes the linear
-    programme's own acceptance: every ``v . h`` above LP_POSITIVE at ``|h_i| <= 1``), else that
-    linear programme, maximising the smallest ``v . h`` over ``|h_i| <= 1``.
+    each ``guess()`` in turn when given (a caller's cheaper ways to one, the first kept that
+    passes the linear programme's own acceptance: every ``v . h`` above LP_POSITIVE at
+    ``|h_i| <= 1``), else that linear programme, maximising the smallest ``v . h`` over
+    ``|h_i| <= 1``.
     """
-    unit = vectors / np.linalg.norm(vectors, axis=1, keepdims=True)
+    unit = vectors / row_lengths(vectors)
     h = unit.mean(axis=0)
     # Perceptron steps towards the violated vectors: converges when the cone is pointed with
     # some margin, at the cost of a few matrix-vector products. A direction barely inside
     # makes a badly scaled section, so a small margin goes on to the linear programme.
-    for _ in range(PERCEPTRON_STEPS if guess is None else GUESS_AFTER):
+    for _ in range(GUESS_AFTER if guesses else PERCEPTRON_STEPS):
         side = unit @ h
-        bad = side <= WELL_INSIDE * np.linalg.norm(h)
-        if not np.any(bad):
+        # |h| as np.linalg.norm computes it (sqrt of h . h), without its wrapper's cost.
+        bad = side <= WELL_INSIDE * math.sqrt(float(h.dot(h)))
+        if not bad.any():
             return h
         h = h + unit[bad].mean(axis=0)
-    if guess is not None:
-        h = guess()
+    for guess in guesses:
+        found = guess()
         # The programme's own acceptance below: every margin above LP_POSITIVE at |h_i| <= 1.
-        if h is not None and np.all(unit @ h > LP_POSITIVE * np.abs(h).max()):
-            return h
+        if found is not None and np.all(unit @ found > LP_POSITIVE * np.abs(found).max()):
+            return found
     n = vectors.shape[1]
     # maximise t subject to unit @ h >= t, |h_i| <= 1, t <= 1 (an LP, solved by clarabel:
     # a tenth of scipy's per-call overhead, and already imported for the conic problems).
@@ -260,6 +283,26 @@ def inside_image(generators: np.ndarray, image: np.ndarray) -> np.ndarray | None
     return x[g : g + m] if x[-1] > LP_POSITIVE else None
 
 
+def balanced_image(generators: np.ndarray, image: np.ndarray) -> np.ndarray | None:
+    """An ``x`` with ``image @ x = sum lambda_i g_i``, every ``lambda_i`` positive, from least
+    squares (no programme): ``lambda`` the nearest to all ones whose combination lies in the
+    range of ``image`` (n, m); None where some ``lambda_i`` is not positive or the range is
+    not of full rank. A cheaper, less central :func:`inside_image`."""
+    n, m = image.shape
+    q, r = np.linalg.qr(image, mode="complete")
+    if not np.all(np.abs(np.diag(r[:m])) > FACET_TOL * np.abs(r).max()):
+        return None
+    across = q[:, m:].T @ generators.T  # (n - m, g): what leaves the range
+    gram = across @ across.T
+    try:
+        lam = 1.0 - across.T @ np.linalg.solve(gram, across.sum(axis=1))
+    except np.linalg.LinAlgError:
+        return None
+    if not lam.min() > 0:
+        return None
+    return np.linalg.solve(r[:m], q[:, :m].T @ (generators.T @ lam))
+
+
 def _section(vectors: np.ndarray, h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Points where the rays cross ``h . x = 1``, in an orthonormal basis ``Q`` of ``h``'s
     complement: returns ``(Y, Q)`` with ``x = Q y + h / |h|^2``."""
@@ -312,7 +355,7 @@ def _section_facets(generators: np.ndarray, h: np.ndarray) -> np.ndarray:
     eq = ConvexHull(y, qhull_options="QJ").equations
     # e . y + o <= 0 inside, with y = Q^T x on h . x = 1: (Q e + o h) . x <= 0.
     normals = -(eq[:, :-1] @ q.T) - eq[:, -1:] * h[None, :]
-    return normals / np.linalg.norm(normals, axis=1, keepdims=True)
+    return normals / row_lengths(normals)
 
 
 def _lineality(generators: np.ndarray) -> np.ndarray:
@@ -343,29 +386,27 @@ def _lineality(generators: np.ndarray) -> np.ndarray:
     return u[:, s > FACET_TOL * s[0]]
 
 
-def essential_rows(
-    rows: np.ndarray, inside: Callable[[], np.ndarray | None] | None = None
-) -> np.ndarray | None:
+def essential_rows(rows: np.ndarray, *inside: Callable[[], np.ndarray | None]) -> np.ndarray | None:
     """Indices of the rows that are extreme rays of the cone they span: the others are
     non-negative combinations of them, so ``rows @ x >= 0`` keeps its solutions without them.
     None when that cone is not pointed (the solution set has an empty interior).
 
-    ``inside()``: the caller's way to an ``x`` with ``rows @ x > 0``, tried where perceptron
-    steps find none (:func:`pointing`); the rows kept do not depend on it."""
+    ``inside``: the caller's ways to an ``x`` with ``rows @ x > 0``, cheapest first, tried
+    where perceptron steps find none (:func:`pointing`); the rows kept do not depend on it."""
     if len(rows) <= rows.shape[1]:
         return np.arange(len(rows))
     _, s, vt = np.linalg.svd(rows, full_matrices=False)
     rank = int(np.count_nonzero(s > FACET_TOL * s[0]))
     reduced = rows @ vt[:rank].T
-    guess = None
-    if inside is not None:
-        found = inside
 
+    def reduce(found: Callable[[], np.ndarray | None]) -> Callable[[], np.ndarray | None]:
         def guess() -> np.ndarray | None:
             x = found()
             return None if x is None else vt[:rank] @ x
 
-    h = pointing(reduced, guess)
+        return guess
+
+    h = pointing(reduced, *(reduce(found) for found in inside))
     if h is None:
         return None
     if rank <= 2:
@@ -374,7 +415,9 @@ def essential_rows(
     from scipy.spatial import ConvexHull, QhullError
 
     points = _section(reduced, h)[0]
+    # A hull's vertices, sorted: the distinct indices of its simplices (what scipy's
+    # ``vertices`` is, without np.unique's cost).
     try:  # exact arithmetic first: joggling is relative to the spread of the points
-        return np.sort(ConvexHull(points).vertices)
+        return unique(ConvexHull(points).simplices)
     except QhullError:
-        return np.sort(ConvexHull(points, qhull_options="QJ").vertices)
+        return unique(ConvexHull(points, qhull_options="QJ").simplices)

@@ -33,7 +33,13 @@ from typing import Literal
 import numpy as np
 
 from kcheck.mechanics.arcs import FULL, ArcSet, affine_arcs
-from kcheck.mechanics.cones import FACET_TOL, cone_facets, essential_rows, inside_image
+from kcheck.mechanics.cones import (
+    FACET_TOL,
+    balanced_image,
+    cone_facets,
+    essential_rows,
+    inside_image,
+)
 from kcheck.mechanics.csc import Csc
 from kcheck.mechanics.dynamics import friction_directions
 from kcheck.mechanics.kinematics import Frame, cross3, wrenches
@@ -202,8 +208,51 @@ def cone_generators(
         fast = _planar_generators(statics.points[keep], statics.normals[keep], mu[keep])
         if fast is not None:
             return fast
-    forces = friction_edges(statics.normals[keep], mu[keep], edges, pyramid)
-    return edge_wrenches(statics.points[keep], forces)
+    if statics.dim == 2 or not len(statics.points) or not np.all(np.isfinite(mu)):
+        forces = friction_edges(statics.normals[keep], mu[keep], edges, pyramid)
+        return edge_wrenches(statics.points[keep], forces)
+    unit, rounded = _every_edge_wrench(statics, mu, edges, pyramid)
+    m = len(unit) // len(statics.points)
+    kept = np.arange(len(statics.points))[keep]  # indices, also of a boolean mask
+    rows = (m * kept[:, None] + np.arange(m)).ravel()
+    # edge_wrenches of the kept supports: every step is row by row, so the same bits.
+    return unique_rows(rounded[rows]) if len(rows) > 1 else unit[rows]
+
+
+def _every_edge_wrench(
+    statics: Statics, mu: np.ndarray, edges: int, pyramid: Pyramid
+) -> tuple[np.ndarray, np.ndarray]:
+    """Unit edge wrenches (k m, n) of every support's friction edges, as :func:`edge_wrenches`
+    makes them before removing duplicates, and rounded as it rounds them: a spatial jamming
+    check asks for the cones of six cases (each all supports but one) at two pyramids, and
+    the edges of a support are the same in each. The last few are kept (read-only)."""
+    key = b"|".join(
+        [
+            repr((edges, pyramid, statics.points.shape)).encode(),
+            np.ascontiguousarray(statics.points, float).tobytes(),
+            np.ascontiguousarray(statics.normals, float).tobytes(),
+            np.ascontiguousarray(mu, float).tobytes(),
+        ]
+    )
+    known = _EDGE_WRENCHES.get(key)
+    if known is None:
+        k = len(statics.points)
+        forces = friction_edges(statics.normals, mu, edges, pyramid)
+        m = forces.shape[1]
+        unit = wrenches(np.repeat(statics.points, m, axis=0), forces.reshape(k * m, -1))
+        unit = unit / np.linalg.norm(unit, axis=1, keepdims=True)
+        rounded = np.round(unit, 14)
+        unit.setflags(write=False)
+        rounded.setflags(write=False)
+        if len(_EDGE_WRENCHES) >= RECENT_EDGE_WRENCHES:
+            del _EDGE_WRENCHES[next(iter(_EDGE_WRENCHES))]
+        known = _EDGE_WRENCHES[key] = (unit, rounded)
+    return known
+
+
+#: Every support's edge wrenches recently computed (:func:`_every_edge_wrench`), oldest first.
+_EDGE_WRENCHES: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+RECENT_EDGE_WRENCHES = 8
 
 
 def _planar_generators(
@@ -274,7 +323,7 @@ class Equilibria:
             held = self.kind == "everywhere" or (self.kind == "cone" and not len(self.a))
             return np.full(len(directions), np.inf if held else -np.inf)
         if len(directions) * len(self.a) <= CONTAINS_DIRECT:
-            return np.min(self.a + directions @ self.c.T, axis=1)
+            return _least(self.a, directions @ self.c.T)
         # A few facets that, on a sample of the directions, leave the fewest above the floor;
         # only the directions above it there meet the other facets (the least of the same
         # values a + c . d as with every facet at once). In chunks: a picture's 58,000
@@ -285,7 +334,7 @@ class Equilibria:
         step = max(1, CONTAINS_CHUNK // max(1, len(first)))
         for i in range(0, len(directions), step):
             chunk = directions[i : i + step]
-            slack[i : i + step] = np.min(self.a[first] + chunk @ self.c[first].T, axis=1)
+            slack[i : i + step] = _least(self.a[first], chunk @ self.c[first].T)
         if len(rest):
             alive = np.flatnonzero(slack >= floor)
             step = max(1, CONTAINS_CHUNK // len(rest))
@@ -293,7 +342,7 @@ class Equilibria:
                 which = alive[i : i + step]
                 slack[which] = np.minimum(
                     slack[which],
-                    np.min(self.a[rest] + directions[which] @ self.c[rest].T, axis=1),
+                    _least(self.a[rest], directions[which] @ self.c[rest].T),
                 )
         return slack
 
@@ -301,7 +350,9 @@ class Equilibria:
         """Up to CONTAINS_FIRST facet indices chosen greedily on a sample of ``directions``:
         each the one putting most of the sample still above ``floor`` below it."""
         sample = directions[:: max(1, len(directions) // CONTAINS_SAMPLE)]
-        above = self.a + sample @ self.c.T >= floor  # (s, f)
+        slack = sample @ self.c.T
+        slack += self.a  # in place: the same sums, one (s, f) temporary fewer
+        above = slack >= floor  # (s, f)
         alive = np.ones(len(sample), bool)
         chosen: list[int] = []
         for _ in range(min(CONTAINS_FIRST, len(self.a))):
@@ -321,6 +372,14 @@ class Equilibria:
         scale = np.abs(self.a) + np.linalg.norm(self.c, axis=1)
         arcs, error = affine_arcs(self.a, self.c, e1, e2, 64 * EPS * scale)
         return arcs, 0.0 if error is None else error
+
+
+def _least(a: np.ndarray, products: np.ndarray) -> np.ndarray:
+    """``np.min(a + products, axis=1)`` for products (m, f) it may overwrite: ``a`` added in
+    place (the same sums; a second temporary of this size cost more than the product and the
+    minimum together, its pages fresh each time)."""
+    products += a
+    return products.min(axis=1)
 
 
 def equilibria(
@@ -348,7 +407,11 @@ def equilibria(
         # A direction inside the held set, where perceptron steps find none: a balance by
         # every edge at once (a programme over the edges, not over the facets' rows).
         image = -np.column_stack([statics.swept, statics.fixed])
-        rows = essential_rows(np.column_stack([c, a]), lambda: inside_image(generators, image))
+        rows = essential_rows(
+            np.column_stack([c, a]),
+            lambda: balanced_image(generators, image),
+            lambda: inside_image(generators, image),
+        )
         if rows is None:
             return Equilibria("flat", np.zeros(0), np.zeros((0, dim)))
         a, c = a[rows], c[rows]

@@ -8,7 +8,7 @@ import numpy as np
 from scipy.optimize import nnls
 
 from kcheck.mechanics import cones
-from kcheck.mechanics.cones import cone_facets, essential_rows, inside_image
+from kcheck.mechanics.cones import balanced_image, cone_facets, essential_rows, inside_image
 
 
 def test_inside_image_lies_strictly_inside_the_cone() -> None:
@@ -43,6 +43,39 @@ def test_inside_image_is_none_where_the_image_misses_the_cone() -> None:
     assert inside_image(generators, image) is None
 
 
+def test_balanced_image_lies_strictly_inside_the_cone() -> None:
+    """The least-squares balance (no programme): where it answers, ``image @ x`` is strictly
+    inside every facet (qhull's) and NNLS writes it as a non-negative combination of the
+    generators. Where the image's first column is the sum of the generators, all ones is the
+    nearest balance, so ``x`` is the first unit vector; None where the image misses the cone
+    (the half-space example below)."""
+    rng = np.random.default_rng(7)
+    checked = 0
+    for trial in range(40):
+        generators = rng.normal(size=(30, 6)) + np.array([3.0, 0, 0, 0, 0, 0])
+        image = rng.normal(size=(6, 4))
+        if trial % 2:
+            image[:, 0] = generators.sum(axis=0)
+        x = balanced_image(generators, image)
+        if trial % 2:
+            assert x is not None
+            assert np.allclose(x, [1.0, 0.0, 0.0, 0.0], atol=1e-9)
+        if x is None:
+            continue
+        facets = cone_facets(generators)
+        assert not isinstance(facets, str)
+        y = image @ x
+        assert np.all(facets @ y > 0)
+        _, residual = nnls(generators.T, y)
+        assert residual < 1e-9 * np.linalg.norm(y)
+        checked += 1
+    assert checked >= 20
+    generators = np.abs(rng.normal(size=(20, 6)))
+    generators[:, 0] += 1.0
+    image = np.vstack([np.zeros((1, 4)), rng.normal(size=(5, 4))])
+    assert balanced_image(generators, image) is None
+
+
 def test_essential_rows_do_not_depend_on_the_inside_direction(monkeypatch) -> None:
     """The rows kept with a caller's inside direction (no perceptron step before it, so that
     it is used every time) are those kept without it, and every row left out is a
@@ -59,11 +92,17 @@ def test_essential_rows_do_not_depend_on_the_inside_direction(monkeypatch) -> No
         rows = facets @ image
         plain = essential_rows(rows)
         guided = essential_rows(rows, lambda g=generators, i=image: inside_image(g, i))
+        cheap = essential_rows(
+            rows,
+            lambda g=generators, i=image: balanced_image(g, i),
+            lambda g=generators, i=image: inside_image(g, i),
+        )
         if plain is None:
             continue
         assert guided is not None
         compared += 1
         assert np.array_equal(plain, guided)
+        assert np.array_equal(plain, cheap)
         for r in np.setdiff1d(np.arange(len(rows)), plain):
             _, residual = nnls(rows[plain].T, rows[r])
             assert residual < 1e-7 * np.linalg.norm(rows[r])
@@ -136,3 +175,16 @@ def test_rank_three_by_minor_never_contradicts_the_singular_values():
         if not np.any(g[:, 2]):
             assert not cones._rank_three_by_minor(g.tolist())
     assert settled > 1000 and undecided > 1000
+
+
+def test_row_lengths_are_numpys_bits() -> None:
+    """``cones.row_lengths`` gives ``np.linalg.norm(..., axis=1, keepdims=True)`` bit for bit
+    (the facets' normalisation and the perceptron's unit rows depend on it), for the widths
+    the cones use and magnitudes over forty decades, zeros included."""
+    rng = np.random.default_rng(12)
+    for columns in (3, 4, 5, 6):
+        rows = rng.normal(size=(20_000, columns)) * np.exp(rng.uniform(-45, 45, (20_000, 1)))
+        rows[rng.uniform(size=rows.shape) < 0.05] = 0.0
+        found = cones.row_lengths(rows)
+        assert found.shape == (20_000, 1)
+        assert found.tobytes() == np.linalg.norm(rows, axis=1, keepdims=True).tobytes()
