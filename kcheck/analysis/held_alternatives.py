@@ -10,7 +10,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from kcheck.analysis.cases import load_design, problem_for
-from kcheck.mechanics.second_answer import Held, second_answers
+from kcheck.mechanics.second_answer import Body, second_answers
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 
@@ -26,19 +26,15 @@ def held_alternatives(
     problem = problem_for(scene, mass)
     wrench = problem.wrench(load_design(scene, problem.dim)[1])
     keeps = [np.asarray(kept, dtype=int) for _, kept in cases]
+    body = Body(
+        problem.points, problem.normals, problem.friction, problem.com, problem.inertia, wrench
+    )
     answers = second_answers(
+        body,
         [
-            Held(
-                problem.points[keep],
-                problem.normals[keep],
-                problem.friction[keep],
-                problem.com,
-                problem.inertia,
-                wrench,
-                (problem.points[r], problem.normals[r]),
-            )
+            ((problem.points[r], problem.normals[r]), keep)
             for (r, _), keep in zip(cases, keeps, strict=True)
-        ]
+        ],
     )
     return {
         r: None if answer is None else [problem.names[int(j)] for j in keep[answer.lifted]]

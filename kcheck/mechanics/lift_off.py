@@ -30,7 +30,16 @@ from kcheck.mechanics.kinematics import point_velocity, wrenches
 from kcheck.numerics.lemke import lemke
 from kcheck.numerics.thresholds import LIFT_SHARE
 
-__all__ = ["LIFT_EDGES", "ContactRows", "LiftOff", "contact_rows", "lcp", "lift_off", "motion"]
+__all__ = [
+    "LIFT_EDGES",
+    "ContactRows",
+    "LiftOff",
+    "closing",
+    "contact_rows",
+    "lcp",
+    "lift_off",
+    "motion",
+]
 
 #: Edges of the inscribed friction pyramid of a spatial contact (its friction reaches
 #: cos(pi / 16) = 98 % of the circular cone's between edges).
@@ -157,9 +166,16 @@ def motion(
     contact = point_velocity(accel, lever)
     normal_accel = np.einsum("ij,ij->i", contact, rows.normals)
     lifted = normal_accel > LIFT_SHARE * scale
+    return LiftOff(accel, forces, lifted, closing(accel, com, retracted))
+
+
+def closing(
+    acceleration: np.ndarray, com: np.ndarray, retracted: tuple[np.ndarray, np.ndarray]
+) -> float:
+    """The retracted contact point's acceleration towards its support under ``acceleration``
+    (n,) about ``com``: ``-n_r . a(p_r)``."""
     point, normal = retracted
-    closing = -float(point_velocity(accel, point - com) @ normal)
-    return LiftOff(accel, forces, lifted, closing)
+    return -float(point_velocity(acceleration, point - com) @ normal)
 
 
 def lift_off(

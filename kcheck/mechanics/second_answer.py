@@ -15,17 +15,18 @@ that none exists.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
 from itertools import combinations
 
 import numpy as np
 
 from kcheck.mechanics.kinematics import point_velocity
-from kcheck.mechanics.lift_off import LIFT_EDGES, LiftOff, contact_rows, lcp, motion
+from kcheck.mechanics.lift_off import LIFT_EDGES, LiftOff, closing, contact_rows, lcp, motion
 from kcheck.numerics.lemke import lemke_batch
 from kcheck.numerics.thresholds import LIFT_SHARE
 
-__all__ = ["Held", "SecondAnswer", "second_answer", "second_answers", "subsets"]
+__all__ = ["Body", "SecondAnswer", "second_answer", "second_answers", "subsets"]
 
 
 @dataclass(frozen=True)
@@ -49,8 +50,11 @@ def subsets(count: int) -> list[tuple[int, ...]]:
 
 
 @dataclass(frozen=True)
-class Held:
-    """One body friction can hold, as :func:`second_answer` takes it."""
+class Body:
+    """A body on its supports, as :func:`second_answers` takes it: ``points``, unit
+    ``normals`` (k, dim), kinetic coefficients ``mu`` (k,), unit mass with ``inertia``
+    (nw, nw) about ``com`` (dim,), under ``wrench`` (n,; nondimensional as in
+    :func:`~kcheck.mechanics.lift_off.lift_off`)."""
 
     points: np.ndarray
     normals: np.ndarray
@@ -58,7 +62,6 @@ class Held:
     com: np.ndarray
     inertia: np.ndarray
     wrench: np.ndarray
-    retracted: tuple[np.ndarray, np.ndarray]
 
 
 def second_answer(
@@ -77,57 +80,80 @@ def second_answer(
     remaining contacts ``points``, unit ``normals`` (c, dim), coefficients ``mu`` (c,), every
     other remaining contact separating; ``retracted`` is the retracted support's point and
     unit normal. None when no subset gives one."""
-    held = Held(points, normals, mu, com, inertia, wrench, retracted)
-    return second_answers([held], edges)[0]
+    body = Body(points, normals, mu, com, inertia, wrench)
+    return second_answers(body, [(retracted, np.arange(len(points)))], edges)[0]
 
 
-def _noise(held: Held, lever: np.ndarray) -> float:
+def _noise(body: Body, lever: np.ndarray) -> float:
     """The acceleration below which a motion is rounding noise: LIFT_SHARE of the free
-    body's under the wrench (its largest component plus its contacts' largest speed-up)."""
-    nw = 1 if held.points.shape[1] == 2 else 3
-    mass = np.eye(nw + held.points.shape[1])
-    mass[:nw, :nw] = held.inertia
-    free = np.linalg.solve(mass, held.wrench)
+    body's under the wrench (its largest component plus the largest speed-up of the contacts
+    at ``lever``)."""
+    nw = 1 if body.points.shape[1] == 2 else 3
+    mass = np.eye(nw + body.points.shape[1])
+    mass[:nw, :nw] = body.inertia
+    free = np.linalg.solve(mass, body.wrench)
     scale = float(np.max(np.abs(free))) + float(np.max(np.abs(point_velocity(free, lever))))
     return LIFT_SHARE * scale
 
 
-def second_answers(cases: list[Held], edges: int = LIFT_EDGES) -> list[SecondAnswer | None]:
-    """:func:`second_answer` of each case. The lift-off problems of every case's subsets of
-    one size are solved as one batch (:func:`~kcheck.numerics.lemke.lemke_batch`: each the
-    same pivots as alone), sizes largest first; a case's answer is its first subset in the
-    order of :func:`subsets` that gives a motion, as when they are tried in turn, and a case
-    answered drops out of the smaller sizes."""
-    every = [contact_rows(h.points, h.normals, h.mu, h.com, h.inertia, edges) for h in cases]
-    noise = [_noise(h, e.lever) for h, e in zip(cases, every, strict=True)]
+def second_answers(
+    body: Body,
+    cases: Sequence[tuple[tuple[np.ndarray, np.ndarray], np.ndarray]],
+    edges: int = LIFT_EDGES,
+) -> list[SecondAnswer | None]:
+    """:func:`second_answer` of each case ``(retracted, remaining)``: the retracted support's
+    point and unit normal, and the indices (c,) of the supports that remain.
+
+    A subset's lift-off problem depends on its contacts alone, not on the case (the retracted
+    support only moves its ``closing``, the other remaining contacts only decide whether the
+    motion is accepted), and every piece of it is built row by row: so each distinct subset of
+    supports is solved once for all cases. The problems of one size are solved as one batch
+    (:func:`~kcheck.numerics.lemke.lemke_batch`: each the same pivots as alone), sizes largest
+    first; a case's answer is its first subset in the order of :func:`subsets` that gives a
+    motion, as when they are tried in turn, and a case answered drops out of smaller sizes."""
+    every = contact_rows(body.points, body.normals, body.mu, body.com, body.inertia, edges)
+    remaining = [np.asarray(kept, dtype=int) for _, kept in cases]
+    noise = [_noise(body, every.lever[kept]) for kept in remaining]
     answers: list[SecondAnswer | None] = [None] * len(cases)
-    open_cases = set(range(len(cases)))
-    for size in range(max((len(h.points) for h in cases), default=0), 0, -1):
-        # Problems of one size share a batch only when their contacts share a dimension.
-        for dim in (2, 3):
-            work = [
-                (i, np.array(k))
-                for i in sorted(open_cases)
-                if cases[i].points.shape[1] == dim
-                for k in combinations(range(len(cases[i].points)), size)
-            ]
-            if not work:
-                continue
-            pieces = [every[i].subset(k) for i, k in work]
-            problems = [lcp(p, cases[i].wrench) for (i, _), p in zip(work, pieces, strict=True)]
-            solutions = lemke_batch(
-                np.stack([a for a, _ in problems]), np.stack([q for _, q in problems])
+    open_cases = list(range(len(cases)))
+    for size in range(max((len(k) for k in remaining), default=0), 0, -1):
+        tried = {
+            i: [tuple(int(j) for j in remaining[i][list(k)])
+                for k in combinations(range(len(remaining[i])), size)]
+            for i in open_cases
+        }  # fmt: skip
+        distinct = list(dict.fromkeys(k for i in open_cases for k in tried[i]))
+        if not distinct:
+            continue
+        pieces = {k: every.subset(np.array(k)) for k in distinct}
+        problems = [lcp(pieces[k], body.wrench) for k in distinct]
+        solutions = dict(
+            zip(
+                distinct,
+                lemke_batch(np.stack([a for a, _ in problems]), np.stack([q for _, q in problems])),
+                strict=True,
             )
-            for (i, k), piece, z in zip(work, pieces, solutions, strict=True):
-                if z is None or i not in open_cases:
+        )
+        motions: dict[tuple[int, ...], LiftOff | None] = {}
+        for k in distinct:
+            z = solutions[k]
+            found = None if z is None else motion(pieces[k], body.wrench, z, body.com, cases[0][0])
+            # Only a motion that lifts none of its contacts can be an answer.
+            motions[k] = (
+                found if found is not None and found.moves and not found.lifted.any() else None
+            )
+        for i in list(open_cases):
+            kept = remaining[i]
+            rows = every.rows[kept]  # the remaining contacts' normal rows (c, n)
+            for k in tried[i]:
+                found = motions[k]
+                if found is None:
                     continue
-                h = cases[i]
-                found = motion(piece, h.wrench, z, h.com, h.retracted)
-                if not found.moves or np.any(found.lifted):
-                    continue
-                keep = np.zeros(len(h.points), dtype=bool)
-                keep[k] = True
-                if np.all(every[i].rows[: len(h.points)][~keep] @ found.acceleration >= -noise[i]):
+                keep = np.isin(kept, k)
+                if np.all(rows[~keep] @ found.acceleration >= -noise[i]):
+                    retracted = cases[i][0]
+                    found = replace(found, closing=closing(found.acceleration, body.com, retracted))
                     answers[i] = SecondAnswer(keep, found)
-                    open_cases.discard(i)
+                    open_cases.remove(i)
+                    break
     return answers

@@ -109,6 +109,7 @@ def lemke_batch(a: np.ndarray, q: np.ndarray) -> list[np.ndarray | None]:
     artificial = 2 * n
     row = np.argmin(q[idx], axis=1)
     entering = np.full(k, artificial)
+    buffer = np.empty_like(tableau)  # the rank-one update, allocated once
     for _ in range(PIVOTS_PER_UNKNOWN * n + 1):
         at = np.arange(len(idx))
         col = column_of[at, entering]
@@ -117,8 +118,11 @@ def lemke_batch(a: np.ndarray, q: np.ndarray) -> list[np.ndarray | None]:
         factors[at, row] = 0.0
         tableau[at, :, col] = 0.0
         tableau[at, row, col] = 1.0
-        tableau[at, row] /= pivot[:, None]
-        tableau -= factors[:, :, None] * tableau[at, row][:, None, :]
+        pivot_row = tableau[at, row] / pivot[:, None]
+        tableau[at, row] = pivot_row
+        # Each entry one product, as the full tableau's broadcast (einsum is the faster outer).
+        np.einsum("ij,ik->ijk", factors, pivot_row, out=buffer)
+        tableau -= buffer
         leaving = basis[at, row]
         basis[at, row] = entering
         column_of[at, leaving] = col
@@ -147,4 +151,5 @@ def lemke_batch(a: np.ndarray, q: np.ndarray) -> list[np.ndarray | None]:
                 break
             idx, tableau, basis = idx[going], tableau[going], basis[going]
             column_of, row, entering = column_of[going], row[going], entering[going]
+            buffer = buffer[: len(idx)]
     return out
