@@ -110,8 +110,10 @@ def lemke_batch(a: np.ndarray, q: np.ndarray) -> list[np.ndarray | None]:
     row = np.argmin(q[idx], axis=1)
     entering = np.full(k, artificial)
     buffer = np.empty_like(tableau)  # the rank-one update, allocated once
+    # The artificial variable enters at the first pivot and stays in that row until it leaves.
+    artificial_row = row.copy()
+    at = np.arange(k)
     for _ in range(PIVOTS_PER_UNKNOWN * n + 1):
-        at = np.arange(len(idx))
         col = column_of[at, entering]
         pivot = tableau[at, row, col]
         factors = tableau[at, :, col]
@@ -143,13 +145,14 @@ def lemke_batch(a: np.ndarray, q: np.ndarray) -> list[np.ndarray | None]:
         low = ratios.min(axis=1)
         best = ok & (ratios <= (low + LEMKE_PIVOT_RTOL * np.maximum(1.0, np.abs(low)))[:, None])
         # Among ties, let the artificial variable leave: the method then ends.
-        ends = best & (basis == artificial)
-        row = np.where(ends.any(axis=1), np.argmax(ends, axis=1), np.argmax(best, axis=1))
+        row = np.where(best[at, artificial_row], artificial_row, np.argmax(best, axis=1))
         going = ~done & ok.any(axis=1)  # no candidate row: a ray, None
         if not going.all():
             if not going.any():
                 break
             idx, tableau, basis = idx[going], tableau[going], basis[going]
             column_of, row, entering = column_of[going], row[going], entering[going]
+            artificial_row = artificial_row[going]
             buffer = buffer[: len(idx)]
+            at = np.arange(len(idx))
     return out
