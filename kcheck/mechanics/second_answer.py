@@ -23,7 +23,7 @@ import numpy as np
 
 from kcheck.mechanics.kinematics import point_velocity
 from kcheck.mechanics.lift_off import LIFT_EDGES, LiftOff, closing, contact_rows, lcp, motion
-from kcheck.numerics.lemke import lemke_batch
+from kcheck.numerics.lemke import lemke, lemke_batch
 from kcheck.numerics.thresholds import LIFT_SHARE
 
 __all__ = ["Body", "SecondAnswer", "second_answer", "second_answers", "subsets"]
@@ -41,6 +41,10 @@ class SecondAnswer:
     def lifted(self) -> np.ndarray:
         """The remaining contacts the motion separates from (c,)."""
         return ~self.kept
+
+
+#: Problems of one size from which they are solved as one batch.
+BATCH_FROM = 3
 
 
 def subsets(count: int) -> list[tuple[int, ...]]:
@@ -127,13 +131,13 @@ def second_answers(
             continue
         pieces = {k: every.subset(np.array(k)) for k in distinct}
         problems = [lcp(pieces[k], body.wrench) for k in distinct]
-        solutions = dict(
-            zip(
-                distinct,
-                lemke_batch(np.stack([a for a, _ in problems]), np.stack([q for _, q in problems])),
-                strict=True,
-            )
-        )
+        # A batch step costs about twice a single pivot's numpy calls: worth it from three
+        # problems (a planar case's two contacts give one or two a size, solved alone).
+        if len(problems) >= BATCH_FROM:
+            a, q = np.stack([a for a, _ in problems]), np.stack([q for _, q in problems])
+            solutions = dict(zip(distinct, lemke_batch(a, q), strict=True))
+        else:
+            solutions = {k: lemke(a, q) for k, (a, q) in zip(distinct, problems, strict=True)}
         motions: dict[tuple[int, ...], LiftOff | None] = {}
         for k in distinct:
             z = solutions[k]
