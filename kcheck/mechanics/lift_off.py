@@ -152,21 +152,31 @@ def motion(
     wrench: np.ndarray,
     z: np.ndarray,
     com: np.ndarray,
-    retracted: tuple[np.ndarray, np.ndarray],
+    retracted: tuple[np.ndarray, np.ndarray] | None,
+    scale: float | None = None,
 ) -> LiftOff:
-    """The first motion of the LCP's solution ``z`` (:func:`lcp`)."""
+    """The first motion of the LCP's solution ``z`` (:func:`lcp`); ``closing`` NaN without
+    ``retracted``. ``scale``: the free body's acceleration under the wrench (:func:`free_scale`)
+    when the caller has it."""
     c, m, g, inv, lever = len(rows.lever), rows.m, rows.rows, rows.inverse, rows.lever
     forces = z[:c]
     accel = inv @ (wrench + g.T @ z[: c + c * m])
-    # Rounding noise is measured against the free body's acceleration under the wrench.
-    free = inv @ wrench
-    scale = float(np.max(np.abs(free))) + float(np.max(np.abs(point_velocity(free, lever))))
+    if scale is None:
+        scale = free_scale(inv @ wrench, lever)
     if float(np.max(np.abs(accel))) <= LIFT_SHARE * scale:
         accel = np.zeros_like(accel)
     contact = point_velocity(accel, lever)
     normal_accel = np.einsum("ij,ij->i", contact, rows.normals)
     lifted = normal_accel > LIFT_SHARE * scale
-    return LiftOff(accel, forces, lifted, closing(accel, com, retracted))
+    return LiftOff(
+        accel, forces, lifted, np.nan if retracted is None else closing(accel, com, retracted)
+    )
+
+
+def free_scale(free: np.ndarray, lever: np.ndarray) -> float:
+    """What rounding noise is measured against: the free body's acceleration ``free`` (n,)
+    under the wrench, its largest component plus the largest of the contacts' at ``lever``."""
+    return float(np.max(np.abs(free))) + float(np.max(np.abs(point_velocity(free, lever))))
 
 
 def closing(

@@ -118,15 +118,20 @@ def second_answers(
     every = contact_rows(body.points, body.normals, body.mu, body.com, body.inertia, edges)
     remaining = [np.asarray(kept, dtype=int) for _, kept in cases]
     noise = [_noise(body, every.lever[kept]) for kept in remaining]
+    # free_scale's pieces, row by row: a subset's is the largest over its rows.
+    free = every.inverse @ body.wrench
+    top = float(np.max(np.abs(free)))
+    speed = np.max(np.abs(point_velocity(free, every.lever)), axis=1)
     answers: list[SecondAnswer | None] = [None] * len(cases)
     open_cases = list(range(len(cases)))
     for size in range(max((len(k) for k in remaining), default=0), 0, -1):
+        # Each case's subsets of this size in its order: (supports, positions among its own).
         tried = {
-            i: [tuple(int(j) for j in remaining[i][list(k)])
+            i: [(tuple(int(j) for j in remaining[i][list(k)]), k)
                 for k in combinations(range(len(remaining[i])), size)]
             for i in open_cases
         }  # fmt: skip
-        distinct = list(dict.fromkeys(k for i in open_cases for k in tried[i]))
+        distinct = list(dict.fromkeys(k for i in open_cases for k, _ in tried[i]))
         if not distinct:
             continue
         pieces = {k: every.subset(np.array(k)) for k in distinct}
@@ -141,7 +146,8 @@ def second_answers(
         motions: dict[tuple[int, ...], LiftOff | None] = {}
         for k in distinct:
             z = solutions[k]
-            found = None if z is None else motion(pieces[k], body.wrench, z, body.com, cases[0][0])
+            scale = top + float(np.max(speed[list(k)]))  # free_scale on the subset's contacts
+            found = None if z is None else motion(pieces[k], body.wrench, z, body.com, None, scale)
             # Only a motion that lifts none of its contacts can be an answer.
             motions[k] = (
                 found if found is not None and found.moves and not found.lifted.any() else None
@@ -149,11 +155,12 @@ def second_answers(
         for i in list(open_cases):
             kept = remaining[i]
             rows = every.rows[kept]  # the remaining contacts' normal rows (c, n)
-            for k in tried[i]:
+            for k, local in tried[i]:
                 found = motions[k]
                 if found is None:
                     continue
-                keep = np.isin(kept, k)
+                keep = np.zeros(len(kept), dtype=bool)
+                keep[list(local)] = True
                 if np.all(rows[~keep] @ found.acceleration >= -noise[i]):
                     retracted = cases[i][0]
                     found = replace(found, closing=closing(found.acceleration, body.com, retracted))
