@@ -23,7 +23,7 @@ import numpy as np
 
 from kcheck.mechanics.kinematics import point_velocity
 from kcheck.mechanics.lift_off import LIFT_EDGES, LiftOff, closing, contact_rows, lcp, motion
-from kcheck.numerics.lemke import lemke, lemke_batch
+from kcheck.numerics.lemke import lemke, lemke_padded
 from kcheck.numerics.thresholds import LIFT_SHARE
 
 __all__ = ["Body", "SecondAnswer", "second_answer", "second_answers", "subsets"]
@@ -43,8 +43,10 @@ class SecondAnswer:
         return ~self.kept
 
 
-#: Problems of one size from which they are solved as one batch.
+#: Problems of one stage from which they are solved as one batch.
 BATCH_FROM = 3
+#: Subset sizes up to this one are solved as one stage (padded to the largest).
+MERGED = 3
 
 
 def subsets(count: int) -> list[tuple[int, ...]]:
@@ -112,7 +114,8 @@ def second_answers(
     support only moves its ``closing``, the other remaining contacts only decide whether the
     motion is accepted), and every piece of it is built row by row: so each distinct subset of
     supports is solved once for all cases. The problems of one size are solved as one batch
-    (:func:`~kcheck.numerics.lemke.lemke_batch`: each the same pivots as alone), sizes largest
+    (:func:`~kcheck.numerics.lemke.lemke_batch`: each the same pivots as alone; sizes up to MERGED
+    in one batch padded to the largest, :func:`~kcheck.numerics.lemke.lemke_padded`), sizes largest
     first; a case's answer is its first subset in the order of :func:`subsets` that gives a
     motion, as when they are tried in turn, and a case answered drops out of smaller sizes."""
     every = contact_rows(body.points, body.normals, body.mu, body.com, body.inertia, edges)
@@ -124,10 +127,15 @@ def second_answers(
     speed = np.max(np.abs(point_velocity(free, every.lever)), axis=1)
     answers: list[SecondAnswer | None] = [None] * len(cases)
     open_cases = list(range(len(cases)))
-    for size in range(max((len(k) for k in remaining), default=0), 0, -1):
-        # Each case's subsets of this size in its order: (supports, positions among its own).
+    largest = max((len(k) for k in remaining), default=0)
+    # The small sizes are solved in one padded batch (a batch step's numpy calls cost more than
+    # the padding's arithmetic there); accepted in order of size all the same.
+    stages = [[size] for size in range(largest, MERGED, -1)] + [list(range(MERGED, 0, -1))]
+    for sizes in stages:
+        # Each case's subsets of these sizes in its order: (supports, positions among its own).
         tried = {
             i: [(tuple(int(j) for j in remaining[i][list(k)]), k)
+                for size in sizes
                 for k in combinations(range(len(remaining[i])), size)]
             for i in open_cases
         }  # fmt: skip
@@ -137,10 +145,9 @@ def second_answers(
         pieces = {k: every.subset(np.array(k)) for k in distinct}
         problems = [lcp(pieces[k], body.wrench) for k in distinct]
         # A batch step costs about twice a single pivot's numpy calls: worth it from three
-        # problems (a planar case's two contacts give one or two a size, solved alone).
+        # problems.
         if len(problems) >= BATCH_FROM:
-            a, q = np.stack([a for a, _ in problems]), np.stack([q for _, q in problems])
-            solutions = dict(zip(distinct, lemke_batch(a, q), strict=True))
+            solutions = dict(zip(distinct, lemke_padded(problems), strict=True))
         else:
             solutions = {k: lemke(a, q) for k, (a, q) in zip(distinct, problems, strict=True)}
         motions: dict[tuple[int, ...], LiftOff | None] = {}

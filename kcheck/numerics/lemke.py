@@ -15,19 +15,20 @@ import numpy as np
 
 from kcheck.numerics.thresholds import LEMKE_PIVOT_RTOL
 
-__all__ = ["lemke", "lemke_batch"]
+__all__ = ["lemke", "lemke_batch", "lemke_padded"]
 
 #: Pivots allowed per unknown before giving up (cycling on a degenerate problem).
 PIVOTS_PER_UNKNOWN = 50
 
 
-def _start(a: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """The condensed tableaus (..., n, n + 2) of ``w - A z - e z0 = q``: columns z (n), the
-    artificial z0, the right-hand side."""
+def _start(a: np.ndarray, q: np.ndarray, cover: np.ndarray | None = None) -> np.ndarray:
+    """The condensed tableaus (..., n, n + 2) of ``w - A z - d z0 = q``: columns z (n), the
+    artificial z0, the right-hand side; the covering vector ``d`` is ``cover`` (..., n) or
+    ones."""
     n = q.shape[-1]
     tableau = np.empty(q.shape[:-1] + (n, n + 2))
     tableau[..., :n] = -a
-    tableau[..., n] = -1.0
+    tableau[..., n] = -1.0 if cover is None else -cover
     tableau[..., n + 1] = q
     return tableau
 
@@ -87,12 +88,37 @@ def _pivot(tableau: np.ndarray, row: int, column: int) -> None:
     tableau -= factors[:, None] * tableau[row][None, :]
 
 
-def lemke_batch(a: np.ndarray, q: np.ndarray) -> list[np.ndarray | None]:
+def lemke_padded(problems: list[tuple[np.ndarray, np.ndarray]]) -> list[np.ndarray | None]:
+    """:func:`lemke_batch` on problems of different sizes: each padded to the largest with
+    rows ``w_d = 1`` that touch nothing (zero in A, in q's place 1, in the covering vector 0).
+    Such a row stays as it is through every pivot (its entry in every pivot column is 0, so it
+    is never a candidate and its update subtracts zeros), its ``z_d`` never enters (``w_d``
+    never leaves), and the problem's own rows come first, so ties break as before: each problem
+    takes its own pivots, bit for bit."""
+    n = max(len(q) for _, q in problems)
+    a = np.zeros((len(problems), n, n))
+    q = np.ones((len(problems), n))
+    cover = np.zeros((len(problems), n))
+    for i, (ai, qi) in enumerate(problems):
+        m = len(qi)
+        a[i, :m, :m] = ai
+        q[i, :m] = qi
+        cover[i, :m] = 1.0
+    solved = lemke_batch(a, q, cover)
+    return [
+        None if z is None else z[: len(qi)] for z, (_, qi) in zip(solved, problems, strict=True)
+    ]
+
+
+def lemke_batch(
+    a: np.ndarray, q: np.ndarray, cover: np.ndarray | None = None
+) -> list[np.ndarray | None]:
     """:func:`lemke` on ``b`` problems of one size at once: ``a`` (b, n, n), ``q`` (b, n); each
     problem's solution or None. Every problem takes the same pivots as alone, with the same
     floating-point operations on its own tableau (elementwise in numpy either way), so the
     answers are bit for bit :func:`lemke`'s; the batch pays numpy's per-call cost once a pivot
-    step instead of once a problem."""
+    step instead of once a problem. ``cover`` (b, n): the covering vector (default ones; zero
+    on :func:`lemke_padded`'s padding rows)."""
     b, n = q.shape
     out: list[np.ndarray | None] = [None] * b
     start = np.all(q >= 0, axis=1)
@@ -102,7 +128,7 @@ def lemke_batch(a: np.ndarray, q: np.ndarray) -> list[np.ndarray | None]:
     if len(idx) == 0:
         return out
     k = len(idx)
-    tableau = _start(a[idx], q[idx].astype(float))
+    tableau = _start(a[idx], q[idx].astype(float), None if cover is None else cover[idx])
     basis = np.tile(np.arange(n), (k, 1))
     column_of = np.full((k, 2 * n + 1), -1)
     column_of[:, n:] = np.arange(n + 1)
