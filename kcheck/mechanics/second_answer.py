@@ -43,9 +43,11 @@ class SecondAnswer:
         return ~self.kept
 
 
-#: Problems of one stage from which they are solved as one batch.
-BATCH_FROM = 3
-#: Subset sizes up to this one are solved as one stage (padded to the largest).
+#: Problems of one stage from which they are solved as one batch (measured on planar and spatial
+#: scenes: three planar problems are cheaper one by one).
+BATCH_FROM = 4
+#: Subset sizes up to this one are solved as one stage, the larger ones as another (each
+#: padded to its largest).
 MERGED = 3
 
 
@@ -113,11 +115,11 @@ def second_answers(
     A subset's lift-off problem depends on its contacts alone, not on the case (the retracted
     support only moves its ``closing``, the other remaining contacts only decide whether the
     motion is accepted), and every piece of it is built row by row: so each distinct subset of
-    supports is solved once for all cases. The problems of one size are solved as one batch
-    (:func:`~kcheck.numerics.lemke.lemke_batch`: each the same pivots as alone; sizes up to MERGED
-    in one batch padded to the largest, :func:`~kcheck.numerics.lemke.lemke_padded`), sizes largest
-    first; a case's answer is its first subset in the order of :func:`subsets` that gives a
-    motion, as when they are tried in turn, and a case answered drops out of smaller sizes."""
+    supports is solved once for all cases. The problems are solved in two batches, the sizes
+    above MERGED then the rest, each padded to its largest
+    (:func:`~kcheck.numerics.lemke.lemke_padded`: each the same pivots as alone); a case's
+    answer is its first subset in the order of :func:`subsets` that gives a motion, as when
+    they are tried in turn, and a case answered drops out of the second batch."""
     every = contact_rows(body.points, body.normals, body.mu, body.com, body.inertia, edges)
     remaining = [np.asarray(kept, dtype=int) for _, kept in cases]
     noise = [_noise(body, every.lever[kept]) for kept in remaining]
@@ -128,9 +130,10 @@ def second_answers(
     answers: list[SecondAnswer | None] = [None] * len(cases)
     open_cases = list(range(len(cases)))
     largest = max((len(k) for k in remaining), default=0)
-    # The small sizes are solved in one padded batch (a batch step's numpy calls cost more than
-    # the padding's arithmetic there); accepted in order of size all the same.
-    stages = [[size] for size in range(largest, MERGED, -1)] + [list(range(MERGED, 0, -1))]
+    # Two stages, each one padded batch: the sizes above MERGED and those up to it (a batch
+    # step's numpy calls cost more than the padding's arithmetic; measured 0.95 of one stage a
+    # size). Accepted in order of size all the same.
+    stages = [list(range(largest, MERGED, -1))] + [list(range(MERGED, 0, -1))]
     for sizes in stages:
         # Each case's subsets of these sizes in its order: (supports, positions among its own).
         tried = {
@@ -144,8 +147,8 @@ def second_answers(
             continue
         pieces = {k: every.subset(np.array(k)) for k in distinct}
         problems = [lcp(pieces[k], body.wrench) for k in distinct]
-        # A batch step costs about twice a single pivot's numpy calls: worth it from three
-        # problems.
+        # A batch step costs about twice a single pivot's numpy calls: worth it from four
+        # problems (a planar case's three subsets are solved one by one).
         if len(problems) >= BATCH_FROM:
             solutions = dict(zip(distinct, lemke_padded(problems), strict=True))
         else:
