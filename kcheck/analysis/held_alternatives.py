@@ -10,7 +10,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from kcheck.analysis.cases import load_design, problem_for
-from kcheck.mechanics.second_answer import second_answer
+from kcheck.mechanics.second_answer import Body, second_answers
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 
@@ -25,17 +25,18 @@ def held_alternatives(
     search finds no motion beside rest."""
     problem = problem_for(scene, mass)
     wrench = problem.wrench(load_design(scene, problem.dim)[1])
-    found: dict[int, list[str] | None] = {}
-    for r, kept in cases:
-        keep = np.asarray(kept, dtype=int)
-        answer = second_answer(
-            problem.points[keep],
-            problem.normals[keep],
-            problem.friction[keep],
-            problem.com,
-            problem.inertia,
-            wrench,
-            (problem.points[r], problem.normals[r]),
-        )
-        found[r] = None if answer is None else [problem.names[int(j)] for j in keep[answer.lifted]]
-    return found
+    keeps = [np.asarray(kept, dtype=int) for _, kept in cases]
+    body = Body(
+        problem.points, problem.normals, problem.friction, problem.com, problem.inertia, wrench
+    )
+    answers = second_answers(
+        body,
+        [
+            ((problem.points[r], problem.normals[r]), keep)
+            for (r, _), keep in zip(cases, keeps, strict=True)
+        ],
+    )
+    return {
+        r: None if answer is None else [problem.names[int(j)] for j in keep[answer.lifted]]
+        for (r, _), keep, answer in zip(cases, keeps, answers, strict=True)
+    }

@@ -29,7 +29,16 @@ from kcheck.numerics.lemke import lemke
 from kcheck.numerics.thresholds import LIFT_SHARE
 from kcheck.records import dataclass
 
-__all__ = ["LIFT_EDGES", "LiftOff", "lift_off"]
+__all__ = [
+    "LIFT_EDGES",
+    "ContactRows",
+    "LiftOff",
+    "closing",
+    "contact_rows",
+    "lcp",
+    "lift_off",
+    "motion",
+]
 
 #: Edges of the inscribed friction pyramid of a spatial contact (its friction reaches
 #: cos(pi / 16) = 98 % of the circular cone's between edges).
@@ -68,6 +77,116 @@ def _edges(normals: np.ndarray, edges: int) -> np.ndarray:
     return np.cos(angles)[None, :, None] * t1[:, None] + np.sin(angles)[None, :, None] * t2[:, None]
 
 
+@dataclass(frozen=True)
+class ContactRows:
+    """What a lift-off problem on some contacts needs, built once for all of them: ``lever``
+    (c, dim) the contact points about the centre of mass, ``normals`` (c, dim), ``mu`` (c,),
+    ``rows`` (c + c m, n) the normal rows then each contact's ``m`` pyramid-edge rows
+    (acceleration along them per twist), ``inverse`` (n, n) the inverse mass matrix. Its
+    :meth:`subset` is the same as building it on those contacts alone, bit for bit (every
+    piece is computed row by row)."""
+
+    lever: np.ndarray
+    normals: np.ndarray
+    mu: np.ndarray
+    rows: np.ndarray
+    inverse: np.ndarray
+    m: int
+
+    def subset(self, keep: np.ndarray) -> ContactRows:
+        """The rows of the contacts ``keep`` (indices, increasing)."""
+        c = len(self.lever)
+        edge_rows = c + (keep[:, None] * self.m + np.arange(self.m)).ravel()
+        return ContactRows(
+            self.lever[keep],
+            self.normals[keep],
+            self.mu[keep],
+            self.rows[np.concatenate([keep, edge_rows])],
+            self.inverse,
+            self.m,
+        )
+
+
+def contact_rows(
+    points: np.ndarray,
+    normals: np.ndarray,
+    mu: np.ndarray,
+    com: np.ndarray,
+    inertia: np.ndarray,
+    edges: int = LIFT_EDGES,
+) -> ContactRows:
+    """The lift-off problem's pieces for contacts ``points``, unit ``normals`` (c, dim),
+    coefficients ``mu`` (c,) of a body with unit mass and ``inertia`` (nw, nw) about ``com``."""
+    c, dim = points.shape
+    nw = 1 if dim == 2 else 3
+    lever = points - com
+    directions = _edges(normals, edges)
+    m = directions.shape[1]
+    g_n = wrenches(lever, normals)  # (c, n)
+    g_d = wrenches(np.repeat(lever, m, axis=0), directions.reshape(c * m, dim))  # (c m, n)
+    mass = np.zeros((nw + dim, nw + dim))
+    mass[:nw, :nw] = inertia
+    mass[nw:, nw:] = np.eye(dim)
+    return ContactRows(lever, normals, mu, np.vstack([g_n, g_d]), np.linalg.inv(mass), m)
+
+
+def lcp(rows: ContactRows, wrench: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The lift-off problem's LCP ``(A, q)``: unknowns the normal forces (c), the pyramid-edge
+    friction (c m) and the slip rates (c)."""
+    c, m, g, inv = len(rows.lever), rows.m, rows.rows, rows.inverse
+    block = np.zeros((c * m, c))
+    block[np.arange(c * m), np.repeat(np.arange(c), m)] = 1.0
+    size = c + c * m + c
+    a = np.zeros((size, size))
+    a[: c + c * m, : c + c * m] = g @ inv @ g.T
+    a[c : c + c * m, c + c * m :] = block
+    a[c + c * m :, :c] = np.diag(rows.mu)
+    a[c + c * m :, c : c + c * m] = -block.T
+    q = np.concatenate([g @ inv @ wrench, np.zeros(c)])
+    return a, q
+
+
+def motion(
+    rows: ContactRows,
+    wrench: np.ndarray,
+    z: np.ndarray,
+    com: np.ndarray,
+    retracted: tuple[np.ndarray, np.ndarray] | None,
+    scale: float | None = None,
+) -> LiftOff:
+    """The first motion of the LCP's solution ``z`` (:func:`lcp`); ``closing`` NaN without
+    ``retracted``. ``scale``: the free body's acceleration under the wrench (:func:`free_scale`)
+    when the caller has it."""
+    c, m, g, inv, lever = len(rows.lever), rows.m, rows.rows, rows.inverse, rows.lever
+    forces = z[:c]
+    accel = inv @ (wrench + g.T @ z[: c + c * m])
+    if scale is None:
+        scale = free_scale(inv @ wrench, lever)
+    if float(np.max(np.abs(accel))) <= LIFT_SHARE * scale:
+        accel = np.zeros_like(accel)
+    contact = point_velocity(accel, lever)
+    normal_accel = np.einsum("ij,ij->i", contact, rows.normals)
+    lifted = normal_accel > LIFT_SHARE * scale
+    return LiftOff(
+        accel, forces, lifted, np.nan if retracted is None else closing(accel, com, retracted)
+    )
+
+
+def free_scale(free: np.ndarray, lever: np.ndarray) -> float:
+    """What rounding noise is measured against: the free body's acceleration ``free`` (n,)
+    under the wrench, its largest component plus the largest of the contacts' at ``lever``."""
+    return float(np.max(np.abs(free))) + float(np.max(np.abs(point_velocity(free, lever))))
+
+
+def closing(
+    acceleration: np.ndarray, com: np.ndarray, retracted: tuple[np.ndarray, np.ndarray]
+) -> float:
+    """The retracted contact point's acceleration towards its support under ``acceleration``
+    (n,) about ``com``: ``-n_r . a(p_r)``."""
+    point, normal = retracted
+    return -float(point_velocity(acceleration, point - com) @ normal)
+
+
 def lift_off(
     points: np.ndarray,
     normals: np.ndarray,
@@ -82,40 +201,6 @@ def lift_off(
     (dim,)) under ``wrench`` (n,: moment about the centre of mass, force) on the kept contacts
     ``points``, unit ``normals`` (c, dim) with coefficients ``mu`` (c,); ``retracted`` is the
     retracted support's point and unit normal. None when Lemke's method finds no solution."""
-    c, dim = points.shape
-    nw = 1 if dim == 2 else 3
-    lever = points - com
-    directions = _edges(normals, edges)
-    m = directions.shape[1]
-    g_n = wrenches(lever, normals)  # (c, n)
-    g_d = wrenches(np.repeat(lever, m, axis=0), directions.reshape(c * m, dim))  # (c m, n)
-    mass = np.zeros((nw + dim, nw + dim))
-    mass[:nw, :nw] = inertia
-    mass[nw:, nw:] = np.eye(dim)
-    inv = np.linalg.inv(mass)
-    g = np.vstack([g_n, g_d])
-    block = np.zeros((c * m, c))
-    block[np.arange(c * m), np.repeat(np.arange(c), m)] = 1.0
-    size = c + c * m + c
-    a = np.zeros((size, size))
-    a[: c + c * m, : c + c * m] = g @ inv @ g.T
-    a[c : c + c * m, c + c * m :] = block
-    a[c + c * m :, :c] = np.diag(mu)
-    a[c + c * m :, c : c + c * m] = -block.T
-    q = np.concatenate([g @ inv @ wrench, np.zeros(c)])
-    z = lemke(a, q)
-    if z is None:
-        return None
-    forces = z[:c]
-    accel = inv @ (wrench + g.T @ z[: c + c * m])
-    # Rounding noise is measured against the free body's acceleration under the wrench.
-    free = inv @ wrench
-    scale = float(np.max(np.abs(free))) + float(np.max(np.abs(point_velocity(free, lever))))
-    if float(np.max(np.abs(accel))) <= LIFT_SHARE * scale:
-        accel = np.zeros_like(accel)
-    contact = point_velocity(accel, lever)
-    normal_accel = np.einsum("ij,ij->i", contact, normals)
-    lifted = normal_accel > LIFT_SHARE * scale
-    point, normal = retracted
-    closing = -float(point_velocity(accel, point - com) @ normal)
-    return LiftOff(accel, forces, lifted, closing)
+    rows = contact_rows(points, normals, mu, com, inertia, edges)
+    z = lemke(*lcp(rows, wrench))
+    return None if z is None else motion(rows, wrench, z, com, retracted)

@@ -15,16 +15,19 @@ that none exists.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from dataclasses import replace
 from itertools import combinations
 
 import numpy as np
 
-from kcheck.mechanics.kinematics import point_velocity, wrenches
-from kcheck.mechanics.lift_off import LIFT_EDGES, LiftOff, lift_off
+from kcheck.mechanics.kinematics import point_velocity
+from kcheck.mechanics.lift_off import LIFT_EDGES, LiftOff, closing, contact_rows, lcp, motion
+from kcheck.numerics.lemke import lemke, lemke_padded
 from kcheck.numerics.thresholds import LIFT_SHARE
 from kcheck.records import dataclass
 
-__all__ = ["SecondAnswer", "second_answer", "subsets"]
+__all__ = ["Body", "SecondAnswer", "second_answer", "second_answers", "subsets"]
 
 
 @dataclass(frozen=True)
@@ -41,10 +44,33 @@ class SecondAnswer:
         return ~self.kept
 
 
+#: Problems of one stage from which they are solved as one batch (measured on planar and spatial
+#: scenes: three planar problems are cheaper one by one).
+BATCH_FROM = 4
+#: Subset sizes up to this one are solved as one stage, the larger ones as another (each
+#: padded to its largest).
+MERGED = 3
+
+
 def subsets(count: int) -> list[tuple[int, ...]]:
     """The nonempty subsets of ``count`` contacts in the order they are tried: largest first,
     then lexicographic (5 contacts: 31, 2: 3)."""
     return [k for size in range(count, 0, -1) for k in combinations(range(count), size)]
+
+
+@dataclass(frozen=True)
+class Body:
+    """A body on its supports, as :func:`second_answers` takes it: ``points``, unit
+    ``normals`` (k, dim), kinetic coefficients ``mu`` (k,), unit mass with ``inertia``
+    (nw, nw) about ``com`` (dim,), under ``wrench`` (n,; nondimensional as in
+    :func:`~kcheck.mechanics.lift_off.lift_off`)."""
+
+    points: np.ndarray
+    normals: np.ndarray
+    mu: np.ndarray
+    com: np.ndarray
+    inertia: np.ndarray
+    wrench: np.ndarray
 
 
 def second_answer(
@@ -63,22 +89,93 @@ def second_answer(
     remaining contacts ``points``, unit ``normals`` (c, dim), coefficients ``mu`` (c,), every
     other remaining contact separating; ``retracted`` is the retracted support's point and
     unit normal. None when no subset gives one."""
-    c = len(points)
-    lever = points - com
-    nw = 1 if points.shape[1] == 2 else 3
-    mass = np.eye(nw + points.shape[1])
-    mass[:nw, :nw] = inertia
-    free = np.linalg.solve(mass, wrench)
+    body = Body(points, normals, mu, com, inertia, wrench)
+    return second_answers(body, [(retracted, np.arange(len(points)))], edges)[0]
+
+
+def _noise(body: Body, lever: np.ndarray) -> float:
+    """The acceleration below which a motion is rounding noise: LIFT_SHARE of the free
+    body's under the wrench (its largest component plus the largest speed-up of the contacts
+    at ``lever``)."""
+    nw = 1 if body.points.shape[1] == 2 else 3
+    mass = np.eye(nw + body.points.shape[1])
+    mass[:nw, :nw] = body.inertia
+    free = np.linalg.solve(mass, body.wrench)
     scale = float(np.max(np.abs(free))) + float(np.max(np.abs(point_velocity(free, lever))))
-    rows = wrenches(lever, normals)  # normal acceleration of each contact per twist (c, n)
-    for k in subsets(c):
-        keep = np.zeros(c, dtype=bool)
-        keep[list(k)] = True
-        motion = lift_off(
-            points[keep], normals[keep], mu[keep], com, inertia, wrench, retracted, edges
-        )
-        if motion is None or not motion.moves or np.any(motion.lifted):
+    return LIFT_SHARE * scale
+
+
+def second_answers(
+    body: Body,
+    cases: Sequence[tuple[tuple[np.ndarray, np.ndarray], np.ndarray]],
+    edges: int = LIFT_EDGES,
+) -> list[SecondAnswer | None]:
+    """:func:`second_answer` of each case ``(retracted, remaining)``: the retracted support's
+    point and unit normal, and the indices (c,) of the supports that remain.
+
+    A subset's lift-off problem depends on its contacts alone, not on the case (the retracted
+    support only moves its ``closing``, the other remaining contacts only decide whether the
+    motion is accepted), and every piece of it is built row by row: so each distinct subset of
+    supports is solved once for all cases. The problems are solved in two batches, the sizes
+    above MERGED then the rest, each padded to its largest
+    (:func:`~kcheck.numerics.lemke.lemke_padded`: each the same pivots as alone); a case's
+    answer is its first subset in the order of :func:`subsets` that gives a motion, as when
+    they are tried in turn, and a case answered drops out of the second batch."""
+    every = contact_rows(body.points, body.normals, body.mu, body.com, body.inertia, edges)
+    remaining = [np.asarray(kept, dtype=int) for _, kept in cases]
+    noise = [_noise(body, every.lever[kept]) for kept in remaining]
+    # free_scale's pieces, row by row: a subset's is the largest over its rows.
+    free = every.inverse @ body.wrench
+    top = float(np.max(np.abs(free)))
+    speed = np.max(np.abs(point_velocity(free, every.lever)), axis=1)
+    answers: list[SecondAnswer | None] = [None] * len(cases)
+    open_cases = list(range(len(cases)))
+    largest = max((len(k) for k in remaining), default=0)
+    # Two stages, each one padded batch: the sizes above MERGED and those up to it (a batch
+    # step's numpy calls cost more than the padding's arithmetic; measured 0.95 of one stage a
+    # size). Accepted in order of size all the same.
+    stages = [list(range(largest, MERGED, -1))] + [list(range(MERGED, 0, -1))]
+    for sizes in stages:
+        # Each case's subsets of these sizes in its order: (supports, positions among its own).
+        tried = {
+            i: [(tuple(int(j) for j in remaining[i][list(k)]), k)
+                for size in sizes
+                for k in combinations(range(len(remaining[i])), size)]
+            for i in open_cases
+        }  # fmt: skip
+        distinct = list(dict.fromkeys(k for i in open_cases for k, _ in tried[i]))
+        if not distinct:
             continue
-        if np.all(rows[~keep] @ motion.acceleration >= -LIFT_SHARE * scale):
-            return SecondAnswer(keep, motion)
-    return None
+        pieces = {k: every.subset(np.array(k)) for k in distinct}
+        problems = [lcp(pieces[k], body.wrench) for k in distinct]
+        # A batch step costs about twice a single pivot's numpy calls: worth it from four
+        # problems (a planar case's three subsets are solved one by one).
+        if len(problems) >= BATCH_FROM:
+            solutions = dict(zip(distinct, lemke_padded(problems), strict=True))
+        else:
+            solutions = {k: lemke(a, q) for k, (a, q) in zip(distinct, problems, strict=True)}
+        motions: dict[tuple[int, ...], LiftOff | None] = {}
+        for k in distinct:
+            z = solutions[k]
+            scale = top + float(np.max(speed[list(k)]))  # free_scale on the subset's contacts
+            found = None if z is None else motion(pieces[k], body.wrench, z, body.com, None, scale)
+            # Only a motion that lifts none of its contacts can be an answer.
+            motions[k] = (
+                found if found is not None and found.moves and not found.lifted.any() else None
+            )
+        for i in list(open_cases):
+            kept = remaining[i]
+            rows = every.rows[kept]  # the remaining contacts' normal rows (c, n)
+            for k, local in tried[i]:
+                found = motions[k]
+                if found is None:
+                    continue
+                keep = np.zeros(len(kept), dtype=bool)
+                keep[list(local)] = True
+                if np.all(rows[~keep] @ found.acceleration >= -noise[i]):
+                    retracted = cases[i][0]
+                    found = replace(found, closing=closing(found.acceleration, body.com, retracted))
+                    answers[i] = SecondAnswer(keep, found)
+                    open_cases.remove(i)
+                    break
+    return answers
