@@ -348,7 +348,8 @@ def main() -> None:
             found, solved, nearest = enumerate_modes(g)
             cpu = time.process_time() - start
             print(
-                f"{name} retracting {retracted}, {edges}-edge pyramids: {solved} mode systems, {cpu:.1f} s CPU"
+                f"{name} retracting {retracted}, {edges}-edge pyramids:",
+                f"{solved} mode systems, {cpu:.1f} s CPU",
             )
             print(f"  consistent moving modes: {len(found)}")
             for mode in found[:10]:
