@@ -13,13 +13,14 @@ tangential ``k_t,i = ratio k_n,i``, isotropic in the tangent plane) balances the
     K u = -N0_r w_r,    K = sum_i sum_e k_e,i w_e,i w_e,i^T
 
 over each remaining contact's unit directions ``e`` (normal, one or two tangents) with
-wrenches ``w = (p x e, e)``. Contact ``i``'s force is then ``N0_i n_i - sum_e k_e,i (w_e,i .
-u) e``. A contact whose normal force would pull lets go (its seated force is lost too, and the
-response is solved again without it); a contact whose tangential force exceeds ``mu N`` slips: the compliant seat does not
-hold the body there, whatever the rigid model's equilibrium. Quasi-static (no overshoot of the
-sudden release), small displacements, and the forces depend on the stiffnesses only through
-their ratios. Mindlin's no-slip tangential stiffness of a sphere on a flat of the same material
-is ``2 (1 - nu) / (2 - nu)`` of the normal one: 0.67 (nu = 0.5) to 1 (nu = 0).
+wrenches ``w = (p x e, e)``. Contact ``i``'s force is then ``N0_i n_i - sum_e k_e,i (w_e,i . u)
+e``. A contact whose normal force would pull lets go (its seated force is lost too, and the
+response is solved again without it); a contact whose tangential force exceeds ``mu N`` slips:
+the compliant seat does not hold the body there, whatever the rigid model's equilibrium.
+Quasi-static (no overshoot of the sudden release), small displacements, and the forces depend on the
+stiffnesses only through their ratios. Mindlin's no-slip tangential stiffness of a sphere on a
+flat of the same material is ``2 (1 - nu) / (2 - nu)`` of the normal one: 0.67 (nu = 0.5) to
+1 (nu = 0).
 """
 
 from __future__ import annotations
@@ -32,7 +33,9 @@ from kcheck.mechanics.kinematics import wrenches
 
 __all__ = [
     "CompliantHold",
+    "SlipHold",
     "compliant_hold",
+    "slip_hold",
     "hertz_stiffness",
     "mindlin_ratio",
     "seat_forces",
@@ -159,3 +162,102 @@ def compliant_hold(
         usage = np.where(active, tangential / (mu * normal), 0.0)
     usage = np.where(active & (mu * normal <= 0) & (tangential > 0), np.inf, usage)
     return CompliantHold(forces, normal, tangential, ~active, np.nan_to_num(usage, nan=0.0))
+
+
+#: A slipping contact's friction direction is settled when it turns less than this (rad) in a
+#: step; the slip is followed for at most SLIP_STEPS solves.
+SLIP_TURN = 1e-6
+SLIP_STEPS = 200
+
+
+@dataclass(frozen=True)
+class SlipHold:
+    """The compliant seat after local slip: ``holds`` whether a state is reached where every
+    sticking contact's force is in its cone and every slipping one carries ``mu N`` against
+    its slip (False: the slip does not stop, the body moves); ``slipping`` and ``separated``
+    (c,) the contacts that slipped or let go on the way."""
+
+    holds: bool
+    slipping: np.ndarray
+    separated: np.ndarray
+    why: str = ""  # "held", "unstable" (the slip does not stop) or "unsettled" (no fixed point)
+
+
+def slip_hold(
+    points: np.ndarray,
+    normals: np.ndarray,
+    mu: np.ndarray,
+    seated: np.ndarray,
+    retracted: int,
+    stiffness: np.ndarray,
+    ratio: float,
+) -> SlipHold:
+    """:func:`compliant_hold` at one ratio, followed through local slip: a contact whose
+    force leaves its cone slips, carrying ``mu N`` (N still from its normal spring) against
+    the direction its point moves, without a tangential spring; the response is solved
+    again until no contact leaves its cone (held) or the remaining sticking contacts cannot
+    stop the slip (the stiffness matrix singular or not positive: moves). One quasi-static
+    step from the seat, not the path the release follows."""
+    points = np.asarray(points, float)
+    normals = np.asarray(normals, float)
+    seated = np.asarray(seated, float)
+    k = np.asarray(stiffness, float)
+    mu = np.asarray(mu, float)
+    c, dim = points.shape
+    centre = points.mean(axis=0)
+    size = float(np.max(np.linalg.norm(points - centre, axis=1))) or 1.0
+    lever = (points - centre) / size
+    tangents = _tangents(normals)
+    rows_n = wrenches(lever, normals)
+    rows_t = wrenches(lever[:, None], tangents)  # (c, dim - 1, n)
+    active = np.ones(c, dtype=bool)
+    active[retracted] = False
+    slipping = np.zeros(c, dtype=bool)
+    friction = np.zeros((c, dim))  # unit direction of a slipping contact's friction force
+    for _ in range(SLIP_STEPS):
+        matrix = np.zeros((rows_n.shape[1],) * 2)
+        rhs = -((~active) * seated) @ rows_n
+        for i in np.flatnonzero(active):
+            if slipping[i]:
+                w_slip = wrenches(lever[i], normals[i] + mu[i] * friction[i])
+                matrix += k[i] * np.outer(w_slip, rows_n[i])
+                rhs += seated[i] * mu[i] * wrenches(lever[i], friction[i])
+            else:
+                matrix += k[i] * (np.outer(rows_n[i], rows_n[i]) + ratio * rows_t[i].T @ rows_t[i])
+        eig = np.linalg.eigvals(matrix)
+        if np.min(eig.real) <= 1e-12 * np.max(np.abs(eig)):
+            return SlipHold(False, slipping, ~active, "unstable")
+        twist = np.linalg.solve(matrix, rhs)
+        normal = np.where(active, seated - k * (rows_n @ twist), 0.0)
+        if np.any(normal < 0):
+            worst = int(np.argmin(normal))
+            active[worst] = slipping[worst] = False
+            continue
+        moved = np.einsum("cja,a->cj", rows_t, twist)  # tangential displacement, tangent basis
+        force_t = -ratio * k[:, None] * moved
+        # slipping contacts: friction against the slip
+        along = np.einsum("cj,cjd->cd", -moved, tangents)
+        length = np.linalg.norm(along, axis=1)
+        turned = False
+        for i in np.flatnonzero(active & slipping):
+            if length[i] > 0:
+                new = along[i] / length[i]
+                if np.linalg.norm(new - friction[i]) > SLIP_TURN:
+                    turned = True
+                    # half a step towards the slip's direction: a full step can cycle
+                    half = friction[i] + new
+                    friction[i] = half / np.linalg.norm(half) if np.any(half) else new
+        if turned:
+            continue
+        usage = np.where(
+            active & ~slipping,
+            np.linalg.norm(force_t, axis=1) / np.maximum(mu * normal, 1e-300),
+            0.0,
+        )
+        if np.max(usage) <= 1.0:
+            return SlipHold(True, slipping, ~active, "held")
+        worst = int(np.argmax(usage))
+        slipping[worst] = True
+        trial = np.einsum("j,jd->d", force_t[worst], tangents[worst])
+        friction[worst] = trial / np.linalg.norm(trial)
+    return SlipHold(False, slipping, ~active, "unsettled")

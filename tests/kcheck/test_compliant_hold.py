@@ -11,6 +11,7 @@ from kcheck.mechanics.compliant_hold import (
     hertz_stiffness,
     mindlin_ratio,
     seat_forces,
+    slip_hold,
 )
 from kcheck.mechanics.kinematics import wrenches
 
@@ -111,3 +112,18 @@ def test_released_forces_balance_the_load() -> None:
 def test_mindlin_ratio() -> None:
     """2 (1 - nu) / (2 - nu): 1 at nu = 0, 2/3 at nu = 0.5, 0.824 at steel's 0.3."""
     assert mindlin_ratio([0.0, 0.5, 0.3]) == pytest.approx([1.0, 2 / 3, 1.4 / 1.7], rel=1e-12)
+
+
+def test_after_local_slip_the_floor_holds_when_the_rigid_model_does() -> None:
+    """The same block, k2 = 3 k1, mu = 0.35: s2 slips (above) and then carries mu N2 =
+    0.35 x 6.125 = 2.144 N of the lost 3 N; s1 carries the rest, 0.856 N, under its
+    mu N1 = 0.35 x 3.875 = 1.356 N: the seat holds after s2 slips. At mu = 0.25 the rigid
+    model cannot hold (mu Q = 2.5 < P = 3): s1 must slip too, and with both floor contacts
+    slipping nothing stops the block."""
+    seated = seat_forces(POINTS, NORMALS, _wrench(3.0, 10.0, 0.015))
+    stiffness = np.array([1.0, 3.0, 1.0])
+    held = slip_hold(POINTS, NORMALS, np.full(3, 0.35), seated, 2, stiffness, 0.8)
+    assert held.holds
+    assert list(held.slipping) == [False, True, False]
+    moves = slip_hold(POINTS, NORMALS, np.full(3, 0.25), seated, 2, stiffness, 0.8)
+    assert not moves.holds

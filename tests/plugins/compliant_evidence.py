@@ -24,7 +24,12 @@ from pathlib import Path
 import numpy as np
 
 from kcheck.analysis.reseat import _wrench
-from kcheck.mechanics.compliant_hold import compliant_hold, hertz_stiffness, seat_forces
+from kcheck.mechanics.compliant_hold import (
+    compliant_hold,
+    hertz_stiffness,
+    seat_forces,
+    slip_hold,
+)
 from kcheck.mechanics.kinematics import wrenches
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
@@ -60,7 +65,14 @@ def compliant_usage(scene: Scene, mass: MassProperties, retracted: int, mu: np.n
     for key in ASSUMPTIONS:
         hold = compliant_hold(lever, normals, mu, seated, retracted, stiffness[key], RATIOS)
         worst = np.argmax(hold.usage, axis=1)
+        slips = [
+            slip_hold(lever, normals, mu, seated, retracted, stiffness[key], float(ratio))
+            for ratio in RATIOS
+        ]
         out[key] = {
+            "slip_holds": [s.holds for s in slips],
+            "slip_why": [s.why for s in slips],
+            "slipped": [[names[i] for i in np.flatnonzero(s.slipping)] for s in slips],
             "usage": [round(float(u), 4) for u in hold.usage.max(axis=1)],
             "at": [names[int(i)] for i in worst],
             "separated": [[names[i] for i in np.flatnonzero(s)] for s in hold.separated],
@@ -154,28 +166,36 @@ def recompute(path: Path, seed: int) -> list[dict]:
 
 
 def summary(rows: list[dict]) -> list[str]:
-    """Per assumption and ratio: held-uniquely cases flagged (the compliant seat slips) and of
-    those how many stay held in the simulation (false alarms), the same for held-or-moves
-    cases, and whether random-3d-1667 s1 is flagged."""
-    lines = []
+    """Per assumption, ratio and test (the compliant seat slips somewhere; the slip does not
+    stop, slip_hold): held-uniquely cases flagged and of those how many stay held in the
+    simulation (false alarms), the same for held-or-moves cases, and whether random-3d-1667
+    s1 is flagged."""
     unique = [r for r in rows if r["unique"]]
     other = [r for r in rows if not r["unique"]]
+    lines = []
     for key in ASSUMPTIONS:
         for i, ratio in enumerate(RATIOS):
-            fu = [r for r in unique if r[key]["usage"][i] > 1]
-            fo = [r for r in other if r[key]["usage"][i] > 1]
-            target = [
-                r for r in fu if r["scene"].startswith("random-3d-1667.") and r["retracted"] == "s1"
-            ]
-            lines.append(
-                f"{key:5s} {ratio:5.2f}: uniquely {len(fu)}/{len(unique)} flagged, "
-                f"{sum(r['simulated'] == 'jams' for r in fu)} of them stay held, "
-                f"moving uniquely flagged {sum(r['simulated'] != 'jams' for r in fu)}"
-                f"/{sum(r['simulated'] != 'jams' for r in unique)}; "
-                f"or-moves {len(fo)}/{len(other)} flagged, "
-                f"{sum(r['simulated'] == 'jams' for r in fo)} stay held; 1667 s1 "
-                f"{'flagged' if target else '-'}"
-            )
+            for test, field in (("slips", "usage"), ("slip does not stop", "slip_holds")):
+
+                def flag(r: dict, key: str = key, i: int = i, field: str = field) -> bool:
+                    v = r[key][field][i]
+                    return v > 1 if field == "usage" else not v
+
+                fu = [r for r in unique if flag(r)]
+                fo = [r for r in other if flag(r)]
+                target = any(
+                    r["scene"].startswith("random-3d-1667.") and r["retracted"] == "s1" for r in fu
+                )
+                lines.append(
+                    f"{key:5s} {ratio:5.2f} {test}: uniquely {len(fu)}/{len(unique)} flagged, "
+                    f"{sum(r['simulated'] == 'jams' for r in fu)} of them stay held, moving "
+                    f"uniquely flagged {sum(r['simulated'] != 'jams' for r in fu)}"
+                    f"/{sum(r['simulated'] != 'jams' for r in unique)}; or-moves "
+                    f"{len(fo)}/{len(other)} flagged, {sum(r['simulated'] == 'jams' for r in fo)} "
+                    f"stay held, moving flagged {sum(r['simulated'] != 'jams' for r in fo)}"
+                    f"/{sum(r['simulated'] != 'jams' for r in other)}; 1667 s1 "
+                    f"{'flagged' if target else '-'}"
+                )
     return lines
 
 
