@@ -11,7 +11,9 @@ after the release, per contact-stiffness assumption and tangential/normal ratio:
   effective mass ``1 / (w M^-1 w)`` (one time constant for every contact).
 
 Run: PYTHONPATH=.:plugins python tests/plugins/compliant_evidence.py SEED OUT.json
-(seed 26: the agreement test's scenes and its three fixtures; about 4 min a seed).
+(seed 26: the agreement test's scenes and its three fixtures; 4-10 min a seed), then
+``... compliant_evidence.py table OUT.json SEED`` for docs/validation.md's table rows (the
+compliant tests computed again, the simulated classes from OUT.json).
 """
 
 from __future__ import annotations
@@ -165,44 +167,43 @@ def recompute(path: Path, seed: int) -> list[dict]:
     return out
 
 
-def summary(rows: list[dict]) -> list[str]:
-    """Per assumption, ratio and test (the compliant seat slips somewhere; the slip does not
-    stop, slip_hold): held-uniquely cases flagged and of those how many stay held in the
-    simulation (false alarms), the same for held-or-moves cases, and whether random-3d-1667
-    s1 is flagged."""
-    unique = [r for r in rows if r["unique"]]
-    other = [r for r in rows if not r["unique"]]
+def table(rows: list[dict], label: str) -> list[str]:
+    """docs/validation.md's table rows: per test (elastic: a contact leaves its cone; through
+    local slip: the slip does not stop), assumption and ratio, how many held cases are flagged,
+    split by `jamming`'s uniqueness and by whether the simulation keeps them held, and
+    random-3d-1667 s1."""
     lines = []
-    for key in ASSUMPTIONS:
-        for i, ratio in enumerate(RATIOS):
-            for test, field in (("slips", "usage"), ("slip does not stop", "slip_holds")):
+    groups = [(u, held) for u in (True, False) for held in (True, False)]
+    for test, field in (("elastic", "usage"), ("through slip", "slip_holds")):
+        for key in ASSUMPTIONS:
+            for i in (1, 3, 5):
 
                 def flag(r: dict, key: str = key, i: int = i, field: str = field) -> bool:
                     v = r[key][field][i]
                     return v > 1 if field == "usage" else not v
 
-                fu = [r for r in unique if flag(r)]
-                fo = [r for r in other if flag(r)]
-                target = any(
-                    r["scene"].startswith("random-3d-1667.") and r["retracted"] == "s1" for r in fu
-                )
+                cells = []
+                for u, held in groups:
+                    group = [
+                        r for r in rows if r["unique"] == u and (r["simulated"] == "jams") == held
+                    ]
+                    cells.append(f"{sum(map(flag, group))} of {len(group)}")
+                target = [
+                    r
+                    for r in rows
+                    if r["scene"].startswith("random-3d-1667.") and r["retracted"] == "s1"
+                ]
+                hit = ("flagged" if flag(target[0]) else "not flagged") if target else "—"
                 lines.append(
-                    f"{key:5s} {ratio:5.2f} {test}: uniquely {len(fu)}/{len(unique)} flagged, "
-                    f"{sum(r['simulated'] == 'jams' for r in fu)} of them stay held, moving "
-                    f"uniquely flagged {sum(r['simulated'] != 'jams' for r in fu)}"
-                    f"/{sum(r['simulated'] != 'jams' for r in unique)}; or-moves "
-                    f"{len(fo)}/{len(other)} flagged, {sum(r['simulated'] == 'jams' for r in fo)} "
-                    f"stay held, moving flagged {sum(r['simulated'] != 'jams' for r in fo)}"
-                    f"/{sum(r['simulated'] != 'jams' for r in other)}; 1667 s1 "
-                    f"{'flagged' if target else '-'}"
+                    f"| {label} | {test} | {key} | {RATIOS[i]:.2f} | {cells[0]} | {cells[1]} | "
+                    f"{hit} | {cells[2]} | {cells[3]} |"
                 )
     return lines
 
 
 if __name__ == "__main__":
-    if sys.argv[1] == "summary":
+    if sys.argv[1] == "table":  # table RUN.json SEED: the usage again, the simulation kept
         rows = recompute(Path(sys.argv[2]), int(sys.argv[3]))
-        Path(sys.argv[4]).write_text(json.dumps(rows, indent=1))
-        print("\n".join(summary(rows)))
+        print("\n".join(table(rows, f"seed {sys.argv[3]}")))
     else:
         main()
