@@ -20,7 +20,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from kcheck.mechanics.compliant_hold import compliant_hold, seat_forces, slip_hold  # noqa: E402
+from kcheck.mechanics.compliant_hold import compliant_hold, slip_hold  # noqa: E402
 from kcheck.mechanics.kinematics import wrenches  # noqa: E402
 
 
@@ -34,8 +34,8 @@ def _seats(count: int) -> list[tuple[np.ndarray, ...]]:
         rows = wrenches(points, normals)
         if np.linalg.cond(rows) > 1e4:
             continue
-        wrench = -rng.uniform(1, 10, 6) @ rows
-        seats.append((points, normals, seat_forces(points, normals, wrench), rows))
+        seated = rng.uniform(1, 10, 6)  # the seat pressing every contact (its load: -N @ rows)
+        seats.append((points, normals, seated, rows))
     return seats
 
 
@@ -43,7 +43,7 @@ def main() -> None:
     seats = _seats(20)
     mu, k = np.full(6, 0.3), np.ones(6)
     calls = {
-        "numpy.linalg.solve 6 x 6": lambda s: np.linalg.solve(s[3], s[2]),
+        "numpy.linalg.solve 6 x 6": lambda s: np.linalg.solve(s[3].T, s[2]),
         "compliant_hold, 3 ratios": lambda s: compliant_hold(
             s[0], s[1], mu, s[2], 0, k, [2 / 3, 0.8, 1.0]
         ),

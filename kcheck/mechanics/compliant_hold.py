@@ -6,9 +6,10 @@ contacts: 15 force components, 6 equations); "friction can hold" means some dist
 in the cones, not that the one a compliant seat reaches does. This module computes the one
 linear contact springs reach. From the frictionless seat (each contact pressed by its seated
 normal force ``N0_i``, no tangential force: the body slid into its seat without friction, as
-the `reseat` simulation settles it) the retracted support's force ``N0_r`` is removed; the
-body's small displacement twist ``u`` on the remaining contacts' springs (normal ``k_n,i``,
-tangential ``k_t,i = ratio k_n,i``, isotropic in the tangent plane) balances the lost force:
+the `reseat` simulation settles it; :func:`kcheck.mechanics.seat.contact_forces`) the retracted
+support's force ``N0_r`` is removed; the body's small displacement twist ``u`` on the remaining
+contacts' springs (normal ``k_n,i``, tangential ``k_t,i = ratio k_n,i``, isotropic in the
+tangent plane) balances the lost force:
 
     K u = -N0_r w_r,    K = sum_i sum_e k_e,i w_e,i w_e,i^T
 
@@ -38,7 +39,6 @@ __all__ = [
     "slip_hold",
     "hertz_stiffness",
     "mindlin_ratio",
-    "seat_forces",
 ]
 
 
@@ -63,12 +63,6 @@ def _tangents(normals: np.ndarray) -> np.ndarray:
     t1 = np.cross(normals, helper)
     t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
     return np.stack([t1, np.cross(normals, t1)], axis=1)
-
-
-def seat_forces(points: np.ndarray, normals: np.ndarray, wrench: np.ndarray) -> np.ndarray:
-    """Frictionless seated normal forces (c,) N of ``c = 3`` (planar) or 6 contacts balancing
-    ``wrench`` (n,: moment about the origin of ``points``, force): ``sum N_i w_i = -wrench``."""
-    return np.linalg.solve(wrenches(points, normals).T, -np.asarray(wrench, float))
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,6 @@ from kcheck.mechanics.compliant_hold import (
     compliant_hold,
     hertz_stiffness,
     mindlin_ratio,
-    seat_forces,
     slip_hold,
 )
 from kcheck.mechanics.kinematics import wrenches
@@ -27,12 +26,18 @@ def _wrench(p: float, q: float, y: float) -> np.ndarray:
     return np.array([p * y, -p, -q])
 
 
-def test_frictionless_seat_by_hand() -> None:
-    """N3 = P; N1 + N2 = Q; moments about the origin: a (N1 - N2) - h N3 + P y = 0."""
-    p, q, y = 3.0, 10.0, 0.015
+def _seated(p: float, q: float, y: float) -> np.ndarray:
+    """Frictionless seat by hand: N3 = P; N1 + N2 = Q; moments about the origin:
+    a (N1 - N2) - h N3 + P y = 0."""
     n1_minus_n2 = p * (H - y) / A
-    expected = [(q + n1_minus_n2) / 2, (q - n1_minus_n2) / 2, p]
-    assert seat_forces(POINTS, NORMALS, _wrench(p, q, y)) == pytest.approx(expected, rel=1e-12)
+    return np.array([(q + n1_minus_n2) / 2, (q - n1_minus_n2) / 2, p])
+
+
+def test_the_hand_worked_seat_balances_the_load() -> None:
+    """The seat the tests start from is an equilibrium: sum N_i w_i = -W."""
+    p, q, y = 3.0, 10.0, 0.015
+    total = _seated(p, q, y) @ wrenches(POINTS, NORMALS)
+    assert total == pytest.approx(-_wrench(p, q, y), abs=1e-12)
 
 
 def test_two_floor_contacts_share_the_lost_wall_force_by_stiffness() -> None:
@@ -44,7 +49,7 @@ def test_two_floor_contacts_share_the_lost_wall_force_by_stiffness() -> None:
     mu = 0.35 the rigid model holds (capacity mu Q = 3.5 > P = 3), yet s2 needs
     2.25 / (0.35 x 6.125) = 1.05 of its cone: the compliant seat slips at s2."""
     p, q, y, mu = 3.0, 10.0, 0.015, 0.35
-    seated = seat_forces(POINTS, NORMALS, _wrench(p, q, y))
+    seated = _seated(p, q, y)
     ratios = np.array([2 / 3, 1.0, 5.0])
     hold = compliant_hold(
         POINTS, NORMALS, np.full(3, mu), seated, 2, np.array([1.0, 3.0, 1.0]), ratios
@@ -71,7 +76,7 @@ def test_a_pulling_contact_lets_go() -> None:
     """Pushed high (y = 0.1), the floor's s1 would need N1 = (Q - P y / a) / 2 = -2.5 N once
     the wall is gone: it lets go, and s2 alone (two springs for three freedoms) cannot hold
     the block elastically: it does not hold."""
-    seated = seat_forces(POINTS, NORMALS, _wrench(3.0, 10.0, 0.1))
+    seated = _seated(3.0, 10.0, 0.1)
     hold = compliant_hold(POINTS, NORMALS, np.full(3, 0.5), seated, 2, np.ones(3), [1.0])
     assert hold.separated[0, 0] and hold.separated[0, 2]
     assert not hold.holds[0]
@@ -90,8 +95,8 @@ def test_released_forces_balance_the_load() -> None:
         if np.linalg.cond(wrenches(points, normals)) > 1e4:
             continue
         # a seat pressing every contact: the load its positive forces balance
-        wrench = -rng.uniform(1, 10, 6) @ wrenches(points, normals)
-        seated = seat_forces(points, normals, wrench)
+        seated = rng.uniform(1, 10, 6)
+        wrench = -seated @ wrenches(points, normals)
         hold = compliant_hold(
             points, normals, np.full(6, 0.3), seated, 0, hertz_stiffness(seated), [0.7, 1.0]
         )
@@ -120,7 +125,7 @@ def test_after_local_slip_the_floor_holds_when_the_rigid_model_does() -> None:
     mu N1 = 0.35 x 3.875 = 1.356 N: the seat holds after s2 slips. At mu = 0.25 the rigid
     model cannot hold (mu Q = 2.5 < P = 3): s1 must slip too, and with both floor contacts
     slipping nothing stops the block."""
-    seated = seat_forces(POINTS, NORMALS, _wrench(3.0, 10.0, 0.015))
+    seated = _seated(3.0, 10.0, 0.015)
     stiffness = np.array([1.0, 3.0, 1.0])
     held = slip_hold(POINTS, NORMALS, np.full(3, 0.35), seated, 2, stiffness, 0.8)
     assert held.holds

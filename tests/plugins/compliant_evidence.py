@@ -25,14 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
-from kcheck.analysis.reseat import _wrench
-from kcheck.mechanics.compliant_hold import (
-    compliant_hold,
-    hertz_stiffness,
-    seat_forces,
-    slip_hold,
-)
+from kcheck.mechanics.compliant_hold import compliant_hold, hertz_stiffness, slip_hold
 from kcheck.mechanics.kinematics import wrenches
+from kcheck.mechanics.seat import contact_forces, external_wrench, seat_layout, seated_loads
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
 
@@ -47,11 +42,12 @@ def compliant_usage(scene: Scene, mass: MassProperties, retracted: int, mu: np.n
     points = np.array([s.position for s in scene.supports])[:, :dim]
     normals = np.array([s.normal / np.linalg.norm(s.normal) for s in scene.supports])[:, :dim]
     com = mass.center_of_mass[:dim]
-    gravity = np.concatenate([mass.mass * scene.gravity, np.zeros(3)])
-    load = _wrench(scene, mass.center_of_mass, 1.0) + gravity  # force, torque about the com
-    wrench = np.array([load[5], load[0], load[1]]) if dim == 2 else np.r_[load[3:], load[:3]]
     lever = points - com
-    seated = seat_forces(lever, normals, wrench)
+    positions = np.array([s.position for s in scene.supports])
+    seat = seat_layout(positions, np.array([s.normal for s in scene.supports]), dim, 1.0)
+    loads, torque, _ = seated_loads(scene, mass)
+    seated = contact_forces(seat, external_wrench(seat, loads, torque)).value
+    assert seated is not None
     inertia = np.array([[mass.inertia[2, 2]]]) if dim == 2 else mass.inertia
     nw = inertia.shape[0]
     m = np.eye(nw + dim) * mass.mass
