@@ -1,8 +1,8 @@
 """Cost of the issue 26 compliant-seat tests: ``python benchmarks/bench_compliant_hold.py``.
 
 CPU time (``time.process_time``, median of 5 rounds of 200 calls) of
-:func:`kcheck.mechanics.compliant_hold.compliant_hold` (one release, three tangential/normal
-ratios at once) and :func:`~kcheck.mechanics.compliant_hold.slip_hold` (one ratio, followed
+:func:`tests.plugins.compliant_hold.compliant_hold` (one release, three tangential/normal
+ratios at once) and :func:`~tests.plugins.compliant_hold.slip_hold` (one ratio, followed
 through local slip), on 20 random spatial seats (6 contacts, one retracted), paired in the same
 rounds with a plain 6 x 6 ``numpy.linalg.solve`` as the yardstick of this machine's numpy
 call cost. Neither function is on a check's path (docs/validation.md, "Compliant contacts").
@@ -20,8 +20,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from kcheck.mechanics.compliant_hold import compliant_hold, slip_hold  # noqa: E402
 from kcheck.mechanics.kinematics import wrenches  # noqa: E402
+from tests.plugins.compliant_hold import compliant_hold, slip_hold  # noqa: E402
 
 
 def _seats(count: int) -> list[tuple[np.ndarray, ...]]:

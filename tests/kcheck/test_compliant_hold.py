@@ -1,4 +1,4 @@
-"""The compliant seat's response to a lost support (kcheck.mechanics.compliant_hold) against
+"""The compliant seat's response to a lost support (tests.plugins.compliant_hold) against
 closed forms worked by hand and against statics."""
 
 from __future__ import annotations
@@ -6,13 +6,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from kcheck.mechanics.compliant_hold import (
+from kcheck.mechanics.kinematics import wrenches
+from tests.plugins.compliant_hold import (
     compliant_hold,
     hertz_stiffness,
     mindlin_ratio,
     slip_hold,
 )
-from kcheck.mechanics.kinematics import wrenches
 
 # A planar block on a floor (s1 at x = +a, s2 at x = -a, normals +y) against a wall (s3 at
 # (-b, h), normal +x), pushed by (-P, -Q) at (0, y).

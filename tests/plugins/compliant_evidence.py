@@ -1,5 +1,5 @@
 """Evidence for issue 26 (not the check): the compliant-contact test
-(kcheck.mechanics.compliant_hold) on every case `jamming` says friction holds, beside the
+(tests.plugins.compliant_hold) on every case `jamming` says friction holds, beside the
 `reseat` simulation's first motion (tests/plugins/reseat_agreement.py's comparison).
 
 For each held case, the largest friction usage ``|T| / (mu N)`` over the remaining contacts
@@ -25,11 +25,11 @@ from pathlib import Path
 
 import numpy as np
 
-from kcheck.mechanics.compliant_hold import compliant_hold, hertz_stiffness, slip_hold
 from kcheck.mechanics.kinematics import wrenches
 from kcheck.mechanics.seat import contact_forces, external_wrench, seat_layout, seated_loads
 from kcheck.result import MassProperties
 from kcheck.scene import Scene
+from tests.plugins.compliant_hold import compliant_hold, hertz_stiffness, slip_hold
 
 RATIOS = np.array([0.5, 2 / 3, 0.8, 1.0, 2.0, 10.0])
 ASSUMPTIONS = ("equal", "hertz", "mass")

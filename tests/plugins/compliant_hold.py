@@ -1,5 +1,6 @@
 """Whether a body friction can hold stays held on compliant contacts: the elastic response of
-the seat to the loss of one support.
+the seat to the loss of one support. Evidence for issue 26, kept with the tests: no check
+uses it (docs/validation.md, "Compliant contacts").
 
 The rigid model leaves a held body's friction forces statically indeterminate (5 spatial
 contacts: 15 force components, 6 equations); "friction can hold" means some distribution lies
