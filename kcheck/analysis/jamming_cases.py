@@ -27,7 +27,7 @@ import numpy as np
 
 from kcheck.mechanics.arcs import ArcSet, complement, intersect, positive_arc
 from kcheck.mechanics.kinematics import FreeTwist, free_twist
-from kcheck.mechanics.lattice_cells import LatticeCells, bounded_slack, lattice_cells
+from kcheck.mechanics.lattice_cells import LatticeCells, lattice_cells, lattice_slack
 from kcheck.mechanics.least_friction import (
     friction_candidates,
     least_friction,
@@ -446,22 +446,7 @@ def _lattice_slack(
     floor = -FREE_CANDIDATE_TOL
     if held.kind != "cone" or not len(held.a):
         return held.least_slack(cells.fine, floor)
-    slack, open_ = bounded_slack(held.a, held.c, cells, floor, FREE_CANDIDATE_TOL, where)
-    # An undecided direction below the floor at its cell's likeliest facet (least at the
-    # centre) is settled by that one value (the map compares slacks with the floor and
-    # above only); the others meet every facet.
-    owner = cells.owner[open_]
-    used = np.zeros(len(cells.coarse), bool)
-    used[owner] = True
-    which = np.flatnonzero(used)
-    likeliest = np.zeros(len(cells.coarse), int)
-    likeliest[which] = np.argmin(held.a + cells.coarse[which] @ held.c.T, axis=1)
-    f = likeliest[owner]
-    value = held.a[f] + np.einsum("ij,ij->i", cells.fine[open_], held.c[f])
-    below = value < floor
-    slack[open_[below]] = value[below]
-    rest = open_[~below]
-    slack[rest] = held.least_slack(cells.fine[rest], floor)
+    slack = lattice_slack(held.a, held.c, cells, floor, FREE_CANDIDATE_TOL, where)
     if where is not None:
         slack[~where] = -np.inf
     return slack

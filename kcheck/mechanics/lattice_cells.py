@@ -15,7 +15,7 @@ from functools import lru_cache
 
 import numpy as np
 
-__all__ = ["LatticeCells", "lattice_cells", "bounded_slack"]
+__all__ = ["LatticeCells", "lattice_cells", "bounded_slack", "lattice_slack"]
 
 #: Fine directions per coarse cell (about): more cells cost more coarse products, fewer
 #: leave more fine directions near a boundary undecided.
@@ -69,9 +69,10 @@ def bounded_slack(
     floor: float,
     ceiling: float,
     where: np.ndarray | None = None,
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per fine direction, ``min_f (a_f + c_f . d)`` as far as its comparison with ``floor``
-    and ``ceiling`` goes, and the fine indices left for the caller to evaluate exactly.
+    and ``ceiling`` goes, the fine indices left for the caller to evaluate exactly, and the
+    facets that can bring their least slack below ``ceiling`` (the others cannot).
 
     Returned values: a lower bound that is ``>= ceiling`` in cells wholly above it, an upper
     bound ``< floor`` in cells wholly below it, NaN elsewhere (the undecided directions,
@@ -95,15 +96,20 @@ def bounded_slack(
         wanted = np.zeros(m, bool)
         wanted[cells.owner[where]] = True
         rest = np.flatnonzero(wanted)
+    facets = np.zeros(0, int)
     if len(rest):
-        low = np.min(_bound(cells, rest, a, c, -size, -guard), axis=1)
+        lows = _bound(cells, rest, a, c, -size, -guard)  # (rest, f)
+        low = np.min(lows, axis=1)
         high = np.min(_bound(cells, rest, a, c, size, guard), axis=1)
         value[rest] = np.where(low >= ceiling, low, np.where(high < floor, high, np.nan))
+        # Facets above the ceiling at every member of every undecided cell cannot bring a
+        # member's least slack below it: the exact values need only the others.
+        facets = np.flatnonzero(np.any(lows[np.isnan(value[rest])] < ceiling, axis=0))
     slack = value[cells.owner]
     open_ = np.isnan(slack)
     if where is not None:
         open_ &= where
-    return slack, np.flatnonzero(open_)
+    return slack, np.flatnonzero(open_), facets
 
 
 def _bound(
@@ -146,3 +152,25 @@ def _outside_facets(
         chosen.append(best)
         alive &= ~below[:, best]
     return np.array(chosen or [0], dtype=int)
+
+
+def lattice_slack(
+    a: np.ndarray,
+    c: np.ndarray,
+    cells: LatticeCells,
+    floor: float,
+    ceiling: float,
+    where: np.ndarray | None = None,
+) -> np.ndarray:
+    """Per fine direction, ``min_f (a_f + c_f . d)``, exact wherever it lies in ``[floor,
+    ceiling)``; elsewhere a value on the same side (``where``: NaN outside those directions).
+    Whole cells beyond the band are decided by :func:`bounded_slack`; the undecided
+    directions meet only the facets that can bring them below ``ceiling``."""
+    slack, open_, facets = bounded_slack(a, c, cells, floor, ceiling, where)
+    if len(open_):
+        a, c = a[facets], c[facets]
+        step = max(1, CHUNK // (4 * len(facets)))
+        for i in range(0, len(open_), step):
+            which = open_[i : i + step]
+            slack[which] = np.min(a + cells.fine[which] @ c.T, axis=1)
+    return slack

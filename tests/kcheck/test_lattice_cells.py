@@ -37,7 +37,7 @@ def test_bounded_slack_decides_as_every_direction_does(seed):
     a = -np.linalg.norm(c, axis=1) * np.cos(rng.uniform(0.2, 1.2, 40))
     exact = np.min(a + cells.fine @ c.T, axis=1)  # every direction, every facet
     tol = 1e-9
-    slack, open_ = bounded_slack(a, c, cells, -tol, tol)
+    slack, open_, _ = bounded_slack(a, c, cells, -tol, tol)
     decided = np.setdiff1d(np.arange(len(exact)), open_)
     assert np.all(np.isnan(slack[open_]))
     for threshold in (-tol, 0.0, tol):
