@@ -77,7 +77,9 @@ Outcome = Literal["jams", "holds", "moves", "swept", "undetermined"]
 #: Directions measured exactly first, for a lower bound of the freest direction's depth.
 FREE_SAMPLE = 64
 #: Rounds of raising the freest direction's floor from the cells that survive the last.
-FLOOR_ROUNDS = 3
+#: One: a second and third screen of the cells removed few directions (the cells, not the
+#: floor, limit it near the maximum) and cost more than the exact screen they spared.
+FLOOR_ROUNDS = 1
 #: Absolute guard on per-cell bounds of unit-vector products against rounding (1e-16).
 CELL_GUARD = 1e-12
 #: Direction-facet products of the freest direction's exact screen at once (8 MB).
@@ -452,19 +454,30 @@ def _lattice_slack(
     return slack
 
 
-def _free_depth(sets: list[Equilibria], dirs: np.ndarray) -> np.ndarray:
+def _free_depth(
+    sets: list[Equilibria],
+    dirs: np.ndarray,
+    geometry: list[tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None,
+) -> np.ndarray:
     """Per direction (m, 3), the least angular distance (rad) to a held region over the
     cases, each measured to the facet's circle the direction lies farthest outside (a lower
     bound of the distance); negative where some case holds it, inf where none holds
-    anything."""
-    from kcheck.mechanics.arcs import cap_margin_matrix
+    anything. ``geometry``: the cone sets' :func:`~kcheck.mechanics.arcs.cap_geometry` in
+    order, when the caller has it (the same values)."""
+    from kcheck.mechanics.arcs import cap_geometry
 
     depth = np.full(len(dirs), np.inf)
+    cones = iter(geometry or ())
     for held in sets:
         if held.kind == "everywhere":
             return np.full(len(dirs), -np.pi)
         if held.kind == "cone" and len(held.a):
-            depth = np.minimum(depth, -cap_margin_matrix(held.a, held.c, dirs).min(axis=1))
+            ratio, axes, radius = next(cones) if geometry else cap_geometry(held.a, held.c)
+            # arcs.cap_margin_matrix's operations, from the geometry: the same values.
+            margins = radius[None, :] - np.arccos(np.clip(dirs @ axes.T, -1.0, 1.0))
+            margins[:, ratio <= -1.0] = np.pi
+            margins[:, ratio >= 1.0] = -np.pi
+            depth = np.minimum(depth, -margins.min(axis=1))
     return depth
 
 
@@ -489,10 +502,10 @@ def _freest(sets: list[Equilibria], cells: LatticeCells, slacks: list[np.ndarray
     candidates = np.flatnonzero(free)
     if not len(candidates):
         return None
+    geometry = [cap_geometry(held.a, held.c) for held in cones]
     sample = candidates[:: max(1, len(candidates) // FREE_SAMPLE)]
-    floor = float(_free_depth(sets, dirs[sample]).max())
+    floor = float(_free_depth(sets, dirs[sample], geometry).max())
     if floor > 0:
-        geometry = [cap_geometry(held.a, held.c) for held in cones]
         for _ in range(FLOOR_ROUNDS):
             tests = [_depth_test(ratio, axes, radius, floor) for ratio, axes, radius in geometry]
             # Whole cells first, every case: a cell no member of which lies below any facet
@@ -502,7 +515,7 @@ def _freest(sets: list[Equilibria], cells: LatticeCells, slacks: list[np.ndarray
             # The survivors lie in the deepest cells: a sample of them may raise the floor.
             # (It keeps the direction that gave the floor: the screens are conservative.)
             sample = candidates[:: max(1, len(candidates) // FREE_SAMPLE)]
-            raised = float(_free_depth(sets, dirs[sample]).max(initial=-np.inf))
+            raised = float(_free_depth(sets, dirs[sample], geometry).max(initial=-np.inf))
             if raised <= floor:
                 break
             floor = raised
@@ -510,7 +523,7 @@ def _freest(sets: list[Equilibria], cells: LatticeCells, slacks: list[np.ndarray
             tests = [_depth_test(ratio, axes, radius, floor) for ratio, axes, radius in geometry]
         for axes, bound in tests:
             candidates = candidates[_any_below(cells, candidates, axes, bound)]
-    depth = _free_depth(sets, dirs[candidates])
+    depth = _free_depth(sets, dirs[candidates], geometry)
     best = int(np.argmax(depth))
     if depth[best] > 0 and np.isfinite(depth[best]):
         return int(candidates[best])
