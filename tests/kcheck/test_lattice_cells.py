@@ -56,6 +56,27 @@ def test_intersect_single_is_intersect():
         assert intersect_single(start, end) == reference
 
 
+def test_intersect_single_is_intersect_where_ends_coincide():
+    """Ends shared by several arcs, arcs ending where another starts, and full turns whose
+    end - 2 pi rounds past their start (start + 2 pi in floating point): the elementary
+    intervals one ulp wide there are inside or outside as :func:`intersect` finds them."""
+    rng = np.random.default_rng(7)
+    for _ in range(4000):
+        k = int(rng.integers(2, 12))
+        pool = rng.uniform(0, TAU, 4)
+        start = rng.choice(pool, k)
+        kind = rng.integers(0, 4, k)
+        touching = (rng.choice(pool, k) - start) % TAU
+        length = np.select(
+            [kind == 0, kind == 1, kind == 2],
+            [touching, np.full(k, TAU), rng.uniform(0, TAU, k)],
+            2 * np.arccos(rng.uniform(-1, 1, k)),  # as affine_arcs builds them
+        )
+        end = start + np.where(length > 0, length, TAU)
+        reference = intersect(*(((float(s), float(e)),) for s, e in zip(start, end, strict=True)))
+        assert intersect_single(start, end) == reference
+
+
 def test_csc_matches_scipy():
     sparse = pytest.importorskip("scipy.sparse")
     dense = np.random.default_rng(1).normal(size=(9, 13))
