@@ -510,8 +510,12 @@ def _freest(sets: list[Equilibria], cells: LatticeCells, slacks: list[np.ndarray
             tests = [_depth_test(ratio, axes, radius, floor) for ratio, axes, radius in geometry]
             # Whole cells first, every case: a cell no member of which lies below any facet
             # of some case drops out before any case tests the directions one by one.
+            alive = np.zeros(len(cells.coarse), bool)
+            alive[cells.owner[candidates]] = True
             for axes, bound in tests:
-                candidates = candidates[~_none_below(cells, candidates, axes, bound)]
+                which = np.flatnonzero(alive)
+                alive[which] = _some_below(cells, which, axes, bound)
+            candidates = candidates[alive[cells.owner[candidates]]]
             # The survivors lie in the deepest cells: a sample of them may raise the floor.
             # (It keeps the direction that gave the floor: the screens are conservative.)
             sample = candidates[:: max(1, len(candidates) // FREE_SAMPLE)]
@@ -539,22 +543,16 @@ def _depth_test(
     return axes, np.where(ratio >= 1.0, np.inf, np.where(ratio <= -1.0, -np.inf, bound))
 
 
-def _none_below(
-    cells: LatticeCells, candidates: np.ndarray, axes: np.ndarray, bound: np.ndarray
+def _some_below(
+    cells: LatticeCells, which: np.ndarray, axes: np.ndarray, bound: np.ndarray
 ) -> np.ndarray:
-    """Per candidate lattice direction, whether its cell's bound shows ``axes_f . d > bound_f``
-    for every facet ``f`` and every member ``d``: ``axes_f . c - |axes_f| r > bound_f`` at
-    the cell's centre ``c`` (radius ``r``; axes unit or zero), with CELL_GUARD for rounding,
-    as one matrix product over the cells that hold a candidate."""
-    owner = cells.owner[candidates]
-    used = np.zeros(len(cells.coarse), bool)
-    used[owner] = True
-    which = np.flatnonzero(used)
-    position = np.zeros(len(cells.coarse), int)
-    position[which] = np.arange(len(which))
+    """Per cell of ``which``, whether its bound leaves ``axes_f . d <= bound_f`` possible for
+    some facet ``f`` and member ``d``: ``axes_f . c - |axes_f| r <= bound_f`` at the cell's
+    centre ``c`` (radius ``r``; axes unit or zero), with CELL_GUARD for rounding, as one
+    matrix product. (Elsewhere no member is below any facet.)"""
     centre = np.column_stack([cells.coarse[which], cells.radius[which], np.ones(len(which))])
     facet = np.column_stack([axes, -np.linalg.norm(axes, axis=1), -(bound + CELL_GUARD)])
-    return ~np.any(centre @ facet.T <= 0.0, axis=1)[position[owner]]
+    return np.any(centre @ facet.T <= 0.0, axis=1)
 
 
 def _any_below(
