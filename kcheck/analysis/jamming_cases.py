@@ -552,7 +552,7 @@ def _some_below(
     matrix product. (Elsewhere no member is below any facet.)"""
     centre = np.column_stack([cells.coarse[which], cells.radius[which], np.ones(len(which))])
     facet = np.column_stack([axes, -np.linalg.norm(axes, axis=1), -(bound + CELL_GUARD)])
-    return np.any(centre @ facet.T <= 0.0, axis=1)
+    return np.any(facet @ centre.T <= 0.0, axis=0)
 
 
 def _any_below(
@@ -566,5 +566,6 @@ def _any_below(
     step = max(1, ANY_BELOW_CHUNK // max(1, len(axes)))
     for i in range(0, len(candidates), step):
         chunk = cells.fine[candidates[i : i + step]]
-        below[i : i + step] = np.any(chunk @ axes.T <= bound, axis=1)
+        # (facets, directions): the reduction over the first axis is the faster one.
+        below[i : i + step] = np.any(axes @ chunk.T <= bound[:, None], axis=0)
     return below
