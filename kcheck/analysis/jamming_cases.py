@@ -399,7 +399,7 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
         # The inscribed pyramids hold less than the circumscribed ones (a subset): only the
         # directions the circumscribed ones hold, to far more than rounding, can be held.
         maybe = outer >= -FREE_CANDIDATE_TOL
-        inner_slack = np.where(maybe, _lattice_slack(case.held_inner, cells, maybe), -np.inf)
+        inner_slack = _lattice_slack(case.held_inner, cells, maybe)  # -inf elsewhere
         slacks[0].append(outer)
         slacks[1].append(inner_slack)
         outer_in, inner_in = outer >= 0, inner_slack >= 0
@@ -444,11 +444,12 @@ def _lattice_slack(
     ``-FREE_CANDIDATE_TOL``), exact wherever it lies within ``FREE_CANDIDATE_TOL`` of 0 (all
     that the map compares it with): whole cells of the lattice beyond that band on either
     side are decided by one bound each (:mod:`kcheck.mechanics.lattice_cells`). ``where``:
-    only those directions need an answer."""
+    only those directions need an answer (-inf elsewhere)."""
     floor = -FREE_CANDIDATE_TOL
     if held.kind != "cone" or not len(held.a):
-        return held.least_slack(cells.fine, floor)
-    slack = lattice_slack(held.a, held.c, cells, floor, FREE_CANDIDATE_TOL, where)
+        slack = held.least_slack(cells.fine, floor)
+    else:
+        slack = lattice_slack(held.a, held.c, cells, floor, FREE_CANDIDATE_TOL, where)
     if where is not None:
         slack[~where] = -np.inf
     return slack
@@ -525,7 +526,8 @@ def _freest(sets: list[Equilibria], cells: LatticeCells, slacks: list[np.ndarray
             floor = raised
         else:
             tests = [_depth_test(ratio, axes, radius, floor) for ratio, axes, radius in geometry]
-        for axes, bound in tests:
+        # Fewest facets first: the first case meets every surviving direction.
+        for axes, bound in sorted(tests, key=lambda test: len(test[0])):
             candidates = candidates[_any_below(cells, candidates, axes, bound)]
     depth = _free_depth(sets, dirs[candidates], geometry)
     best = int(np.argmax(depth))
