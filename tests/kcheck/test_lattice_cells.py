@@ -8,7 +8,7 @@ import pytest
 
 from kcheck.mechanics.arcs import TAU, intersect, intersect_single
 from kcheck.mechanics.csc import Csc
-from kcheck.mechanics.lattice_cells import bounded_slack, lattice_cells
+from kcheck.mechanics.lattice_cells import bounded_slack, lattice_cells, lattice_slack
 from kcheck.mechanics.sphere import fibonacci_sphere
 
 
@@ -44,6 +44,34 @@ def test_bounded_slack_decides_as_every_direction_does(seed):
         assert np.array_equal(slack[decided] >= threshold, exact[decided] >= threshold)
     # Cells decide most of the sphere: only directions near the boundary stay open.
     assert len(open_) < 0.5 * len(exact)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_lattice_slack_is_every_facets_least_where_the_map_compares_it(seed):
+    """lattice_slack against the least slack over every facet at every direction (numpy,
+    no cells): the same comparisons with the floor, 0 and the ceiling everywhere, the same
+    value within rounding wherever it lies between floor and ceiling; with ``where``, the
+    same for the wanted directions and NaN or a bound elsewhere."""
+    rng = np.random.default_rng(10 + seed)
+    cells = lattice_cells(4000)
+    # A spherical polygon about ``axis``: caps that each hold it by 0.1-0.5 rad.
+    axis = rng.normal(size=3)
+    axis /= np.linalg.norm(axis)
+    centres = axis + 0.3 * rng.normal(size=(60, 3))
+    centres /= np.linalg.norm(centres, axis=1, keepdims=True)
+    radius = np.arccos(centres @ axis) + rng.uniform(0.1, 0.5, 60)
+    c = centres * rng.uniform(0.5, 2.0, (60, 1))
+    a = -np.linalg.norm(c, axis=1) * np.cos(radius)
+    exact = np.min(a + cells.fine @ c.T, axis=1)
+    tol = 0.05  # wide, so that many directions lie in the band
+    for where in (None, exact >= -tol):
+        slack = lattice_slack(a, c, cells, -tol, tol, where)
+        wanted = np.ones(len(exact), bool) if where is None else where
+        for threshold in (-tol, 0.0, tol):
+            assert np.array_equal(slack[wanted] >= threshold, exact[wanted] >= threshold)
+        band = wanted & (exact >= -tol) & (exact < tol)
+        assert np.count_nonzero(band) > 10
+        assert np.allclose(slack[band], exact[band], rtol=0, atol=1e-14)
 
 
 def test_intersect_single_is_intersect():
