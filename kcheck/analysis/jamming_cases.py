@@ -379,7 +379,6 @@ class JamMap:
 
 def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
     """Classify ``points`` Fibonacci directions per case: one matrix product per cone."""
-    from kcheck.mechanics.arcs import cap_margins
     from kcheck.mechanics.sphere import grid_spacing
 
     cells = lattice_cells(points)
@@ -405,9 +404,7 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
         outer_in, inner_in = outer >= 0, inner_slack >= 0
         band = outer_in & ~inner_in
         if np.any(band) and case.held.kind == "cone":
-            band_width = max(
-                band_width, float(cap_margins(case.held.a, case.held.c, dirs[band]).max())
-            )
+            band_width = max(band_width, _widest_margin(case.held.a, case.held.c, dirs[band]))
         a, c = case.closing
         closing_all &= a + dirs @ c > 0
         held_any |= outer_in
@@ -435,6 +432,33 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
         freest=freest,
         freest_pyramids=pyramids,  # type: ignore[arg-type]
     )
+
+
+def _widest_margin(a: np.ndarray, c: np.ndarray, dirs: np.ndarray) -> float:
+    """``max(cap_margins(a, c, dirs))`` (rad), the same float, with arccos over every facet
+    only for the directions that can attain it.
+
+    A direction's margin is its least over the facets of ``radius_f - arccos(axis_f . d)``, so
+    its value at any one facet bounds it from above; at the facet of least normalised slack
+    ``axis_f . d - cos(radius_f)`` that bound is usually the margin itself. Only directions
+    whose bound exceeds the best margin found so far are measured at every facet (the same
+    products and operations as :func:`kcheck.mechanics.arcs.cap_margin_matrix`)."""
+    from kcheck.mechanics.arcs import cap_geometry, cap_margins
+
+    ratio, axes, radius = cap_geometry(a, c)
+    if np.any(np.abs(ratio) >= 1.0) or len(dirs) < 2:
+        return float(cap_margins(a, c, dirs).max())
+    cosines = np.clip(dirs @ axes.T, -1.0, 1.0)  # cap_margin_matrix's product and clip
+    rows = np.arange(len(dirs))
+    nearest = np.argmin(cosines - ratio, axis=1)
+    bound = radius[nearest] - np.arccos(cosines[rows, nearest])
+    first = int(np.argmax(bound))
+    best = float(np.min(radius - np.arccos(cosines[first])))
+    rest = np.flatnonzero(bound > best)
+    if len(rest):
+        margins = radius[None, :] - np.arccos(cosines[rest])
+        best = max(best, float(margins.min(axis=1).max()))
+    return best
 
 
 def _lattice_slack(
