@@ -575,7 +575,14 @@ def _some_below(
     """Per cell of ``which``, whether its bound leaves ``axes_f . d <= bound_f`` possible for
     some facet ``f`` and member ``d``: ``axes_f . c - |axes_f| r <= bound_f`` at the cell's
     centre ``c`` (radius ``r``; axes unit or zero), with CELL_GUARD for rounding, as one
-    matrix product. (Elsewhere no member is below any facet.)"""
+    matrix product. (Elsewhere no member is below any facet.) An infinite bound (a facet held
+    nowhere or everywhere) is decided without the product (no infinities through BLAS)."""
+    if np.any(bound == np.inf):
+        return np.ones(len(which), bool)
+    finite = bound > -np.inf
+    axes, bound = axes[finite], bound[finite]
+    if not len(bound):
+        return np.zeros(len(which), bool)
     centre = np.column_stack([cells.coarse[which], cells.radius[which], np.ones(len(which))])
     facet = np.column_stack([axes, -np.linalg.norm(axes, axis=1), -(bound + CELL_GUARD)])
     return np.any(facet @ centre.T <= 0.0, axis=0)

@@ -453,6 +453,29 @@ def test_freest_direction_is_the_deepest_of_every_free_direction(tmp_path: Path)
     assert found >= 3
 
 
+def test_cell_screen_of_the_freest_direction_with_infinite_bounds() -> None:
+    """jamming_cases._some_below (the cells' screen as one product, the radius and the bound
+    folded in) against the same bound written out (centre value minus radius, against the
+    bound), with facets held nowhere (bound +inf: every cell possible) and everywhere (-inf:
+    never), decided without relying on BLAS to carry infinities."""
+    from kcheck.analysis.jamming_cases import CELL_GUARD, _some_below
+    from kcheck.mechanics.lattice_cells import lattice_cells
+
+    cells = lattice_cells(20000)
+    which = np.arange(len(cells.coarse))
+    rng = np.random.default_rng(8)
+    for _ in range(200):
+        k = int(rng.integers(1, 40))
+        axes = rng.normal(size=(k, 3))
+        axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+        bound = rng.uniform(-1.0, 1.0, k)
+        kind = rng.random(k)
+        bound[kind < 0.05] = np.inf
+        bound[(kind >= 0.05) & (kind < 0.15)] = -np.inf
+        low = cells.coarse @ axes.T - cells.radius[:, None] - CELL_GUARD
+        assert np.array_equal(_some_below(cells, which, axes, bound), np.any(low <= bound, axis=1))
+
+
 def test_widest_band_margin_is_the_largest_cap_margin() -> None:
     """The map's band width (jamming_cases._widest_margin: arccos at every facet only where a
     direction can attain the largest margin) is the largest of arcs.cap_margins over the same
