@@ -7,7 +7,9 @@ recorded in docs/performance.md.
 the jamming check of this tree against a baseline commit in the same run (issue 24), rounds
 alternating baseline / new, each a fresh process (:mod:`bench_speed`'s ``git archive``
 extraction), CPU per scene on the spatial fixtures with a load and ``--count`` generated
-spatial scenes; prints medians and new / baseline.
+spatial scenes; prints medians and new / baseline, for the whole check and for its parts
+(the sphere map, the least holding μ, the sweep-plane arcs; CPU inside the same runs). Both
+trees run with one BLAS thread, as ``kcheck`` pins it.
 """
 
 from __future__ import annotations
@@ -158,6 +160,22 @@ sets = {"fixtures": [Path(ROOT) / "fixtures" / f for f in FIXTURES]}
 sets["generated"] = write_spatial_scenes(Path(TMP), range(COUNT))
 out = {}
 check = Jamming()
+# The parts of issue 24's jamming targets, timed inside the same runs (CPU): the sphere map,
+# the least holding mu of every case, the sweep-plane arcs.
+import kcheck_checks.jamming as plugin
+parts = {"sphere map": "jam_map", "least holding mu": "least_holding_friction",
+         "sweep-plane arcs": "case_arcs"}
+spent = dict.fromkeys(parts, 0.0)
+def timed(label, function):
+    def run(*args, **kwargs):
+        start = time.process_time()
+        try:
+            return function(*args, **kwargs)
+        finally:
+            spent[label] += time.process_time() - start
+    return run
+for label, attribute in parts.items():
+    setattr(plugin, attribute, timed(label, getattr(plugin, attribute)))
 for name, paths in sets.items():
     scenes = [load_scene(p) for p in paths]
     scenes = [s for s in scenes if s.load is not None and s.load.direction is not None]
@@ -167,11 +185,19 @@ for name, paths in sets.items():
         for s in scenes
     ]
     [check.run(i) for i in inputs]  # warm-up (lazy imports, caches)
+    spent.update(dict.fromkeys(parts, 0.0))
     start = time.process_time()
     [check.run(i) for i in inputs]
     out[name] = (time.process_time() - start) / len(inputs)
+    for label in parts:
+        out[f"{name}: {label}"] = spent[label] / len(inputs)
 print(json.dumps(out))
 """
+
+
+#: The thread counts kcheck.cli pins (its BLAS_THREAD_VARIABLES; not imported: the cli's
+#: imports are not this benchmark's to measure).
+BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 
 
 def paired(baseline: str, count: int, rounds: int) -> None:
@@ -196,6 +222,11 @@ def paired(baseline: str, count: int, rounds: int) -> None:
                 # Each tree first on the path: the venv's editable install may be another
                 # worktree's.
                 env = dict(os.environ)
+                # One BLAS thread, as `kcheck` pins it (kcheck.cli.pin_blas_threads): a
+                # second OpenBLAS thread spinning after the lattice's matrix-vector products
+                # added about 5 ms of CPU a generated scene that no kcheck run pays.
+                for name in BLAS_THREADS:
+                    env.setdefault(name, "1")
                 tree = ROOT if tree is None else tree
                 env["PYTHONPATH"] = os.pathsep.join([str(tree), str(tree / "plugins")])
                 expect = str(tree / "kcheck")

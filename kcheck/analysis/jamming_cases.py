@@ -26,7 +26,7 @@ import numpy as np
 
 from kcheck.mechanics.arcs import ArcSet, complement, intersect, positive_arc
 from kcheck.mechanics.kinematics import FreeTwist, free_twist
-from kcheck.mechanics.lattice_cells import LatticeCells, bounded_slack, lattice_cells
+from kcheck.mechanics.lattice_cells import LatticeCells, lattice_cells, lattice_slack
 from kcheck.mechanics.least_friction import (
     friction_candidates,
     least_friction,
@@ -77,9 +77,13 @@ Outcome = Literal["jams", "holds", "moves", "swept", "undetermined"]
 #: Directions measured exactly first, for a lower bound of the freest direction's depth.
 FREE_SAMPLE = 64
 #: Rounds of raising the freest direction's floor from the cells that survive the last.
-FLOOR_ROUNDS = 3
+#: One: a second and third screen of the cells removed few directions (the cells, not the
+#: floor, limit it near the maximum) and cost more than the exact screen they spared.
+FLOOR_ROUNDS = 1
 #: Absolute guard on per-cell bounds of unit-vector products against rounding (1e-16).
 CELL_GUARD = 1e-12
+#: Direction-facet products of the freest direction's exact screen at once (8 MB).
+ANY_BELOW_CHUNK = 1_000_000
 
 
 # --- from a scene to its statics ------------------------------------------------------------
@@ -375,7 +379,6 @@ class JamMap:
 
 def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
     """Classify ``points`` Fibonacci directions per case: one matrix product per cone."""
-    from kcheck.mechanics.arcs import cap_margins
     from kcheck.mechanics.sphere import grid_spacing
 
     cells = lattice_cells(points)
@@ -395,15 +398,13 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
         # The inscribed pyramids hold less than the circumscribed ones (a subset): only the
         # directions the circumscribed ones hold, to far more than rounding, can be held.
         maybe = outer >= -FREE_CANDIDATE_TOL
-        inner_slack = np.where(maybe, _lattice_slack(case.held_inner, cells, maybe), -np.inf)
+        inner_slack = _lattice_slack(case.held_inner, cells, maybe)  # -inf elsewhere
         slacks[0].append(outer)
         slacks[1].append(inner_slack)
         outer_in, inner_in = outer >= 0, inner_slack >= 0
         band = outer_in & ~inner_in
         if np.any(band) and case.held.kind == "cone":
-            band_width = max(
-                band_width, float(cap_margins(case.held.a, case.held.c, dirs[band]).max())
-            )
+            band_width = max(band_width, _widest_margin(case.held.a, case.held.c, dirs[band]))
         a, c = case.closing
         closing_all &= a + dirs @ c > 0
         held_any |= outer_in
@@ -433,6 +434,33 @@ def jam_map(analysis: JamAnalysis, points: int) -> JamMap:
     )
 
 
+def _widest_margin(a: np.ndarray, c: np.ndarray, dirs: np.ndarray) -> float:
+    """``max(cap_margins(a, c, dirs))`` (rad), the same float, with arccos over every facet
+    only for the directions that can attain it.
+
+    A direction's margin is its least over the facets of ``radius_f - arccos(axis_f . d)``, so
+    its value at any one facet bounds it from above; at the facet of least normalised slack
+    ``axis_f . d - cos(radius_f)`` that bound is usually the margin itself. Only directions
+    whose bound exceeds the best margin found so far are measured at every facet (the same
+    products and operations as :func:`kcheck.mechanics.arcs.cap_margin_matrix`)."""
+    from kcheck.mechanics.arcs import cap_geometry, cap_margins
+
+    ratio, axes, radius = cap_geometry(a, c)
+    if np.any(np.abs(ratio) >= 1.0) or len(dirs) < 2:
+        return float(cap_margins(a, c, dirs).max())
+    cosines = np.clip(dirs @ axes.T, -1.0, 1.0)  # cap_margin_matrix's product and clip
+    rows = np.arange(len(dirs))
+    nearest = np.argmin(cosines - ratio, axis=1)
+    bound = radius[nearest] - np.arccos(cosines[rows, nearest])
+    first = int(np.argmax(bound))
+    best = float(np.min(radius - np.arccos(cosines[first])))
+    rest = np.flatnonzero(bound > best)
+    if len(rest):
+        margins = radius[None, :] - np.arccos(cosines[rest])
+        best = max(best, float(margins.min(axis=1).max()))
+    return best
+
+
 def _lattice_slack(
     held: Equilibria, cells: LatticeCells, where: np.ndarray | None = None
 ) -> np.ndarray:
@@ -440,44 +468,41 @@ def _lattice_slack(
     ``-FREE_CANDIDATE_TOL``), exact wherever it lies within ``FREE_CANDIDATE_TOL`` of 0 (all
     that the map compares it with): whole cells of the lattice beyond that band on either
     side are decided by one bound each (:mod:`kcheck.mechanics.lattice_cells`). ``where``:
-    only those directions need an answer."""
+    only those directions need an answer (-inf elsewhere)."""
     floor = -FREE_CANDIDATE_TOL
     if held.kind != "cone" or not len(held.a):
-        return held.least_slack(cells.fine, floor)
-    slack, open_ = bounded_slack(held.a, held.c, cells, floor, FREE_CANDIDATE_TOL, where)
-    # An undecided direction below the floor at its cell's likeliest facet (least at the
-    # centre) is settled by that one value (the map compares slacks with the floor and
-    # above only); the others meet every facet.
-    owner = cells.owner[open_]
-    used = np.zeros(len(cells.coarse), bool)
-    used[owner] = True
-    which = np.flatnonzero(used)
-    likeliest = np.zeros(len(cells.coarse), int)
-    likeliest[which] = np.argmin(held.a + cells.coarse[which] @ held.c.T, axis=1)
-    f = likeliest[owner]
-    value = held.a[f] + np.einsum("ij,ij->i", cells.fine[open_], held.c[f])
-    below = value < floor
-    slack[open_[below]] = value[below]
-    rest = open_[~below]
-    slack[rest] = held.least_slack(cells.fine[rest], floor)
+        slack = held.least_slack(cells.fine, floor)
+    else:
+        slack = lattice_slack(held.a, held.c, cells, floor, FREE_CANDIDATE_TOL, where)
     if where is not None:
         slack[~where] = -np.inf
     return slack
 
 
-def _free_depth(sets: list[Equilibria], dirs: np.ndarray) -> np.ndarray:
+def _free_depth(
+    sets: list[Equilibria],
+    dirs: np.ndarray,
+    geometry: list[tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None,
+) -> np.ndarray:
     """Per direction (m, 3), the least angular distance (rad) to a held region over the
     cases, each measured to the facet's circle the direction lies farthest outside (a lower
     bound of the distance); negative where some case holds it, inf where none holds
-    anything."""
-    from kcheck.mechanics.arcs import cap_margin_matrix
+    anything. ``geometry``: the cone sets' :func:`~kcheck.mechanics.arcs.cap_geometry` in
+    order, when the caller has it (the same values)."""
+    from kcheck.mechanics.arcs import cap_geometry
 
     depth = np.full(len(dirs), np.inf)
+    cones = iter(geometry or ())
     for held in sets:
         if held.kind == "everywhere":
             return np.full(len(dirs), -np.pi)
         if held.kind == "cone" and len(held.a):
-            depth = np.minimum(depth, -cap_margin_matrix(held.a, held.c, dirs).min(axis=1))
+            ratio, axes, radius = next(cones) if geometry else cap_geometry(held.a, held.c)
+            # arcs.cap_margin_matrix's operations, from the geometry: the same values.
+            margins = radius[None, :] - np.arccos(np.clip(dirs @ axes.T, -1.0, 1.0))
+            margins[:, ratio <= -1.0] = np.pi
+            margins[:, ratio >= 1.0] = -np.pi
+            depth = np.minimum(depth, -margins.min(axis=1))
     return depth
 
 
@@ -502,28 +527,33 @@ def _freest(sets: list[Equilibria], cells: LatticeCells, slacks: list[np.ndarray
     candidates = np.flatnonzero(free)
     if not len(candidates):
         return None
+    geometry = [cap_geometry(held.a, held.c) for held in cones]
     sample = candidates[:: max(1, len(candidates) // FREE_SAMPLE)]
-    floor = float(_free_depth(sets, dirs[sample]).max())
+    floor = float(_free_depth(sets, dirs[sample], geometry).max())
     if floor > 0:
-        geometry = [cap_geometry(held.a, held.c) for held in cones]
         for _ in range(FLOOR_ROUNDS):
             tests = [_depth_test(ratio, axes, radius, floor) for ratio, axes, radius in geometry]
             # Whole cells first, every case: a cell no member of which lies below any facet
             # of some case drops out before any case tests the directions one by one.
+            alive = np.zeros(len(cells.coarse), bool)
+            alive[cells.owner[candidates]] = True
             for axes, bound in tests:
-                candidates = candidates[~_none_below(cells, candidates, axes, bound)]
+                which = np.flatnonzero(alive)
+                alive[which] = _some_below(cells, which, axes, bound)
+            candidates = candidates[alive[cells.owner[candidates]]]
             # The survivors lie in the deepest cells: a sample of them may raise the floor.
             # (It keeps the direction that gave the floor: the screens are conservative.)
             sample = candidates[:: max(1, len(candidates) // FREE_SAMPLE)]
-            raised = float(_free_depth(sets, dirs[sample]).max(initial=-np.inf))
+            raised = float(_free_depth(sets, dirs[sample], geometry).max(initial=-np.inf))
             if raised <= floor:
                 break
             floor = raised
         else:
             tests = [_depth_test(ratio, axes, radius, floor) for ratio, axes, radius in geometry]
-        for axes, bound in tests:
+        # Fewest facets first: the first case meets every surviving direction.
+        for axes, bound in sorted(tests, key=lambda test: len(test[0])):
             candidates = candidates[_any_below(cells, candidates, axes, bound)]
-    depth = _free_depth(sets, dirs[candidates])
+    depth = _free_depth(sets, dirs[candidates], geometry)
     best = int(np.argmax(depth))
     if depth[best] > 0 and np.isfinite(depth[best]):
         return int(candidates[best])
@@ -539,54 +569,36 @@ def _depth_test(
     return axes, np.where(ratio >= 1.0, np.inf, np.where(ratio <= -1.0, -np.inf, bound))
 
 
-def _none_below(
-    cells: LatticeCells, candidates: np.ndarray, axes: np.ndarray, bound: np.ndarray
+def _some_below(
+    cells: LatticeCells, which: np.ndarray, axes: np.ndarray, bound: np.ndarray
 ) -> np.ndarray:
-    """Per candidate lattice direction, whether its cell's bound shows ``axes_f . d > bound_f``
-    for every facet ``f`` and every member ``d`` (as in :func:`_any_below`, cells only)."""
-    cell, at_centre, width = _cell_bounds(cells, candidates, axes)
-    return ~np.any(at_centre - width <= bound, axis=1)[cell]
-
-
-def _cell_bounds(
-    cells: LatticeCells, candidates: np.ndarray, axes: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """For the cells that hold a candidate lattice direction (only those): each candidate's
-    row among them, ``axes_f . c`` at each cell's centre ``c`` (cells, facets), and how far a
-    member may lie from it (the cell's radius times ``|axes_f|``, plus CELL_GUARD)."""
-    owner = cells.owner[candidates]
-    used = np.zeros(len(cells.coarse), bool)
-    used[owner] = True
-    which = np.flatnonzero(used)
-    position = np.zeros(len(cells.coarse), int)
-    position[which] = np.arange(len(which))
-    width = cells.radius[which, None] * np.linalg.norm(axes, axis=1) + CELL_GUARD
-    return position[owner], cells.coarse[which] @ axes.T, width
+    """Per cell of ``which``, whether its bound leaves ``axes_f . d <= bound_f`` possible for
+    some facet ``f`` and member ``d``: ``axes_f . c - |axes_f| r <= bound_f`` at the cell's
+    centre ``c`` (radius ``r``; axes unit or zero), with CELL_GUARD for rounding, as one
+    matrix product. (Elsewhere no member is below any facet.) An infinite bound (a facet held
+    nowhere or everywhere) is decided without the product (no infinities through BLAS)."""
+    if np.any(bound == np.inf):
+        return np.ones(len(which), bool)
+    finite = bound > -np.inf
+    axes, bound = axes[finite], bound[finite]
+    if not len(bound):
+        return np.zeros(len(which), bool)
+    centre = np.column_stack([cells.coarse[which], cells.radius[which], np.ones(len(which))])
+    facet = np.column_stack([axes, -np.linalg.norm(axes, axis=1), -(bound + CELL_GUARD)])
+    return np.any(facet @ centre.T <= 0.0, axis=0)
 
 
 def _any_below(
     cells: LatticeCells, candidates: np.ndarray, axes: np.ndarray, bound: np.ndarray
 ) -> np.ndarray:
     """Per candidate lattice direction ``d``, whether ``axes_f . d <= bound_f`` for some ``f``
-    (axes unit or zero): decided per cell where its centre's values, give or take the cell's
-    radius, decide every member alike; elsewhere direction by direction, against only the
-    facets the cell's bound leaves possible (the others exceed ``bound`` at every member)."""
-    cell, at_centre, width = _cell_bounds(cells, candidates, axes)
-    possible = at_centre - width <= bound  # (cells, facets): below for some member, maybe
-    every = np.any(at_centre + width <= bound, axis=1)
-    none = ~np.any(possible, axis=1)
-    below = every[cell]
-    open_ = np.flatnonzero(~below & ~none[cell])
-    # The pairs (undecided direction, facet its cell leaves possible), from each cell's list
-    # of facets (about 15 of 150) instead of a boolean row per direction.
-    cell_rows, cell_facets = np.nonzero(possible)
-    counts = np.bincount(cell_rows, minlength=len(at_centre))
-    per = counts[cell[open_]]
-    rows = np.repeat(np.arange(len(open_)), per)
-    shift = (np.cumsum(counts) - counts)[cell[open_]] - (np.cumsum(per) - per)
-    facets = cell_facets[np.repeat(shift, per) + np.arange(len(rows))]
-    dots = np.einsum("ij,ij->i", cells.fine[candidates[open_[rows]]], axes[facets])
-    hit = np.zeros(len(open_), bool)
-    hit[rows[dots <= bound[facets]]] = True
-    below[open_] = hit
+    (axes unit or zero), direction by direction against every facet: one matrix product.
+    (Facet lists per cell, from the cells' bounds, cost about 2.7 times more: the pairs'
+    bookkeeping outweighed the products it saved, 5,000 directions and 150 facets at most.)"""
+    below = np.empty(len(candidates), bool)
+    step = max(1, ANY_BELOW_CHUNK // max(1, len(axes)))
+    for i in range(0, len(candidates), step):
+        chunk = cells.fine[candidates[i : i + step]]
+        # (facets, directions): the reduction over the first axis is the faster one.
+        below[i : i + step] = np.any(axes @ chunk.T <= bound[:, None], axis=0)
     return below

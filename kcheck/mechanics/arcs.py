@@ -244,17 +244,25 @@ def intersect_single(start: np.ndarray, end: np.ndarray) -> ArcSet:
     ``start < end <= start + 2 pi``), the same as :func:`intersect` of them, at once.
 
     The ends (split at 2 pi, as :func:`intersect` splits them) cut [0, 2 pi] into elementary
-    intervals, each wholly inside or outside every arc; the inside ones are merged. The
+    intervals, each wholly inside or outside every arc; the inside ones, those covered by as
+    many pieces as there are arcs (an arc's two pieces meet at most in a point), are merged.
+    Coverage is counted by sorting the pieces' ends, not by an (intervals, arcs) table. The
     result's ends are the same floats."""
     if len(start) <= 1:
         return intersect(*(((float(x), float(y)),) for x, y in zip(start, end, strict=True)))
     wraps = end > TAU
     cuts = unique(np.concatenate([[0.0, TAU], start, np.where(wraps, TAU, end), end[wraps] - TAU]))
     lo, hi = cuts[:-1], cuts[1:]
-    # Per elementary interval and arc: inside the piece up to 2 pi or the piece from 0.
-    first = (start[None, :] <= lo[:, None]) & (hi[:, None] <= np.minimum(end, TAU)[None, :])
-    second = wraps[None, :] & (hi[:, None] <= (end - TAU)[None, :])
-    inside = np.all(first | second, axis=1)
+    # Pieces: [start, min(end, 2 pi)], and [0, end - 2 pi] where an arc wraps, cut at its
+    # start (end - 2 pi may round past it: the pieces would overlap). A piece covers
+    # [lo, hi] iff it starts at or before lo and ends at or after hi, i.e. after lo (its ends
+    # are cuts).
+    opens = np.sort(np.concatenate([start, np.zeros(np.count_nonzero(wraps))]))
+    closes = np.sort(
+        np.concatenate([np.minimum(end, TAU), np.minimum(end[wraps] - TAU, start[wraps])])
+    )
+    covered = np.searchsorted(opens, lo, "right") - np.searchsorted(closes, lo, "right")
+    inside = covered == len(start)
     return _from_intervals(list(zip(lo[inside].tolist(), hi[inside].tolist(), strict=True)))
 
 

@@ -56,3 +56,21 @@ def test_few_condition_arcs_equal_numpys_within_their_error(k, monkeypatch):
         assert np.allclose(np.array(few), np.array(many), rtol=0, atol=bound)
         compared += 1
     assert compared > 100  # a good share of the draws have arcs with ends
+
+
+def test_largest_friction_ratio_equals_its_numpy_twin_bit_for_bit():
+    """least_friction._largest_ratio (plain floats, a handful of contacts) against the numpy
+    version it copies: forces across magnitudes, pulling and unpressed contacts, frictionless
+    supports (scale 0)."""
+    from kcheck.mechanics.least_friction import _largest_ratio, _largest_ratio_numpy
+
+    rng = np.random.default_rng(26)
+    for trial in range(20000):
+        k = int(rng.integers(1, 7))
+        local = rng.normal(size=(k, 3)) * 10.0 ** rng.uniform(-8, 8)
+        if trial % 3:
+            local[:, 0] = np.abs(local[:, 0])
+        if trial % 7 == 0:
+            local[rng.integers(0, k), 0] = 0.0
+        scale = np.where(rng.random(k) < 0.2, 0.0, rng.uniform(0.1, 2.0, k))
+        assert _largest_ratio(local, scale) == _largest_ratio_numpy(local, scale)

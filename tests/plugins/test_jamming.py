@@ -453,6 +453,53 @@ def test_freest_direction_is_the_deepest_of_every_free_direction(tmp_path: Path)
     assert found >= 3
 
 
+def test_cell_screen_of_the_freest_direction_with_infinite_bounds() -> None:
+    """jamming_cases._some_below (the cells' screen as one product, the radius and the bound
+    folded in) against the same bound written out (centre value minus radius, against the
+    bound), with facets held nowhere (bound +inf: every cell possible) and everywhere (-inf:
+    never), decided without relying on BLAS to carry infinities."""
+    from kcheck.analysis.jamming_cases import CELL_GUARD, _some_below
+    from kcheck.mechanics.lattice_cells import lattice_cells
+
+    cells = lattice_cells(20000)
+    which = np.arange(len(cells.coarse))
+    rng = np.random.default_rng(8)
+    for _ in range(200):
+        k = int(rng.integers(1, 40))
+        axes = rng.normal(size=(k, 3))
+        axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+        bound = rng.uniform(-1.0, 1.0, k)
+        kind = rng.random(k)
+        bound[kind < 0.05] = np.inf
+        bound[(kind >= 0.05) & (kind < 0.15)] = -np.inf
+        low = cells.coarse @ axes.T - cells.radius[:, None] - CELL_GUARD
+        assert np.array_equal(_some_below(cells, which, axes, bound), np.any(low <= bound, axis=1))
+
+
+def test_widest_band_margin_is_the_largest_cap_margin() -> None:
+    """The map's band width (jamming_cases._widest_margin: arccos at every facet only where a
+    direction can attain the largest margin) is the largest of arcs.cap_margins over the same
+    directions, the same float; on spherical polygons of 1-80 caps about a random axis and
+    random subsets of a lattice."""
+    from kcheck.analysis.jamming_cases import _widest_margin
+    from kcheck.mechanics.arcs import cap_margins
+
+    rng = np.random.default_rng(6)
+    dirs = fibonacci_sphere(4000)
+    for _ in range(600):
+        axis = rng.normal(size=3)
+        axis /= np.linalg.norm(axis)
+        k = int(rng.integers(1, 80))
+        centres = axis + rng.uniform(0.05, 0.6) * rng.normal(size=(k, 3))
+        centres /= np.linalg.norm(centres, axis=1, keepdims=True)
+        radius = np.arccos(np.clip(centres @ axis, -1.0, 1.0)) + rng.uniform(0.0, 0.5, k)
+        c = centres * rng.uniform(0.5, 2.0, (k, 1))
+        a = -np.linalg.norm(c, axis=1) * np.cos(radius)
+        some = dirs[rng.random(len(dirs)) < rng.uniform(0.001, 0.2)]
+        if len(some):
+            assert _widest_margin(a, c, some) == float(cap_margins(a, c, some).max())
+
+
 def test_a_held_case_the_rigid_model_also_moves_is_held_or_moves(tmp_path: Path) -> None:
     """The reseat agreement test's random-3d-3391 (seed 26): friction can hold the body
     retracting s4, and the rigid model also admits a motion from rest that keeps s1 and s6 and
