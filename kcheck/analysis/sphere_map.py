@@ -28,6 +28,7 @@ __all__ = [
     "direction_caps",
     "sphere_map",
     "sphere_maps",
+    "map_design",
     "sweep_given",
     "default_plane",
     "chosen_plane",
@@ -206,11 +207,7 @@ def _assemble(
 ) -> SphereMap:
     """One scene's map from its caps, its safe region (of every cap) and its cases' shares:
     the region's margins, the nearest and most robust directions, the area's error."""
-    design = None
-    if swept == "load":
-        design = analysis.design
-    elif np.any(scene.gravity):
-        design = unit_rows(scene.gravity)
+    design = map_design(scene, analysis, swept)
     # The region's boundary (and so every margin) moves by the error of the caps that bound it.
     bounding = safe.caps.source[safe.bounding]
     boundary_error = float(cap_errors[bounding].max()) if len(bounding) else 0.0
@@ -244,6 +241,18 @@ def _assemble(
         nearest=None if design_margin is None or design_margin >= 0 else nearest,
         lattice=safe_fraction(a, c, lattice_points) if lattice_points > 0 else None,
     )
+
+
+def map_design(
+    scene: Scene, analysis: Analysis, swept: Literal["load", "gravity"]
+) -> np.ndarray | None:
+    """The map's design direction: the load's (``swept`` load), else the scene's gravity's
+    (unit), else None."""
+    if swept == "load":
+        return analysis.design
+    if np.any(scene.gravity):
+        return unit_rows(scene.gravity)
+    return None
 
 
 def sweep_given(scene: Scene) -> bool:
