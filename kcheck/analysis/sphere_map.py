@@ -296,11 +296,15 @@ def chosen_plane(
 
 
 def disjoint_cases(smap: SphereMap, analysis: Analysis) -> tuple[int, int] | None:
-    """Two cases whose safe regions do not overlap, if any."""
+    """Two cases whose safe regions do not overlap, if any (the first such pair in order).
+
+    Every pair's region in one batch (:func:`kcheck.mechanics.caps.regions`, each the one it
+    gets alone): an empty map asks about all of them anyway when no pair is disjoint."""
     cases = [i for i in np.unique(smap.owner) if smap.case_fractions[i] > 0]
-    for n, i in enumerate(cases):
-        for j in cases[n + 1 :]:
-            both = (smap.owner == i) | (smap.owner == j)
-            if region(smap.a[both], smap.c[both]).empty:
-                return int(i), int(j)
+    pairs = [(i, j) for n, i in enumerate(cases) for j in cases[n + 1 :]]
+    masks = [(smap.owner == i) | (smap.owner == j) for i, j in pairs]
+    found = regions([(smap.a[both], smap.c[both]) for both in masks])
+    for (i, j), pair_region in zip(pairs, found, strict=True):
+        if pair_region.empty:
+            return int(i), int(j)
     return None
