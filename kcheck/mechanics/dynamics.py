@@ -483,16 +483,17 @@ def _cases_stacked(problems: Sequence[Problem], which: np.ndarray) -> list[tuple
     their geometries (:func:`_geometries`, those of recent problems reused), then every
     live case's two systems solved for its problem's load in one batch."""
     keys = [_geometry_key(p, which) for p in problems]
-    missing = [i for i, key in enumerate(keys) if key not in _GEOMETRIES]
-    fresh: dict[int, _Geometry] = {}
+    known = {i: _GEOMETRIES[key] for i, key in enumerate(keys) if key in _GEOMETRIES}
+    missing = [i for i in range(len(problems)) if i not in known]
     if missing:
-        fresh = dict(zip(missing, _geometries([problems[i] for i in missing], which), strict=True))
-    for i, found in fresh.items():
-        _read_only(found)  # shared by every later problem with the same key
-        if len(_GEOMETRIES) >= RECENT_GEOMETRIES:
-            del _GEOMETRIES[next(iter(_GEOMETRIES))]
-        _GEOMETRIES[keys[i]] = found
-    geometries = [fresh[i] if i in fresh else _GEOMETRIES[key] for i, key in enumerate(keys)]
+        fresh = _geometries([problems[i] for i in missing], which)
+        for i, found in zip(missing, fresh, strict=True):
+            _read_only(found)  # shared by every later problem with the same key
+            known[i] = found
+            if len(_GEOMETRIES) >= RECENT_GEOMETRIES:
+                del _GEOMETRIES[next(iter(_GEOMETRIES))]
+            _GEOMETRIES[keys[i]] = found
+    geometries = [known[i] for i in range(len(problems))]
     keeps = other_supports(len(problems[0].points))[which]  # (c, k-1)
     solving = [(p, g) for p, g in enumerate(geometries) if len(g.live)]
     solved: list[list[Affine]] = []

@@ -84,3 +84,18 @@ def test_remembered_arrays_are_read_only(tmp_path) -> None:
     assert case.k0 is not None and case.k_friction is not None
     for array in (case.free.twist, case.k0, case.k_friction):
         assert not array.flags.writeable
+
+
+def test_a_batch_larger_than_the_memory_mixing_known_and_new_problems(tmp_path) -> None:
+    """A batch of more problems than are remembered, some of them remembered already: each
+    problem's cases are those it gets afresh (none lost to the memory's turnover)."""
+    count = dynamics.RECENT_GEOMETRIES + 6
+    scenes = [load_scene(p) for p in write_spatial_scenes(tmp_path, range(count))]
+    problems = [problem_for(s, body_mass_properties(s.body, s.scale)) for s in scenes]
+    dynamics._GEOMETRIES.clear()
+    fresh = dynamics.analyse_cases_many(problems)
+    dynamics._GEOMETRIES.clear()
+    dynamics.analyse_cases_many(problems[:3])  # remembered, then the first to be dropped
+    again = dynamics.analyse_cases_many(problems[::-1])[::-1]
+    assert _same(again, fresh) == []
+    assert len(dynamics._GEOMETRIES) == dynamics.RECENT_GEOMETRIES
