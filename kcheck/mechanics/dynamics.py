@@ -256,9 +256,9 @@ class _Systems:
     good: np.ndarray
     built: np.ndarray
 
-    def take(self, index: np.ndarray) -> _Systems:
-        """The systems ``index`` of the stack (each's arrays unchanged)."""
-        return _Systems(*(getattr(self, f)[index] for f in _SYSTEMS_FIELDS))
+    def part(self, start: int, stop: int) -> _Systems:
+        """The systems ``start:stop`` of the stack (views)."""
+        return _Systems(*(getattr(self, f)[start:stop] for f in _SYSTEMS_FIELDS))
 
 
 _SYSTEMS_FIELDS = ("matrices", "rows", "cols", "scaled", "condition", "good", "built")
@@ -378,7 +378,8 @@ class _Geometry:
     """What a problem's cases are without its load (:func:`_geometries`): the free twists,
     the systems without friction and their change per unit of the pattern, which contacts
     slide, and, for the cases with a free motion (``live``), both friction systems prepared
-    for solving (forward then backward, :func:`_systems`) and the effective masses."""
+    for solving (every forward one, then every backward one, :func:`_systems`) and the
+    effective masses."""
 
     twists: np.ndarray  # (c, n)
     determinacy: np.ndarray  # (c,)
@@ -387,9 +388,10 @@ class _Geometry:
     unit_f: np.ndarray  # (c, n, n)
     sliding: np.ndarray  # (c, k-1)
     live: np.ndarray  # (l,) indices of the cases solved
-    forward: _Systems | None
-    backward: _Systems | None
+    forward: _Systems | None  # (l,)
+    backward: _Systems | None  # (l,)
     masses: list[tuple[float, float] | None]
+    joint: _Systems | None = None  # forward then backward in one stack, when computed so
 
 
 #: The geometries of the last problems analysed, by :func:`_geometry_key`: a way-out
@@ -411,9 +413,12 @@ def _geometry_key(problem: Problem, which: np.ndarray) -> bytes:
     )
 
 
-def _geometries(problems: Sequence[Problem], which: np.ndarray) -> list[_Geometry]:
+def _geometries(
+    problems: Sequence[Problem], which: np.ndarray
+) -> tuple[list[_Geometry], _Systems | None]:
     """The :class:`_Geometry` of problems with the same number of supports and dimension, in
-    one batch of numpy calls (each matrix decomposed on its own: each problem's own values)."""
+    one batch of numpy calls (each matrix decomposed on its own: each problem's own values),
+    and the batch's systems (every live case's forward one, then every backward one)."""
     k = len(problems[0].points)
     points = np.stack([p.points for p in problems])  # (P, k, dim)
     normals = np.stack([p.normals for p in problems])
@@ -434,10 +439,11 @@ def _geometries(problems: Sequence[Problem], which: np.ndarray) -> list[_Geometr
     )
     big_f = mu[:, None, None, None] * unit_f
     live = (determinacy > UNDETERMINED) & (closing > UNDETERMINED)  # (P, c)
-    owner, case = np.nonzero(live)
-    forward = backward = None
+    owner, case = np.nonzero(live)  # by problem, then case
+    systems = None
     masses: list[tuple[float, float] | None] = []
-    if len(owner):
+    m = len(owner)
+    if m:
         k0l, fl = k0[owner, case], big_f[owner, case]
         # The free twist (a null vector) is off by about eps over its singular-value gap; the
         # matrix built from it (inertial column, friction directions) inherits that.
@@ -445,12 +451,14 @@ def _geometries(problems: Sequence[Problem], which: np.ndarray) -> list[_Geometr
         systems = _systems(
             np.concatenate([k0l + fl, k0l - fl]), np.concatenate([twist_error, twist_error])
         )
-        m = len(owner)
-        forward, backward = systems.take(np.arange(m)), systems.take(np.arange(m, 2 * m))
         masses = _effective_masses(k0l, fl)
+    ends = np.searchsorted(owner, np.arange(len(problems) + 1)).tolist()
     out = []
     for p in range(len(problems)):
-        mine = np.flatnonzero(owner == p)
+        lo, hi = ends[p], ends[p + 1]
+        forward = backward = None
+        if systems is not None and hi > lo:
+            forward, backward = systems.part(lo, hi), systems.part(m + lo, m + hi)
         out.append(
             _Geometry(
                 twists[p],
@@ -459,22 +467,23 @@ def _geometries(problems: Sequence[Problem], which: np.ndarray) -> list[_Geometr
                 k0[p],
                 unit_f[p],
                 sliding[p],
-                case[mine],
-                None if forward is None else forward.take(mine),
-                None if backward is None else backward.take(mine),
-                [masses[n] for n in mine.tolist()],
+                case[lo:hi],
+                forward,
+                backward,
+                masses[lo:hi],
+                systems if len(problems) == 1 else None,
             )
         )
-    return out
+    return out, systems
 
 
 def _read_only(geometry: _Geometry) -> None:
-    """Mark a geometry's arrays read-only (the cases of later problems share them)."""
-    systems = [s for s in (geometry.forward, geometry.backward) if s is not None]
-    arrays = [getattr(geometry, f) for f in ("twists", "determinacy", "closing", "k0")]
-    arrays += [geometry.unit_f, geometry.sliding, geometry.live]
-    arrays += [getattr(s, f) for s in systems for f in _SYSTEMS_FIELDS]
-    for array in arrays:
+    """Mark the arrays of a geometry that its cases hold read-only (later problems with the
+    same key share them): the twists, ``K0``, the friction parts, sliding and the systems'
+    matrices (the solved ``Affine.matrix``)."""
+    systems = [s for s in (geometry.forward, geometry.backward, geometry.joint) if s is not None]
+    arrays = [geometry.twists, geometry.k0, geometry.unit_f, geometry.sliding]
+    for array in arrays + [s.matrices for s in systems]:
         array.flags.writeable = False
 
 
@@ -485,8 +494,9 @@ def _cases_stacked(problems: Sequence[Problem], which: np.ndarray) -> list[tuple
     keys = [_geometry_key(p, which) for p in problems]
     known = {i: _GEOMETRIES[key] for i, key in enumerate(keys) if key in _GEOMETRIES}
     missing = [i for i in range(len(problems)) if i not in known]
+    batch: _Systems | None = None  # the systems of a batch computed here whole
     if missing:
-        fresh = _geometries([problems[i] for i in missing], which)
+        fresh, batch = _geometries([problems[i] for i in missing], which)
         for i, found in zip(missing, fresh, strict=True):
             _read_only(found)  # shared by every later problem with the same key
             known[i] = found
@@ -495,33 +505,41 @@ def _cases_stacked(problems: Sequence[Problem], which: np.ndarray) -> list[tuple
             _GEOMETRIES[keys[i]] = found
     geometries = [known[i] for i in range(len(problems))]
     keeps = other_supports(len(problems[0].points))[which]  # (c, k-1)
-    solving = [(p, g) for p, g in enumerate(geometries) if len(g.live)]
-    solved: list[list[Affine]] = []
+    solving = [p for p, g in enumerate(geometries) if g.forward is not None]
+    by_problem: dict[int, tuple[list[Affine], list[Affine]]] = {}
     if solving:
-        rhs = []
-        for p, g in solving:
-            b0, big_b = problems[p].load_basis()
-            rhs.extend([np.column_stack([b0, big_b])] * len(g.live))
-        stacked = np.stack(rhs)  # (l, n, 1+dim)
-        parts = [g.forward for _, g in solving] + [g.backward for _, g in solving]
-        solved_all = _solve_systems(
-            _join([s for s in parts if s is not None]), np.concatenate([stacked, stacked])
-        )
-        m = len(stacked)
-        forward_all, backward_all = solved_all[:m], solved_all[m:]
-        start = 0
-        for _, g in solving:
-            end = start + len(g.live)
-            solved.append([*forward_all[start:end], *backward_all[start:end]])
-            start = end
-    by_problem = {p: s for (p, _), s in zip(solving, solved, strict=True)}
+        bases = {p: np.column_stack(problems[p].load_basis()) for p in solving}
+        counts = [len(geometries[p].live) for p in solving]
+        if len(solving) == 1:  # its stack, forward then backward; one right-hand side
+            g = geometries[solving[0]]
+            # A batch computed here holds only its solving problems' systems: this one's.
+            joint = g.joint if g.joint is not None else batch
+            if joint is None:
+                assert g.forward is not None and g.backward is not None
+                joint = _join([g.forward, g.backward])
+            rhs = bases[solving[0]]
+        else:  # every forward system, then every backward one, as a fresh batch has them
+            if batch is None or len(missing) < len(problems):
+                parts = [geometries[p].forward for p in solving]
+                parts += [geometries[p].backward for p in solving]
+                batch = _join([s for s in parts if s is not None])
+            joint = batch
+            each = np.stack(
+                [bases[p] for p, n in zip(solving, counts, strict=True) for _ in range(n)]
+            )
+            rhs = np.concatenate([each, each])
+        solved = _solve_systems(joint, rhs)
+        m, start = sum(counts), 0
+        for p, n in zip(solving, counts, strict=True):
+            by_problem[p] = (solved[start : start + n], solved[m + start : m + start + n])
+            start += n
     out = []
     for p, g in enumerate(geometries):
         by_case: dict[int, tuple[Affine, Affine, tuple[float, float] | None]] = {}
         if p in by_problem:
-            systems, n = by_problem[p], len(g.live)
+            forwards, backwards = by_problem[p]
             for j, c in enumerate(g.live.tolist()):
-                by_case[c] = (systems[j], systems[n + j], g.masses[j])
+                by_case[c] = (forwards[j], backwards[j], g.masses[j])
         cases = []
         for i, r in enumerate(which.tolist()):
             free = FreeTwist(g.twists[i], float(g.determinacy[i]), float(g.closing[i]))
