@@ -38,6 +38,7 @@ __all__ = [
     "analyse_fixed",
     "analyse_fixed_many",
     "closing_analysis",
+    "closing_cases",
     "closing_force_screen",
     "cases_close_many",
     "load_design",
@@ -498,6 +499,34 @@ def closing_analysis(scene: Scene, mass: MassProperties) -> Analysis | None:
     sweeping, design = load_design(scene, problem.dim)
     evaluated = design is not None or not sweeping
     return _assemble(scene, problem, cases, [None] * len(cases), design, sweeping, None, evaluated)
+
+
+def closing_cases(scene: Scene, mass: MassProperties) -> Analysis | None:
+    """:func:`closing_analysis`'s first test, and of its answer only what a sphere map reads:
+    the problem, the cases and the design direction of a scene whose every case is determined,
+    well-conditioned and closes at the design direction (or is swept, without one); None for
+    any other scene, as :func:`closing_analysis`.
+
+    For a search that needs a trial's verdict only: the analysis has no case results (every
+    case closes, or is swept: :func:`closing_analysis` would say so), no details and no
+    ranges."""
+    problem = problem_for(scene, mass)
+    cases = analyse_cases_many([problem])[0]
+    if not _cases_close(scene, problem, cases):
+        return None
+    _, design = load_design(scene, problem.dim)
+    return Analysis(
+        problem=problem,
+        cases=tuple(cases),
+        results=(),
+        arcs=None,
+        combined=None,
+        design=design,
+        design_margin_deg=None,
+        error_deg=None,
+        max_condition=0.0,
+        friction=(None,) * len(cases),
+    )
 
 
 def scene_plane_ranges(scene: Scene, analysis: Analysis) -> Analysis:

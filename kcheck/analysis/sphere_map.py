@@ -28,6 +28,7 @@ __all__ = [
     "direction_caps",
     "sphere_map",
     "sphere_maps",
+    "map_design",
     "sweep_given",
     "default_plane",
     "chosen_plane",
@@ -206,11 +207,7 @@ def _assemble(
 ) -> SphereMap:
     """One scene's map from its caps, its safe region (of every cap) and its cases' shares:
     the region's margins, the nearest and most robust directions, the area's error."""
-    design = None
-    if swept == "load":
-        design = analysis.design
-    elif np.any(scene.gravity):
-        design = unit_rows(scene.gravity)
+    design = map_design(scene, analysis, swept)
     # The region's boundary (and so every margin) moves by the error of the caps that bound it.
     bounding = safe.caps.source[safe.bounding]
     boundary_error = float(cap_errors[bounding].max()) if len(bounding) else 0.0
@@ -244,6 +241,18 @@ def _assemble(
         nearest=None if design_margin is None or design_margin >= 0 else nearest,
         lattice=safe_fraction(a, c, lattice_points) if lattice_points > 0 else None,
     )
+
+
+def map_design(
+    scene: Scene, analysis: Analysis, swept: Literal["load", "gravity"]
+) -> np.ndarray | None:
+    """The map's design direction: the load's (``swept`` load), else the scene's gravity's
+    (unit), else None."""
+    if swept == "load":
+        return analysis.design
+    if np.any(scene.gravity):
+        return unit_rows(scene.gravity)
+    return None
 
 
 def sweep_given(scene: Scene) -> bool:
@@ -287,11 +296,15 @@ def chosen_plane(
 
 
 def disjoint_cases(smap: SphereMap, analysis: Analysis) -> tuple[int, int] | None:
-    """Two cases whose safe regions do not overlap, if any."""
+    """Two cases whose safe regions do not overlap, if any (the first such pair in order).
+
+    Every pair's region in one batch (:func:`kcheck.mechanics.caps.regions`, each the one it
+    gets alone): an empty map asks about all of them anyway when no pair is disjoint."""
     cases = [i for i in np.unique(smap.owner) if smap.case_fractions[i] > 0]
-    for n, i in enumerate(cases):
-        for j in cases[n + 1 :]:
-            both = (smap.owner == i) | (smap.owner == j)
-            if region(smap.a[both], smap.c[both]).empty:
-                return int(i), int(j)
+    pairs = [(i, j) for n, i in enumerate(cases) for j in cases[n + 1 :]]
+    masks = [(smap.owner == i) | (smap.owner == j) for i, j in pairs]
+    found = regions([(smap.a[both], smap.c[both]) for both in masks])
+    for (i, j), pair_region in zip(pairs, found, strict=True):
+        if pair_region.empty:
+            return int(i), int(j)
     return None

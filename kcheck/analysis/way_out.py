@@ -170,16 +170,57 @@ def passing_closing_force(
             fails = value
         else:
             continue
-        for _ in range(FORCE_BISECTIONS):
+        rejected = None  # the rounded bound, once judged to fail before the bisection's end
+        for step in range(FORCE_BISECTIONS):
+            left = FORCE_BISECTIONS - step
+            if rejected is None and left <= SETTLE_STEPS:
+                # Every value the remaining steps can end on rounds to one bound: judge it now
+                # (the answer when it passes, as after the last step; else go on for `good`).
+                settled = _settled_bound(good, fails, left, sign > 0)
+                if settled is not None:
+                    if settled > 0 and judged(settled):
+                        return force, settled, sense
+                    rejected = settled
             middle = math.sqrt(good * fails)
             if judged(middle):
                 good = middle
             else:
                 fails = middle
         rounded = rounded_bound(good, 3, up=sign > 0)
-        for candidate in (rounded, good):
+        assert rejected is None or rejected == rounded
+        # The rounded bound already judged above (it fails) is not judged again.
+        for candidate in (rounded, good) if rejected is None else (good,):
             if candidate > 0 and judged(candidate):
                 return force, candidate, sense
+    return None
+
+
+#: Bisection steps left from which :func:`passing_closing_force` asks whether every value they
+#: can end on rounds to the same bound (2**SETTLE_STEPS paths enumerated at most).
+SETTLE_STEPS = 7
+
+
+def _settled_bound(good: float, fails: float, steps: int, up: bool) -> float | None:
+    """The rounded bound (:func:`kcheck.fmt.rounded_bound`, three digits) of every value the
+    closing force's bisection can end on from the bracket ``good``, ``fails`` after ``steps``
+    more steps (each path's float arithmetic as the bisection's own), or None when they
+    differ. Whatever each trial's verdict, the bisection ends on one of these values."""
+    lowest = good
+    for _ in range(steps):  # every step passes: the path to the value nearest ``fails``
+        lowest = math.sqrt(lowest * fails)
+    bound = rounded_bound(good, 3, up=up)
+    if rounded_bound(lowest, 3, up=up) != bound:
+        return None
+    brackets = [(good, fails)]
+    for _ in range(steps):
+        brackets = [
+            pair
+            for g, f in brackets
+            for middle in (math.sqrt(g * f),)
+            for pair in ((middle, f), (g, middle))
+        ]
+    if all(rounded_bound(g, 3, up=up) == bound for g, _ in brackets):
+        return bound
     return None
 
 

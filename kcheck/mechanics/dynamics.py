@@ -243,17 +243,39 @@ def _equilibrate(matrices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return rows, cols
 
 
-def _solve_many(
-    matrices: np.ndarray, rhs: np.ndarray, matrix_error: np.ndarray | None = None
-) -> list[Affine]:
-    """:func:`solve_affine` for a stack of matrices (s, n, n) with one right-hand side
-    (n, 1 + dim) or one each (s, n, 1 + dim), in one batch of numpy calls. ``matrix_error``
-    (s,): the relative error the matrices carry from their construction (e.g. the free
-    twist's), for the error estimate."""
+@dataclass(frozen=True)
+class _Systems:
+    """What the solves of a stack of matrices (s, n, n) share whatever the right-hand side:
+    the row and column scale factors, the equilibrated matrices, their condition numbers,
+    which can be solved, and the relative error the matrices carry (:func:`_systems`)."""
+
+    matrices: np.ndarray
+    rows: np.ndarray
+    cols: np.ndarray
+    scaled: np.ndarray
+    condition: np.ndarray
+    good: np.ndarray
+    built: np.ndarray
+
+    def part(self, start: int, stop: int) -> _Systems:
+        """The systems ``start:stop`` of the stack (views)."""
+        return _Systems(*(getattr(self, f)[start:stop] for f in _SYSTEMS_FIELDS))
+
+
+_SYSTEMS_FIELDS = ("matrices", "rows", "cols", "scaled", "condition", "good", "built")
+
+
+def _join(parts: Sequence[_Systems]) -> _Systems:
+    """Stacks of systems one after another."""
+    return _Systems(*(np.concatenate([getattr(p, f) for p in parts]) for f in _SYSTEMS_FIELDS))
+
+
+def _systems(matrices: np.ndarray, matrix_error: np.ndarray | None = None) -> _Systems:
+    """Equilibration and condition numbers of a stack of matrices (s, n, n): everything of
+    :func:`_solve_many` but the right-hand side. ``matrix_error`` (s,): the relative error
+    the matrices carry from their construction (e.g. the free twist's)."""
     rows, cols = _equilibrate(matrices)
     scaled = matrices * rows[..., :, None] * cols[..., None, :]
-    n = rhs.shape[-2]
-    rhs = np.broadcast_to(rhs, (len(matrices), *rhs.shape[-2:]))
     with np.errstate(all="ignore"):
         try:
             singular = np.linalg.svd(scaled, compute_uv=False)
@@ -261,6 +283,17 @@ def _solve_many(
             singular = np.zeros(scaled.shape[:-1])
         condition = np.where(singular[..., -1] > 0, singular[..., 0] / singular[..., -1], np.inf)
     good = np.isfinite(condition) & (condition <= 1 / EPS)
+    built = np.zeros(len(matrices)) if matrix_error is None else np.asarray(matrix_error, float)
+    return _Systems(matrices, rows, cols, scaled, condition, good, built)
+
+
+def _solve_systems(systems: _Systems, rhs: np.ndarray) -> list[Affine]:
+    """:func:`_solve_many` of prepared systems (:func:`_systems`), each matrix equilibrated,
+    decomposed and solved on its own (a stack gives each system's own values)."""
+    matrices, rows, cols, scaled = systems.matrices, systems.rows, systems.cols, systems.scaled
+    condition, good = systems.condition, systems.good.copy()
+    n = rhs.shape[-2]
+    rhs = np.broadcast_to(rhs, (len(matrices), *rhs.shape[-2:]))
     out: list[Affine] = []
     sol = np.full((len(matrices), n, rhs.shape[-1]), np.nan)
     if np.any(good):
@@ -270,15 +303,24 @@ def _solve_many(
         good[good] = ok
     # Forward error: the condition number times the matrix's own relative error and the
     # solve's rounding (LU with pivoting is backward stable: its residual is of that size).
-    built = np.zeros(len(matrices)) if matrix_error is None else np.asarray(matrix_error, float)
     with np.errstate(all="ignore"):
-        errors = (condition * (EPS * ROUNDINGS + built))[:, None] * np.abs(sol).sum(axis=2)
+        errors = (condition * (EPS * ROUNDINGS + systems.built))[:, None] * np.abs(sol).sum(axis=2)
     errors[~good] = np.inf
     conditions = np.where(good, condition, np.inf).tolist()
     for k, matrix in enumerate(matrices):
         x = sol[k]
         out.append(Affine(matrix, x[:, 0], x[:, 1:], conditions[k], errors[k]))
     return out
+
+
+def _solve_many(
+    matrices: np.ndarray, rhs: np.ndarray, matrix_error: np.ndarray | None = None
+) -> list[Affine]:
+    """:func:`solve_affine` for a stack of matrices (s, n, n) with one right-hand side
+    (n, 1 + dim) or one each (s, n, 1 + dim), in one batch of numpy calls. ``matrix_error``
+    (s,): the relative error the matrices carry from their construction (e.g. the free
+    twist's), for the error estimate."""
+    return _solve_systems(_systems(matrices, matrix_error), rhs)
 
 
 def solve_affine(matrix: np.ndarray, b0: np.ndarray, big_b: np.ndarray) -> Affine:
@@ -332,8 +374,52 @@ def analyse_cases_many(
     return out
 
 
-def _cases_stacked(problems: Sequence[Problem], which: np.ndarray) -> list[tuple[Case, ...]]:
-    """:func:`analyse_cases_many` of problems with the same number of supports and dimension."""
+@dataclass(frozen=True)
+class _Geometry:
+    """What a problem's cases are without its load (:func:`_geometries`): the free twists,
+    the systems without friction and their change per unit of the pattern, which contacts
+    slide, and, for the cases with a free motion (``live``), both friction systems prepared
+    for solving (every forward one, then every backward one, :func:`_systems`) and the
+    effective masses."""
+
+    twists: np.ndarray  # (c, n)
+    determinacy: np.ndarray  # (c,)
+    closing: np.ndarray  # (c,)
+    k0: np.ndarray  # (c, n, n)
+    unit_f: np.ndarray  # (c, n, n)
+    sliding: np.ndarray  # (c, k-1)
+    live: np.ndarray  # (l,) indices of the cases solved
+    forward: _Systems | None  # (l,)
+    backward: _Systems | None  # (l,)
+    masses: list[tuple[float, float] | None]
+    joint: _Systems | None = None  # forward then backward in one stack, when computed so
+
+
+#: The geometries of the last problems analysed, by :func:`_geometry_key`: a way-out
+#: search's trial scenes differ from their scene only in the closing force, which is in the
+#: right-hand side alone (nondimensional lengths, masses and friction do not depend on it).
+_GEOMETRIES: dict[bytes, _Geometry] = {}
+RECENT_GEOMETRIES = 64
+
+
+def _geometry_key(problem: Problem, which: np.ndarray) -> bytes:
+    """Every input of a problem's :class:`_Geometry`, as bytes."""
+    pattern, mu = problem.friction_pattern()
+    parts = (problem.points, problem.normals, pattern, problem.com, problem.inertia, which)
+    return b"|".join(
+        [
+            repr((problem.points.shape, mu, len(which))).encode(),
+            *(np.ascontiguousarray(x, float).tobytes() for x in parts),
+        ]
+    )
+
+
+def _geometries(
+    problems: Sequence[Problem], which: np.ndarray
+) -> tuple[list[_Geometry], _Systems | None]:
+    """The :class:`_Geometry` of problems with the same number of supports and dimension, in
+    one batch of numpy calls (each matrix decomposed on its own: each problem's own values),
+    and the batch's systems (every live case's forward one, then every backward one)."""
     k = len(problems[0].points)
     points = np.stack([p.points for p in problems])  # (P, k, dim)
     normals = np.stack([p.normals for p in problems])
@@ -354,32 +440,113 @@ def _cases_stacked(problems: Sequence[Problem], which: np.ndarray) -> list[tuple
     )
     big_f = mu[:, None, None, None] * unit_f
     live = (determinacy > UNDETERMINED) & (closing > UNDETERMINED)  # (P, c)
-    owner, case = np.nonzero(live)
-    solved: dict[tuple[int, int], tuple[Affine, Affine, tuple[float, float] | None]] = {}
-    if len(owner):
-        bases = [p.load_basis() for p in problems]
-        rhs = np.stack([np.column_stack([b0, big_b]) for b0, big_b in bases])  # (P, n, 1+dim)
+    owner, case = np.nonzero(live)  # by problem, then case
+    systems = None
+    masses: list[tuple[float, float] | None] = []
+    m = len(owner)
+    if m:
         k0l, fl = k0[owner, case], big_f[owner, case]
         # The free twist (a null vector) is off by about eps over its singular-value gap; the
         # matrix built from it (inertial column, friction directions) inherits that.
         twist_error = TWIST_ROUNDINGS * EPS / determinacy[owner, case]
-        systems = _solve_many(
-            np.concatenate([k0l + fl, k0l - fl]),
-            np.concatenate([rhs[owner], rhs[owner]]),
-            np.concatenate([twist_error, twist_error]),
+        systems = _systems(
+            np.concatenate([k0l + fl, k0l - fl]), np.concatenate([twist_error, twist_error])
         )
         masses = _effective_masses(k0l, fl)
-        m = len(owner)
-        for n, key in enumerate(zip(owner.tolist(), case.tolist(), strict=True)):
-            solved[key] = (systems[n], systems[m + n], masses[n])
+    ends = np.searchsorted(owner, np.arange(len(problems) + 1)).tolist()
     out = []
     for p in range(len(problems)):
+        lo, hi = ends[p], ends[p + 1]
+        forward = backward = None
+        if systems is not None and hi > lo:
+            forward, backward = systems.part(lo, hi), systems.part(m + lo, m + hi)
+        out.append(
+            _Geometry(
+                twists[p],
+                determinacy[p],
+                closing[p],
+                k0[p],
+                unit_f[p],
+                sliding[p],
+                case[lo:hi],
+                forward,
+                backward,
+                masses[lo:hi],
+                systems if len(problems) == 1 else None,
+            )
+        )
+    return out, systems
+
+
+def _read_only(geometry: _Geometry) -> None:
+    """Mark the arrays of a geometry that its cases hold read-only (later problems with the
+    same key share them): the twists, ``K0``, the friction parts, sliding and the systems'
+    matrices (the solved ``Affine.matrix``)."""
+    systems = [s for s in (geometry.forward, geometry.backward, geometry.joint) if s is not None]
+    arrays = [geometry.twists, geometry.k0, geometry.unit_f, geometry.sliding]
+    for array in arrays + [s.matrices for s in systems]:
+        array.flags.writeable = False
+
+
+def _cases_stacked(problems: Sequence[Problem], which: np.ndarray) -> list[tuple[Case, ...]]:
+    """:func:`analyse_cases_many` of problems with the same number of supports and dimension:
+    their geometries (:func:`_geometries`, those of recent problems reused), then every
+    live case's two systems solved for its problem's load in one batch."""
+    keys = [_geometry_key(p, which) for p in problems]
+    known = {i: _GEOMETRIES[key] for i, key in enumerate(keys) if key in _GEOMETRIES}
+    missing = [i for i in range(len(problems)) if i not in known]
+    batch: _Systems | None = None  # the systems of a batch computed here whole
+    if missing:
+        fresh, batch = _geometries([problems[i] for i in missing], which)
+        for i, found in zip(missing, fresh, strict=True):
+            _read_only(found)  # shared by every later problem with the same key
+            known[i] = found
+            if len(_GEOMETRIES) >= RECENT_GEOMETRIES:
+                del _GEOMETRIES[next(iter(_GEOMETRIES))]
+            _GEOMETRIES[keys[i]] = found
+    geometries = [known[i] for i in range(len(problems))]
+    keeps = other_supports(len(problems[0].points))[which]  # (c, k-1)
+    solving = [p for p, g in enumerate(geometries) if g.forward is not None]
+    by_problem: dict[int, tuple[list[Affine], list[Affine]]] = {}
+    if solving:
+        bases = {p: np.column_stack(problems[p].load_basis()) for p in solving}
+        counts = [len(geometries[p].live) for p in solving]
+        if len(solving) == 1:  # its stack, forward then backward; one right-hand side
+            g = geometries[solving[0]]
+            # A batch computed here holds only its solving problems' systems: this one's.
+            joint = g.joint if g.joint is not None else batch
+            if joint is None:
+                assert g.forward is not None and g.backward is not None
+                joint = _join([g.forward, g.backward])
+            rhs = bases[solving[0]]
+        else:  # every forward system, then every backward one, as a fresh batch has them
+            if batch is None or len(missing) < len(problems):
+                parts = [geometries[p].forward for p in solving]
+                parts += [geometries[p].backward for p in solving]
+                batch = _join([s for s in parts if s is not None])
+            joint = batch
+            each = np.stack(
+                [bases[p] for p, n in zip(solving, counts, strict=True) for _ in range(n)]
+            )
+            rhs = np.concatenate([each, each])
+        solved = _solve_systems(joint, rhs)
+        m, start = sum(counts), 0
+        for p, n in zip(solving, counts, strict=True):
+            by_problem[p] = (solved[start : start + n], solved[m + start : m + start + n])
+            start += n
+    out = []
+    for p, g in enumerate(geometries):
+        by_case: dict[int, tuple[Affine, Affine, tuple[float, float] | None]] = {}
+        if p in by_problem:
+            forwards, backwards = by_problem[p]
+            for j, c in enumerate(g.live.tolist()):
+                by_case[c] = (forwards[j], backwards[j], g.masses[j])
         cases = []
         for i, r in enumerate(which.tolist()):
-            free = FreeTwist(twists[p, i], float(determinacy[p, i]), float(closing[p, i]))
-            forward, backward, mass = solved.get((p, i), (None, None, None))
-            matrices = k0[p, i], unit_f[p, i]
-            cases.append(Case(r, keeps[i], free, sliding[p, i], forward, backward, mass, *matrices))
+            free = FreeTwist(g.twists[i], float(g.determinacy[i]), float(g.closing[i]))
+            forward, backward, mass = by_case.get(i, (None, None, None))
+            matrices = g.k0[i], g.unit_f[i]
+            cases.append(Case(r, keeps[i], free, g.sliding[i], forward, backward, mass, *matrices))
         out.append(tuple(cases))
     return out
 

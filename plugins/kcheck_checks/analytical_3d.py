@@ -12,6 +12,7 @@ the body (its tilt).
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -21,6 +22,7 @@ from kcheck.analysis import analyse, analyse_many
 from kcheck.analysis.cases import (
     Analysis,
     closing_analysis,
+    closing_cases,
     closing_force_reason,
     describe_ranges,
     sweep_ranges,
@@ -415,7 +417,50 @@ def _ranges(analysis: Analysis) -> tuple[tuple[float, float], ...]:
     return ranges_deg(analysis.combined)
 
 
-def _short_of_margin(analysis: Analysis, options: Analytical3DOptions) -> bool:
+def _map_passes(scene: Scene, analysis: Analysis, options: Analytical3DOptions) -> bool | None:
+    """Whether the check passes (``spatial_result(...)[0].status`` is ``pass``) on an analysis
+    whose every case closes at the design direction or is swept
+    (:func:`kcheck.analysis.cases.closing_cases`: no case finding), from the caps and the
+    safe region alone: no case's own region, most robust direction, area error, ranges or
+    wording. None where that needs the whole map (no design direction: the most robust
+    one's margin decides).
+
+    The same tests as :func:`_spatial_result` on the same numbers: nothing to map or an empty
+    region fails; the design direction's margin below zero or ``min_margin_deg`` is a
+    finding (:func:`_sphere_findings`); a region that is not the whole sphere with a margin
+    below ``marginal_deg`` is marginal (:func:`kcheck_checks.marginal.with_angle_margin`)."""
+    from kcheck.analysis.sphere_map import direction_caps, map_design
+    from kcheck.mechanics.caps import region, signed_distance
+
+    caps = direction_caps(analysis.problem, analysis)
+    if _short_of_margin(analysis, options, caps):
+        return False
+    swept, a, c, _, _ = caps
+    if not len(a):
+        return False  # nothing to map: a fail
+    safe = region(a, c)
+    if safe.empty:
+        return False  # no safe direction: a finding
+    design = map_design(scene, analysis, swept)
+    if design is None:
+        return None
+    margin, _ = signed_distance(safe, design)
+    if margin is None:
+        return None
+    deg = float(np.degrees(1.0))
+    if margin * deg < 0 or margin * deg < options.min_margin_deg:
+        return False
+    if safe.full:
+        return True  # no margin reported: nothing marginal
+    value = float(margin * deg)
+    return not (math.isfinite(value) and value < options.marginal_deg)
+
+
+def _short_of_margin(
+    analysis: Analysis,
+    options: Analytical3DOptions,
+    caps: tuple[Any, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None,
+) -> bool:
     """Whether the design load direction of an analysis whose every case closes there is
     surely closer to the safe region's edge than the check allows (a `margin` finding, or the
     `marginal` band): its margin in closed form, the least over every case's closing caps
@@ -429,7 +474,7 @@ def _short_of_margin(analysis: Analysis, options: Analytical3DOptions) -> bool:
     design = analysis.design
     if design is None or analysis.problem.swept != "load":
         return False
-    _, a, c, _, _ = direction_caps(analysis.problem, analysis)
+    _, a, c, _, _ = direction_caps(analysis.problem, analysis) if caps is None else caps
     d = np.asarray(design, float)
     margin = float(np.degrees(cap_margins(a, c, (d / np.linalg.norm(d))[None, :])[0]))
     limit = max(options.min_margin_deg, options.marginal_deg)
@@ -484,9 +529,16 @@ class Analytical3D(Check):
             # Exact shortcut: the outcomes from the cases' algebra alone reject most trial
             # forces of a failing scene (a case that does not close fails below), and the
             # rest need no friction intervals nor friction_may_hold, which only word the
-            # findings (closing_analysis).
+            # findings, nor case results: every case closes (closing_cases), so the map's
+            # safe region alone decides (_map_passes).
             low, high = scene.friction_range("kinetic")
             if np.array_equal(low, high):
+                found = closing_cases(scene, mass)
+                if found is None:
+                    return False
+                decided = _map_passes(scene, found, options)
+                if decided is not None:
+                    return decided
                 found = closing_analysis(scene, mass)
                 if found is None or _short_of_margin(found, options):
                     return False

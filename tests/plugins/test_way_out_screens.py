@@ -43,9 +43,44 @@ def test_first_tests_change_no_way_out(tmp_path, monkeypatch):
     assert len(searched) >= 3  # the scenes exercise the closing-force search
 
     monkeypatch.setattr(module, "closing_analysis", _in_full)
+    monkeypatch.setattr(module, "_map_passes", lambda scene, analysis, options: None)
     monkeypatch.setattr(module, "_short_of_margin", lambda analysis, options: False)
     monkeypatch.setattr(way_out, "trial_screens", _no_screens)
     assert _results(scenes, masses) == screened
+
+
+def test_verdict_from_the_safe_region_is_the_full_results(tmp_path, monkeypatch):
+    """Each trial the searches judge from its caps and safe region alone (``_map_passes``)
+    gets the verdict of the whole result (``spatial_result``'s status on the full analysis),
+    with the default margins, a larger minimum margin and none."""
+    import kcheck_checks.analytical_3d as module
+
+    from kcheck.analysis.cases import closing_analysis
+    from kcheck.result import Status
+
+    lean = module._map_passes
+    compared = []
+
+    def both(scene, analysis, options):
+        got = lean(scene, analysis, options)
+        full = closing_analysis(scene, masses[0])
+        assert full is not None  # closing_cases said every case closes
+        want = not module._short_of_margin(full, options) and (
+            module.spatial_result("analytical-3d", scene, full, options)[0].status is Status.PASS
+        )
+        assert got is None or got == want
+        compared.append(got == want)
+        return got
+
+    monkeypatch.setattr(module, "_map_passes", both)
+    check = module.Analytical3D()
+    masses = [None]
+    for path in write_spatial_scenes(tmp_path, range(12)):
+        scene = load_scene(path)
+        masses[0] = body_mass_properties(scene.body, scene.scale)
+        for options in ({}, {"min_margin_deg": 3.0}, {"min_margin_deg": 0.0, "marginal_deg": 0.0}):
+            check.run(Inputs(scene, masses[0], check.options(**options)))
+    assert sum(compared) >= 50 and any(compared)  # many trials, each the full verdict
 
 
 def _no_screens(scene, mass):
