@@ -517,3 +517,77 @@ def test_positive_roots_newton_steps_are_numpys_bits():
         assert fast.tobytes() == slow.tobytes()
         total += len(fast)
     assert total > 2000  # roots found and compared
+
+
+def test_planar_cone_holds_decides_as_numpy_or_not_at_all():
+    """``planar_cone_holds`` (a planar cone decision in plain float arithmetic) answers as
+    ``np.all(cone_facets(G) @ against >= limit)`` ("everywhere" True, "flat" False) or says
+    undecided (None), on random contacts of every scale and coefficient, random wrenches and
+    wrenches put on a facet; with the limit set to a facet's own numpy product (the band
+    where fused multiply-adds could change the answer) it never answers otherwise; it
+    decides most cones."""
+    from kcheck.mechanics.cones import cone_facets, planar_cone_holds
+    from kcheck.mechanics.statics import _planar_generator_rows
+    from kcheck.numerics.thresholds import EPS, FACET_TOL, PRODUCT_ROUNDING
+
+    rng = np.random.default_rng(61)
+    decided = asked = 0
+    for _ in range(4000):
+        points, normals = _random_planar_contacts(rng)
+        mu = rng.choice([0.0, 0.05, 0.3, 2.0], size=len(points))
+        rows = _planar_generator_rows(points.tolist(), normals.tolist(), mu.tolist())
+        assert rows is not None
+        generators = np.array(rows)
+        facets = cone_facets(generators)
+        against = rng.normal(size=3) * rng.choice([1e-3, 1.0, 1e3])
+        if isinstance(facets, np.ndarray) and rng.random() < 0.3:
+            # on a facet's plane: a combination of two generators on it
+            on = np.flatnonzero(np.abs(generators @ facets[0]) < 1e-9)
+            if len(on) >= 2:
+                against = rng.uniform(0, 2, 2) @ generators[on[:2]]
+        size = float(np.linalg.norm(against)) or 1.0
+        margin = PRODUCT_ROUNDING * EPS * size
+        limits = [-FACET_TOL * size]
+        if isinstance(facets, np.ndarray):
+            limits.append(float((facets @ against)[rng.integers(len(facets))]))
+        for limit in limits:
+            if isinstance(facets, str):
+                expected = facets == "everywhere"
+            else:
+                expected = bool(np.all(facets @ against >= limit))
+            found = planar_cone_holds(rows, tuple(against.tolist()), limit, margin)
+            assert found is None or found == expected
+            asked += 1
+            decided += found is not None
+    assert decided > 0.6 * asked
+
+
+def test_planar_least_holding_friction_as_before():
+    """The least holding coefficient from ``planar_holding`` (decisions in plain arithmetic
+    where they are certain) equals, bit for bit, the one from ``holds`` at each coefficient:
+    40 random scenes, every case, 4 load directions (480 cases), frictionless supports."""
+    from kcheck.mechanics.least_friction import friction_candidates
+    from kcheck.mechanics.statics import planar_holding
+
+    rng = np.random.default_rng(62)
+    found = set()
+    for _ in range(40):
+        statics = random_planar(rng)
+        scale = (rng.uniform(size=3) < 0.8).astype(float)
+        if not scale.any():
+            scale[:] = 1.0
+        for r in range(3):
+            keep = np.flatnonzero(np.arange(3) != r)
+            for angle in rng.uniform(0, TAU, 4):
+                wrench = statics.wrench(np.array([np.cos(angle), np.sin(angle)]))
+                candidates = friction_candidates(statics, keep, wrench, scale)
+
+                def reference(mu: float, s=statics, k=keep, w=wrench, f=scale) -> bool:
+                    return holds(s, k, w, mu * f)
+
+                fast = planar_holding(statics, keep, wrench, scale)
+                new = least_friction(fast, 0.2, rtol=1e-4, candidates=candidates)
+                old = least_friction(reference, 0.2, rtol=1e-4, candidates=candidates)
+                assert new == old
+                found.add(new is None)
+    assert found == {True, False}
