@@ -282,7 +282,10 @@ def _planar_generators_of(
 def _planar_generator_rows(
     points: list[list[float]], normals: list[list[float]], mu: list[float]
 ) -> list[tuple[float, ...]] | None:
-    """The rows of :func:`_planar_generators_of` as tuples (sorted, distinct)."""
+    """The rows of :func:`_planar_generators_of` as tuples (sorted, distinct); None also
+    for no support."""
+    if not points:
+        return None
     scale = 1e14  # np.round(g, 14)'s factor
     rows: list[tuple[float, ...]] = []
     for (px, py), (nx, ny), m in zip(points, normals, mu, strict=True):
@@ -488,11 +491,30 @@ def holds(
     """Whether the supports ``keep`` balance ``wrench`` with forces in the (polyhedral)
     friction cones; exact for planar scenes."""
     mu = statics.friction if mu is None else np.asarray(mu, float)
+    if statics.dim == 2:
+        held = _planar_holds(statics.points[keep], statics.normals[keep], mu[keep], wrench)
+        if held is not None:
+            return held
     facets = cone_facets(cone_generators(statics, keep, mu, edges, pyramid))
     if isinstance(facets, str):
         return facets == "everywhere"
     scale = float(np.linalg.norm(wrench)) or 1.0
     return bool(np.all(facets @ -wrench >= -FACET_TOL * scale))
+
+
+def _planar_holds(
+    points: np.ndarray, normals: np.ndarray, mu: np.ndarray, wrench: np.ndarray
+) -> bool | None:
+    """:func:`holds` of a planar scene's kept supports by :func:`planar_cone_holds` (the same
+    answer where it decides), None where it does not (or the inputs are not finite)."""
+    if not len(points) or not np.all(np.isfinite(wrench)):
+        return None
+    rows = _planar_generator_rows(points.tolist(), normals.tolist(), mu.tolist())
+    if rows is None:
+        return None
+    scale = float(np.linalg.norm(wrench)) or 1.0
+    against = tuple((-wrench).tolist())
+    return planar_cone_holds(rows, against, -FACET_TOL * scale, PRODUCT_ROUNDING * EPS * scale)
 
 
 def planar_holding(

@@ -564,7 +564,8 @@ def test_planar_cone_holds_decides_as_numpy_or_not_at_all():
 
 def test_planar_least_holding_friction_as_before():
     """The least holding coefficient from ``planar_holding`` (decisions in plain arithmetic
-    where they are certain) equals, bit for bit, the one from ``holds`` at each coefficient:
+    where they are certain) equals, bit for bit, the one from numpy's decisions
+    (``_holds_numpy``, ``holds`` before the plain-arithmetic path) at each coefficient:
     40 random scenes, every case, 4 load directions (480 cases), frictionless supports."""
     from kcheck.mechanics.least_friction import friction_candidates
     from kcheck.mechanics.statics import planar_holding
@@ -583,7 +584,7 @@ def test_planar_least_holding_friction_as_before():
                 candidates = friction_candidates(statics, keep, wrench, scale)
 
                 def reference(mu: float, s=statics, k=keep, w=wrench, f=scale) -> bool:
-                    return holds(s, k, w, mu * f)
+                    return _holds_numpy(s, k, w, mu * f)
 
                 fast = planar_holding(statics, keep, wrench, scale)
                 new = least_friction(fast, 0.2, rtol=1e-4, candidates=candidates)
@@ -591,3 +592,35 @@ def test_planar_least_holding_friction_as_before():
                 assert new == old
                 found.add(new is None)
     assert found == {True, False}
+
+
+def _holds_numpy(statics, keep, wrench, mu) -> bool:
+    """``holds`` as numpy decides it (the facets' array and its product), the reference of the
+    plain-arithmetic decisions."""
+    from kcheck.mechanics.cones import FACET_TOL, cone_facets
+    from kcheck.mechanics.statics import cone_generators
+
+    facets = cone_facets(cone_generators(statics, keep, np.asarray(mu, float)))
+    if isinstance(facets, str):
+        return facets == "everywhere"
+    scale = float(np.linalg.norm(wrench)) or 1.0
+    return bool(np.all(facets @ -wrench >= -FACET_TOL * scale))
+
+
+def test_planar_holds_as_numpy_decides():
+    """``holds`` of planar scenes (plain arithmetic where certain) answers as numpy's
+    decision: 300 random scenes, the three cases and all supports, 5 load directions, the
+    scene's friction, none and three times it (18,000 decisions, both answers)."""
+    rng = np.random.default_rng(63)
+    answers = []
+    for _ in range(300):
+        statics = random_planar(rng)
+        for r in range(4):
+            keep = np.flatnonzero(np.arange(3) != r) if r < 3 else np.arange(3)
+            for angle in rng.uniform(0, TAU, 5):
+                wrench = statics.wrench(np.array([np.cos(angle), np.sin(angle)]))
+                for mu in (statics.friction, 0.0 * statics.friction, 3.0 * statics.friction):
+                    expected = _holds_numpy(statics, keep, wrench, mu)
+                    assert holds(statics, keep, wrench, mu) == expected
+                    answers.append(expected)
+    assert len(answers) == 18000 and 0.1 < np.mean(answers) < 0.9
