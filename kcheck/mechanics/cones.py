@@ -171,19 +171,29 @@ def planar_cone_holds(
     margin: float,
 ) -> bool | None:
     """``np.all(cone_facets(G) @ against >= limit)`` (True also for ``"everywhere"``, False
-    for ``"flat"``) of a three-dimensional cone's finite generators ``G``, rows in
-    ``sorted_unique_tuples``' order, in plain float arithmetic without building the facets'
-    array: the same rank test (:func:`_rank_three_by_minor`) and the same rounded facets
-    (:func:`_planar_facets`' operations), each facet's product compared as it comes (the
-    first clearly below ``limit`` decides False). numpy's product may differ from the plain
-    one by a few roundings (it fuses multiply-adds): a product within ``margin`` of ``limit``
-    (the caller's bound on that difference), or a rank the SVD must decide, gives None:
+    for ``"flat"``) of a three-dimensional cone's unit generators ``G`` (finite, rows in
+    ``sorted_unique_tuples``' order, as ``statics._planar_generator_rows`` makes them), in
+    plain float arithmetic without building the facets' array: the same rank test
+    (:func:`_rank_three_by_minor`) and the same rounded facets (:func:`_planar_facets`'
+    operations), each facet's product compared as it comes (the first clearly below
+    ``limit`` decides False). numpy's product may differ from the plain one by a few
+    roundings (it fuses multiply-adds): a product within ``margin`` of ``limit`` (the
+    caller's bound on that difference), or a rank the SVD must decide, gives None:
     undecided, the caller asks :func:`cone_facets`."""
-    if not _rank_three_by_minor(generators):
+    count = len(generators)
+    if count < 3:
+        return None
+    # _rank_three_by_minor of unit (finite) generators, its sums written out: the squares
+    # are non-negative, so adding them to sum()'s start 0 first changes no bit.
+    (p0, p1, p2), (q0, q1, q2), (s0, s1, s2) = generators[0], generators[1], generators[2]
+    det = p0 * (q1 * s2 - q2 * s1) - p1 * (q0 * s2 - q2 * s0) + p2 * (q0 * s1 - q1 * s0)
+    frobenius = (
+        p0 * p0 + p1 * p1 + p2 * p2 + q0 * q0 + q1 * q1 + q2 * q2 + s0 * s0 + s1 * s1 + s2 * s2
+    )
+    if not 2.0 * abs(det) > RANK_MINOR_MARGIN * FACET_TOL * frobenius:
         return None
     a0, a1, a2 = against
     scale = 10.0**FACET_DECIMALS
-    count = len(generators)
     close = False
     for i in range(count):
         g0, g1, g2 = generators[i]

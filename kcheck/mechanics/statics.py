@@ -507,13 +507,13 @@ def _planar_holds(
 ) -> bool | None:
     """:func:`holds` of a planar scene's kept supports by :func:`planar_cone_holds` (the same
     answer where it decides), None where it does not (or the inputs are not finite)."""
-    if not len(points) or not np.all(np.isfinite(wrench)):
+    against = (-wrench).tolist()
+    if not len(points) or not all(map(math.isfinite, against)):
         return None
     rows = _planar_generator_rows(points.tolist(), normals.tolist(), mu.tolist())
     if rows is None:
         return None
     scale = float(np.linalg.norm(wrench)) or 1.0
-    against = tuple((-wrench).tolist())
     return planar_cone_holds(rows, against, -FACET_TOL * scale, PRODUCT_ROUNDING * EPS * scale)
 
 
