@@ -385,9 +385,14 @@ def _positive_roots(coefficients: np.ndarray) -> np.ndarray:
     size = np.abs(coefficients).sum(axis=1, keepdims=True)
     c = np.where(np.abs(coefficients) > POLY_ZERO_RTOL * size, coefficients, 0.0)
     found = []
+    # Each polynomial by its degree: its leading coefficient non-zero, those before it zero.
+    nonzero = c != 0
+    first, second = nonzero[:, 0], nonzero[:, 1]
+    lower = ~first & ~second
+    degrees = {3: first, 2: ~first & second, 1: lower & nonzero[:, 2]}
     for degree in (3, 2, 1):
         lead = 3 - degree
-        rows = c[(c[:, lead] != 0) & np.all(c[:, :lead] == 0, axis=1)]
+        rows = c[degrees[degree]]
         if not len(rows):
             continue
         monic = rows[:, lead + 1 :] / rows[:, lead : lead + 1]  # (r, degree)
@@ -396,7 +401,7 @@ def _positive_roots(coefficients: np.ndarray) -> np.ndarray:
         companion[:, np.arange(1, degree), np.arange(degree - 1)] = 1.0
         roots = np.linalg.eigvals(companion)  # (r, degree)
         real = np.abs(roots.imag) <= CUBIC_IMAG_RTOL * np.maximum(np.abs(roots), 1.0)
-        owner = np.broadcast_to(np.arange(len(rows))[:, None], roots.shape)[real]
+        owner = np.repeat(np.arange(len(rows)), degree)[real.ravel()]  # each root's row
         found += _newton_steps(roots.real[real].tolist(), rows[owner].tolist())
     return np.array(found, dtype=float)
 
