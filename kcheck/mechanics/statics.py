@@ -297,10 +297,10 @@ def _planar_generator_rows(
             size = math.sqrt(w * w + fx * fx + fy * fy)
             if not (0.0 < size < math.inf):
                 return None
-            # round_like_numpy of each part, written out (a few thousand calls a scene).
+            # round_like_numpy of each part, written out (a few thousand calls a scene). A
+            # finite positive size bounds each part's size (the squares are summed rounding
+            # to nearest, which keeps order): the parts are finite, their rounding defined.
             r0, r1, r2 = w / size * scale, fx / size * scale, fy / size * scale
-            if not (math.isfinite(r0) and math.isfinite(r1) and math.isfinite(r2)):
-                return None
             rows.append(
                 (
                     math.copysign(float(round(r0)), r0) / scale,
