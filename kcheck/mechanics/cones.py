@@ -9,7 +9,7 @@ only then) and small linear programmes solved by clarabel.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Literal
 
 import numpy as np
@@ -29,6 +29,7 @@ from kcheck.numerics.thresholds import (
 __all__ = [
     "FACET_TOL",
     "cone_facets",
+    "planar_cone_holds",
     "pointing",
     "essential_rows",
     "inside_image",
@@ -105,7 +106,7 @@ def _flat(generators: np.ndarray) -> bool:
     return bool(np.count_nonzero(np.linalg.svd(generators, compute_uv=False) > FACET_TOL) < n)
 
 
-def _rank_three_by_minor(rows: list[list[float]]) -> bool:
+def _rank_three_by_minor(rows: Sequence[Sequence[float]]) -> bool:
     """Whether the first three of three-dimensional rows certainly have rank 3 by
     :func:`_flat`'s test, without an SVD: removing rows lowers no singular value, and three
     rows' ``|det| = s1 s2 s3 <= s3 (s1^2 + s2^2) / 2 <= s3 |S|_F^2 / 2``, so ``2 |det| /
@@ -161,6 +162,65 @@ def _planar_facets(generators: list[list[float]]) -> np.ndarray | Literal["every
             )
         )
     return sorted_unique_tuples(rounded)
+
+
+def planar_cone_holds(
+    generators: Sequence[Sequence[float]],
+    against: Sequence[float],
+    limit: float,
+    margin: float,
+) -> bool | None:
+    """``np.all(cone_facets(G) @ against >= limit)`` (True also for ``"everywhere"``, False
+    for ``"flat"``) of a three-dimensional cone's unit generators ``G`` (finite, rows in
+    ``sorted_unique_tuples``' order, as ``statics._planar_generator_rows`` makes them), in
+    plain float arithmetic without building the facets' array: the same rank test
+    (:func:`_rank_three_by_minor`) and the same rounded facets (:func:`_planar_facets`'
+    operations), each facet's product compared as it comes (the first clearly below
+    ``limit`` decides False). numpy's product may differ from the plain one by a few
+    roundings (it fuses multiply-adds): a product within ``margin`` of ``limit`` (the
+    caller's bound on that difference), or a rank the SVD must decide, gives None:
+    undecided, the caller asks :func:`cone_facets`."""
+    count = len(generators)
+    if count < 3:
+        return None
+    # _rank_three_by_minor of unit (finite) generators, its sums written out: the squares
+    # are non-negative, so adding them to sum()'s start 0 first changes no bit.
+    (p0, p1, p2), (q0, q1, q2), (s0, s1, s2) = generators[0], generators[1], generators[2]
+    det = p0 * (q1 * s2 - q2 * s1) - p1 * (q0 * s2 - q2 * s0) + p2 * (q0 * s1 - q1 * s0)
+    frobenius = (
+        p0 * p0 + p1 * p1 + p2 * p2 + q0 * q0 + q1 * q1 + q2 * q2 + s0 * s0 + s1 * s1 + s2 * s2
+    )
+    if not 2.0 * abs(det) > RANK_MINOR_MARGIN * FACET_TOL * frobenius:
+        return None
+    a0, a1, a2 = against
+    scale = 10.0**FACET_DECIMALS
+    close = False
+    for i in range(count):
+        g0, g1, g2 = generators[i]
+        for j in range(i + 1, count):
+            h0, h1, h2 = generators[j]
+            c0, c1, c2 = g1 * h2 - g2 * h1, g2 * h0 - g0 * h2, g0 * h1 - g1 * h0
+            size = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+            if not size > FACET_TOL:
+                continue
+            f0, f1, f2 = c0 / size, c1 / size, c2 / size
+            side = [f0 * x0 + f1 * x1 + f2 * x2 for x0, x1, x2 in generators]
+            if min(side) >= -FACET_TOL:
+                r0, r1, r2 = f0 * scale, f1 * scale, f2 * scale
+            elif max(side) <= FACET_TOL:
+                r0, r1, r2 = -f0 * scale, -f1 * scale, -f2 * scale
+            else:
+                continue
+            # round_like_numpy of each part, as _planar_facets rounds the facet
+            r0 = math.copysign(float(round(r0)), r0) / scale
+            r1 = math.copysign(float(round(r1)), r1) / scale
+            r2 = math.copysign(float(round(r2)), r2) / scale
+            value = r0 * a0 + r1 * a1 + r2 * a2
+            if value < limit - margin:
+                return False
+            if value < limit + margin:
+                close = True
+    return None if close else True
 
 
 def row_lengths(vectors: np.ndarray) -> np.ndarray:

@@ -408,9 +408,14 @@ def _positive_roots(coefficients: np.ndarray) -> np.ndarray:
     size = np.abs(coefficients).sum(axis=1, keepdims=True)
     c = np.where(np.abs(coefficients) > POLY_ZERO_RTOL * size, coefficients, 0.0)
     found = []
+    # Each polynomial by its degree: its leading coefficient non-zero, those before it zero.
+    nonzero = c != 0
+    first, second = nonzero[:, 0], nonzero[:, 1]
+    lower = ~first & ~second
+    degrees = {3: first, 2: ~first & second, 1: lower & nonzero[:, 2]}
     for degree in (3, 2, 1):
         lead = 3 - degree
-        rows = c[(c[:, lead] != 0) & np.all(c[:, :lead] == 0, axis=1)]
+        rows = c[degrees[degree]]
         if not len(rows):
             continue
         monic = rows[:, lead + 1 :] / rows[:, lead : lead + 1]  # (r, degree)
@@ -419,14 +424,25 @@ def _positive_roots(coefficients: np.ndarray) -> np.ndarray:
         companion[:, np.arange(1, degree), np.arange(degree - 1)] = 1.0
         roots = np.linalg.eigvals(companion)  # (r, degree)
         real = np.abs(roots.imag) <= CUBIC_IMAG_RTOL * np.maximum(np.abs(roots), 1.0)
-        owner = np.broadcast_to(np.arange(len(rows))[:, None], roots.shape)[real]
-        x, poly = roots.real[real], rows[owner]
+        owner = np.repeat(np.arange(len(rows)), degree)[real.ravel()]  # each root's row
+        found += _newton_steps(roots.real[real].tolist(), rows[owner].tolist())
+    return np.array(found, dtype=float)
+
+
+def _newton_steps(roots: list[float], polys: list[list[float]]) -> list[float]:
+    """Three Newton steps on each root of its cubic (highest power first, a step of 0 where
+    the slope is 0), the positive results: elementwise numpy's formulas in plain float
+    arithmetic (the same operations in the same order, so the same bits; a case has some
+    twenty roots, where numpy's per-call overhead on a dozen arrays was most of the time)."""
+    out = []
+    for x, (p0, p1, p2, p3) in zip(roots, polys, strict=True):
         for _ in range(3):
-            value = ((poly[:, 0] * x + poly[:, 1]) * x + poly[:, 2]) * x + poly[:, 3]
-            slope = (3 * poly[:, 0] * x + 2 * poly[:, 1]) * x + poly[:, 2]
-            x = x - np.divide(value, slope, out=np.zeros_like(x), where=slope != 0)
-        found.append(x[x > 0])
-    return np.concatenate(found) if found else np.zeros(0)
+            value = ((p0 * x + p1) * x + p2) * x + p3
+            slope = (3.0 * p0 * x + 2.0 * p1) * x + p2
+            x = x - (value / slope if slope != 0 else 0.0)
+        if x > 0:
+            out.append(x)
+    return out
 
 
 def least_friction(

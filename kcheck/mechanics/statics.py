@@ -39,12 +39,13 @@ from kcheck.mechanics.cones import (
     cone_facets,
     essential_rows,
     inside_image,
+    planar_cone_holds,
 )
 from kcheck.mechanics.csc import Csc
 from kcheck.mechanics.dynamics import friction_directions
 from kcheck.mechanics.kinematics import Frame, cross3, wrenches
-from kcheck.numerics.arrays import sorted_unique_tuples, unique_rows
-from kcheck.numerics.thresholds import EPS, SAME_FACET
+from kcheck.numerics.arrays import unique_rows
+from kcheck.numerics.thresholds import EPS, PRODUCT_ROUNDING, SAME_FACET
 from kcheck.records import dataclass
 
 __all__ = [
@@ -274,6 +275,17 @@ def _planar_generators_of(
     points: list[list[float]], normals: list[list[float]], mu: list[float]
 ) -> np.ndarray | None:
     """:func:`_planar_generators` of at least one support given as lists."""
+    rows = _planar_generator_rows(points, normals, mu)
+    return None if rows is None else np.array(rows, dtype=float)
+
+
+def _planar_generator_rows(
+    points: list[list[float]], normals: list[list[float]], mu: list[float]
+) -> list[tuple[float, ...]] | None:
+    """The rows of :func:`_planar_generators_of` as tuples (sorted, distinct); None also
+    for no support."""
+    if not points:
+        return None
     scale = 1e14  # np.round(g, 14)'s factor
     rows: list[tuple[float, ...]] = []
     for (px, py), (nx, ny), m in zip(points, normals, mu, strict=True):
@@ -285,10 +297,10 @@ def _planar_generators_of(
             size = math.sqrt(w * w + fx * fx + fy * fy)
             if not (0.0 < size < math.inf):
                 return None
-            # round_like_numpy of each part, written out (a few thousand calls a scene).
+            # round_like_numpy of each part, written out (a few thousand calls a scene). A
+            # finite positive size bounds each part's size (the squares are summed rounding
+            # to nearest, which keeps order): the parts are finite, their rounding defined.
             r0, r1, r2 = w / size * scale, fx / size * scale, fy / size * scale
-            if not (math.isfinite(r0) and math.isfinite(r1) and math.isfinite(r2)):
-                return None
             rows.append(
                 (
                     math.copysign(float(round(r0)), r0) / scale,
@@ -296,7 +308,12 @@ def _planar_generators_of(
                     math.copysign(float(round(r2)), r2) / scale,
                 )
             )
-    return sorted_unique_tuples(rows)
+    rows.sort()  # sorted_unique_tuples' order and duplicates
+    out = [rows[0]]
+    for row in rows[1:]:
+        if row != out[-1]:
+            out.append(row)
+    return out
 
 
 # --- equilibrium sets over the swept direction ------------------------------------------------
@@ -474,11 +491,30 @@ def holds(
     """Whether the supports ``keep`` balance ``wrench`` with forces in the (polyhedral)
     friction cones; exact for planar scenes."""
     mu = statics.friction if mu is None else np.asarray(mu, float)
+    if statics.dim == 2:
+        held = _planar_holds(statics.points[keep], statics.normals[keep], mu[keep], wrench)
+        if held is not None:
+            return held
     facets = cone_facets(cone_generators(statics, keep, mu, edges, pyramid))
     if isinstance(facets, str):
         return facets == "everywhere"
     scale = float(np.linalg.norm(wrench)) or 1.0
     return bool(np.all(facets @ -wrench >= -FACET_TOL * scale))
+
+
+def _planar_holds(
+    points: np.ndarray, normals: np.ndarray, mu: np.ndarray, wrench: np.ndarray
+) -> bool | None:
+    """:func:`holds` of a planar scene's kept supports by :func:`planar_cone_holds` (the same
+    answer where it decides), None where it does not (or the inputs are not finite)."""
+    against = (-wrench).tolist()
+    if not len(points) or not all(map(math.isfinite, against)):
+        return None
+    rows = _planar_generator_rows(points.tolist(), normals.tolist(), mu.tolist())
+    if rows is None:
+        return None
+    scale = float(np.linalg.norm(wrench)) or 1.0
+    return planar_cone_holds(rows, against, -FACET_TOL * scale, PRODUCT_ROUNDING * EPS * scale)
 
 
 def planar_holding(
@@ -490,11 +526,22 @@ def planar_holding(
     points, normals, rows = statics.points[keep], statics.normals[keep], scale[keep]
     plain = (points.tolist(), normals.tolist()) if len(points) else None
     against = -wrench
-    limit = -FACET_TOL * (float(np.linalg.norm(wrench)) or 1.0)
+    size = float(np.linalg.norm(wrench)) or 1.0
+    limit = -FACET_TOL * size
+    # planar_cone_holds decides without numpy where every facet's product is farther than
+    # this from the limit: numpy's product of a unit facet and ``against`` differs from the
+    # plain one by at most a few roundings of |against| (fused multiply-adds).
+    margin = PRODUCT_ROUNDING * EPS * size
+    quick = tuple(against.tolist()) if np.all(np.isfinite(against)) else None
 
     def decide(mu: float) -> bool:
         kept = mu * rows  # (mu * scale)[keep], elementwise: the same bits
-        generators = None if plain is None else _planar_generators_of(*plain, kept.tolist())
+        found = None if plain is None else _planar_generator_rows(*plain, kept.tolist())
+        if found is not None and quick is not None:
+            held = planar_cone_holds(found, quick, limit, margin)
+            if held is not None:
+                return held
+        generators = None if found is None else np.array(found, dtype=float)
         if generators is None:
             generators = edge_wrenches(
                 points, friction_edges(normals, kept, PYRAMID_EDGES, "circumscribed")

@@ -63,6 +63,7 @@ __all__ = [
     "FACET_TOL",
     "HULL_FACET_TOL",
     "RANK_MINOR_MARGIN",
+    "PRODUCT_ROUNDING",
     "FACET_DECIMALS",
     "HULL_FACET_DECIMALS",
     "SAME_FACET",
@@ -287,6 +288,12 @@ HULL_FACET_TOL: float = 1e3 * FACET_TOL
 #: test's own threshold; rounding of either is about 1e-15, so the SVD's count would be 3 as
 #: well).
 RANK_MINOR_MARGIN: float = 100.0
+#: Roundings (EPS each, relative to the wrench's size: nondimensional) by which a unit
+#: facet's product with a wrench may differ between numpy (its matrix product fuses
+#: multiply-adds) and plain float arithmetic: about 6 at most for three terms. A planar cone
+#: decision in plain arithmetic stands only where every product is farther than this from
+#: its limit (:func:`kcheck.mechanics.statics.planar_holding`); otherwise numpy decides.
+PRODUCT_ROUNDING: float = 64.0
 #: Facet normals (unit, nondimensional) equal to this many decimals are one facet: exact
 #: cross products (three dimensions) agree to about 1e-15.
 FACET_DECIMALS: int = 13

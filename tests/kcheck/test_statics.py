@@ -454,3 +454,173 @@ def test_planar_friction_candidates_polynomials_are_numpys_bits():
         slow = _coefficients(points, normals, scale, x)
         assert fast.shape == slow.shape
         assert fast.tobytes() == slow.tobytes()
+
+
+def _positive_roots_numpy(coefficients: np.ndarray) -> np.ndarray:
+    """The former ``least_friction._positive_roots`` (Newton steps as numpy arrays), the
+    reference for its plain-float steps."""
+    from kcheck.numerics.thresholds import CUBIC_IMAG_RTOL, POLY_ZERO_RTOL
+
+    size = np.abs(coefficients).sum(axis=1, keepdims=True)
+    c = np.where(np.abs(coefficients) > POLY_ZERO_RTOL * size, coefficients, 0.0)
+    found = []
+    for degree in (3, 2, 1):
+        lead = 3 - degree
+        rows = c[(c[:, lead] != 0) & np.all(c[:, :lead] == 0, axis=1)]
+        if not len(rows):
+            continue
+        monic = rows[:, lead + 1 :] / rows[:, lead : lead + 1]
+        companion = np.zeros((len(rows), degree, degree))
+        companion[:, 0, :] = -monic
+        companion[:, np.arange(1, degree), np.arange(degree - 1)] = 1.0
+        roots = np.linalg.eigvals(companion)
+        real = np.abs(roots.imag) <= CUBIC_IMAG_RTOL * np.maximum(np.abs(roots), 1.0)
+        owner = np.broadcast_to(np.arange(len(rows))[:, None], roots.shape)[real]
+        x, poly = roots.real[real], rows[owner]
+        for _ in range(3):
+            value = ((poly[:, 0] * x + poly[:, 1]) * x + poly[:, 2]) * x + poly[:, 3]
+            slope = (3 * poly[:, 0] * x + 2 * poly[:, 1]) * x + poly[:, 2]
+            x = x - np.divide(value, slope, out=np.zeros_like(x), where=slope != 0)
+        found.append(x[x > 0])
+    return np.concatenate(found) if found else np.zeros(0)
+
+
+def test_positive_roots_newton_steps_are_numpys_bits():
+    """The candidates' roots with the Newton steps in plain float arithmetic are the former
+    numpy steps' bit for bit, in the same order: on the polynomials of 600 random planar
+    cases (every kept pair, frictionless supports, loads with a zero component) and on 3000
+    random cubics, quadratics and lines (double roots, zero and tiny coefficients)."""
+    from kcheck.mechanics.least_friction import _planar_coefficients, _positive_roots
+
+    rng = np.random.default_rng(26)
+    polys = []
+    for _ in range(600):
+        points, normals = _random_planar_contacts(rng)
+        scale = rng.choice([0.0, 1.0, 1.0], size=len(points))
+        x = rng.normal(size=3)
+        if rng.random() < 0.2:
+            x[rng.integers(3)] = 0.0
+        polys.append(_planar_coefficients(points, normals, scale, x))
+    for _ in range(3000):
+        p = rng.normal(size=(1, 4)) * rng.choice([1e-9, 1.0, 1e6], size=(1, 4))
+        p[0, : int(rng.integers(0, 3))] = 0.0  # lines and quadratics
+        if rng.random() < 0.2:  # a double root r: (x - r)^2 (x - s)
+            r, s = rng.normal(size=2)
+            p = np.array([[1.0, -(2 * r + s), r * r + 2 * r * s, -r * r * s]])
+        if rng.random() < 0.1:
+            p[0, int(rng.integers(4))] = 0.0
+        polys.append(p)
+    total = 0
+    for p in polys:
+        fast, slow = _positive_roots(p), _positive_roots_numpy(p)
+        assert fast.shape == slow.shape
+        assert fast.tobytes() == slow.tobytes()
+        total += len(fast)
+    assert total > 2000  # roots found and compared
+
+
+def test_planar_cone_holds_decides_as_numpy_or_not_at_all():
+    """``planar_cone_holds`` (a planar cone decision in plain float arithmetic) answers as
+    ``np.all(cone_facets(G) @ against >= limit)`` ("everywhere" True, "flat" False) or says
+    undecided (None), on random contacts of every scale and coefficient, random wrenches and
+    wrenches put on a facet; with the limit set to a facet's own numpy product (the band
+    where fused multiply-adds could change the answer) it never answers otherwise; it
+    decides most cones."""
+    from kcheck.mechanics.cones import cone_facets, planar_cone_holds
+    from kcheck.mechanics.statics import _planar_generator_rows
+    from kcheck.numerics.thresholds import EPS, FACET_TOL, PRODUCT_ROUNDING
+
+    rng = np.random.default_rng(61)
+    decided = asked = 0
+    for _ in range(4000):
+        points, normals = _random_planar_contacts(rng)
+        mu = rng.choice([0.0, 0.05, 0.3, 2.0], size=len(points))
+        rows = _planar_generator_rows(points.tolist(), normals.tolist(), mu.tolist())
+        assert rows is not None
+        generators = np.array(rows)
+        facets = cone_facets(generators)
+        against = rng.normal(size=3) * rng.choice([1e-3, 1.0, 1e3])
+        if isinstance(facets, np.ndarray) and rng.random() < 0.3:
+            # on a facet's plane: a combination of two generators on it
+            on = np.flatnonzero(np.abs(generators @ facets[0]) < 1e-9)
+            if len(on) >= 2:
+                against = rng.uniform(0, 2, 2) @ generators[on[:2]]
+        size = float(np.linalg.norm(against)) or 1.0
+        margin = PRODUCT_ROUNDING * EPS * size
+        limits = [-FACET_TOL * size]
+        if isinstance(facets, np.ndarray):
+            limits.append(float((facets @ against)[rng.integers(len(facets))]))
+        for limit in limits:
+            if isinstance(facets, str):
+                expected = facets == "everywhere"
+            else:
+                expected = bool(np.all(facets @ against >= limit))
+            found = planar_cone_holds(rows, tuple(against.tolist()), limit, margin)
+            assert found is None or found == expected
+            asked += 1
+            decided += found is not None
+    assert decided > 0.6 * asked
+
+
+def test_planar_least_holding_friction_as_before():
+    """The least holding coefficient from ``planar_holding`` (decisions in plain arithmetic
+    where they are certain) equals, bit for bit, the one from numpy's decisions
+    (``_holds_numpy``, ``holds`` before the plain-arithmetic path) at each coefficient:
+    40 random scenes, every case, 4 load directions (480 cases), frictionless supports."""
+    from kcheck.mechanics.least_friction import friction_candidates
+    from kcheck.mechanics.statics import planar_holding
+
+    rng = np.random.default_rng(62)
+    found = set()
+    for _ in range(40):
+        statics = random_planar(rng)
+        scale = (rng.uniform(size=3) < 0.8).astype(float)
+        if not scale.any():
+            scale[:] = 1.0
+        for r in range(3):
+            keep = np.flatnonzero(np.arange(3) != r)
+            for angle in rng.uniform(0, TAU, 4):
+                wrench = statics.wrench(np.array([np.cos(angle), np.sin(angle)]))
+                candidates = friction_candidates(statics, keep, wrench, scale)
+
+                def reference(mu: float, s=statics, k=keep, w=wrench, f=scale) -> bool:
+                    return _holds_numpy(s, k, w, mu * f)
+
+                fast = planar_holding(statics, keep, wrench, scale)
+                new = least_friction(fast, 0.2, rtol=1e-4, candidates=candidates)
+                old = least_friction(reference, 0.2, rtol=1e-4, candidates=candidates)
+                assert new == old
+                found.add(new is None)
+    assert found == {True, False}
+
+
+def _holds_numpy(statics, keep, wrench, mu) -> bool:
+    """``holds`` as numpy decides it (the facets' array and its product), the reference of the
+    plain-arithmetic decisions."""
+    from kcheck.mechanics.cones import FACET_TOL, cone_facets
+    from kcheck.mechanics.statics import cone_generators
+
+    facets = cone_facets(cone_generators(statics, keep, np.asarray(mu, float)))
+    if isinstance(facets, str):
+        return facets == "everywhere"
+    scale = float(np.linalg.norm(wrench)) or 1.0
+    return bool(np.all(facets @ -wrench >= -FACET_TOL * scale))
+
+
+def test_planar_holds_as_numpy_decides():
+    """``holds`` of planar scenes (plain arithmetic where certain) answers as numpy's
+    decision: 300 random scenes, the three cases and all supports, 5 load directions, the
+    scene's friction, none and three times it (18,000 decisions, both answers)."""
+    rng = np.random.default_rng(63)
+    answers = []
+    for _ in range(300):
+        statics = random_planar(rng)
+        for r in range(4):
+            keep = np.flatnonzero(np.arange(3) != r) if r < 3 else np.arange(3)
+            for angle in rng.uniform(0, TAU, 5):
+                wrench = statics.wrench(np.array([np.cos(angle), np.sin(angle)]))
+                for mu in (statics.friction, 0.0 * statics.friction, 3.0 * statics.friction):
+                    expected = _holds_numpy(statics, keep, wrench, mu)
+                    assert holds(statics, keep, wrench, mu) == expected
+                    answers.append(expected)
+    assert len(answers) == 18000 and 0.1 < np.mean(answers) < 0.9
