@@ -15,7 +15,10 @@ globals, so ``typing.get_type_hints(C.__init__)`` and ``inspect.signature(C,
 eval_str=True)`` resolve string annotations as they do for the standard class) at the
 class's first instance, or when ``C.__init__`` is first read (about 0.12 ms then; 0.085 ms
 a class at import, 0.21 ms with ``__init__`` compiled at once). The class's annotations are
-read with :func:`inspect.get_annotations` (3.14's lazy annotations).
+read with :func:`inspect.get_annotations` (3.14's lazy annotations). One difference
+remains, by design: before the first instance or read of ``C.__init__``, the class's own
+``__dict__`` (``vars(C)["__init__"]``, ``inspect.getattr_static(C, "__init__")``) holds the
+stand-in, a callable taking the instance and the arguments, not a function.
 ``tests/kcheck/test_records.py`` compares both decorators' classes.
 
 Anything else (``ClassVar`` or ``InitVar`` fields, keyword-only fields, ``order``,
