@@ -9,6 +9,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import inspect
+import os
 import pickle
 import re
 import subprocess
@@ -264,7 +265,7 @@ def test_pickled_through_a_process_boundary_unchanged(tmp_path, monkeypatch):
         input=pickle.dumps(Record(2.0), protocol=pickle.HIGHEST_PROTOCOL),
         capture_output=True,
         check=True,
-        env={**__import__("os").environ, "PYTHONPATH": __import__("os").pathsep.join(sys.path)},
+        env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)},
     )
     text, equal, hashed, sent = pickle.loads(out.stdout)
     assert (text, equal, hashed) == ("Record(a=2.0, b=(1,))", True, hash(Record(2.0)))
