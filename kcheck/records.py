@@ -6,12 +6,20 @@ its own: ``__init__``, ``__repr__``, ``__eq__``, ``__hash__`` and, for a frozen 
 every start. Here the standard library only collects the fields (their defaults, the
 parameters' record, ``__match_args__``: nothing compiled); ``__repr__``, ``__eq__``,
 ``__hash__``, ``__setattr__`` and ``__delattr__`` are closures over the field names that
-behave as the compiled ones (the same text, the same comparisons of field tuples, the same
-hash, ``...`` for a recursive ``repr``, the same ``FrozenInstanceError``), and ``__init__``,
-the one method whose speed matters, is compiled as the standard library writes it, at the
-class's first instance (about 0.1 ms then; 0.085 ms a class at import, 0.21 ms with
-``__init__`` compiled at once). ``tests/kcheck/test_records.py`` compares both decorators'
-classes.
+behave as the compiled ones (the same text, the same hash, ``...`` for a recursive ``repr``,
+the same ``FrozenInstanceError``, and the running Python's ``__eq__``: tuples of the fields
+compared on 3.10-3.12, ``self is other`` then the fields' ``==`` joined by ``and`` on 3.13),
+and ``__init__``, the one method whose speed matters, is compiled as the standard library
+writes it (an outer function binding the names it reads; the class's module as its
+globals, so ``typing.get_type_hints(C.__init__)`` and ``inspect.signature(C,
+eval_str=True)`` resolve string annotations as they do for the standard class) at the
+class's first instance, or when ``C.__init__`` is first read (about 0.12 ms then; 0.085 ms
+a class at import, 0.21 ms with ``__init__`` compiled at once). The class's annotations are
+read with :func:`inspect.get_annotations` (3.14's lazy annotations). One difference
+remains, by design: before the first instance or read of ``C.__init__``, the class's own
+``__dict__`` (``vars(C)["__init__"]``, ``inspect.getattr_static(C, "__init__")``) holds the
+stand-in, a callable taking the instance and the arguments, not a function.
+``tests/kcheck/test_records.py`` compares both decorators' classes.
 
 Anything else (``ClassVar`` or ``InitVar`` fields, keyword-only fields, ``order``,
 ``unsafe_hash``, ``slots``, a dataclass base, a class without a docstring, whose docstring the
@@ -22,6 +30,8 @@ checkers see the standard decorator itself.
 from __future__ import annotations
 
 import dataclasses
+import inspect  # imported by dataclasses already: free
+import sys
 from operator import attrgetter
 from types import MethodType
 from typing import TYPE_CHECKING, Any
@@ -72,6 +82,25 @@ def _repr_fn(names: tuple[str, ...]) -> Any:
 
 
 def _eq_fn(names: tuple[str, ...]) -> Any:
+    """``__eq__`` as the running Python's dataclasses writes it: 3.10-3.12 compare the tuples
+    of the fields' values; 3.13 answers true for the instance itself, else joins the fields'
+    ``==`` with ``and`` (a NaN field: unequal to a copy, equal to itself)."""
+    if sys.version_info >= (3, 13):
+        getters = tuple(attrgetter(n) for n in names)
+
+        def __eq__(self: object, other: object) -> Any:
+            if self is other:
+                return True
+            if other.__class__ is self.__class__:
+                same: Any = True
+                for get in getters:  # `a == b and c == d`: the first false value, or the last
+                    same = get(self) == get(other)
+                    if not same:
+                        return same
+                return same
+            return NotImplemented
+
+        return __eq__
     values = _values(names)
 
     def __eq__(self: object, other: object) -> Any:
@@ -142,23 +171,30 @@ def _init_fn(cls: type, fields: tuple[Any, ...], frozen: bool) -> Any:
     if hasattr(cls, "__post_init__"):
         body.append(f"{me}.__post_init__()")
     scope["_return_type"] = None
-    lines = "\n".join(f"  {b}" for b in body or ["pass"])
-    text = f"def __init__({','.join(params)})->_return_type:\n{lines}"
-    # The names it reads are its globals (the standard library binds them through an outer
-    # function: a third more to compile); __name__ makes its __module__ the class's.
-    scope["__name__"] = cls.__module__
+    lines = "\n".join(f"   {b}" for b in body or ["pass"])
+    # As dataclasses writes it: an outer function binds the names it reads, and the globals
+    # are the class's module's, so typing.get_type_hints(C.__init__) and
+    # inspect.signature(C, eval_str=True) resolve string annotations there.
+    text = (
+        f"def __create_fn__({','.join(scope)}):\n"
+        f" def __init__({','.join(params)})->_return_type:\n{lines}\n"
+        " return __init__"
+    )
+    module = sys.modules.get(cls.__module__)
+    ns: dict[str, Any] = {}
     # Compiled without this module's `from __future__ import annotations`, as dataclasses does:
     # the parameters' annotations are the fields' types, not the names holding them.
     code = compile(text, "<string>", "exec", dont_inherit=True)
-    exec(code, scope)  # noqa: S102 - as dataclasses
-    return scope["__init__"]
+    exec(code, module.__dict__ if module is not None else {}, ns)  # noqa: S102 - as dataclasses
+    return ns["__create_fn__"](**scope)
 
 
 class _FirstInit:
     """A class's ``__init__`` until its first instance: then it writes the real one
     (:func:`_init_fn`), puts it in its place and calls it. A class never instantiated in a run
-    (a third of those kcheck creates at start-up) costs no compilation. Its signature
-    (``inspect.signature``) is the real one's."""
+    (a third of those kcheck creates at start-up) costs no compilation. Read in any way
+    (``C.__init__``, as ``inspect.signature(C)`` and ``typing.get_type_hints`` do), it writes
+    the real one and answers as it."""
 
     def __init__(self, cls: type, fields: tuple[Any, ...], frozen: bool) -> None:
         self.made = (cls, fields, frozen)
@@ -172,16 +208,13 @@ class _FirstInit:
         return init
 
     def __get__(self, obj: object, owner: type | None = None) -> Any:
-        return self if obj is None else MethodType(self, obj)
+        # Read in any way (an instance made, ``C.__init__`` read by typing.get_type_hints or
+        # inspect.signature), it writes the real function and answers as that function.
+        init = self.real()
+        return init if obj is None else MethodType(init, obj)
 
     def __call__(self, obj: object, /, *args: Any, **kwargs: Any) -> None:
         self.real()(obj, *args, **kwargs)  # positional-only: a field may be called `obj`
-
-    @property
-    def __signature__(self) -> Any:
-        import inspect
-
-        return inspect.signature(self.real())
 
 
 def _setattr_fns(cls: type, names: frozenset[str]) -> tuple[Any, Any]:
@@ -256,7 +289,7 @@ def _plain(cls: type, options: dict[str, Any]) -> bool:
     if any(hasattr(b, "__dataclass_fields__") for b in cls.__mro__[1:]):
         return False
     seen_default = False
-    for name, kind in cls.__dict__.get("__annotations__", {}).items():
+    for name, kind in inspect.get_annotations(cls).items():
         if any(word in str(kind) for word in _UNUSUAL):
             return False
         default = cls.__dict__.get(name, dataclasses.MISSING)

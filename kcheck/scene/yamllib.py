@@ -24,16 +24,27 @@ NON_PRINTABLE = "[^\x09\x0a\x0d\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\
 
 
 class _OnFirstUse:
-    """A compiled pattern's stand-in: compiles it the first time it is used."""
+    """A compiled pattern's stand-in: compiles it the first time it is used. Copied or
+    pickled, it is the compiled pattern (``re.compile`` of the same arguments)."""
+
+    __slots__ = ("_args", "_pattern")
 
     def __init__(self, pattern: str, flags: int) -> None:
         self._args = (pattern, flags)
         self._pattern: re.Pattern[str] | None = None
 
     def __getattr__(self, name: str) -> Any:
+        # Only a pattern's public names are passed on: a special name or one of its own slots
+        # missing (an object made without __init__, by copy or pickle) is not looked for in
+        # the pattern, which would read the missing slot again, without end.
+        if name in _OnFirstUse.__slots__ or (name.startswith("__") and name.endswith("__")):
+            raise AttributeError(name)
         if self._pattern is None:
             self._pattern = re.compile(*self._args)
         return getattr(self._pattern, name)
+
+    def __reduce__(self) -> tuple[Any, tuple[str, int]]:
+        return re.compile, self._args
 
 
 def _import() -> None:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import copy
+import pickle
 import re
 import subprocess
 import sys
@@ -46,3 +48,21 @@ def test_importing_it_defers_only_yamls_patterns_and_leaves_re_as_it_was():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["True", "_OnFirstUse", "_OnFirstUse", "True"]
+
+
+def test_a_deferred_pattern_copied_or_pickled_is_the_compiled_pattern():
+    # PyYAML's resolver keeps (tag, pattern) pairs; a copied or pickled resolver copies them.
+    deferred = yaml.resolver.Resolver.yaml_implicit_resolvers["t"][0][1]
+    compiled = re.compile(*deferred._args)
+    for made in (
+        copy.copy(deferred),
+        copy.deepcopy(deferred),
+        pickle.loads(pickle.dumps(deferred)),
+        copy.deepcopy(yaml.resolver.Resolver.yaml_implicit_resolvers)["t"][0][1],
+    ):
+        assert made == compiled and made.match("true") is not None
+    fresh = object.__new__(type(deferred))  # no __init__: its slots unset
+    with pytest.raises(AttributeError):
+        fresh.match  # noqa: B018
+    with pytest.raises(AttributeError):
+        fresh.__deepcopy__  # noqa: B018
