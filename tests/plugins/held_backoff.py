@@ -13,6 +13,7 @@ Run (niced; the whole in-sample set takes minutes of CPU)::
 
     PYTHONPATH=.:plugins nice -n 10 python -m tests.plugins.held_backoff sample
     PYTHONPATH=.:plugins nice -n 10 python -m tests.plugins.held_backoff 27
+    PYTHONPATH=.:plugins nice -n 10 python -m tests.plugins.held_backoff 28 0.175 0.25  # times, s
 """
 
 from __future__ import annotations
@@ -124,13 +125,14 @@ def scenes(which: str, folder: Path) -> list[Path]:
 
 def main(argv: Sequence[str]) -> None:
     which = argv[0]
+    times = tuple(float(t) for t in argv[1:]) or BACK_OFFS
     rows: list[HeldCase] = []
     with tempfile.TemporaryDirectory() as d:
         for path in scenes(which, Path(d)):
-            for row in held_uniquely(path):
+            for row in held_uniquely(path, times):
                 rows.append(row)
                 print(json.dumps(row.__dict__), flush=True)
-    for i, t in enumerate(BACK_OFFS):
+    for i, t in enumerate(times):
         held = sum(r.simulated[i] == "jams" for r in rows)
         moving = [
             f"{r.scene} {r.retracted}: {r.simulated[i]}" for r in rows if r.simulated[i] != "jams"
