@@ -21,6 +21,7 @@ from kcheck.body.mass import body_mass_properties  # noqa: E402
 from kcheck.numerics.thresholds import RESEAT_REST_SPEED  # noqa: E402
 from kcheck.scene import load_scene  # noqa: E402
 from tests.conftest import FIXTURES  # noqa: E402
+from tests.plugins.held_backoff import back_off_class  # noqa: E402
 from tests.plugins.reseat_agreement import (  # noqa: E402
     HELD_UNIQUELY_MOVES,
     OR_HELD_MOTION,
@@ -331,6 +332,18 @@ def test_first_motion_agrees_with_the_analytical_outcome(tmp_path: Path) -> None
     # moves" but those bounded by HELD_UNIQUELY_MOVING (measured 124 of 125 held uniquely stay
     # held; 81 of 81 and 91 of 91 on seeds 27 and 28, docs/validation.md).
     assert sum(c.simulated == "jams" for c in uniquely) >= len(uniquely) - HELD_UNIQUELY_MOVING
+    # The static claim tested by a quasi-static withdrawal: with the support backing off over
+    # HELD_BACK_OFF_S every held-uniquely case stays held (measured 125 of 125, 81 of 81 and 91
+    # of 91 on seeds 26, 27 and 28; docs/validation.md, "Held uniquely, slow back-off").
+    by_name = Counter(p.name for p in paths)
+    path_of = {p.name: p for p in paths}
+    assert all(by_name[c.scene] == 1 for c in uniquely)  # each case's scene file is known
+    moving_slowly = [
+        (c.scene, c.retracted, simulated)
+        for c in uniquely
+        if (simulated := back_off_class(path_of[c.scene], c.retracted, HELD_BACK_OFF_S)) != "jams"
+    ]
+    assert not moving_slowly
     # No disagreement is unexplained.
     assert not [d for d in listed if d["reason"].startswith("unexplained")]
     # Every held case that moves is one the file lists with its reason.
@@ -362,6 +375,11 @@ HELD_MOVING_BOUND = {
 #: stiffness; its recorded rigid_motion was rest on the contacts kept before rigid_motion
 #: required a motion).
 HELD_UNIQUELY_MOVING = 1
+#: The back-off (s, retraction_time_ms) at which every held-uniquely case stays held: at 5-100 ms
+#: random-3d-1667 s1's seat (0.05 um of elastic overlap) is still released within about one
+#: contact time constant and the body walks off, and random-2d-5632 s1 creeps at 50 and 100 ms
+#: at the first-motion time step (held at half of it); docs/validation.md.
+HELD_BACK_OFF_S = 0.2
 
 
 def premise(c: Compared) -> str | None:

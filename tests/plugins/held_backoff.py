@@ -1,0 +1,149 @@
+"""Held uniquely, slow back-off: do the compared cases `jamming` says friction holds uniquely
+stay held when the retracted support backs off slowly (option ``retraction_time_ms``, a
+half-cosine) instead of jumping? (docs/validation.md, "Held uniquely, slow back-off".)
+
+The cases are selected as the agreement test selects them (tests/plugins/test_reseat.py:
+``premise`` on the jump's first-motion run, ``held_at`` and ``held_alternatives`` as in
+``compare_scene``), without that comparison's extra runs (stiffer contacts, ``rigid_motion``),
+which only explain cases that move. Each selected case is then simulated once per back-off
+time at the first-motion settings (``first_motion_settings``: its window opens when the support
+has backed off).
+
+Run (niced; the whole in-sample set takes minutes of CPU)::
+
+    PYTHONPATH=.:plugins nice -n 10 python -m tests.plugins.held_backoff sample
+    PYTHONPATH=.:plugins nice -n 10 python -m tests.plugins.held_backoff 27
+    PYTHONPATH=.:plugins nice -n 10 python -m tests.plugins.held_backoff 28 0.175 0.25  # times, s
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import tempfile
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+from kcheck.analysis import analyse
+from kcheck.analysis.held_alternatives import held_alternatives
+from kcheck.analysis.jamming_cases import analyse_jamming, held_at, jam_statics
+from kcheck.analysis.reseat import ReseatSettings, first_motion_settings, simulate
+from kcheck.body.mass import body_mass_properties
+from kcheck.scene import load_scene
+from tests.conftest import FIXTURES
+from tests.plugins.reseat_agreement import FIRST_MOTION, Compared, _pressed, generated, unresolved
+
+#: Back-off times (s) measured beside the jump (0).
+BACK_OFFS = (0.0, 0.005, 0.02, 0.05, 0.1, 0.2)
+#: The agreement test's fixtures (tests/plugins/test_reseat.py), before its generated scenes.
+SAMPLE_FIXTURES = (
+    FIXTURES / "planar-block" / "block.kcheck.yaml",
+    FIXTURES / "thesis-appendix-a" / "block.kcheck.yaml",
+    FIXTURES / "maxwell-three-vee" / "coupling.kcheck.yaml",
+)
+
+
+@dataclass(frozen=True)
+class HeldCase:
+    scene: str
+    retracted: str
+    analytical: str
+    # the simulated first-motion class at each back-off time (BACK_OFFS order)
+    simulated: tuple[str, ...]
+
+
+def back_off_settings(seconds: float) -> ReseatSettings:
+    """The first-motion run's settings with the support backing off over ``seconds``."""
+    if seconds == 0.0:
+        return FIRST_MOTION
+    return first_motion_settings(replace(ReseatSettings(), retraction_time=seconds))
+
+
+def back_off_class(path: Path, retracted: str, seconds: float) -> str:
+    """The simulated first-motion class of one case (the support named ``retracted``) with the
+    support backing off over ``seconds``."""
+    scene = load_scene(path)
+    assert scene.body is not None
+    mass = body_mass_properties(scene.body, scene.scale)
+    r = [s.name for s in scene.supports].index(retracted)
+    mu = scene.friction_range("kinetic")[1]
+    return simulate(scene, mass, r, mu, back_off_settings(seconds), returns=False).first
+
+
+def held_uniquely(path: Path, times: Sequence[float] = BACK_OFFS) -> Iterator[HeldCase]:
+    """Every compared case of one scene `jamming` says friction holds uniquely, simulated at
+    each back-off time."""
+    from tests.plugins.test_reseat import premise
+
+    scene = load_scene(path)
+    assert scene.body is not None
+    mass = body_mass_properties(scene.body, scene.scale)
+    analysis = analyse(scene, mass)
+    statics, swept, design = jam_statics(scene, mass)
+    if design is None:
+        return
+    jams = analyse_jamming(statics, swept, design)
+    mu = scene.friction_range("kinetic")[1]
+    for r, result in enumerate(analysis.results):
+        if not held_at(jams, jams.cases[r], design, statics.friction):
+            continue
+        may_hold = bool(result.details.get("friction_may_hold"))
+        if may_hold or held_alternatives(scene, mass, [(r, jams.cases[r].keep)])[r] is not None:
+            continue
+        jump = simulate(scene, mass, r, mu, FIRST_MOTION, returns=False)
+        c = Compared(
+            path.name,
+            result.retracted,
+            result.outcome,
+            jump.first,
+            True,
+            None,
+            float(mu.max()),
+            jump.settle_speed,
+            _pressed(jump.seat_forces),
+            unresolved(result),
+            may_hold,
+        )
+        if premise(c) is not None:
+            continue
+        simulated = tuple(
+            jump.first
+            if t == 0.0
+            else simulate(scene, mass, r, mu, back_off_settings(t), returns=False).first
+            for t in times
+        )
+        yield HeldCase(path.name, result.retracted, result.outcome, simulated)
+
+
+def scenes(which: str, folder: Path) -> list[Path]:
+    """``sample``: the agreement test's scenes (3 fixtures, seed 26); a number: that seed's."""
+    if which == "sample":
+        return [*SAMPLE_FIXTURES, *generated(folder, 100)]
+    return generated(folder, 100, seed=int(which))
+
+
+def main(argv: Sequence[str]) -> None:
+    which = argv[0]
+    times = tuple(float(t) for t in argv[1:]) or BACK_OFFS
+    rows: list[HeldCase] = []
+    with tempfile.TemporaryDirectory() as d:
+        for path in scenes(which, Path(d)):
+            for row in held_uniquely(path, times):
+                rows.append(row)
+                print(json.dumps(row.__dict__), flush=True)
+    for i, t in enumerate(times):
+        held = sum(r.simulated[i] == "jams" for r in rows)
+        moving = [
+            f"{r.scene} {r.retracted}: {r.simulated[i]}" for r in rows if r.simulated[i] != "jams"
+        ]
+        agree = sum(r.simulated[i] == r.analytical for r in rows)
+        print(
+            f"{which} back-off {t * 1e3:g} ms: held uniquely {len(rows)}, stay held {held}, "
+            f"first motion = analytical class {agree}; moving: {moving}",
+            flush=True,
+        )
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
