@@ -27,7 +27,7 @@ from kcheck.numerics.lemke import lemke, lemke_padded
 from kcheck.numerics.thresholds import LIFT_SHARE
 from kcheck.records import dataclass
 
-__all__ = ["Body", "SecondAnswer", "second_answer", "second_answers", "subsets"]
+__all__ = ["Body", "SecondAnswer", "second_answers", "subsets"]
 
 
 @dataclass(frozen=True)
@@ -73,26 +73,6 @@ class Body:
     wrench: np.ndarray
 
 
-def second_answer(
-    points: np.ndarray,
-    normals: np.ndarray,
-    mu: np.ndarray,
-    com: np.ndarray,
-    inertia: np.ndarray,
-    wrench: np.ndarray,
-    retracted: tuple[np.ndarray, np.ndarray],
-    edges: int = LIFT_EDGES,
-) -> SecondAnswer | None:
-    """The first consistent nonzero first motion from rest of a body (unit mass, ``inertia``
-    (nw, nw) about ``com`` (dim,), under ``wrench`` (n,: moment about the centre of mass,
-    force; nondimensional as in :func:`~kcheck.mechanics.lift_off.lift_off`) on some of the
-    remaining contacts ``points``, unit ``normals`` (c, dim), coefficients ``mu`` (c,), every
-    other remaining contact separating; ``retracted`` is the retracted support's point and
-    unit normal. None when no subset gives one."""
-    body = Body(points, normals, mu, com, inertia, wrench)
-    return second_answers(body, [(retracted, np.arange(len(points)))], edges)[0]
-
-
 def _noise(body: Body, lever: np.ndarray) -> float:
     """The acceleration below which a motion is rounding noise: LIFT_SHARE of the free
     body's under the wrench (its largest component plus the largest speed-up of the contacts
@@ -110,8 +90,11 @@ def second_answers(
     cases: Sequence[tuple[tuple[np.ndarray, np.ndarray], np.ndarray]],
     edges: int = LIFT_EDGES,
 ) -> list[SecondAnswer | None]:
-    """:func:`second_answer` of each case ``(retracted, remaining)``: the retracted support's
-    point and unit normal, and the indices (c,) of the supports that remain.
+    """Each case's second answer: the first consistent nonzero first motion from rest of
+    ``body`` on some of the case's remaining supports, every other remaining support
+    separating; None when no subset gives one. A case is ``(retracted, remaining)``: the
+    retracted support's point and unit normal, and the indices (c,) of the supports that
+    remain.
 
     A subset's lift-off problem depends on its contacts alone, not on the case (the retracted
     support only moves its ``closing``, the other remaining contacts only decide whether the
