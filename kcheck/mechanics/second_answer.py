@@ -21,8 +21,15 @@ from itertools import combinations
 
 import numpy as np
 
-from kcheck.mechanics.kinematics import point_velocity
-from kcheck.mechanics.lift_off import LIFT_EDGES, LiftOff, closing, contact_rows, lcp, motion
+from kcheck.mechanics.lift_off import (
+    LIFT_EDGES,
+    LiftOff,
+    closing,
+    contact_rows,
+    free_speeds,
+    lcp,
+    motion,
+)
 from kcheck.numerics.lemke import lemke, lemke_padded
 from kcheck.numerics.thresholds import LIFT_SHARE
 from kcheck.records import dataclass
@@ -73,18 +80,6 @@ class Body:
     wrench: np.ndarray
 
 
-def _noise(body: Body, lever: np.ndarray) -> float:
-    """The acceleration below which a motion is rounding noise: LIFT_SHARE of the free
-    body's under the wrench (its largest component plus the largest speed-up of the contacts
-    at ``lever``)."""
-    nw = 1 if body.points.shape[1] == 2 else 3
-    mass = np.eye(nw + body.points.shape[1])
-    mass[:nw, :nw] = body.inertia
-    free = np.linalg.solve(mass, body.wrench)
-    scale = float(np.max(np.abs(free))) + float(np.max(np.abs(point_velocity(free, lever))))
-    return LIFT_SHARE * scale
-
-
 def second_answers(
     body: Body,
     cases: Sequence[tuple[tuple[np.ndarray, np.ndarray], np.ndarray]],
@@ -106,11 +101,11 @@ def second_answers(
     they are tried in turn, and a case answered drops out of the second batch."""
     every = contact_rows(body.points, body.normals, body.mu, body.com, body.inertia, edges)
     remaining = [np.asarray(kept, dtype=int) for _, kept in cases]
-    noise = [_noise(body, every.lever[kept]) for kept in remaining]
-    # free_scale's pieces, row by row: a subset's is the largest over its rows.
-    free = every.inverse @ body.wrench
-    top = float(np.max(np.abs(free)))
-    speed = np.max(np.abs(point_velocity(free, every.lever)), axis=1)
+    # free_scale's pieces once, row by row: a set of contacts' scale is the top plus the
+    # largest of its rows (free_scale(every, body.wrench, keep), without recomputing them).
+    top, speed = free_speeds(every, body.wrench)
+    # Rounding noise of the acceptance test: the scale on the case's remaining contacts.
+    noise = [LIFT_SHARE * (top + float(np.max(speed[kept]))) for kept in remaining]
     answers: list[SecondAnswer | None] = [None] * len(cases)
     open_cases = list(range(len(cases)))
     largest = max((len(k) for k in remaining), default=0)
