@@ -65,6 +65,7 @@ __all__ = [
     "RANK_MINOR_MARGIN",
     "FACET_DECIMALS",
     "HULL_FACET_DECIMALS",
+    "EDGE_WRENCH_DECIMALS",
     "SAME_FACET",
     "WELL_INSIDE",
     "LP_POSITIVE",
@@ -293,6 +294,11 @@ FACET_DECIMALS: int = 13
 #: FACET_DECIMALS for qhull's facets (unit normals, nondimensional), which its joggle moves by
 #: about 1e-11 (1e-9: two digits of margin).
 HULL_FACET_DECIMALS: int = 9
+#: Unit edge wrenches of friction cones (nondimensional) equal to this many decimals are one
+#: generator (a frictionless contact's coinciding edges, supports at one point): computed
+#: row by row from the same numbers they agree to about 1e-16, distinct edges differ by far
+#: more.
+EDGE_WRENCH_DECIMALS: int = 14
 #: A cone facet is the sweep plane's own (Koster's construction) when the cosine between
 #: their unit normals exceeds ``1 - SAME_FACET`` (nondimensional): the same plane computed two
 #: ways agrees to rounding, a different facet differs by far more.
