@@ -62,6 +62,7 @@ __all__ = [
     "POLISH_FTOL",
     "FACET_TOL",
     "HULL_FACET_TOL",
+    "IMAGE_RANK_RTOL",
     "RANK_MINOR_MARGIN",
     "FACET_DECIMALS",
     "HULL_FACET_DECIMALS",
@@ -283,6 +284,10 @@ FACET_TOL: float = 1e-10
 #: (``QJ``) moves facets by about 1e-11 and the section adds rounding, so a thousand times
 #: looser.
 HULL_FACET_TOL: float = 1e3 * FACET_TOL
+#: An image's columns (nondimensional, relative to its largest QR entry) are of full rank when
+#: each diagonal entry of R exceeds this share (cones.balanced_image): the same rounding
+#: (about 1e-15) and margin as FACET_TOL, whose value it takes.
+IMAGE_RANK_RTOL: float = FACET_TOL
 #: A planar cone's rank is 3 without its singular values when three generators' determinant
 #: bounds the least singular value above this many times FACET_TOL (nondimensional; the rank
 #: test's own threshold; rounding of either is about 1e-15, so the SVD's count would be 3 as
