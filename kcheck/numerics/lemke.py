@@ -147,6 +147,7 @@ def lemke_batch(
     at = np.arange(k)
     # Each problem gives up after its own limit of pivots, as alone.
     limit = PIVOTS_PER_UNKNOWN * (np.full(b, n) if sizes is None else np.asarray(sizes))[idx] + 1
+    first_limit = int(limit.min())
     for step in range(1, int(limit.max()) + 1):
         col = column_of[at, entering]
         pivot = tableau[at, row, col]
@@ -180,13 +181,16 @@ def lemke_batch(
         best = ok & (ratios <= (low + LEMKE_PIVOT_RTOL * np.maximum(1.0, np.abs(low)))[:, None])
         # Among ties, let the artificial variable leave: the method then ends.
         row = np.where(best[at, artificial_row], artificial_row, np.argmax(best, axis=1))
-        going = ~done & ok.any(axis=1) & (limit > step)  # a ray or out of pivots: None
+        going = ~done & ok.any(axis=1)  # no candidate row: a ray, None
+        if step >= first_limit:  # out of pivots (rare: only then the arrays' compare)
+            going &= limit > step
         if not going.all():
             if not going.any():
                 break
             idx, tableau, basis = idx[going], tableau[going], basis[going]
             column_of, row, entering = column_of[going], row[going], entering[going]
             artificial_row, limit = artificial_row[going], limit[going]
+            first_limit = int(limit.min())
             buffer = buffer[: len(idx)]
             at = np.arange(len(idx))
     return out
