@@ -104,8 +104,12 @@ def second_answers(
     # free_scale's pieces once, row by row: a set of contacts' scale is the top plus the
     # largest of its rows (free_scale(every, body.wrench, keep), without recomputing them).
     top, speed = free_speeds(every, body.wrench)
+
+    def scale_on(contacts: Sequence[int] | np.ndarray) -> float:
+        return top + float(np.max(speed[contacts]))
+
     # Rounding noise of the acceptance test: the scale on the case's remaining contacts.
-    noise = [LIFT_SHARE * (top + float(np.max(speed[kept]))) for kept in remaining]
+    noise = [LIFT_SHARE * scale_on(kept) for kept in remaining]
     answers: list[SecondAnswer | None] = [None] * len(cases)
     open_cases = list(range(len(cases)))
     largest = max((len(k) for k in remaining), default=0)
@@ -135,7 +139,7 @@ def second_answers(
         motions: dict[tuple[int, ...], LiftOff | None] = {}
         for k in distinct:
             z = solutions[k]
-            scale = top + float(np.max(speed[list(k)]))  # free_scale on the subset's contacts
+            scale = scale_on(list(k))  # the motion's noise: the scale on the subset's contacts
             found = None if z is None else motion(pieces[k], body.wrench, z, body.com, None, scale)
             # Only a motion that lifts none of its contacts can be an answer.
             motions[k] = (
