@@ -35,6 +35,8 @@ __all__ = [
     "LiftOff",
     "closing",
     "contact_rows",
+    "free_scale",
+    "free_speeds",
     "lcp",
     "lift_off",
     "motion",
@@ -155,13 +157,12 @@ def motion(
     scale: float | None = None,
 ) -> LiftOff:
     """The first motion of the LCP's solution ``z`` (:func:`lcp`); ``closing`` NaN without
-    ``retracted``. ``scale``: the free body's acceleration under the wrench (:func:`free_scale`)
-    when the caller has it."""
+    ``retracted``. ``scale``: :func:`free_scale` of these rows when the caller has it."""
     c, m, g, inv, lever = len(rows.lever), rows.m, rows.rows, rows.inverse, rows.lever
     forces = z[:c]
     accel = inv @ (wrench + g.T @ z[: c + c * m])
     if scale is None:
-        scale = free_scale(inv @ wrench, lever)
+        scale = free_scale(rows, wrench)
     if float(np.max(np.abs(accel))) <= LIFT_SHARE * scale:
         accel = np.zeros_like(accel)
     contact = point_velocity(accel, lever)
@@ -172,10 +173,21 @@ def motion(
     )
 
 
-def free_scale(free: np.ndarray, lever: np.ndarray) -> float:
-    """What rounding noise is measured against: the free body's acceleration ``free`` (n,)
-    under the wrench, its largest component plus the largest of the contacts' at ``lever``."""
-    return float(np.max(np.abs(free))) + float(np.max(np.abs(point_velocity(free, lever))))
+def free_speeds(rows: ContactRows, wrench: np.ndarray) -> tuple[float, np.ndarray]:
+    """The free body's acceleration under ``wrench`` (nondimensional): its largest component
+    and each contact's largest component at its point (c,). Row by row, so a subset's are
+    these rows'."""
+    free = rows.inverse @ wrench
+    speed = np.max(np.abs(point_velocity(free, rows.lever)), axis=1)
+    return float(np.max(np.abs(free))), speed
+
+
+def free_scale(rows: ContactRows, wrench: np.ndarray, keep: np.ndarray | None = None) -> float:
+    """What rounding noise is measured against (the one definition, for :func:`motion` and the
+    second answer's acceptance): the free body's acceleration under ``wrench``, its largest
+    component plus the largest of the contacts' (those ``keep``, indices, when given)."""
+    top, speed = free_speeds(rows, wrench)
+    return top + float(np.max(speed if keep is None else speed[keep]))
 
 
 def closing(

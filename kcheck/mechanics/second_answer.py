@@ -21,13 +21,20 @@ from itertools import combinations
 
 import numpy as np
 
-from kcheck.mechanics.kinematics import point_velocity
-from kcheck.mechanics.lift_off import LIFT_EDGES, LiftOff, closing, contact_rows, lcp, motion
+from kcheck.mechanics.lift_off import (
+    LIFT_EDGES,
+    LiftOff,
+    closing,
+    contact_rows,
+    free_speeds,
+    lcp,
+    motion,
+)
 from kcheck.numerics.lemke import lemke, lemke_padded
 from kcheck.numerics.thresholds import LIFT_SHARE
 from kcheck.records import dataclass
 
-__all__ = ["Body", "SecondAnswer", "second_answer", "second_answers", "subsets"]
+__all__ = ["Body", "SecondAnswer", "second_answers", "subsets"]
 
 
 @dataclass(frozen=True)
@@ -73,45 +80,16 @@ class Body:
     wrench: np.ndarray
 
 
-def second_answer(
-    points: np.ndarray,
-    normals: np.ndarray,
-    mu: np.ndarray,
-    com: np.ndarray,
-    inertia: np.ndarray,
-    wrench: np.ndarray,
-    retracted: tuple[np.ndarray, np.ndarray],
-    edges: int = LIFT_EDGES,
-) -> SecondAnswer | None:
-    """The first consistent nonzero first motion from rest of a body (unit mass, ``inertia``
-    (nw, nw) about ``com`` (dim,), under ``wrench`` (n,: moment about the centre of mass,
-    force; nondimensional as in :func:`~kcheck.mechanics.lift_off.lift_off`) on some of the
-    remaining contacts ``points``, unit ``normals`` (c, dim), coefficients ``mu`` (c,), every
-    other remaining contact separating; ``retracted`` is the retracted support's point and
-    unit normal. None when no subset gives one."""
-    body = Body(points, normals, mu, com, inertia, wrench)
-    return second_answers(body, [(retracted, np.arange(len(points)))], edges)[0]
-
-
-def _noise(body: Body, lever: np.ndarray) -> float:
-    """The acceleration below which a motion is rounding noise: LIFT_SHARE of the free
-    body's under the wrench (its largest component plus the largest speed-up of the contacts
-    at ``lever``)."""
-    nw = 1 if body.points.shape[1] == 2 else 3
-    mass = np.eye(nw + body.points.shape[1])
-    mass[:nw, :nw] = body.inertia
-    free = np.linalg.solve(mass, body.wrench)
-    scale = float(np.max(np.abs(free))) + float(np.max(np.abs(point_velocity(free, lever))))
-    return LIFT_SHARE * scale
-
-
 def second_answers(
     body: Body,
     cases: Sequence[tuple[tuple[np.ndarray, np.ndarray], np.ndarray]],
     edges: int = LIFT_EDGES,
 ) -> list[SecondAnswer | None]:
-    """:func:`second_answer` of each case ``(retracted, remaining)``: the retracted support's
-    point and unit normal, and the indices (c,) of the supports that remain.
+    """Each case's second answer: the first consistent nonzero first motion from rest of
+    ``body`` on some of the case's remaining supports, every other remaining support
+    separating; None when no subset gives one. A case is ``(retracted, remaining)``: the
+    retracted support's point and unit normal, and the indices (c,) of the supports that
+    remain.
 
     A subset's lift-off problem depends on its contacts alone, not on the case (the retracted
     support only moves its ``closing``, the other remaining contacts only decide whether the
@@ -123,11 +101,15 @@ def second_answers(
     they are tried in turn, and a case answered drops out of the second batch."""
     every = contact_rows(body.points, body.normals, body.mu, body.com, body.inertia, edges)
     remaining = [np.asarray(kept, dtype=int) for _, kept in cases]
-    noise = [_noise(body, every.lever[kept]) for kept in remaining]
-    # free_scale's pieces, row by row: a subset's is the largest over its rows.
-    free = every.inverse @ body.wrench
-    top = float(np.max(np.abs(free)))
-    speed = np.max(np.abs(point_velocity(free, every.lever)), axis=1)
+    # free_scale's pieces once, row by row: a set of contacts' scale is the top plus the
+    # largest of its rows (free_scale(every, body.wrench, keep), without recomputing them).
+    top, speed = free_speeds(every, body.wrench)
+
+    def scale_on(contacts: Sequence[int] | np.ndarray) -> float:
+        return top + float(np.max(speed[contacts]))
+
+    # Rounding noise of the acceptance test: the scale on the case's remaining contacts.
+    noise = [LIFT_SHARE * scale_on(kept) for kept in remaining]
     answers: list[SecondAnswer | None] = [None] * len(cases)
     open_cases = list(range(len(cases)))
     largest = max((len(k) for k in remaining), default=0)
@@ -157,7 +139,7 @@ def second_answers(
         motions: dict[tuple[int, ...], LiftOff | None] = {}
         for k in distinct:
             z = solutions[k]
-            scale = top + float(np.max(speed[list(k)]))  # free_scale on the subset's contacts
+            scale = scale_on(list(k))  # the motion's noise: the scale on the subset's contacts
             found = None if z is None else motion(pieces[k], body.wrench, z, body.com, None, scale)
             # Only a motion that lifts none of its contacts can be an answer.
             motions[k] = (

@@ -27,6 +27,7 @@ factor (:mod:`kcheck.mechanics.least_friction`).
 from __future__ import annotations
 
 import math
+import threading
 from collections.abc import Callable
 from typing import Literal
 
@@ -45,7 +46,7 @@ from kcheck.mechanics.csc import Csc
 from kcheck.mechanics.dynamics import friction_directions
 from kcheck.mechanics.kinematics import Frame, cross3, wrenches
 from kcheck.numerics.arrays import unique_rows
-from kcheck.numerics.thresholds import EPS, PRODUCT_ROUNDING, SAME_FACET
+from kcheck.numerics.thresholds import EDGE_WRENCH_DECIMALS, EPS, PRODUCT_ROUNDING, SAME_FACET
 from kcheck.records import dataclass
 
 __all__ = [
@@ -190,10 +191,21 @@ def friction_edges(
 def edge_wrenches(points: np.ndarray, forces: np.ndarray) -> np.ndarray:
     """Unit wrenches (g, n) of the edge forces (k, m, dim) at their contacts, duplicates
     (a frictionless contact's coinciding edges) removed."""
+    unit = _unit_edge_wrenches(points, forces)
+    return unique_rows(_rounded(unit)) if len(unit) > 1 else unit
+
+
+def _unit_edge_wrenches(points: np.ndarray, forces: np.ndarray) -> np.ndarray:
+    """Unit wrenches (k m, n) of the edge forces (k, m, dim) at their contacts ``points``
+    (k, dim), row by row (a subset of rows is the same bits computed alone)."""
     k, m, _ = forces.shape
     g = wrenches(np.repeat(points, m, axis=0), forces.reshape(k * m, -1))
-    g = g / np.linalg.norm(g, axis=1, keepdims=True)
-    return unique_rows(np.round(g, 14)) if len(g) > 1 else g
+    return g / np.linalg.norm(g, axis=1, keepdims=True)
+
+
+def _rounded(unit: np.ndarray) -> np.ndarray:
+    """Unit edge wrenches rounded to EDGE_WRENCH_DECIMALS, as duplicates are compared."""
+    return np.round(unit, EDGE_WRENCH_DECIMALS)
 
 
 def cone_generators(
@@ -237,22 +249,22 @@ def _every_edge_wrench(
     )
     known = _EDGE_WRENCHES.get(key)
     if known is None:
-        k = len(statics.points)
         forces = friction_edges(statics.normals, mu, edges, pyramid)
-        m = forces.shape[1]
-        unit = wrenches(np.repeat(statics.points, m, axis=0), forces.reshape(k * m, -1))
-        unit = unit / np.linalg.norm(unit, axis=1, keepdims=True)
-        rounded = np.round(unit, 14)
+        unit = _unit_edge_wrenches(statics.points, forces)
+        rounded = _rounded(unit)
         unit.setflags(write=False)
         rounded.setflags(write=False)
-        if len(_EDGE_WRENCHES) >= RECENT_EDGE_WRENCHES:
-            del _EDGE_WRENCHES[next(iter(_EDGE_WRENCHES))]
-        known = _EDGE_WRENCHES[key] = (unit, rounded)
+        # Threads (the gate's) may share the cache: evict and insert under one lock.
+        with _EDGE_WRENCHES_LOCK:
+            while len(_EDGE_WRENCHES) >= RECENT_EDGE_WRENCHES:
+                _EDGE_WRENCHES.pop(next(iter(_EDGE_WRENCHES)), None)
+            known = _EDGE_WRENCHES.setdefault(key, (unit, rounded))
     return known
 
 
 #: Every support's edge wrenches recently computed (:func:`_every_edge_wrench`), oldest first.
 _EDGE_WRENCHES: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+_EDGE_WRENCHES_LOCK = threading.Lock()
 RECENT_EDGE_WRENCHES = 8
 
 
@@ -286,7 +298,7 @@ def _planar_generator_rows(
     for no support."""
     if not points:
         return None
-    scale = 1e14  # np.round(g, 14)'s factor
+    scale = 10.0**EDGE_WRENCH_DECIMALS  # np.round(g, EDGE_WRENCH_DECIMALS)'s factor
     rows: list[tuple[float, ...]] = []
     for (px, py), (nx, ny), m in zip(points, normals, mu, strict=True):
         tx, ty = -ny, nx

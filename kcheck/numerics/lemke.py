@@ -93,8 +93,9 @@ def lemke_padded(problems: list[tuple[np.ndarray, np.ndarray]]) -> list[np.ndarr
     rows ``w_d = 1`` that touch nothing (zero in A, in q's place 1, in the covering vector 0).
     Such a row stays as it is through every pivot (its entry in every pivot column is 0, so it
     is never a candidate and its update subtracts zeros), its ``z_d`` never enters (``w_d``
-    never leaves), and the problem's own rows come first, so ties break as before: each problem
-    takes its own pivots, bit for bit."""
+    never leaves), and the problem's own rows come first, so ties break as before; each problem
+    is given up after its own size's pivot limit, not the padded one's: each takes its own
+    pivots, bit for bit."""
     n = max(len(q) for _, q in problems)
     a = np.zeros((len(problems), n, n))
     q = np.ones((len(problems), n))
@@ -104,21 +105,26 @@ def lemke_padded(problems: list[tuple[np.ndarray, np.ndarray]]) -> list[np.ndarr
         a[i, :m, :m] = ai
         q[i, :m] = qi
         cover[i, :m] = 1.0
-    solved = lemke_batch(a, q, cover)
+    solved = lemke_batch(a, q, cover, np.array([len(qi) for _, qi in problems]))
     return [
         None if z is None else z[: len(qi)] for z, (_, qi) in zip(solved, problems, strict=True)
     ]
 
 
 def lemke_batch(
-    a: np.ndarray, q: np.ndarray, cover: np.ndarray | None = None
+    a: np.ndarray,
+    q: np.ndarray,
+    cover: np.ndarray | None = None,
+    sizes: np.ndarray | None = None,
 ) -> list[np.ndarray | None]:
     """:func:`lemke` on ``b`` problems of one size at once: ``a`` (b, n, n), ``q`` (b, n); each
     problem's solution or None. Every problem takes the same pivots as alone, with the same
     floating-point operations on its own tableau (elementwise in numpy either way), so the
     answers are bit for bit :func:`lemke`'s; the batch pays numpy's per-call cost once a pivot
     step instead of once a problem. ``cover`` (b, n): the covering vector (default ones; zero
-    on :func:`lemke_padded`'s padding rows)."""
+    on :func:`lemke_padded`'s padding rows). ``sizes`` (b,): each problem's own size before
+    padding (default n), which sets its pivot limit ``PIVOTS_PER_UNKNOWN * size + 1`` as
+    alone."""
     b, n = q.shape
     out: list[np.ndarray | None] = [None] * b
     start = np.all(q >= 0, axis=1)
@@ -139,7 +145,10 @@ def lemke_batch(
     # The artificial variable enters at the first pivot and stays in that row until it leaves.
     artificial_row = row.copy()
     at = np.arange(k)
-    for _ in range(PIVOTS_PER_UNKNOWN * n + 1):
+    # Each problem gives up after its own limit of pivots, as alone.
+    limit = PIVOTS_PER_UNKNOWN * (np.full(b, n) if sizes is None else np.asarray(sizes))[idx] + 1
+    first_limit = int(limit.min())
+    for step in range(1, int(limit.max()) + 1):
         col = column_of[at, entering]
         pivot = tableau[at, row, col]
         factors = tableau[at, :, col]
@@ -173,12 +182,15 @@ def lemke_batch(
         # Among ties, let the artificial variable leave: the method then ends.
         row = np.where(best[at, artificial_row], artificial_row, np.argmax(best, axis=1))
         going = ~done & ok.any(axis=1)  # no candidate row: a ray, None
+        if step >= first_limit:  # out of pivots (rare: only then the arrays' compare)
+            going &= limit > step
         if not going.all():
             if not going.any():
                 break
             idx, tableau, basis = idx[going], tableau[going], basis[going]
             column_of, row, entering = column_of[going], row[going], entering[going]
-            artificial_row = artificial_row[going]
+            artificial_row, limit = artificial_row[going], limit[going]
+            first_limit = int(limit.min())
             buffer = buffer[: len(idx)]
             at = np.arange(len(idx))
     return out

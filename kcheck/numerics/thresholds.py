@@ -62,10 +62,12 @@ __all__ = [
     "POLISH_FTOL",
     "FACET_TOL",
     "HULL_FACET_TOL",
+    "IMAGE_RANK_RTOL",
     "RANK_MINOR_MARGIN",
     "PRODUCT_ROUNDING",
     "FACET_DECIMALS",
     "HULL_FACET_DECIMALS",
+    "EDGE_WRENCH_DECIMALS",
     "SAME_FACET",
     "WELL_INSIDE",
     "LP_POSITIVE",
@@ -283,6 +285,10 @@ FACET_TOL: float = 1e-10
 #: (``QJ``) moves facets by about 1e-11 and the section adds rounding, so a thousand times
 #: looser.
 HULL_FACET_TOL: float = 1e3 * FACET_TOL
+#: An image's columns (nondimensional, relative to its largest QR entry) are of full rank when
+#: each diagonal entry of R exceeds this share (cones.balanced_image): the same rounding
+#: (about 1e-15) and margin as FACET_TOL, whose value it takes.
+IMAGE_RANK_RTOL: float = FACET_TOL
 #: A planar cone's rank is 3 without its singular values when three generators' determinant
 #: bounds the least singular value above this many times FACET_TOL (nondimensional; the rank
 #: test's own threshold; rounding of either is about 1e-15, so the SVD's count would be 3 as
@@ -300,6 +306,11 @@ FACET_DECIMALS: int = 13
 #: FACET_DECIMALS for qhull's facets (unit normals, nondimensional), which its joggle moves by
 #: about 1e-11 (1e-9: two digits of margin).
 HULL_FACET_DECIMALS: int = 9
+#: Unit edge wrenches of friction cones (nondimensional) equal to this many decimals are one
+#: generator (a frictionless contact's coinciding edges, supports at one point): computed
+#: row by row from the same numbers they agree to about 1e-16, distinct edges differ by far
+#: more.
+EDGE_WRENCH_DECIMALS: int = 14
 #: A cone facet is the sweep plane's own (Koster's construction) when the cosine between
 #: their unit normals exceeds ``1 - SAME_FACET`` (nondimensional): the same plane computed two
 #: ways agrees to rounding, a different facet differs by far more.

@@ -175,16 +175,3 @@ def test_rank_three_by_minor_never_contradicts_the_singular_values():
         if not np.any(g[:, 2]):
             assert not cones._rank_three_by_minor(g.tolist())
     assert settled > 1000 and undecided > 1000
-
-
-def test_row_lengths_are_numpys_bits() -> None:
-    """``cones.row_lengths`` gives ``np.linalg.norm(..., axis=1, keepdims=True)`` bit for bit
-    (the facets' normalisation and the perceptron's unit rows depend on it), for the widths
-    the cones use and magnitudes over forty decades, zeros included."""
-    rng = np.random.default_rng(12)
-    for columns in (3, 4, 5, 6):
-        rows = rng.normal(size=(20_000, columns)) * np.exp(rng.uniform(-45, 45, (20_000, 1)))
-        rows[rng.uniform(size=rows.shape) < 0.05] = 0.0
-        found = cones.row_lengths(rows)
-        assert found.shape == (20_000, 1)
-        assert found.tobytes() == np.linalg.norm(rows, axis=1, keepdims=True).tobytes()

@@ -6,6 +6,7 @@ of random spatial bodies (degenerate: many zeros in q, ties in the ratio test)."
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from kcheck.mechanics.lift_off import contact_rows, lcp
 from kcheck.numerics.lemke import PIVOTS_PER_UNKNOWN, lemke, lemke_batch, lemke_padded
@@ -119,3 +120,32 @@ def test_padded_batch_solves_each_problem_as_alone() -> None:
     assert len({len(q) for _, q in problems}) > 3
     for (a, q), z in zip(problems, got, strict=True):
         assert _same(z, lemke(a, q))
+
+
+def test_padded_batch_gives_up_at_each_problems_own_limit(monkeypatch: pytest.MonkeyPatch) -> None:
+    """With the pivot limit shrunk to one pivot per unknown, small random problems padded
+    beside a large one give up after their own ``n + 1`` pivots, as alone: each the answer
+    lemke gives it alone, bit for bit. Some of them would solve within the padded size's
+    limit (the batch of the same padded problems given the padded size's limit answers
+    them), so the test tells the two limits apart."""
+    import kcheck.numerics.lemke as module
+
+    monkeypatch.setattr(module, "PIVOTS_PER_UNKNOWN", 1)
+    rng = np.random.default_rng(28)
+    problems = [(rng.normal(size=(12, 12)), rng.normal(size=12))]
+    for _ in range(1000):
+        n = int(rng.integers(2, 5))
+        problems.append((rng.normal(size=(n, n)), rng.normal(size=n)))
+    alone = [lemke(a, q) for a, q in problems]
+    for z, expected in zip(lemke_padded(problems), alone, strict=True):
+        assert _same(z, expected)
+    # The same padding with every problem given the padded size's limit (sizes left out).
+    a = np.zeros((len(problems), 12, 12))
+    q, cover = np.ones((len(problems), 12)), np.zeros((len(problems), 12))
+    for i, (ai, qi) in enumerate(problems):
+        m = len(qi)
+        a[i, :m, :m], q[i, :m], cover[i, :m] = ai, qi, 1.0
+    longer = lemke_batch(a, q, cover)
+    pairs = zip(longer[1:], alone[1:], strict=True)
+    cut = sum(expected is None and z is not None for z, expected in pairs)
+    assert cut > 0  # measured: 5 of 1000 solve with 13 pivots, not with their own n + 1

@@ -624,3 +624,41 @@ def test_planar_holds_as_numpy_decides():
                     assert holds(statics, keep, wrench, mu) == expected
                     answers.append(expected)
     assert len(answers) == 18000 and 0.1 < np.mean(answers) < 0.9
+
+
+def test_cached_spatial_generators_equal_edge_wrenches() -> None:
+    """cone_generators' spatial path slices every support's edge wrenches, computed once and
+    cached (statics._every_edge_wrench); the slices equal edge_wrenches of the kept supports
+    computed alone, bit for bit: random spatial supports at several length and friction
+    scales, keep as a mask, as indices and as reversed indices, supports that coincide
+    (duplicate rows removed) and frictionless ones (coinciding edges), both pyramids; more
+    statics than the cache holds, so entries are evicted and recomputed."""
+    from kcheck.mechanics.statics import RECENT_EDGE_WRENCHES, Statics, cone_generators
+
+    rng = np.random.default_rng(32)
+    compared = 0
+    for trial in range(3 * RECENT_EDGE_WRENCHES):
+        k = int(rng.integers(2, 7))
+        scale = 10.0 ** rng.uniform(-3, 3)
+        points = rng.uniform(-1, 1, (k, 3)) * scale
+        normals = rng.normal(size=(k, 3))
+        if trial % 3 == 0:  # two supports at one point with one normal
+            points[1], normals[1] = points[0], normals[0]
+        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+        mu = rng.uniform(0, 1, k) * 10.0 ** rng.uniform(-2, 1)
+        if trial % 4 == 0:
+            mu[0] = 0.0  # frictionless: its edges coincide
+        # Only points and normals are read (no frame: the arrays are nondimensional already).
+        frame = None
+        statics = Statics(frame, (), points, normals, mu, np.zeros(6), np.zeros((6, 3)))  # type: ignore[arg-type]
+        mask = rng.random(k) < 0.7
+        mask[0] = True
+        for pyramid in ("inscribed", "circumscribed"):
+            for keep in (mask, np.flatnonzero(mask), np.flatnonzero(mask)[::-1]):
+                got = cone_generators(statics, keep, mu, 8, pyramid)
+                alone = edge_wrenches(
+                    points[keep], friction_edges(normals[keep], mu[keep], 8, pyramid)
+                )
+                assert got.shape == alone.shape and np.array_equal(got, alone)
+                compared += 1
+    assert compared == 3 * 2 * 3 * RECENT_EDGE_WRENCHES
