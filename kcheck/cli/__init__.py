@@ -143,8 +143,36 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def run() -> NoReturn:
     """The ``kcheck`` command (console script and ``python -m kcheck``): :func:`main`, then
-    :func:`exit_now`."""
-    exit_now(main())
+    :func:`exit_now` when this process is kcheck's alone (:func:`owns_process`), else the
+    interpreter's own exit (a profiler's or tracer's report, a caller's code, still run)."""
+    code = main()
+    if owns_process(sys._getframe(1)):
+        exit_now(code)
+    sys.exit(code)
+
+
+def owns_process(caller: types.FrameType | None) -> bool:
+    """Whether nothing but kcheck runs in this process, so it may end without the
+    interpreter's teardown: no profiler or tracer (``python -m cProfile -o``, ``python -m
+    trace``, coverage, a debugger write their results after the program), and ``caller`` (the
+    frame that called :func:`run`) is ``__main__`` itself, kcheck's own entry (the console
+    script or ``kcheck.__main__``), started by nothing but the interpreter or :mod:`runpy`
+    (not ``runpy.run_module("kcheck")`` from a caller's code, nor a profiler's ``-m``)."""
+    if sys.getprofile() is not None or sys.gettrace() is not None or caller is None:
+        return False
+    main_module = sys.modules.get("__main__")
+    if main_module is None or caller.f_globals is not vars(main_module):
+        return False
+    entry = getattr(getattr(main_module, "__spec__", None), "name", None)
+    if not (entry == "kcheck.__main__" or vars(main_module).get("run") is run):
+        return False
+    runpy = sys.modules.get("runpy")
+    outer = caller.f_back
+    while outer is not None:
+        if runpy is None or outer.f_globals is not vars(runpy):
+            return False  # someone else's code runs kcheck and goes on after it
+        outer = outer.f_back
+    return True
 
 
 def exit_now(code: int) -> NoReturn:
