@@ -16,7 +16,7 @@ from collections.abc import Sequence
 from typing import NoReturn
 
 from kcheck import __version__
-from kcheck.cli.common import ExitCode, Parser
+from kcheck.cli.common import ExitCode, Parser, discard_stdout, open_closed_streams
 from kcheck.errors import KcheckError
 
 __all__ = ["ExitCode", "main", "run"]
@@ -125,6 +125,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code."""
     pin_blas_threads()
     skip_pydantic_plugins()
+    open_closed_streams()
     escape_unprintable()
     argv = sys.argv[1:] if argv is None else list(argv)
     # The command comes first (kcheck's own options, -h and --version, end the run).
@@ -134,7 +135,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KcheckError as exc:
         print(f"kcheck: error: {exc}", file=sys.stderr)
         return ExitCode.USAGE_OR_INPUT
-    except BrokenPipeError:
+    except BrokenPipeError:  # a command without a verdict (`kcheck check` handles its own)
+        discard_stdout()
         return ExitCode.OK
     except KeyboardInterrupt:
         print("kcheck: interrupted", file=sys.stderr)

@@ -175,12 +175,14 @@ def _slim(result: SceneResult) -> SceneResult:
 
 
 class _Tee:
-    """Feeds several reporters; a report file that cannot be written is remembered, the
-    others go on (standard output's broken pipe ends the run as usual)."""
+    """Feeds several reporters; a report file that cannot be written is remembered (and
+    kept out of the end: nothing is written half), the others go on. When the reader of
+    standard output goes away, its reports stop and the run goes on to its exit code."""
 
     def __init__(self, reporters: Sequence[tuple[str, Reporter, TextIO]]) -> None:
         self.reporters = list(reporters)
         self.failures: list[str] = []
+        self.broken: list[TextIO] = []
 
     def _each(self, method: str, *args: Any) -> None:
         from kcheck.errors import describe_os_error
@@ -192,13 +194,18 @@ class _Tee:
                 if method == "finish":
                     stream.flush()
             except BrokenPipeError:
-                if stream is sys.stdout:
-                    raise
-                self.failures.append(f"cannot write {label}: the reader went away")
                 self.reporters.remove(entry)
+                if stream is sys.stdout:  # the run goes on to its verdict (docs/ci.md)
+                    from kcheck.cli.common import discard_stdout
+
+                    discard_stdout()
+                    continue
+                self.broken.append(stream)
+                self.failures.append(f"cannot write {label}: the reader went away")
             except OSError as exc:
                 self.failures.append(f"cannot write {label}: {describe_os_error(exc)}")
                 self.reporters.remove(entry)
+                self.broken.append(stream)
 
     def start(self, total: int) -> None:
         self._each("start", total)

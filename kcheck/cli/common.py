@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import argparse
 import enum
+import os
 import sys
 from pathlib import Path
 from typing import Any
 
-__all__ = ["ExitCode", "Parser", "write_text", "fail"]
+__all__ = ["ExitCode", "Parser", "write_text", "fail", "discard_stdout", "open_closed_streams"]
 
 
 class ExitCode(enum.IntEnum):
@@ -76,3 +77,38 @@ def write_text(text: str, output: Path | None, what: str = "--output") -> None:
         output.write_text(text, encoding="utf-8", errors="backslashreplace")
     except OSError as exc:
         raise UsageError(f"{what} {output}: {describe_os_error(exc)}") from None
+
+
+def discard_stdout() -> None:
+    """The reader of standard output went away: what is still written to it (the rest of
+    the report, what the buffer holds) goes to the null device, so the run goes on to its
+    verdict and its exit code (Python's recipe, "Note on SIGPIPE" in :mod:`signal`)."""
+    stream = sys.stdout
+    if stream is None:
+        return
+    try:
+        fd = stream.fileno()
+    except (OSError, ValueError):
+        return
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, fd)
+    finally:
+        os.close(devnull)
+
+
+def open_closed_streams() -> None:
+    """A closed standard output or error (``kcheck check ... >&-``: Python then has
+    ``sys.stdout`` None) is the null device: the run writes nothing there, never fails on it,
+    and its exit code is still the verdict's. The descriptor is the null device too, so no
+    report file or worker takes descriptor 1 or 2."""
+    for name, fd in (("stdout", 1), ("stderr", 2)):
+        if getattr(sys, name) is not None:
+            continue
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        if devnull != fd:
+            os.dup2(devnull, fd)
+            os.close(devnull)
+        setattr(
+            sys, name, open(fd, "w", encoding="utf-8", errors="backslashreplace", closefd=False)
+        )  # noqa: SIM115
