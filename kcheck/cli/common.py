@@ -7,9 +7,18 @@ import enum
 import os
 import sys
 from pathlib import Path
-from typing import Any
+from typing import Any, TextIO
 
-__all__ = ["ExitCode", "Parser", "write_text", "fail", "discard_stdout", "open_closed_streams"]
+__all__ = [
+    "ExitCode",
+    "Parser",
+    "write_text",
+    "fail",
+    "discard_stdout",
+    "open_closed_streams",
+    "open_replacing",
+    "close_replacing",
+]
 
 
 class ExitCode(enum.IntEnum):
@@ -112,3 +121,62 @@ def open_closed_streams() -> None:
         setattr(
             sys, name, open(fd, "w", encoding="utf-8", errors="backslashreplace", closefd=False)
         )  # noqa: SIM115
+
+
+#: Report files being written: the stream's id -> (its temporary file, the file it replaces).
+_REPLACING: dict[int, tuple[str, str]] = {}
+
+
+def open_replacing(path: Path) -> TextIO:
+    """A text stream for the file ``path`` (its folder made) that holds nothing of the new
+    text until :func:`close_replacing` keeps it: it writes a temporary file beside ``path``
+    that then replaces it in one rename, so an interrupted run (Ctrl-C) or a failed write
+    leaves ``path`` as it was, never half written. A symbolic link's file is replaced, the
+    link kept; what is not a regular file (``/dev/null``, a named pipe) is written directly.
+    """
+    import stat
+    import tempfile
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    target = os.path.realpath(path)
+    try:
+        mode: int | None = os.stat(target).st_mode
+    except FileNotFoundError:
+        mode = None
+    if mode is not None and not stat.S_ISREG(mode):
+        return path.open("w", encoding="utf-8", errors="backslashreplace")
+    folder, name = os.path.split(target)
+    fd, temporary = tempfile.mkstemp(prefix=f".{name}.", suffix=".part", dir=folder)
+    try:
+        if mode is None:  # a new file gets the mode open() would give it
+            umask = os.umask(0)
+            os.umask(umask)
+            os.fchmod(fd, 0o666 & ~umask)
+        else:
+            os.fchmod(fd, stat.S_IMODE(mode))
+        # A scene's path or text may hold lone surrogates (a file name that is not UTF-8).
+        stream = open(fd, "w", encoding="utf-8", errors="backslashreplace")  # noqa: SIM115
+    except BaseException:
+        os.close(fd)
+        os.unlink(temporary)
+        raise
+    _REPLACING[id(stream)] = (temporary, target)
+    return stream
+
+
+def close_replacing(stream: TextIO, keep: bool) -> None:
+    """Close a stream of :func:`open_replacing`: ``keep`` puts its text in place of the file,
+    else the file stays as it was. OSError if the text cannot be written or renamed (the
+    temporary file is removed then too)."""
+    temporary, target = _REPLACING.pop(id(stream), (None, None))
+    try:
+        stream.close()
+        if temporary is not None and target is not None and keep:
+            os.replace(temporary, target)
+            temporary = None
+    finally:
+        if temporary is not None:
+            try:
+                os.unlink(temporary)
+            except OSError:
+                pass
