@@ -186,7 +186,8 @@ def exit_now(code: int) -> NoReturn:
     last part alone was about a fifth of a one-scene run's CPU (issue 24). Here the first three
     happen as they would, then the process ends (:func:`os._exit`). Report files are closed
     before :func:`main` returns. With another thread still running, or when a flush fails
-    (the reader of a pipe went away), the interpreter's own exit does it all, as before.
+    (standard error's reader went away), the interpreter's own exit does it all, as before;
+    standard output's reader going away leaves ``code`` as it is (docs/ci.md).
     """
     import atexit
     import threading
@@ -198,7 +199,13 @@ def exit_now(code: int) -> NoReturn:
     try:
         for stream in (sys.stdout, sys.stderr):
             if stream is not None:
-                stream.flush()
+                try:
+                    stream.flush()
+                except BrokenPipeError:
+                    if stream is not sys.stdout:
+                        raise
+                    discard_stdout()  # its reader went away: the code is still `code`
+                    stream.flush()
     except (OSError, ValueError):
         sys.exit(code)  # the interpreter's exit reports it, as it always did
     os._exit(code)

@@ -13,7 +13,7 @@ from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TextIO
 
-from kcheck.cli.common import ExitCode, close_replacing, fail, open_replacing
+from kcheck.cli.common import ExitCode, close_replacing, discard_stdout, fail, open_replacing
 from kcheck.cli.config import add_gate_options
 from kcheck.cli.executors import add_sample_options
 
@@ -196,8 +196,6 @@ class _Tee:
             except BrokenPipeError:
                 self.reporters.remove(entry)
                 if stream is sys.stdout:  # the run goes on to its verdict (docs/ci.md)
-                    from kcheck.cli.common import discard_stdout
-
                     discard_stdout()
                     continue
                 self.broken.append(stream)
@@ -416,7 +414,10 @@ def _check(args: argparse.Namespace, temporary: list[Path], collecting: bool) ->
                     tee.failures.append(f"cannot write {label}: {describe_os_error(exc)}")
     if to_stdout or not (config["format"] == "text" and args.output is None):
         _errors_to_stderr(results)
-        _summary_to_terminal(results, elapsed, args.output, bool(to_stdout))
+        try:
+            _summary_to_terminal(results, elapsed, args.output, bool(to_stdout))
+        except BrokenPipeError:  # the verdict still decides the exit code (docs/ci.md)
+            discard_stdout()
     for message in tee.failures:
         print(f"kcheck: error: {message}", file=sys.stderr)
     if args.statistics:

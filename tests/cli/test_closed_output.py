@@ -27,15 +27,18 @@ def _kcheck(*args: str, **kwargs: object) -> subprocess.CompletedProcess[str]:
 
 @pytest.mark.parametrize("fmt", ["text", "json"])
 @pytest.mark.parametrize(("scene", "code"), [(PASSING, 0), (FAILING, 1)])
-def test_a_reader_that_went_away_keeps_the_verdict(fmt, scene, code):
+@pytest.mark.parametrize("to_file", [False, True], ids=["report", "summary-line"])
+def test_a_reader_that_went_away_keeps_the_verdict(fmt, scene, code, to_file, tmp_path):
+    extra = ["-o", str(tmp_path / "report")] if to_file else []  # stdout: the summary line
     read, write = os.pipe()
     os.close(read)  # the reader goes away before anything is written
     try:
-        done = _kcheck(str(scene), "--format", fmt, stdout=write)
+        done = _kcheck(str(scene), "--format", fmt, *extra, stdout=write)
     finally:
         os.close(write)
     assert done.returncode == code
     assert "Traceback" not in done.stderr and "BrokenPipe" not in done.stderr
+    assert not to_file or (tmp_path / "report").read_text()  # the file report is whole
 
 
 @pytest.mark.parametrize(("scene", "code"), [(PASSING, 0), (FAILING, 1)])
