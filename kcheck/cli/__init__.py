@@ -16,7 +16,7 @@ from collections.abc import Sequence
 from typing import NoReturn
 
 from kcheck import __version__
-from kcheck.cli.common import ExitCode, Parser
+from kcheck.cli.common import ExitCode, Parser, discard_stdout, open_closed_streams
 from kcheck.errors import KcheckError
 
 __all__ = ["ExitCode", "main", "run"]
@@ -125,6 +125,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code."""
     pin_blas_threads()
     skip_pydantic_plugins()
+    open_closed_streams()
     escape_unprintable()
     argv = sys.argv[1:] if argv is None else list(argv)
     # The command comes first (kcheck's own options, -h and --version, end the run).
@@ -134,7 +135,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KcheckError as exc:
         print(f"kcheck: error: {exc}", file=sys.stderr)
         return ExitCode.USAGE_OR_INPUT
-    except BrokenPipeError:
+    except BrokenPipeError:  # a command without a verdict (`kcheck check` handles its own)
+        discard_stdout()
         return ExitCode.OK
     except KeyboardInterrupt:
         print("kcheck: interrupted", file=sys.stderr)
@@ -143,8 +145,36 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def run() -> NoReturn:
     """The ``kcheck`` command (console script and ``python -m kcheck``): :func:`main`, then
-    :func:`exit_now`."""
-    exit_now(main())
+    :func:`exit_now` when this process is kcheck's alone (:func:`owns_process`), else the
+    interpreter's own exit (a profiler's or tracer's report, a caller's code, still run)."""
+    code = main()
+    if owns_process(sys._getframe(1)):
+        exit_now(code)
+    sys.exit(code)
+
+
+def owns_process(caller: types.FrameType | None) -> bool:
+    """Whether nothing but kcheck runs in this process, so it may end without the
+    interpreter's teardown: no profiler or tracer (``python -m cProfile -o``, ``python -m
+    trace``, coverage, a debugger write their results after the program), and ``caller`` (the
+    frame that called :func:`run`) is ``__main__`` itself, kcheck's own entry (the console
+    script or ``kcheck.__main__``), started by nothing but the interpreter or :mod:`runpy`
+    (not ``runpy.run_module("kcheck")`` from a caller's code, nor a profiler's ``-m``)."""
+    if sys.getprofile() is not None or sys.gettrace() is not None or caller is None:
+        return False
+    main_module = sys.modules.get("__main__")
+    if main_module is None or caller.f_globals is not vars(main_module):
+        return False
+    entry = getattr(getattr(main_module, "__spec__", None), "name", None)
+    if not (entry == "kcheck.__main__" or vars(main_module).get("run") is run):
+        return False
+    runpy = sys.modules.get("runpy")
+    outer = caller.f_back
+    while outer is not None:
+        if runpy is None or outer.f_globals is not vars(runpy):
+            return False  # someone else's code runs kcheck and goes on after it
+        outer = outer.f_back
+    return True
 
 
 def exit_now(code: int) -> NoReturn:
@@ -156,7 +186,8 @@ def exit_now(code: int) -> NoReturn:
     last part alone was about a fifth of a one-scene run's CPU (issue 24). Here the first three
     happen as they would, then the process ends (:func:`os._exit`). Report files are closed
     before :func:`main` returns. With another thread still running, or when a flush fails
-    (the reader of a pipe went away), the interpreter's own exit does it all, as before.
+    (standard error's reader went away), the interpreter's own exit does it all, as before;
+    standard output's reader going away leaves ``code`` as it is (docs/ci.md).
     """
     import atexit
     import threading
@@ -168,7 +199,13 @@ def exit_now(code: int) -> NoReturn:
     try:
         for stream in (sys.stdout, sys.stderr):
             if stream is not None:
-                stream.flush()
+                try:
+                    stream.flush()
+                except BrokenPipeError:
+                    if stream is not sys.stdout:
+                        raise
+                    discard_stdout()  # its reader went away: the code is still `code`
+                    stream.flush()
     except (OSError, ValueError):
         sys.exit(code)  # the interpreter's exit reports it, as it always did
     os._exit(code)

@@ -13,7 +13,7 @@ from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TextIO
 
-from kcheck.cli.common import ExitCode, fail
+from kcheck.cli.common import ExitCode, close_replacing, discard_stdout, fail, open_replacing
 from kcheck.cli.config import add_gate_options
 from kcheck.cli.executors import add_sample_options
 
@@ -175,12 +175,14 @@ def _slim(result: SceneResult) -> SceneResult:
 
 
 class _Tee:
-    """Feeds several reporters; a report file that cannot be written is remembered, the
-    others go on (standard output's broken pipe ends the run as usual)."""
+    """Feeds several reporters; a report file that cannot be written is remembered (and
+    kept out of the end: nothing is written half), the others go on. When the reader of
+    standard output goes away, its reports stop and the run goes on to its exit code."""
 
     def __init__(self, reporters: Sequence[tuple[str, Reporter, TextIO]]) -> None:
         self.reporters = list(reporters)
         self.failures: list[str] = []
+        self.broken: list[TextIO] = []
 
     def _each(self, method: str, *args: Any) -> None:
         from kcheck.errors import describe_os_error
@@ -192,13 +194,16 @@ class _Tee:
                 if method == "finish":
                     stream.flush()
             except BrokenPipeError:
-                if stream is sys.stdout:
-                    raise
-                self.failures.append(f"cannot write {label}: the reader went away")
                 self.reporters.remove(entry)
+                if stream is sys.stdout:  # the run goes on to its verdict (docs/ci.md)
+                    discard_stdout()
+                    continue
+                self.broken.append(stream)
+                self.failures.append(f"cannot write {label}: the reader went away")
             except OSError as exc:
                 self.failures.append(f"cannot write {label}: {describe_os_error(exc)}")
                 self.reporters.remove(entry)
+                self.broken.append(stream)
 
     def start(self, total: int) -> None:
         self._each("start", total)
@@ -208,12 +213,6 @@ class _Tee:
 
     def finish(self, results: Sequence[SceneResult], elapsed_s: float) -> None:
         self._each("finish", results, elapsed_s)
-
-
-def _open(path: Path) -> TextIO:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    # A scene's path or text may hold lone surrogates (a file name that is not UTF-8).
-    return path.open("w", encoding="utf-8", errors="backslashreplace")
 
 
 def _plot_formats(text: str) -> tuple[str, ...] | None:
@@ -339,12 +338,18 @@ def _check(args: argparse.Namespace, temporary: list[Path], collecting: bool) ->
         pictures_kept=args.plots is not None,
     )
     streams: list[tuple[str, Reporter, TextIO]] = []
+    opened: list[TextIO] = []  # every report file, to put in place or drop at the end
+
+    def open_file(path: Path) -> TextIO:
+        opened.append(open_replacing(path))
+        return opened[-1]
+
     # `FORMAT:-` writes that report to standard output, in the place of the main report
     # (which then goes only to --output, if given).
     to_stdout = [name for name, path in targets if str(path) == "-"]
     try:
         if args.output is not None or not to_stdout:
-            main_stream = sys.stdout if args.output is None else _open(args.output)
+            main_stream = sys.stdout if args.output is None else open_file(args.output)
             label = "the report" if args.output is None else f"the report {args.output}"
             reporter = make_reporter(config["format"], main_stream, options)
             streams.append((label, reporter, main_stream))
@@ -353,19 +358,21 @@ def _check(args: argparse.Namespace, temporary: list[Path], collecting: bool) ->
                 streams.append((f"the {name} report", make_reporter(name, sys.stdout, options),
                                 sys.stdout))  # fmt: skip
                 continue
-            stream = _open(path)
+            stream = open_file(path)
             file_options = dataclasses.replace(options, to_file=True)
             streams.append(
                 (f"the {name} report {path}", make_reporter(name, stream, file_options), stream)
             )
-    except OSError as exc:
+    except BaseException as exc:  # an interrupt too: no report file is left behind
+        for stream in opened:
+            close_replacing(stream, keep=False)
+        if not isinstance(exc, OSError):
+            raise
         from kcheck.errors import describe_os_error
 
-        for _, _, stream in streams:
-            if stream is not sys.stdout:
-                stream.close()
         return fail(f"cannot open a report file: {describe_os_error(exc)} ({exc.filename})")
     tee = _Tee(streams)
+    finished = False  # an interrupt (or any error) keeps every report file as it was
     try:
         with (
             _pictures(args.plots, plot_formats, page) as (plots, formats),
@@ -395,16 +402,22 @@ def _check(args: argparse.Namespace, temporary: list[Path], collecting: bool) ->
             batch = run_batch(files, checks, settings, tick=lambda: _each(ticks))
             batch = (accept(r, stdin) for r in batch)
             results, elapsed = _run(tee, files, missing, batch, args, doing, ticks)
+        finished = True
     finally:
-        for _, _, stream in streams:
-            if stream is not sys.stdout:
+        from kcheck.errors import describe_os_error
+
+        for label, _, stream in streams:
+            if stream in opened:
                 try:
-                    stream.close()
+                    close_replacing(stream, keep=finished and stream not in tee.broken)
                 except OSError as exc:
-                    tee.failures.append(f"cannot write {stream.name}: {describe_os_error(exc)}")
+                    tee.failures.append(f"cannot write {label}: {describe_os_error(exc)}")
     if to_stdout or not (config["format"] == "text" and args.output is None):
         _errors_to_stderr(results)
-        _summary_to_terminal(results, elapsed, args.output, bool(to_stdout))
+        try:
+            _summary_to_terminal(results, elapsed, args.output, bool(to_stdout))
+        except BrokenPipeError:  # the verdict still decides the exit code (docs/ci.md)
+            discard_stdout()
     for message in tee.failures:
         print(f"kcheck: error: {message}", file=sys.stderr)
     if args.statistics:

@@ -43,6 +43,18 @@ OUTCOME_STYLE = {o: "green" for o in views.GOOD_OUTCOMES} | {"swept": "cyan"}
 UNWRAPPED = 100_000
 
 
+class _Console(Console):
+    """Rich's console, but a reader that goes away is the caller's to handle: rich's own
+    answer (:meth:`Console.on_broken_pipe`) ends the process with exit code 1 whatever the
+    verdict; here it is the :class:`BrokenPipeError` every other report meets (the command
+    line then sends the rest to the null device and exits with the verdict's code)."""
+
+    def on_broken_pipe(self) -> None:
+        """Write nothing more, and raise the error being handled again."""
+        self.quiet = True
+        raise  # noqa: PLE0704 -- called from rich's `except BrokenPipeError:`
+
+
 def make_console(color: str = "auto", file: TextIO | None = None, stderr: bool = False) -> Console:
     """A console honouring ``--color``: ``auto`` follows the TTY and FORCE_COLOR, and a
     non-empty NO_COLOR turns off every ANSI style, not only colours (plain logs in CI).
@@ -63,15 +75,15 @@ def make_console(color: str = "auto", file: TextIO | None = None, stderr: bool =
         stream = SafeStream(lambda: sys.stderr) if stderr else safe_stdout()
     else:
         stream = file if isinstance(file, SafeStream) else SafeStream(file)
-    console = Console(file=stream, **kwargs)  # type: ignore[arg-type]
+    console = _Console(file=stream, **kwargs)  # type: ignore[arg-type]
     if not console.is_terminal:
         columns = _columns()
         if columns is None:
-            console = Console(file=stream, width=UNWRAPPED, soft_wrap=True, **kwargs)  # type: ignore[arg-type]
+            console = _Console(file=stream, width=UNWRAPPED, soft_wrap=True, **kwargs)  # type: ignore[arg-type]
         else:
             # Rich pads wrapped cells to the width: lines in a pipe end without the padding.
             trimmed = _Trimmed(lambda: stream.stream)
-            console = Console(file=trimmed, width=columns, **kwargs)  # type: ignore[arg-type]
+            console = _Console(file=trimmed, width=columns, **kwargs)  # type: ignore[arg-type]
     return console
 
 
