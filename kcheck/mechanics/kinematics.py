@@ -166,7 +166,11 @@ def point_velocity(twist: np.ndarray, points: np.ndarray) -> np.ndarray:
     nw = 1 if dim == 2 else 3
     w, v = twist[..., :nw], twist[..., nw:]
     if dim == 2:
-        return v + w * np.stack([-points[..., 1], points[..., 0]], axis=-1)
+        # np.stack([-y, x], axis=-1) filled in place (thousands of calls a planar scene)
+        perp = np.empty(points.shape, points.dtype)
+        np.negative(points[..., 1], out=perp[..., 0])
+        perp[..., 1] = points[..., 0]
+        return v + w * perp
     return v + cross3(w, points)
 
 

@@ -470,7 +470,7 @@ def forward_limit(
     points, normals = statics.points[keep], statics.normals[keep]
     t, _ = friction_directions(twist, points, +1)
     limit = wrenches(points, normals + mu[keep, None] * t)
-    normal = np.cross(limit[0], limit[1])
+    normal = cross3(limit[0], limit[1])  # np.cross's arithmetic without its overhead
     size = float(np.linalg.norm(normal))
     if normals.shape[1] != 2 or not size > FACET_TOL:
         return None

@@ -85,8 +85,15 @@ class TooDeep(Located):
     """Mappings and lists nested past the depth limit (the one limit libyaml has too)."""
 
 
+#: First characters of every text the patterns below can match (the empty text aside): null
+#: ``~ n N``, booleans ``t T f F``, numbers ``- + . 0-9``. Any other text is a string.
+_NOT_PLAIN_TEXT = frozenset("~nNtTfF-+.0123456789")
+
+
 def plain_scalar(value: str, line: int, column: int) -> Any:
     """A plain (unquoted, untagged) scalar by the YAML 1.2 core schema."""
+    if value and value[0] not in _NOT_PLAIN_TEXT:
+        return value  # no pattern can match: a name, most keys (one test, not eight)
     if _NULL.match(value):
         return None
     if _BOOL.match(value):

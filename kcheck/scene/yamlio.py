@@ -227,8 +227,11 @@ def _compose(text: str, backend: str, limits: YamlLimits) -> Composer:
     limits and rules, the parser's YAMLError for invalid YAML."""
     composer = Composer(limits)
     documents = 0
+    scalar = yaml.ScalarEvent
     for event in _events(text, backend):
-        if isinstance(event, yaml.DocumentStartEvent):
+        if isinstance(event, scalar):  # most events: straight to the composer
+            composer.event(event)
+        elif isinstance(event, yaml.DocumentStartEvent):
             documents += 1
             if documents > 1:
                 assert event.start_mark is not None  # both parsers mark every event

@@ -53,3 +53,16 @@ def test_maxwell_cos_is_one_for_a_square_block_corner():
     p = np.array([[0.2, 0.0], [0.8, 0.0], [0.0, 0.3]])
     n = np.array([[0.0, 1.0], [0.0, 1.0], [1.0, 0.0]])
     assert maxwell_cos(free_twist(p, n, 2), p[2], n[2]) == pytest.approx(1.0)
+
+
+def test_planar_point_velocity_is_v_plus_w_cross_p_bit_for_bit():
+    # The closed form u = v + w (-y, x), written with np.stack as before the in-place fill,
+    # on single and stacked twists (broadcast against the points).
+    rng = np.random.default_rng(7)
+    points = rng.normal(size=(4, 5, 2))
+    for twist in (rng.normal(size=3), rng.normal(size=(4, 1, 3))):
+        w, v = twist[..., :1], twist[..., 1:]
+        expected = v + w * np.stack([-points[..., 1], points[..., 0]], axis=-1)
+        got = point_velocity(twist, points)
+        assert got.shape == expected.shape
+        assert np.array_equal(got, expected)

@@ -89,3 +89,39 @@ def test_an_os_error_is_said_in_kchecks_words(tmp_path):
         read_yaml(path)
     assert info.value.path == str(path) and info.value.line is None
     assert info.value.message == "cannot read the file: no such file or folder"
+
+
+def test_plain_scalar_shortcut_answers_as_the_patterns():
+    # Texts whose first character no core-schema pattern accepts are returned as they are;
+    # compared with the patterns applied in full, in the schema's order (the function before
+    # the shortcut).
+    import math
+
+    from kcheck.scene import yamlcompose as yc
+
+    def by_patterns(text):
+        if yc._NULL.match(text):
+            return None
+        if yc._BOOL.match(text):
+            return text[0] in "tT"
+        if yc._INT10.match(text):
+            return int(text)
+        if yc._INT8.match(text):
+            return int(text[2:], 8)
+        if yc._INT16.match(text):
+            return int(text[2:], 16)
+        if yc._FLOAT.match(text):
+            return float(text)
+        if yc._INF.match(text):
+            return -math.inf if text[0] == "-" else math.inf
+        if yc._NAN.match(text):
+            return math.nan
+        return text
+
+    texts = ["", "~", "null", "Null", "true", "False", "12", "-3", "+4", "0o7", "0x1F", ".5",
+             "1e3", ".inf", "-.Inf", ".nan", "name", "y1", "block.stl", "aluminium", "mm",
+             "Ünïcode", " lead", "_x", "#", "@", "Zed", "0", "n", "t", "f", "-", "+", "."]  # fmt: skip  # noqa: E501
+    for text in texts:
+        got, expected = yc.plain_scalar(text, 0, 0), by_patterns(text)
+        assert type(got) is type(expected)
+        assert repr(got) == repr(expected)
