@@ -151,7 +151,8 @@ def _few_arcs(
     if error is None or not arcs or arcs == FULL:
         return arcs, None
     ends = sorted(x % TAU for arc in arcs for x in arc)
-    errors = np.broadcast_to(np.asarray(error, float), a.shape).tolist()
+    given = np.asarray(error, float)
+    errors = (given if given.shape == a.shape else np.broadcast_to(given, a.shape)).tolist()
     terms = []  # per condition: (an, bn, sn, slope, error per unit of slope)
     for ak, bk, sk, ek in zip(al, bl, sl, errors, strict=True):
         size = max(abs(ak), abs(bk), abs(sk))

@@ -157,7 +157,9 @@ def wrenches(points: np.ndarray, forces: np.ndarray) -> np.ndarray:
     With unit normals these are the constraint rows: ``wrenches(p, n) @ xi = n . u(p)``.
     """
     m = moment(points, forces)
-    return np.concatenate([m, np.broadcast_to(forces, m.shape[:-1] + forces.shape[-1:])], axis=-1)
+    if forces.shape[:-1] != m.shape[:-1]:  # only then broadcast (its call is most of the cost)
+        forces = np.broadcast_to(forces, m.shape[:-1] + forces.shape[-1:])
+    return np.concatenate([m, forces], axis=-1)
 
 
 def point_velocity(twist: np.ndarray, points: np.ndarray) -> np.ndarray:

@@ -66,3 +66,14 @@ def test_planar_point_velocity_is_v_plus_w_cross_p_bit_for_bit():
         got = point_velocity(twist, points)
         assert got.shape == expected.shape
         assert np.array_equal(got, expected)
+
+
+def test_wrenches_of_one_force_at_many_points_repeat_it():
+    # (p x f, f): one force given once or repeated per point gives the same rows, bit for bit,
+    # in 2D and 3D; the force part is the force itself.
+    rng = np.random.default_rng(3)
+    for dim in (2, 3):
+        points, force = rng.normal(size=(6, dim)), rng.normal(size=dim)
+        once, repeated = wrenches(points, force), wrenches(points, np.tile(force, (6, 1)))
+        assert np.array_equal(once, repeated)
+        assert np.array_equal(once[:, -dim:], np.tile(force, (6, 1)))
