@@ -17,7 +17,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from paired import FIXTURES, ROOT, SCENE_SETS, medians, paired_rounds, run_worker
+from paired import FIXTURES, ROOT, SCENE_SETS, paired_rounds, print_ratios, run_worker
 
 WORKER = (
     r"""
@@ -76,10 +76,7 @@ def paired(baseline: str, count: int, rounds: int, repeat: int) -> None:
         rounds,
         lambda label, tree, tmp: time_equilibria(tree, tmp / label, count, repeat, ""),
     )
-    print(f"| scenes | `equilibria` a scene, baseline ({baseline}) | new | new / baseline |")
-    print("| --- | --- | --- | --- |")
-    for key, old, new in medians(samples):
-        print(f"| {key} | {old * 1e3:.2f} ms | {new * 1e3:.2f} ms | {new / old:.2f} |")
+    print_ratios(samples, "scenes", "`equilibria` a scene", baseline)
 
 
 if __name__ == "__main__":

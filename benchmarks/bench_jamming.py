@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 from kcheck_checks.jamming import Jamming, JammingOptions
-from paired import FIXTURES, ROOT, SCENE_SETS, medians, paired_rounds, run_worker
+from paired import FIXTURES, ROOT, SCENE_SETS, paired_rounds, print_ratios, run_worker
 from scipy.optimize import linprog
 
 from kcheck.analysis.jamming_cases import analyse_jamming, case_arcs, jam_map, jam_statics
@@ -215,10 +215,7 @@ def paired(baseline: str, count: int, rounds: int) -> None:
         return run_worker(tree, folder, PAIRED_WORKER, constants, env)
 
     samples = paired_rounds(baseline, rounds, measure)
-    print(f"| scenes | jamming, baseline ({baseline}) | new | new / baseline |")
-    print("| --- | --- | --- | --- |")
-    for key, old, new in medians(samples):
-        print(f"| {key} | {old * 1e3:.1f} ms | {new * 1e3:.1f} ms | {new / old:.2f} |")
+    print_ratios(samples, "scenes", "jamming", baseline, digits=1)
 
 
 if __name__ == "__main__":

@@ -20,7 +20,7 @@ import os
 import tempfile
 from pathlib import Path
 
-from paired import medians, paired_rounds, run_worker
+from paired import paired_rounds, print_ratios, run_worker
 
 WORKER = r"""
 import json, sys, time
@@ -77,10 +77,7 @@ def main() -> None:
 
     samples = paired_rounds(args.baseline, args.rounds, measure)
     print(f"{args.set}: {args.count} scenes, {held} held cases")
-    print(f"| per | search, baseline ({args.baseline}) | new | new / baseline |")
-    print("| --- | --- | --- | --- |")
-    for key, old, new in medians(samples):
-        print(f"| {key} | {old * 1e3:.2f} ms | {new * 1e3:.2f} ms | {new / old:.2f} |")
+    print_ratios(samples, "per", "search", args.baseline)
 
 
 if __name__ == "__main__":

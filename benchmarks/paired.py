@@ -115,3 +115,13 @@ def medians(samples: Samples) -> Iterator[tuple[str, float, float]]:
     for key in samples["new"]:
         old, new = samples["baseline"][key], samples["new"][key]
         yield key, statistics.median(old), statistics.median(new)
+
+
+def print_ratios(samples: Samples, first: str, what: str, baseline: str, digits: int = 2) -> None:
+    """A Markdown table of ``samples``' medians in ms: key, baseline, new, new / baseline."""
+    print(f"| {first} | {what}, baseline ({baseline}) | new | new / baseline |")
+    print("| --- | --- | --- | --- |")
+    for key, old, new in medians(samples):
+        print(
+            f"| {key} | {old * 1e3:.{digits}f} ms | {new * 1e3:.{digits}f} ms | {new / old:.2f} |"
+        )
