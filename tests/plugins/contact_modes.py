@@ -312,8 +312,9 @@ class RetractionCase(NamedTuple):
     points: np.ndarray  # (n, 3) every support's contact point, m
     normals: np.ndarray  # (n, 3) unit normals
     center_of_mass: np.ndarray  # (3,) m
-    arrays: tuple  # the kept supports' points, normals, kinetic mu; centre of mass,
-    # inertia / mass (m^2) and load (moment, force) / mass: Body's and geometry's arguments
+    # The kept supports' points, normals and kinetic mu; the centre of mass, inertia / mass
+    # (m^2) and load (moment, force) / mass: Body's and geometry's first six arguments.
+    arrays: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 
 
 def retraction_case(paths: dict[str, Path], name: str, retracted: str) -> RetractionCase:
