@@ -30,6 +30,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from bench_gate import ENV, KCHECK, make_planar, make_spatial, run  # noqa: E402
+from paired import extract  # noqa: E402
 
 
 def side_env(tree: Path) -> dict[str, str]:
@@ -65,12 +66,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp_name:
         tmp = Path(tmp_name)
         os.chdir(tmp)  # not this tree: ``python -m`` puts the working folder first on the path
-        base = tmp / "baseline"
-        base.mkdir()
-        archive = subprocess.run(
-            ["git", "archive", args.baseline], cwd=ROOT, capture_output=True, check=True
-        ).stdout
-        subprocess.run(["tar", "-x", "-C", str(base)], input=archive, check=True)
+        base = extract(args.baseline, tmp)
         sides = {"baseline": side_env(base), "new": side_env(ROOT)}
         for kind in args.kinds.split(","):
             folder = tmp / kind

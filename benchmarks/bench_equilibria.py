@@ -14,16 +14,13 @@ pickled, to compare two trees' answers bit for bit.
 
 from __future__ import annotations
 
-import json
 import os
-import statistics
-import subprocess
-import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+from paired import FIXTURES, ROOT, SCENE_SETS, paired_rounds, print_ratios, run_worker
 
-WORKER = r"""
+WORKER = (
+    r"""
 import json, pickle, sys, time
 from pathlib import Path
 import numpy as np
@@ -32,12 +29,9 @@ from kcheck.analysis.jamming_cases import jam_statics
 from kcheck.body.mass import body_mass_properties
 from kcheck.mechanics.statics import equilibria
 from kcheck.scene import load_scene
-
-sys.path.append(TESTS)
-from spatial_scenes import write_spatial_scenes
-assert kcheck.__file__.startswith(EXPECT), kcheck.__file__
-sets = {"fixtures": [Path(ROOT) / "fixtures" / f for f in FIXTURES]}
-sets["generated"] = write_spatial_scenes(Path(TMP), range(COUNT))
+"""
+    + SCENE_SETS
+    + r"""
 out, dump = {}, {}
 for name, paths in sets.items():
     scenes = [load_scene(p) for p in paths]
@@ -63,54 +57,26 @@ if DUMP:
         pickle.dump(dump, f)
 print(json.dumps(out))
 """
+)
 
 
-def run_worker(tree: Path, folder: Path, count: int, repeat: int, dump: str) -> dict[str, float]:
+def time_equilibria(
+    tree: Path, folder: Path, count: int, repeat: int, dump: str
+) -> dict[str, float]:
     """One fresh process timing ``equilibria`` with ``tree`` first on the path."""
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    from bench_speed import FIXTURES
-
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(tree), str(tree / "plugins")])
     folder.mkdir(parents=True, exist_ok=True)
-    header = (
-        f"TESTS = {str(ROOT / 'tests')!r}\nROOT = {str(ROOT)!r}\nFIXTURES = {FIXTURES!r}\n"
-        f"TMP = {str(folder)!r}\nCOUNT = {count}\nEXPECT = {str(tree / 'kcheck')!r}\n"
-        f"REPEAT = {repeat}\nDUMP = {dump!r}\n"
-    )
-    run = subprocess.run(
-        [sys.executable, "-c", header + WORKER], capture_output=True, text=True, env=env, cwd=folder
-    )
-    if run.returncode:
-        raise SystemExit(run.stderr)
-    return json.loads(run.stdout.strip().splitlines()[-1])
+    constants = {"FIXTURES": FIXTURES, "COUNT": count, "REPEAT": repeat, "DUMP": dump}
+    return run_worker(tree, folder, WORKER, constants, dict(os.environ))
 
 
 def paired(baseline: str, count: int, rounds: int, repeat: int) -> None:
     """``equilibria`` of this tree against ``baseline``, alternating fresh processes."""
-    import tempfile
-
-    print(f"load average before: {os.getloadavg()}")
-    samples: dict[str, dict[str, list[float]]] = {"baseline": {}, "new": {}}
-    with tempfile.TemporaryDirectory() as tmp:
-        base = Path(tmp) / "baseline"
-        base.mkdir()
-        archive = subprocess.run(
-            ["git", "archive", baseline], cwd=ROOT, capture_output=True, check=True
-        ).stdout
-        subprocess.run(["tar", "-x", "-C", str(base)], input=archive, check=True)
-        for _ in range(rounds):
-            for label, tree in (("baseline", base), ("new", ROOT)):
-                got = run_worker(tree, Path(tmp) / label, count, repeat, "")
-                for key, value in got.items():
-                    samples[label].setdefault(key, []).append(value)
-    print(f"load average after: {os.getloadavg()}")
-    print(f"| scenes | `equilibria` a scene, baseline ({baseline}) | new | new / baseline |")
-    print("| --- | --- | --- | --- |")
-    for key in samples["new"]:
-        old = statistics.median(samples["baseline"][key])
-        new = statistics.median(samples["new"][key])
-        print(f"| {key} | {old * 1e3:.2f} ms | {new * 1e3:.2f} ms | {new / old:.2f} |")
+    samples = paired_rounds(
+        baseline,
+        rounds,
+        lambda label, tree, tmp: time_equilibria(tree, tmp / label, count, repeat, ""),
+    )
+    print_ratios(samples, "scenes", "`equilibria` a scene", baseline)
 
 
 if __name__ == "__main__":
@@ -130,6 +96,6 @@ if __name__ == "__main__":
     else:
         with tempfile.TemporaryDirectory() as tmp:
             dump = str(Path(args.dump).resolve()) if args.dump else ""
-            got = run_worker(ROOT, Path(tmp), args.count, args.repeat, dump)
+            got = time_equilibria(ROOT, Path(tmp), args.count, args.repeat, dump)
         for key, value in got.items():
             print(f"{key}: {value * 1e3:.2f} ms a scene")

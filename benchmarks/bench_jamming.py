@@ -5,7 +5,7 @@ recorded in docs/performance.md.
 
 ``python benchmarks/bench_jamming.py --paired [--baseline main] [--count 30] [--rounds 3]``:
 the jamming check of this tree against a baseline commit in the same run (issue 24), rounds
-alternating baseline / new, each a fresh process (:mod:`bench_speed`'s ``git archive``
+alternating baseline / new, each a fresh process (:mod:`paired`'s ``git archive``
 extraction), CPU per scene on the spatial fixtures with a load and ``--count`` generated
 spatial scenes; prints medians and new / baseline, for the whole check and for its parts
 (the sphere map, the least holding μ, the sweep-plane arcs; CPU inside the same runs). Both
@@ -14,7 +14,6 @@ trees run with one BLAS thread, as ``kcheck`` pins it.
 
 from __future__ import annotations
 
-import json
 import statistics
 import subprocess
 import sys
@@ -23,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 from kcheck_checks.jamming import Jamming, JammingOptions
+from paired import FIXTURES, ROOT, SCENE_SETS, paired_rounds, print_ratios, run_worker
 from scipy.optimize import linprog
 
 from kcheck.analysis.jamming_cases import analyse_jamming, case_arcs, jam_map, jam_statics
@@ -39,7 +39,6 @@ from kcheck.mechanics.statics import (
 from kcheck.plugin import Inputs
 from kcheck.scene import load_scene
 
-ROOT = Path(__file__).resolve().parents[1]
 SCENES = {
     "planar-block": ROOT / "fixtures" / "planar-block" / "block.kcheck.yaml",
     "three-groove": ROOT / "fixtures" / "three-groove" / "coupling.kcheck.yaml",
@@ -144,7 +143,8 @@ def import_times() -> None:
         print(f"| import {module} | {1e3 * statistics.median(runs):.0f} ms |")
 
 
-PAIRED_WORKER = r"""
+PAIRED_WORKER = (
+    r"""
 import json, sys, time
 from pathlib import Path
 import kcheck
@@ -152,12 +152,9 @@ from kcheck.body.mass import body_mass_properties
 from kcheck.plugin import Inputs
 from kcheck.scene import load_scene
 from kcheck_checks.jamming import Jamming
-
-sys.path.append(TESTS)
-from spatial_scenes import write_spatial_scenes
-assert kcheck.__file__.startswith(EXPECT), kcheck.__file__
-sets = {"fixtures": [Path(ROOT) / "fixtures" / f for f in FIXTURES]}
-sets["generated"] = write_spatial_scenes(Path(TMP), range(COUNT))
+"""
+    + SCENE_SETS
+    + r"""
 out = {}
 check = Jamming()
 # The parts of issue 24's jamming targets, timed inside the same runs (CPU): the sphere map,
@@ -193,6 +190,7 @@ for name, paths in sets.items():
         out[f"{name}: {label}"] = spent[label] / len(inputs)
 print(json.dumps(out))
 """
+)
 
 
 #: The thread counts kcheck.cli pins (its BLAS_THREAD_VARIABLES; not imported: the cli's
@@ -203,55 +201,21 @@ BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 def paired(baseline: str, count: int, rounds: int) -> None:
     """The jamming check of this tree against ``baseline``, alternating fresh processes."""
     import os
-    import tempfile
 
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    from bench_speed import FIXTURES
+    def measure(label: str, tree: Path, tmp: Path) -> dict[str, float]:
+        # One BLAS thread, as `kcheck` pins it (kcheck.cli.pin_blas_threads): a second
+        # OpenBLAS thread spinning after the lattice's matrix-vector products added about
+        # 5 ms of CPU a generated scene that no kcheck run pays.
+        env = dict(os.environ)
+        for name in BLAS_THREADS:
+            env.setdefault(name, "1")
+        folder = tmp / label
+        folder.mkdir(exist_ok=True)
+        constants = {"FIXTURES": FIXTURES, "COUNT": count}
+        return run_worker(tree, folder, PAIRED_WORKER, constants, env)
 
-    print(f"load average before: {os.getloadavg()}")
-    samples: dict[str, dict[str, list[float]]] = {"baseline": {}, "new": {}}
-    with tempfile.TemporaryDirectory() as tmp:
-        base = Path(tmp) / "baseline"
-        base.mkdir()
-        archive = subprocess.run(
-            ["git", "archive", baseline], cwd=ROOT, capture_output=True, check=True
-        ).stdout
-        subprocess.run(["tar", "-x", "-C", str(base)], input=archive, check=True)
-        for _ in range(rounds):
-            for label, tree in (("baseline", base), ("new", None)):
-                # Each tree first on the path: the venv's editable install may be another
-                # worktree's.
-                env = dict(os.environ)
-                # One BLAS thread, as `kcheck` pins it (kcheck.cli.pin_blas_threads): a
-                # second OpenBLAS thread spinning after the lattice's matrix-vector products
-                # added about 5 ms of CPU a generated scene that no kcheck run pays.
-                for name in BLAS_THREADS:
-                    env.setdefault(name, "1")
-                tree = ROOT if tree is None else tree
-                env["PYTHONPATH"] = os.pathsep.join([str(tree), str(tree / "plugins")])
-                expect = str(tree / "kcheck")
-                folder = Path(tmp) / label
-                folder.mkdir(exist_ok=True)
-                header = (
-                    f"TESTS = {str(ROOT / 'tests')!r}\nROOT = {str(ROOT)!r}\n"
-                    f"FIXTURES = {FIXTURES!r}\nTMP = {str(folder)!r}\nCOUNT = {count}\n"
-                    f"EXPECT = {expect!r}\n"
-                )
-                run = subprocess.run(
-                    [sys.executable, "-c", header + PAIRED_WORKER],
-                    capture_output=True, text=True, env=env, cwd=folder,
-                )  # fmt: skip
-                if run.returncode:
-                    raise SystemExit(run.stderr)
-                for key, value in json.loads(run.stdout.strip().splitlines()[-1]).items():
-                    samples[label].setdefault(key, []).append(value)
-    print(f"load average after: {os.getloadavg()}")
-    print(f"| scenes | jamming, baseline ({baseline}) | new | new / baseline |")
-    print("| --- | --- | --- | --- |")
-    for key in samples["new"]:
-        old = statistics.median(samples["baseline"][key])
-        new = statistics.median(samples["new"][key])
-        print(f"| {key} | {old * 1e3:.1f} ms | {new * 1e3:.1f} ms | {new / old:.2f} |")
+    samples = paired_rounds(baseline, rounds, measure)
+    print_ratios(samples, "scenes", "jamming", baseline, digits=1)
 
 
 if __name__ == "__main__":

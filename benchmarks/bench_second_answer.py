@@ -5,8 +5,8 @@ moves"): :func:`kcheck.analysis.held_alternatives.held_alternatives` on the held
 The held cases come from the recorded reference (``tests/golden/second_answer_reference.json``:
 the cases `jamming` found held at the commit it names), so the benchmark times the search
 only, on the same cases for both trees, whatever else changed in `jamming`. Rounds alternate
-baseline / new, each a fresh process importing its tree (``git archive`` extraction, as in
-:mod:`bench_speed`); CPU time (``time.process_time``) per generated spatial scene (every scene
+baseline / new, each a fresh process importing its tree (``git archive`` extraction,
+:mod:`paired`); CPU time (``time.process_time``) per generated spatial scene (every scene
 counts, held cases or not, like the check's cost) and per held case.
 
 Run: ``python benchmarks/bench_second_answer.py [--baseline c5f8237] [--count 100]
@@ -16,15 +16,11 @@ Run: ``python benchmarks/bench_second_answer.py [--baseline c5f8237] [--count 10
 from __future__ import annotations
 
 import argparse
-import json
 import os
-import statistics
-import subprocess
-import sys
 import tempfile
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+from paired import paired_rounds, print_ratios, run_worker
 
 WORKER = r"""
 import json, sys, time
@@ -59,19 +55,9 @@ print(json.dumps({"scene": spent / len(paths), "held case": spent / held, "held"
 
 
 def run(tree: Path, tmp: Path, count: int, which: str) -> dict[str, float]:
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(tree), str(tree / "plugins")])
     folder = Path(tempfile.mkdtemp(dir=tmp))
-    header = (
-        f"ROOT = {str(ROOT)!r}\nTMP = {str(folder)!r}\nCOUNT = {count}\nSET = {which!r}\n"
-        f"EXPECT = {str(tree / 'kcheck')!r}\n"
-    )
-    out = subprocess.run(
-        [sys.executable, "-c", header + WORKER], capture_output=True, text=True, env=env, cwd=folder
-    )
-    if out.returncode:
-        raise SystemExit(out.stderr)
-    return json.loads(out.stdout.strip().splitlines()[-1])
+    constants = {"COUNT": count, "SET": which}
+    return run_worker(tree, folder, WORKER, constants, dict(os.environ))
 
 
 def main() -> None:
@@ -81,30 +67,17 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--set", default="spatial", choices=["spatial", "random-3d", "random-2d"])
     args = parser.parse_args()
-    print(f"load average before: {os.getloadavg()}")
-    samples: dict[str, dict[str, list[float]]] = {"baseline": {}, "new": {}}
-    with tempfile.TemporaryDirectory() as tmp:
-        base = Path(tmp) / "baseline"
-        base.mkdir()
-        archive = subprocess.run(
-            ["git", "archive", args.baseline], cwd=ROOT, capture_output=True, check=True
-        ).stdout
-        subprocess.run(["tar", "-x", "-C", str(base)], input=archive, check=True)
-        held = 0
-        for _ in range(args.rounds):
-            for label, tree in (("baseline", base), ("new", ROOT)):
-                got = run(tree, Path(tmp), args.count, args.set)
-                held = int(got.pop("held"))
-                for key, value in got.items():
-                    samples[label].setdefault(key, []).append(value)
-    print(f"load average after: {os.getloadavg()}")
+    held = 0
+
+    def measure(label: str, tree: Path, tmp: Path) -> dict[str, float]:
+        nonlocal held
+        got = run(tree, tmp, args.count, args.set)
+        held = int(got.pop("held"))
+        return got
+
+    samples = paired_rounds(args.baseline, args.rounds, measure)
     print(f"{args.set}: {args.count} scenes, {held} held cases")
-    print(f"| per | search, baseline ({args.baseline}) | new | new / baseline |")
-    print("| --- | --- | --- | --- |")
-    for key in samples["new"]:
-        old = statistics.median(samples["baseline"][key])
-        new = statistics.median(samples["new"][key])
-        print(f"| {key} | {old * 1e3:.2f} ms | {new * 1e3:.2f} ms | {new / old:.2f} |")
+    print_ratios(samples, "per", "search", args.baseline)
 
 
 if __name__ == "__main__":

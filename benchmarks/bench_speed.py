@@ -23,25 +23,13 @@ new / baseline.
 from __future__ import annotations
 
 import argparse
-import json
 import os
-import statistics
-import subprocess
-import sys
-import tempfile
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+from paired import FIXTURES, SCENE_SETS, medians, paired_rounds, run_worker
 
-FIXTURES = [
-    "three-groove/coupling.kcheck.yaml",
-    *(f"three-groove-beta-{b}/coupling.kcheck.yaml" for b in (15, 25, 35, 45, 55, 65)),
-    "block-321/block.kcheck.yaml",
-    "kelvin/coupling.kcheck.yaml",
-    "tool-changer/tool.kcheck.yaml",
-]
-
-WORKER = r"""
+WORKER = (
+    r"""
 import json, sys, time
 from pathlib import Path
 import kcheck
@@ -54,12 +42,9 @@ from kcheck.plugin import Inputs
 from kcheck.scene import load_scene
 from kcheck_checks.analytical_3d import Analytical3D
 from kcheck_checks.jamming import Jamming
-
-sys.path.append(TESTS)  # after kcheck: tests/kcheck would shadow it as a namespace package
-from spatial_scenes import write_spatial_scenes
-assert kcheck.__file__.startswith(EXPECT), kcheck.__file__
-sets = {"fixtures": [Path(ROOT) / "fixtures" / f for f in FIXTURES]}
-sets["generated"] = write_spatial_scenes(Path(TMP), range(COUNT))
+"""
+    + SCENE_SETS
+    + r"""
 out = {}
 for name, paths in sets.items():
     scenes = [load_scene(p) for p in paths]
@@ -93,28 +78,14 @@ for name, paths in sets.items():
         out[f"{name}|{what}"] = (time.process_time() - start) / len(scenes)
 print(json.dumps(out))
 """
+)
 
 
-def measure(tree: Path | None, count: int, tmp: Path, what: list[str]) -> dict[str, float]:
+def measure(tree: Path, count: int, tmp: Path, what: list[str]) -> dict[str, float]:
     """One fresh process: mean CPU seconds per scene of each measurement."""
     tmp.mkdir(exist_ok=True)
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    expect = str(ROOT / "kcheck")
-    # This tree first on the path too: with the lead's venv kcheck may be installed elsewhere.
-    tree = ROOT if tree is None else tree
-    if tree is not None:
-        env["PYTHONPATH"] = os.pathsep.join([str(tree), str(tree / "plugins")])
-        expect = str(tree / "kcheck")
-    header = (
-        f"TESTS = {str(ROOT / 'tests')!r}\nROOT = {str(ROOT)!r}\nFIXTURES = {FIXTURES!r}\n"
-        f"TMP = {str(tmp)!r}\nCOUNT = {count}\nEXPECT = {expect!r}\nWHAT = {what!r}\n"
-    )
-    run = subprocess.run(
-        [sys.executable, "-c", header + WORKER], capture_output=True, text=True, env=env, cwd=tmp
-    )
-    if run.returncode:
-        raise SystemExit(run.stderr)
-    return json.loads(run.stdout.strip().splitlines()[-1])
+    constants = {"FIXTURES": FIXTURES, "COUNT": count, "WHAT": what}
+    return run_worker(tree, tmp, WORKER, constants, dict(os.environ))
 
 
 def main() -> None:
@@ -129,28 +100,17 @@ def main() -> None:
         "analytical-3d, jamming (default: all)",
     )
     args = parser.parse_args()
-    print(f"load average before: {os.getloadavg()}")
-    with tempfile.TemporaryDirectory() as tmp:
-        base = Path(tmp) / "baseline"
-        base.mkdir()
-        archive = subprocess.run(
-            ["git", "archive", args.baseline], cwd=ROOT, capture_output=True, check=True
-        ).stdout
-        subprocess.run(["tar", "-x", "-C", str(base)], input=archive, check=True)
-        samples: dict[str, dict[str, list[float]]] = {"baseline": {}, "new": {}}
-        what = [w.strip() for w in args.what.split(",") if w.strip()]
-        for _ in range(args.rounds):
-            for label, tree in (("baseline", base), ("new", None)):
-                for key, value in measure(tree, args.count, Path(tmp) / label, what).items():
-                    samples[label].setdefault(key, []).append(value)
-    print(f"load average after: {os.getloadavg()}")
+    what = [w.strip() for w in args.what.split(",") if w.strip()]
+    samples = paired_rounds(
+        args.baseline,
+        args.rounds,
+        lambda label, tree, tmp: measure(tree, args.count, tmp / label, what),
+    )
     print(f"| scenes | what | baseline ({args.baseline}) | new | new / baseline |")
     print("| --- | --- | --- | --- | --- |")
-    for key in samples["new"]:
-        scenes, what = key.split("|")
-        old = statistics.median(samples["baseline"][key])
-        new = statistics.median(samples["new"][key])
-        print(f"| {scenes} | {what} | {old * 1e3:.2f} ms | {new * 1e3:.2f} ms | {new / old:.2f} |")
+    for key, old, new in medians(samples):
+        scenes, part = key.split("|")
+        print(f"| {scenes} | {part} | {old * 1e3:.2f} ms | {new * 1e3:.2f} ms | {new / old:.2f} |")
 
 
 if __name__ == "__main__":

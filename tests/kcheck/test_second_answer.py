@@ -71,9 +71,7 @@ def test_recorded_held_cases_that_move(tmp_path: Path) -> None:
     a second rigid answer too, has none: the lift-off problem on the contacts its simulation
     keeps (s2, s3, s4, s6) returns rest, not a motion, which the recorded evidence
     (`rigid_motion`) counted."""
-    from kcheck.analysis.reseat import _wrench
-    from kcheck.body.mass import body_mass_properties
-    from kcheck.scene import load_scene
+    from tests.plugins.contact_modes import retraction_case
     from tests.plugins.reseat_agreement import generated
 
     paths = {p.name: p for p in generated(tmp_path, 100)}
@@ -81,23 +79,9 @@ def test_recorded_held_cases_that_move(tmp_path: Path) -> None:
         ("random-3d-3391.kcheck.yaml", "s4", ["s2", "s3", "s5"]),
         ("random-3d-1667.kcheck.yaml", "s1", None),
     ):
-        scene = load_scene(paths[name])
-        assert scene.body is not None
-        mass = body_mass_properties(scene.body, scene.scale)
-        names = [s.name for s in scene.supports]
-        r = names.index(retracted)
-        rest = [i for i in range(len(names)) if i != r]
-        points = np.array([s.position for s in scene.supports])
-        normals = np.array([s.normal / np.linalg.norm(s.normal) for s in scene.supports])
-        load = _wrench(scene, mass.center_of_mass, 1.0) + np.r_[mass.mass * scene.gravity, 0, 0, 0]
-        body = Body(
-            points[rest],
-            normals[rest],
-            np.asarray(scene.friction_range("kinetic")[1])[rest],
-            mass.center_of_mass,
-            mass.inertia / mass.mass,
-            np.r_[load[3:], load[:3]] / mass.mass,
-        )
+        c = retraction_case(paths, name, retracted)
+        names, r, rest, points, normals = c.names, c.retracted, c.rest, c.points, c.normals
+        body = Body(*c.arrays)
         answer = second_answers(body, [((points[r], normals[r]), np.arange(len(rest)))])[0]
         if lifted is None:
             assert answer is None
@@ -106,7 +90,7 @@ def test_recorded_held_cases_that_move(tmp_path: Path) -> None:
         assert [names[rest[i]] for i in np.flatnonzero(answer.lifted)] == lifted
         # Independently: the kept contacts do not accelerate along their normals, the lifted
         # ones separate, and the body moves.
-        lever = points[rest] - mass.center_of_mass
+        lever = points[rest] - c.center_of_mass
         normal_accel = wrenches(lever, normals[rest]) @ answer.motion.acceleration
         scale = float(np.abs(answer.motion.acceleration).max())
         assert scale > 0

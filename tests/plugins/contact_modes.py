@@ -27,6 +27,7 @@ import itertools
 import sys
 from dataclasses import dataclass
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -302,9 +303,24 @@ def _two_sticking(g: Geometry, i: int, j: int) -> Mode | None:
     return None
 
 
-def case(paths: dict[str, Path], name: str, retracted: str, edges: int = LIFT_EDGES):
-    """The nondimensional first-motion problem of one retraction case (as
-    tests/kcheck/test_second_answer.py builds it)."""
+class RetractionCase(NamedTuple):
+    """One retraction case of a scene, as the rigid model's first-motion problem sees it."""
+
+    names: list[str]  # every support's name
+    retracted: int  # index of the retracted support
+    rest: list[int]  # indices of the supports kept
+    points: np.ndarray  # (n, 3) every support's contact point, m
+    normals: np.ndarray  # (n, 3) unit normals
+    center_of_mass: np.ndarray  # (3,) m
+    # The kept supports' points, normals and kinetic mu; the centre of mass, inertia / mass
+    # (m^2) and load (moment, force) / mass: Body's and geometry's first six arguments.
+    arrays: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+
+
+def retraction_case(paths: dict[str, Path], name: str, retracted: str) -> RetractionCase:
+    """The retraction case of scene ``paths[name]`` retracting support ``retracted``, its
+    load per unit mass (shared by this module's :func:`case` and
+    tests/kcheck/test_second_answer.py)."""
     from kcheck.analysis.reseat import _wrench
     from kcheck.body.mass import body_mass_properties
     from kcheck.scene import load_scene
@@ -318,15 +334,21 @@ def case(paths: dict[str, Path], name: str, retracted: str, edges: int = LIFT_ED
     points = np.array([s.position for s in scene.supports])
     normals = np.array([s.normal / np.linalg.norm(s.normal) for s in scene.supports])
     load = _wrench(scene, mass.center_of_mass, 1.0) + np.r_[mass.mass * scene.gravity, 0, 0, 0]
-    return [names[i] for i in rest], geometry(
+    arrays = (
         points[rest],
         normals[rest],
         np.asarray(scene.friction_range("kinetic")[1])[rest],
         mass.center_of_mass,
         mass.inertia / mass.mass,
         np.r_[load[3:], load[:3]] / mass.mass,
-        edges,
     )
+    return RetractionCase(names, r, rest, points, normals, mass.center_of_mass, arrays)
+
+
+def case(paths: dict[str, Path], name: str, retracted: str, edges: int = LIFT_EDGES):
+    """The nondimensional first-motion problem of one retraction case."""
+    c = retraction_case(paths, name, retracted)
+    return [c.names[i] for i in c.rest], geometry(*c.arrays, edges)
 
 
 def main() -> None:
