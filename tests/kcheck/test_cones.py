@@ -1,11 +1,11 @@
 """Polyhedral cones: a direction inside the image of a cone, and the essential rows found
-with it, against independent computations (scipy's NNLS for membership, brute force for the
-rows)."""
+with it, against independent computations (a linear programme for membership, brute force
+and NNLS for the rows)."""
 
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import nnls
+from scipy.optimize import linprog, nnls
 
 from kcheck.mechanics import cones
 from kcheck.mechanics.cones import balanced_image, cone_facets, essential_rows, inside_image
@@ -13,7 +13,7 @@ from kcheck.mechanics.cones import balanced_image, cone_facets, essential_rows, 
 
 def test_inside_image_lies_strictly_inside_the_cone() -> None:
     """Random six-dimensional cones (30 generators) and random four-column images: the ``x``
-    found puts ``image @ x`` strictly inside every facet (facets from qhull), and NNLS
+    found puts ``image @ x`` strictly inside every facet (facets from qhull), and a programme
     writes it as a non-negative combination of the generators (residual ~0)."""
     rng = np.random.default_rng(7)
     checked = 0
@@ -27,8 +27,13 @@ def test_inside_image_lies_strictly_inside_the_cone() -> None:
             continue
         y = image @ x
         assert np.all(facets @ y > 0)
-        _, residual = nnls(generators.T, y)
-        assert residual < 1e-9 * np.linalg.norm(y)
+        # A non-negative combination of the generators exists: a feasibility programme
+        # (HiGHS). scipy 1.13's NNLS, the declared lower bound, fails to converge here.
+        combination = linprog(
+            np.zeros(len(generators)), A_eq=generators.T, b_eq=y, bounds=(0, None)
+        )
+        assert combination.status == 0
+        assert np.allclose(generators.T @ combination.x, y, atol=1e-9 * np.linalg.norm(y))
         checked += 1
     assert checked >= 10
 
@@ -45,10 +50,10 @@ def test_inside_image_is_none_where_the_image_misses_the_cone() -> None:
 
 def test_balanced_image_lies_strictly_inside_the_cone() -> None:
     """The least-squares balance (no programme): where it answers, ``image @ x`` is strictly
-    inside every facet (qhull's) and NNLS writes it as a non-negative combination of the
-    generators. Where the image's first column is the sum of the generators, all ones is the
-    nearest balance, so ``x`` is the first unit vector; None where the image misses the cone
-    (the half-space example below)."""
+    inside every facet (qhull's) and a linear programme writes it as a non-negative
+    combination of the generators. Where the image's first column is the sum of the
+    generators, all ones is the nearest balance, so ``x`` is the first unit vector; None
+    where the image misses the cone (the half-space example below)."""
     rng = np.random.default_rng(7)
     checked = 0
     for trial in range(40):
@@ -66,8 +71,13 @@ def test_balanced_image_lies_strictly_inside_the_cone() -> None:
         assert not isinstance(facets, str)
         y = image @ x
         assert np.all(facets @ y > 0)
-        _, residual = nnls(generators.T, y)
-        assert residual < 1e-9 * np.linalg.norm(y)
+        # A non-negative combination of the generators exists: a feasibility programme
+        # (HiGHS). scipy 1.13's NNLS, the declared lower bound, fails to converge here.
+        combination = linprog(
+            np.zeros(len(generators)), A_eq=generators.T, b_eq=y, bounds=(0, None)
+        )
+        assert combination.status == 0
+        assert np.allclose(generators.T @ combination.x, y, atol=1e-9 * np.linalg.norm(y))
         checked += 1
     assert checked >= 20
     generators = np.abs(rng.normal(size=(20, 6)))
