@@ -11,6 +11,16 @@ from kcheck.mechanics import cones
 from kcheck.mechanics.cones import balanced_image, cone_facets, essential_rows, inside_image
 
 
+def _combines(generators: np.ndarray, y: np.ndarray) -> bool:
+    """Whether ``y`` is a non-negative combination of the rows of ``generators``: a
+    feasibility programme (HiGHS), independent of kcheck's cones. (scipy 1.13's NNLS, the
+    declared lower bound, fails to converge on these cones.)"""
+    combination = linprog(np.zeros(len(generators)), A_eq=generators.T, b_eq=y, bounds=(0, None))
+    return combination.status == 0 and np.allclose(
+        generators.T @ combination.x, y, atol=1e-9 * np.linalg.norm(y)
+    )
+
+
 def test_inside_image_lies_strictly_inside_the_cone() -> None:
     """Random six-dimensional cones (30 generators) and random four-column images: the ``x``
     found puts ``image @ x`` strictly inside every facet (facets from qhull), and a programme
@@ -27,13 +37,7 @@ def test_inside_image_lies_strictly_inside_the_cone() -> None:
             continue
         y = image @ x
         assert np.all(facets @ y > 0)
-        # A non-negative combination of the generators exists: a feasibility programme
-        # (HiGHS). scipy 1.13's NNLS, the declared lower bound, fails to converge here.
-        combination = linprog(
-            np.zeros(len(generators)), A_eq=generators.T, b_eq=y, bounds=(0, None)
-        )
-        assert combination.status == 0
-        assert np.allclose(generators.T @ combination.x, y, atol=1e-9 * np.linalg.norm(y))
+        assert _combines(generators, y)
         checked += 1
     assert checked >= 10
 
@@ -71,13 +75,7 @@ def test_balanced_image_lies_strictly_inside_the_cone() -> None:
         assert not isinstance(facets, str)
         y = image @ x
         assert np.all(facets @ y > 0)
-        # A non-negative combination of the generators exists: a feasibility programme
-        # (HiGHS). scipy 1.13's NNLS, the declared lower bound, fails to converge here.
-        combination = linprog(
-            np.zeros(len(generators)), A_eq=generators.T, b_eq=y, bounds=(0, None)
-        )
-        assert combination.status == 0
-        assert np.allclose(generators.T @ combination.x, y, atol=1e-9 * np.linalg.norm(y))
+        assert _combines(generators, y)
         checked += 1
     assert checked >= 20
     generators = np.abs(rng.normal(size=(20, 6)))
