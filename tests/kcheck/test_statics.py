@@ -215,6 +215,24 @@ def test_frictionless_supports_only_push() -> None:
     assert down is not None and np.all(np.sum(down * statics.normals, axis=1) >= -1e-9)
 
 
+def _planar_cases(
+    rng: np.random.Generator, scenes: int, directions: int, some_friction: bool = True
+):
+    """Random planar retraction cases ``(statics, keep, wrench, scale)``: ``scenes``
+    :func:`random_planar` scenes, each with a random mask of frictionless supports (``scale``
+    0; at least one rough one when ``some_friction``), every retracted support, ``directions``
+    random load directions."""
+    for _ in range(scenes):
+        statics = random_planar(rng)
+        scale = (rng.uniform(size=3) < 0.8).astype(float)
+        if some_friction and not scale.any():
+            scale[:] = 1.0
+        for r in range(3):
+            keep = np.flatnonzero(np.arange(3) != r)
+            for angle in rng.uniform(0, TAU, directions):
+                yield statics, keep, statics.wrench(np.array([np.cos(angle), np.sin(angle)])), scale
+
+
 def test_planar_least_friction_from_candidates_equals_bisection() -> None:
     """The exact least friction (the least feasible root of the pair determinants,
     ``friction_candidates``) against the bisection it replaces, run to 1e-10: 20 random
@@ -228,31 +246,23 @@ def test_planar_least_friction_from_candidates_equals_bisection() -> None:
 
     rng = np.random.default_rng(11)
     compared = infeasible = 0
-    for _ in range(20):
-        statics = random_planar(rng)
-        scale = (rng.uniform(size=3) < 0.8).astype(float)
-        if not scale.any():
-            scale[:] = 1.0
-        for r in range(3):
-            keep = np.flatnonzero(np.arange(3) != r)
-            for angle in rng.uniform(0, TAU, 6):
-                wrench = statics.wrench(np.array([np.cos(angle), np.sin(angle)]))
+    for statics, keep, wrench, scale in _planar_cases(rng, 20, 6):
 
-                def feasible(mu: float, s=statics, k=keep, w=wrench, f=scale) -> bool:
-                    return holds(s, k, w, mu * f)
+        def feasible(mu: float, s=statics, k=keep, w=wrench, f=scale) -> bool:
+            return holds(s, k, w, mu * f)
 
-                candidates = friction_candidates(statics, keep, wrench, scale)
-                exact = least_friction(feasible, 0.2, rtol=1e-10, candidates=candidates)
-                reference = least_friction(feasible, 0.2, rtol=1e-10)
-                assert (exact is None) == (reference is None)
-                if exact is None:
-                    infeasible += 1
-                    continue
-                assert exact == pytest.approx(reference, rel=1e-7, abs=1e-9)
-                assert feasible(exact)
-                if exact > 0:
-                    assert not feasible(exact * (1 - 1e-7) - 1e-9)
-                compared += 1
+        candidates = friction_candidates(statics, keep, wrench, scale)
+        exact = least_friction(feasible, 0.2, rtol=1e-10, candidates=candidates)
+        reference = least_friction(feasible, 0.2, rtol=1e-10)
+        assert (exact is None) == (reference is None)
+        if exact is None:
+            infeasible += 1
+            continue
+        assert exact == pytest.approx(reference, rel=1e-7, abs=1e-9)
+        assert feasible(exact)
+        if exact > 0:
+            assert not feasible(exact * (1 - 1e-7) - 1e-9)
+        compared += 1
     assert compared > 150 and infeasible > 10  # both outcomes exercised
 
 
@@ -384,19 +394,13 @@ def test_planar_holding_answers_as_holds() -> None:
 
     rng = np.random.default_rng(5)
     answers = set()
-    for _ in range(30):
-        statics = random_planar(rng)
-        scale = (rng.uniform(size=3) < 0.8).astype(float)
-        for r in range(3):
-            keep = np.flatnonzero(np.arange(3) != r)
-            for angle in rng.uniform(0, TAU, 5):
-                wrench = statics.wrench(np.array([np.cos(angle), np.sin(angle)]))
-                decide = planar_holding(statics, keep, wrench, scale)
-                candidates = friction_candidates(statics, keep, wrench, scale)
-                for mu in [0.0, 0.05, 0.3, 1.0, 50.0, *candidates.tolist()]:
-                    expected = holds(statics, keep, wrench, mu * scale)
-                    assert decide(mu) == expected
-                    answers.add(expected)
+    for statics, keep, wrench, scale in _planar_cases(rng, 30, 5, some_friction=False):
+        decide = planar_holding(statics, keep, wrench, scale)
+        candidates = friction_candidates(statics, keep, wrench, scale)
+        for mu in [0.0, 0.05, 0.3, 1.0, 50.0, *candidates.tolist()]:
+            expected = holds(statics, keep, wrench, mu * scale)
+            assert decide(mu) == expected
+            answers.add(expected)
     assert answers == {True, False}
 
 
@@ -572,25 +576,17 @@ def test_planar_least_holding_friction_as_before():
 
     rng = np.random.default_rng(62)
     found = set()
-    for _ in range(40):
-        statics = random_planar(rng)
-        scale = (rng.uniform(size=3) < 0.8).astype(float)
-        if not scale.any():
-            scale[:] = 1.0
-        for r in range(3):
-            keep = np.flatnonzero(np.arange(3) != r)
-            for angle in rng.uniform(0, TAU, 4):
-                wrench = statics.wrench(np.array([np.cos(angle), np.sin(angle)]))
-                candidates = friction_candidates(statics, keep, wrench, scale)
+    for statics, keep, wrench, scale in _planar_cases(rng, 40, 4):
+        candidates = friction_candidates(statics, keep, wrench, scale)
 
-                def reference(mu: float, s=statics, k=keep, w=wrench, f=scale) -> bool:
-                    return _holds_numpy(s, k, w, mu * f)
+        def reference(mu: float, s=statics, k=keep, w=wrench, f=scale) -> bool:
+            return _holds_numpy(s, k, w, mu * f)
 
-                fast = planar_holding(statics, keep, wrench, scale)
-                new = least_friction(fast, 0.2, rtol=1e-4, candidates=candidates)
-                old = least_friction(reference, 0.2, rtol=1e-4, candidates=candidates)
-                assert new == old
-                found.add(new is None)
+        fast = planar_holding(statics, keep, wrench, scale)
+        new = least_friction(fast, 0.2, rtol=1e-4, candidates=candidates)
+        old = least_friction(reference, 0.2, rtol=1e-4, candidates=candidates)
+        assert new == old
+        found.add(new is None)
     assert found == {True, False}
 
 
