@@ -76,10 +76,6 @@ Outcome = Literal["jams", "holds", "moves", "swept", "undetermined"]
 
 #: Directions measured exactly first, for a lower bound of the freest direction's depth.
 FREE_SAMPLE = 64
-#: Rounds of raising the freest direction's floor from the cells that survive the last.
-#: One: a second and third screen of the cells removed few directions (the cells, not the
-#: floor, limit it near the maximum) and cost more than the exact screen they spared.
-FLOOR_ROUNDS = 1
 #: Absolute guard on per-cell bounds of unit-vector products against rounding (1e-16).
 CELL_GUARD = 1e-12
 #: Direction-facet products of the freest direction's exact screen at once (8 MB).
@@ -531,24 +527,23 @@ def _freest(sets: list[Equilibria], cells: LatticeCells, slacks: list[np.ndarray
     sample = candidates[:: max(1, len(candidates) // FREE_SAMPLE)]
     floor = float(_free_depth(sets, dirs[sample], geometry).max())
     if floor > 0:
-        for _ in range(FLOOR_ROUNDS):
-            tests = [_depth_test(ratio, axes, radius, floor) for ratio, axes, radius in geometry]
-            # Whole cells first, every case: a cell no member of which lies below any facet
-            # of some case drops out before any case tests the directions one by one.
-            alive = np.zeros(len(cells.coarse), bool)
-            alive[cells.owner[candidates]] = True
-            for axes, bound in tests:
-                which = np.flatnonzero(alive)
-                alive[which] = _some_below(cells, which, axes, bound)
-            candidates = candidates[alive[cells.owner[candidates]]]
-            # The survivors lie in the deepest cells: a sample of them may raise the floor.
-            # (It keeps the direction that gave the floor: the screens are conservative.)
-            sample = candidates[:: max(1, len(candidates) // FREE_SAMPLE)]
-            raised = float(_free_depth(sets, dirs[sample], geometry).max(initial=-np.inf))
-            if raised <= floor:
-                break
+        tests = [_depth_test(ratio, axes, radius, floor) for ratio, axes, radius in geometry]
+        # Whole cells first, every case: a cell no member of which lies below any facet of
+        # some case drops out before any case tests the directions one by one.
+        alive = np.zeros(len(cells.coarse), bool)
+        alive[cells.owner[candidates]] = True
+        for axes, bound in tests:
+            which = np.flatnonzero(alive)
+            alive[which] = _some_below(cells, which, axes, bound)
+        candidates = candidates[alive[cells.owner[candidates]]]
+        # The survivors lie in the deepest cells: a sample of them may raise the floor (it
+        # keeps the direction that gave the floor: the screens are conservative). One round:
+        # a second and third screen of the cells removed few directions (the cells, not the
+        # floor, limit it near the maximum) and cost more than the exact screen they spared.
+        sample = candidates[:: max(1, len(candidates) // FREE_SAMPLE)]
+        raised = float(_free_depth(sets, dirs[sample], geometry).max(initial=-np.inf))
+        if raised > floor:
             floor = raised
-        else:
             tests = [_depth_test(ratio, axes, radius, floor) for ratio, axes, radius in geometry]
         # Fewest facets first: the first case meets every surviving direction.
         for axes, bound in sorted(tests, key=lambda test: len(test[0])):
