@@ -1,6 +1,7 @@
 """One colour language across the pictures (issue 22): every colour is written once, in
-``kcheck/pictures/colours.py``; no picture module writes a colour of its own, and the legend
-picture renders the language with its meanings."""
+``kcheck/pictures/colours.py``; no picture module (nor a script drawing the docs' figures,
+``docs/figures/*.py``) writes a colour of its own, and the legend picture renders the language
+with its meanings."""
 
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ PICTURE_MODULES = sorted(
     [
         *(ROOT / "plugins/kcheck_checks/pictures").glob("*.py"),
         *(ROOT / "kcheck/pictures").glob("*.py"),
+        *(ROOT / "docs/figures").glob("*.py"),
     ]
 )
 PALETTE = ROOT / "kcheck/pictures/colours.py"
@@ -87,6 +89,7 @@ def test_the_detector_finds_colours(tmp_path: Path) -> None:
 
 
 def test_no_picture_module_writes_a_colour() -> None:
+    assert ROOT / "docs/figures/tool_changer.py" in PICTURE_MODULES  # the docs' figures too
     names = _colour_names()
     offenders = {
         path.relative_to(ROOT).as_posix(): literals
