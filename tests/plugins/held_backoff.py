@@ -14,6 +14,7 @@ Run (niced; the whole in-sample set takes minutes of CPU)::
     PYTHONPATH=.:plugins nice -n 10 python -m tests.plugins.held_backoff sample
     PYTHONPATH=.:plugins nice -n 10 python -m tests.plugins.held_backoff 27
     PYTHONPATH=.:plugins nice -n 10 python -m tests.plugins.held_backoff 28 0.175 0.25  # times, s
+    PYTHONPATH=.:plugins nice -n 10 python -m tests.plugins.held_backoff sample half 0.1 0.2
 """
 
 from __future__ import annotations
@@ -71,15 +72,21 @@ class HeldCase:
     from_seat: tuple[str, ...] = ()
 
 
+#: The time step's divisor for a convergence set (``half`` on the command line: 2).
+STEP_DIVISOR = [1]
+
+
 def back_off_settings(seconds: float) -> ReseatSettings:
     """The first-motion run's settings with the support backing off over ``seconds`` (the
     phase at least twice as long, as the check's options require: RESEAT_BACKOFF_SHARE)."""
     if seconds == 0.0:
-        return FIRST_MOTION
-    duration = max(ReseatSettings().duration, seconds / RESEAT_BACKOFF_SHARE)
-    return first_motion_settings(
-        replace(ReseatSettings(), retraction_time=seconds, duration=duration)
-    )
+        settings = FIRST_MOTION
+    else:
+        duration = max(ReseatSettings().duration, seconds / RESEAT_BACKOFF_SHARE)
+        settings = first_motion_settings(
+            replace(ReseatSettings(), retraction_time=seconds, duration=duration)
+        )
+    return replace(settings, time_step=settings.time_step / STEP_DIVISOR[0])
 
 
 def held_from_seat(run: ReseatRun, scene: Scene, mass: MassProperties, seconds: float) -> bool:
@@ -128,7 +135,7 @@ def held_uniquely(path: Path, times: Sequence[float] = BACK_OFFS) -> Iterator[He
         may_hold = bool(result.details.get("friction_may_hold"))
         if may_hold or held_alternatives(scene, mass, [(r, jams.cases[r].keep)])[r] is not None:
             continue
-        jump = simulate(scene, mass, r, mu, FIRST_MOTION, returns=False)
+        jump = simulate(scene, mass, r, mu, FIRST_MOTION, returns=False)  # selects the cases
         c = Compared(
             path.name,
             result.retracted,
@@ -145,7 +152,9 @@ def held_uniquely(path: Path, times: Sequence[float] = BACK_OFFS) -> Iterator[He
         if premise(c) is not None:
             continue
         runs = [
-            jump if t == 0.0 else simulate(scene, mass, r, mu, back_off_settings(t), returns=False)
+            jump
+            if t == 0.0 and STEP_DIVISOR[0] == 1
+            else simulate(scene, mass, r, mu, back_off_settings(t), returns=False)
             for t in times
         ]
         yield HeldCase(
@@ -169,6 +178,10 @@ def scenes(which: str, folder: Path) -> list[Path]:
 
 def main(argv: Sequence[str]) -> None:
     which = argv[0]
+    if argv[1:2] == ["half"]:  # the same cases at half the first-motion time step
+        STEP_DIVISOR[0] = 2
+        argv = [which, *argv[2:]]
+    label = which if STEP_DIVISOR[0] == 1 else f"{which} (half step)"
     times = tuple(float(t) for t in argv[1:]) or BACK_OFFS
     rows: list[HeldCase] = []
     with tempfile.TemporaryDirectory() as d:
@@ -184,7 +197,7 @@ def main(argv: Sequence[str]) -> None:
         agree = sum(r.simulated[i] == r.analytical for r in rows)
         seat = [f"{r.scene} {r.retracted}" for r in rows if r.from_seat[i] != "jams"]
         print(
-            f"{which} back-off {t * 1e3:g} ms: held uniquely {len(rows)}, stay held {held}, "
+            f"{label} back-off {t * 1e3:g} ms: held uniquely {len(rows)}, stay held {held}, "
             f"first motion = analytical class {agree}; moving: {moving}; "
             f"read from the seat, held {len(rows) - len(seat)}, moving: {seat}",
             flush=True,
