@@ -537,8 +537,9 @@ RESEAT_BACKOFF_SHARE: float = 0.5
 #: share of the retraction distance while the support backs off has followed or left it
 #: (nondimensional; a follower moves the whole retraction with the support). A held body moves
 #: only by soft-friction creep, which the first-motion window would otherwise add up over the
-#: whole back-off: up to 42 µm/s measured (random-2d-6567 s1, seed 27), 42 µm in a 1 s back-off
-#: against the 50 µm here (docs/validation.md, "Held uniquely, a reading for slow back-offs").
+#: whole back-off: up to 42 µm/s measured at the first-motion step (random-2d-6567 s1, seed 27;
+#: about 70 µm/s as the step shrinks), 42 µm in a 1 s back-off against the 50 µm here
+#: (docs/validation.md, "Held uniquely, a reading for slow back-offs").
 RESEAT_BACKOFF_MOTION_SHARE: float = 0.5
 
 #: A remaining support that is open and carries less than this share of the normal force over

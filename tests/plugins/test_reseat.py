@@ -378,13 +378,14 @@ HELD_MOVING_BOUND = {
 #: required a motion).
 HELD_UNIQUELY_MOVING = 1
 #: The ends of the back-off window (s, retraction_time_ms) in which every held-uniquely case
-#: stays held, measured at 50, 100, 200, 500 and 1000 ms in and out of sample
+#: stays held at the first-motion step, measured at 50 ms to 1 s in and out of sample
 #: (docs/validation.md, "Held uniquely, a reading for slow back-offs"). Below, random-3d-1667
 #: s1's 0.05 um seat overlap is released within about one contact time constant (0.014 x the
 #: back-off) and the ringing contacts walk the body off (it moves at 20 ms, holds from 25 ms;
 #: at half the first-motion step it moves up to 150 ms: this end is the soft model's);
 #: above, random-2d-6567 s1 (seed 27) creeps 42 um/s on its two contacts, which passes the
-#: 50 um the body may move while the support backs off (RESEAT_BACKOFF_MOTION_SHARE) at 1.2 s.
+#: 50 um the body may move while the support backs off (RESEAT_BACKOFF_MOTION_SHARE) at 1.2 s
+#: (its creep grows to about 70 um/s as the step shrinks: this end too is the soft model's).
 HELD_BACK_OFFS_S = (0.05, 1.0)
 
 
