@@ -1,6 +1,8 @@
 """Held uniquely, slow back-off: do the compared cases `jamming` says friction holds uniquely
 stay held when the retracted support backs off slowly (option ``retraction_time_ms``, a
-half-cosine) instead of jumping? (docs/validation.md, "Held uniquely, slow back-off".)
+half-cosine) instead of jumping? (docs/validation.md, "Held uniquely, slow back-off" and
+"Held uniquely, a reading for slow back-offs": each run is also read as before that reading,
+``from_seat``.)
 
 The cases are selected as the agreement test selects them (tests/plugins/test_reseat.py:
 ``premise`` on the jump's first-motion run, ``held_at`` and ``held_alternatives`` as in
