@@ -10,6 +10,12 @@ test's (first_motion_settings: 50 ms phase, 0.5 ms contacts, 0.05 ms step, nosli
 return) paired with the agreement run it replaced (2 ms contacts, no noslip, with the
 return). Scenes: the Appendix A block (planar, 3 supports) and the Maxwell three-vee
 (spatial, 6 supports). Run from the project's root.
+
+``python benchmarks/bench_reseat.py back-off``: the cost of moving a backing-off support at
+every step (``retraction_time_ms``; Python sets its position before each step of the back-off)
+against the jump, paired and interleaved: one case at the defaults with the longest back-off a
+0.5 s phase allows (250 ms), and one first-motion run (first_motion_settings, 0.05 ms step)
+with a 200 ms back-off.
 """
 
 from __future__ import annotations
@@ -75,5 +81,46 @@ def main() -> None:
         )
 
 
+def paired(
+    one: Callable[[], object], other: Callable[[], object], repeats: int
+) -> tuple[float, float]:
+    """Median CPU seconds of ``one`` and ``other``, interleaved, after one warm-up of each."""
+    one(), other()
+    a, b = [], []
+    for _ in range(repeats):
+        for work, times in ((one, a), (other, b)):
+            start = time.process_time()
+            work()
+            times.append(time.process_time() - start)
+    return statistics.median(a), statistics.median(b)
+
+
+def back_off() -> None:
+    """Print the back-off rows (docs/performance.md): jump, back-off, ratio."""
+    settings = settings_of(ReseatOptions())
+    runs = (
+        ("1 s simulated, 250 ms back-off", settings, 0.25, True),
+        ("first motion, 200 ms back-off", first_motion_settings(settings), 0.2, False),
+    )
+    for folder, name, _ in SCENES:
+        scene = load_scene(ROOT / "fixtures" / folder / name)
+        assert scene.body is not None
+        mass = body_mass_properties(scene.body, scene.scale)
+        mu = scene.friction_range("kinetic")[1]
+        for what, jump, seconds, returns in runs:
+            slow = dataclasses.replace(jump, retraction_time=seconds)
+            if not returns:  # the first-motion run's window opens when the back-off ends
+                slow = first_motion_settings(
+                    dataclasses.replace(settings, retraction_time=seconds, duration=2 * seconds)
+                )
+                jump = dataclasses.replace(slow, retraction_time=0.0)
+            a, b = paired(
+                lambda s=scene, m=mass, f=mu, j=jump, r=returns: simulate(s, m, 0, f, j, returns=r),
+                lambda s=scene, m=mass, f=mu, w=slow, r=returns: simulate(s, m, 0, f, w, returns=r),
+                5,
+            )
+            print(f"| {folder} | {what} | {1e3 * a:.0f} ms | {1e3 * b:.0f} ms | {b / a:.2f} |")
+
+
 if __name__ == "__main__":
-    main()
+    back_off() if sys.argv[1:] == ["back-off"] else main()

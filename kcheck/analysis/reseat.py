@@ -25,6 +25,7 @@ from dataclasses import field
 import numpy as np
 
 from kcheck.numerics.thresholds import (
+    RESEAT_BACKOFF_MOTION_SHARE,
     RESEAT_JAM_FACTOR,
     RESEAT_LOST_SHARE,
     RESEAT_RELEASE_TIME_CONSTANTS,
@@ -335,20 +336,32 @@ def simulate(
         start: np.ndarray | None = None,
         end: np.ndarray | None = None,
         over: float = 0.0,
+        every_step: bool = False,
     ) -> None:
         """``steps`` steps from ``t0``; with ``start`` and ``end`` the retracted support moves
-        between them on a half-cosine over ``over`` seconds."""
+        between them on a half-cosine over ``over`` seconds, once per stored sample, or with
+        ``every_step`` at every step until it gets there (a slow back-off: a staircase of one
+        move per sample releases a seat's µm-small overlap in sudden steps)."""
+
+        def place(share: float) -> None:
+            assert start is not None and end is not None
+            data.mocap_pos[retracted] = start + (end - start) * 0.5 * (
+                1 - math.cos(math.pi * share)
+            )
+
         done = 0
         while done < steps:
             n = min(chunk, steps - done)
             t = t0 + done * dt
             if start is not None and end is not None:
-                share = min(1.0, (done * dt) / over) if over > 0 else 1.0
-                data.mocap_pos[retracted] = start + (end - start) * 0.5 * (
-                    1 - math.cos(math.pi * share)
-                )
+                place(min(1.0, (done * dt) / over) if over > 0 else 1.0)
             data.xfrc_applied[body] = _wrench(scene, data.xipos[body], load_scale(t))
-            mujoco.mj_step(model, data, n)
+            if every_step and over > 0 and done * dt < over:
+                for j in range(n):
+                    place(min(1.0, ((done + j) * dt) / over))
+                    mujoco.mj_step(model, data)
+            else:
+                mujoco.mj_step(model, data, n)
             done += n
             sample(t0 + done * dt)
 
@@ -386,7 +399,7 @@ def simulate(
     if settings.retraction_time > 0:
         sample(0.0)
         start = len(rows) - 1
-        run(n_phase, 0.0, seats[retracted], backed, settings.retraction_time)
+        run(n_phase, 0.0, seats[retracted], backed, settings.retraction_time, every_step=True)
     else:
         data.mocap_pos[retracted] = backed
         mujoco.mj_forward(model, data)
@@ -510,22 +523,34 @@ def first_motion_end(
     time: np.ndarray, contact: np.ndarray, settings: ReseatSettings, accel: float
 ) -> int | None:
     """Index of phase 1's sample the first motion is read at, or None when friction holds the
-    body (see :func:`first_motion`)."""
+    body (see :func:`first_motion`).
+
+    The body moves when, within RESEAT_JAM_FACTOR free-body times after the support has got
+    to its backed-off place, a contact point moves RESEAT_WINDOW_SHARE of the retraction from
+    where it was then; or, with a slow back-off, when a contact point moves
+    RESEAT_BACKOFF_MOTION_SHARE of it from the seat while the support backs off (it follows or
+    leaves the support). The creep of a held body during the back-off is not counted against
+    the window's distance. The jump (no back-off) reads the window from the seat alone."""
     reach = RESEAT_WINDOW_SHARE * settings.retraction
-    # A support backing off over retraction_time releases the body that much later.
     limit = RESEAT_JAM_FACTOR * math.sqrt(2 * reach / max(accel, 1e-300))
-    limit += settings.retraction_time
-    moved = np.max(np.linalg.norm(contact - contact[0], axis=2), axis=1)
-    inside = np.nonzero((moved >= reach) & (time - time[0] <= limit))[0]
+    elapsed = time - time[0]
+    backed = settings.retraction_time
+    # The first sample once the support has backed off (0 for the jump).
+    b = min(int(np.searchsorted(elapsed, backed * (1 - 1e-9))), len(time) - 1) if backed else 0
+    after = np.max(np.linalg.norm(contact[b:] - contact[b], axis=2), axis=1)
+    inside = b + np.nonzero((after >= reach) & (elapsed[b:] - elapsed[b] <= limit))[0]
+    if backed > 0:
+        during = np.max(np.linalg.norm(contact[: b + 1] - contact[0], axis=2), axis=1)
+        if float(during.max()) >= RESEAT_BACKOFF_MOTION_SHARE * settings.retraction:
+            # Followed or left: read from the seat, where the motion passed the window's distance.
+            inside = np.nonzero(during >= reach)[0]
     if len(inside) == 0:
         return None
     # A contact the rigid motion unloads at once comes out of its seated overlap only as the
     # body moves: the class is read no earlier than RESEAT_RELEASE_TIME_CONSTANTS after the
     # release (the support's back-off included).
-    release = settings.retraction_time + RESEAT_RELEASE_TIME_CONSTANTS * settings.time_constant
-    return max(
-        int(inside[0]), int(np.searchsorted(time - time[0], min(release, time[-1] - time[0])))
-    )
+    release = backed + RESEAT_RELEASE_TIME_CONSTANTS * settings.time_constant
+    return max(int(inside[0]), int(np.searchsorted(elapsed, min(release, elapsed[-1]))))
 
 
 def kept_contacts(forces: np.ndarray, end: int) -> np.ndarray:

@@ -115,6 +115,7 @@ __all__ = [
     "RESEAT_JAM_FACTOR",
     "RESEAT_RELEASE_TIME_CONSTANTS",
     "RESEAT_BACKOFF_SHARE",
+    "RESEAT_BACKOFF_MOTION_SHARE",
     "RESEAT_LOST_SHARE",
     "RESEAT_STICK_SHARE",
     "RESEAT_ESTIMATE_FACTOR",
@@ -532,6 +533,14 @@ RESEAT_RELEASE_TIME_CONSTANTS: float = 8.0
 #: (``duration_s``; nondimensional): the body needs the rest of phase 1 to move, so its first
 #: motion is read and the support returns only once the back-off is over.
 RESEAT_BACKOFF_SHARE: float = 0.5
+#: reseat, a slow back-off (``retraction_time_ms`` > 0): a body whose contact points move this
+#: share of the retraction distance while the support backs off has followed or left it
+#: (nondimensional; a follower moves the whole retraction with the support). A held body moves
+#: only by soft-friction creep, which the first-motion window would otherwise add up over the
+#: whole back-off: up to 42 µm/s measured at the first-motion step (random-2d-6567 s1, seed 27;
+#: about 70 µm/s as the step shrinks), 42 µm in a 1 s back-off against the 50 µm here
+#: (docs/validation.md, "Held uniquely, a reading for slow back-offs").
+RESEAT_BACKOFF_MOTION_SHARE: float = 0.5
 
 #: A remaining support that is open and carries less than this share of the normal force over
 #: the window's second half has lost contact (nondimensional); judged by force, because a kept

@@ -333,15 +333,17 @@ def test_first_motion_agrees_with_the_analytical_outcome(tmp_path: Path) -> None
     # held; 81 of 81 and 91 of 91 on seeds 27 and 28, docs/validation.md).
     assert sum(c.simulated == "jams" for c in uniquely) >= len(uniquely) - HELD_UNIQUELY_MOVING
     # The static claim tested by a quasi-static withdrawal: with the support backing off over
-    # HELD_BACK_OFF_S every held-uniquely case stays held (measured 125 of 125, 81 of 81 and 91
-    # of 91 on seeds 26, 27 and 28; docs/validation.md, "Held uniquely, slow back-off").
+    # either end of HELD_BACK_OFFS_S every held-uniquely case stays held (measured 125 of 125,
+    # 81 of 81 and 91 of 91 on seeds 26, 27 and 28 at every back-off from 50 ms to 1 s;
+    # docs/validation.md, "Held uniquely, a reading for slow back-offs").
     by_name = Counter(p.name for p in paths)
     path_of = {p.name: p for p in paths}
     assert all(by_name[c.scene] == 1 for c in uniquely)  # each case's scene file is known
     moving_slowly = [
-        (c.scene, c.retracted, simulated)
+        (c.scene, c.retracted, seconds, simulated)
+        for seconds in HELD_BACK_OFFS_S
         for c in uniquely
-        if (simulated := back_off_class(path_of[c.scene], c.retracted, HELD_BACK_OFF_S)) != "jams"
+        if (simulated := back_off_class(path_of[c.scene], c.retracted, seconds)) != "jams"
     ]
     assert not moving_slowly
     # No disagreement is unexplained.
@@ -375,11 +377,16 @@ HELD_MOVING_BOUND = {
 #: stiffness; its recorded rigid_motion was rest on the contacts kept before rigid_motion
 #: required a motion).
 HELD_UNIQUELY_MOVING = 1
-#: The back-off (s, retraction_time_ms) at which every held-uniquely case stays held: at 5-100 ms
-#: random-3d-1667 s1's seat (0.05 um of elastic overlap) is still released within about one
-#: contact time constant and the body walks off, and random-2d-5632 s1 creeps at 50 and 100 ms
-#: at the first-motion time step (held at half of it); docs/validation.md.
-HELD_BACK_OFF_S = 0.2
+#: The ends of the back-off window (s, retraction_time_ms) in which every held-uniquely case
+#: stays held at the first-motion step, measured at 50 ms to 1 s in and out of sample
+#: (docs/validation.md, "Held uniquely, a reading for slow back-offs"). Below, random-3d-1667
+#: s1's 0.05 um seat overlap is released within about one contact time constant (0.014 x the
+#: back-off) and the ringing contacts walk the body off (it moves at 20 ms, holds from 25 ms;
+#: at half the first-motion step it moves up to 150 ms: this end is the soft model's);
+#: above, random-2d-6567 s1 (seed 27) creeps 42 um/s on its two contacts, which passes the
+#: 50 um the body may move while the support backs off (RESEAT_BACKOFF_MOTION_SHARE) at 1.2 s
+#: (its creep grows to about 70 um/s as the step shrinks: this end too is the soft model's).
+HELD_BACK_OFFS_S = (0.05, 1.0)
 
 
 def premise(c: Compared) -> str | None:
