@@ -333,7 +333,7 @@ def test_first_motion_agrees_with_the_analytical_outcome(tmp_path: Path) -> None
     # held; 81 of 81 and 91 of 91 on seeds 27 and 28, docs/validation.md).
     assert sum(c.simulated == "jams" for c in uniquely) >= len(uniquely) - HELD_UNIQUELY_MOVING
     # The static claim tested by a quasi-static withdrawal: with the support backing off over
-    # either end of HELD_BACK_OFFS_S every held-uniquely case stays held (measured 125 of 125,
+    # each of HELD_BACK_OFFS_S every held-uniquely case stays held (measured 125 of 125,
     # 81 of 81 and 91 of 91 on seeds 26, 27 and 28 at every back-off from 50 ms to 1 s;
     # docs/validation.md, "Held uniquely, a reading for slow back-offs").
     by_name = Counter(p.name for p in paths)
@@ -377,16 +377,18 @@ HELD_MOVING_BOUND = {
 #: stiffness; its recorded rigid_motion was rest on the contacts kept before rigid_motion
 #: required a motion).
 HELD_UNIQUELY_MOVING = 1
-#: The ends of the back-off window (s, retraction_time_ms) in which every held-uniquely case
-#: stays held at the first-motion step, measured at 50 ms to 1 s in and out of sample
-#: (docs/validation.md, "Held uniquely, a reading for slow back-offs"). Below, random-3d-1667
-#: s1's 0.05 um seat overlap is released within about one contact time constant (0.014 x the
-#: back-off) and the ringing contacts walk the body off (it moves at 20 ms, holds from 25 ms;
-#: at half the first-motion step it moves up to 150 ms: this end is the soft model's);
-#: above, random-2d-6567 s1 (seed 27) creeps 42 um/s on its two contacts, which passes the
-#: 50 um the body may move while the support backs off (RESEAT_BACKOFF_MOTION_SHARE) at 1.2 s
-#: (its creep grows to about 70 um/s as the step shrinks: this end too is the soft model's).
-HELD_BACK_OFFS_S = (0.05, 1.0)
+#: Back-offs (s, retraction_time_ms) at which every held-uniquely case stays held: the
+#: recommended 250 ms and 500 ms, inside the part of the window that holds at the check's
+#: first-motion step and at half of it (200 ms to about 0.7 s; docs/validation.md, "Held
+#: uniquely, a reading for slow back-offs"). At the check's step the window is 50 ms to 1 s,
+#: but both of its ends are the soft model's and move with the time step (so, likely, with
+#: MuJoCo's build): below, random-3d-1667 s1's 0.05 um seat overlap is released within about
+#: one contact time constant (0.014 x the back-off) and the ringing contacts walk the body off
+#: (it moves at 20 ms at the check's step, up to 150 ms at half of it); above,
+#: random-2d-6567 s1 (seed 27) creeps 42-70 um/s (growing as the step shrinks) and passes the
+#: 50 um the body may move while the support backs off (RESEAT_BACKOFF_MOTION_SHARE) at
+#: 0.7-1.2 s. The test pins the robust middle, not those ends.
+HELD_BACK_OFFS_S = (0.25, 0.5)
 
 
 def premise(c: Compared) -> str | None:
