@@ -261,6 +261,16 @@ class _Pool(Generic[T, R]):
 
     def close(self) -> None:
         for worker in list(self.workers):
+            if worker.ending and worker.held is None:
+                # Told to end with its last chunk, whose results are read: it exits by itself
+                # and writes nothing more. Not waited for here (issue 24: a one-scene run
+                # waited about 1 ms for the worker's address space to be torn down); reaped
+                # now if it has exited, else by the next pool (_reap_exited).
+                for fd in (worker.tasks, worker.results):
+                    os.close(fd)
+                self.workers.remove(worker)
+                _EXITING.append(worker.pid)
+                continue
             if worker.ending:  # told already; it may be gone (no write to a pipe without reader)
                 continue
             try:
@@ -284,6 +294,30 @@ class _Pool(Generic[T, R]):
     def kill_all(self) -> None:
         for worker in list(self.workers):
             self.retire(worker, kill=True)
+
+
+#: Workers that were told to end and whose results were all read, not yet reaped (pids).
+_EXITING: list[int] = []
+
+
+def _reap_exited(wait: bool) -> None:
+    """Reap the workers of :data:`_EXITING` that have exited (``wait``: all of them, each
+    given 5 s to end, then killed). Such a worker has only to read its end message and exit."""
+    for pid in list(_EXITING):
+        try:
+            if wait:
+                deadline = time.monotonic() + 5.0
+                while os.waitpid(pid, os.WNOHANG) == (0, 0):
+                    if time.monotonic() > deadline:
+                        os.kill(pid, signal.SIGKILL)
+                        os.waitpid(pid, 0)
+                        break
+                    time.sleep(0.001)
+            elif os.waitpid(pid, os.WNOHANG) == (0, 0):
+                continue  # still exiting
+        except ChildProcessError:
+            pass  # reaped by someone else (a caller's os.wait)
+        _EXITING.remove(pid)
 
 
 #: How often ``tick`` is called while the parent waits for workers, s.
@@ -340,6 +374,7 @@ def run_chunks_in_workers(
     chunk ran out of time the remaining tasks go one at a time (tasks that slow gain nothing
     from chunks, and each such chunk would cost its budget twice).
     """
+    _reap_exited(wait=True)  # the last run's ended workers: gone long since
     pool: _Pool[Sequence[T], Sequence[R]] = _Pool(work, budget)
     pending: list[tuple[int, ...]] = chunks_of(len(tasks), chunk)
     pending.reverse()  # popped from the end
@@ -461,5 +496,6 @@ def run_chunks_in_workers(
                     break
                 assign(worker)
         pool.close()
+        _reap_exited(wait=False)
     finally:
         pool.kill_all()
