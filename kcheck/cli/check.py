@@ -397,7 +397,9 @@ def _check(args: argparse.Namespace, temporary: list[Path], collecting: bool) ->
                 sample_map=samples,
             )
             doing = "checking" + (", plotting" if plots is not None else "")
-            ticks: list[Callable[[], None]] = []  # the progress line's, once it is shown
+            # The progress line's, once it is shown; first, while the first scenes run in
+            # workers, what this process will need for their results.
+            ticks: list[Callable[[], None]] = [_Once(_warm_up)]
             _started(collecting)
             batch = run_batch(files, checks, settings, tick=lambda: _each(ticks))
             batch = (accept(r, stdin) for r in batch)
@@ -621,6 +623,29 @@ def _refuse_shared_outputs(
 def _each(calls: Sequence[Callable[[], None]]) -> None:
     for call in calls:
         call()
+
+
+class _Once:
+    """A call made the first time only."""
+
+    def __init__(self, call: Callable[[], None]) -> None:
+        self.call: Callable[[], None] | None = call
+
+    def __call__(self) -> None:
+        call, self.call = self.call, None
+        if call is not None:
+            call()
+
+
+def _warm_up() -> None:
+    """What this process does with the scenes' results, prepared while the first scenes run
+    in workers (the pool's first wait, on another core) instead of after them (issue 24: a
+    one-scene run's wall time). Changes nothing: the classes' ``__init__`` written at their
+    first instance anyway (:mod:`kcheck.records`), in this process for the slimmed results."""
+    from kcheck.result import CheckResult, SceneResult
+
+    for cls in (SceneResult, CheckResult):
+        cls.__init__  # noqa: B018 - reading it writes it (kcheck.records)
 
 
 def _cores() -> int:
