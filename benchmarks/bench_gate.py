@@ -28,6 +28,7 @@ from __future__ import annotations
 import argparse
 import os
 import platform
+import resource
 import shutil
 import statistics
 import subprocess
@@ -61,7 +62,7 @@ load:
 """
 
 
-def _adopt_orphans() -> bool:
+def adopt_orphans() -> bool:
     """Make this process the reaper of its descendants' orphans (Linux): kcheck's last worker
     ends by itself after the run, not waited for (kcheck.gate.pool), so its CPU is counted
     only by whoever reaps it. False where that cannot be had."""
@@ -80,7 +81,7 @@ def _adopt_orphans() -> bool:
 _ADOPTING: bool | None = None
 
 
-def _children() -> set[int]:
+def children() -> set[int]:
     """This process's children (Linux ``/proc``; empty elsewhere)."""
     try:
         text = Path(f"/proc/self/task/{os.getpid()}/children").read_text()
@@ -89,11 +90,22 @@ def _children() -> set[int]:
     return {int(pid) for pid in text.split()}
 
 
+def reap_orphans(before: set[int], usage: resource.struct_rusage) -> tuple[float, int]:
+    """CPU s and peak RSS (KiB) of a finished process (``usage``, from ``os.wait4``) with the
+    orphans it left that this process adopted (:func:`adopt_orphans`; ``before``: this
+    process's children before it started), each waited for as it ends."""
+    cpu, rss = usage.ru_utime + usage.ru_stime, usage.ru_maxrss
+    for pid in children() - before:
+        _, _, left = os.wait4(pid, 0)
+        cpu, rss = cpu + left.ru_utime + left.ru_stime, max(rss, left.ru_maxrss)
+    return cpu, rss
+
+
 def run(cmd: list[str], env: dict[str, str] | None = None) -> tuple[float, float, float, int]:
     """Wall s (until the process ends), CPU s (user + sys of the process and every
     descendant, those it left to end by themselves included), peak RSS MiB, exit code."""
-    adopting = _adopt_orphans()
-    before = _children()
+    adopt_orphans()
+    before = children()
     start = time.perf_counter()
     proc = subprocess.Popen(
         cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env or dict(ENV)
@@ -104,10 +116,7 @@ def run(cmd: list[str], env: dict[str, str] | None = None) -> tuple[float, float
     # wait4 reports the process with its waited-for descendants (kcheck's workers): CPU
     # summed, ru_maxrss the largest single process. Descendants it did not wait for are this
     # process's children now (orphans adopted): their CPU is added as they end.
-    cpu, rss = usage.ru_utime + usage.ru_stime, usage.ru_maxrss
-    for pid in _children() - before - {proc.pid} if adopting else ():
-        _, _, left = os.wait4(pid, 0)
-        cpu, rss = cpu + left.ru_utime + left.ru_stime, max(rss, left.ru_maxrss)
+    cpu, rss = reap_orphans(before, usage)
     return wall, cpu, rss / 1024, proc.returncode
 
 

@@ -115,7 +115,7 @@ main_s = T() - start
 sys.stdout = stdout
 # The last worker ends by itself, not waited for (kcheck.gate.pool): reaped here, so that its
 # CPU is in RUSAGE_CHILDREN (a kcheck that waits for it has none left).
-reap = getattr(sys.modules.get("kcheck.gate.pool"), "_reap_exited", None)
+reap = getattr(sys.modules.get("kcheck.gate.pool"), "reap_exited", None)
 if reap is not None:
     reap(wait=True)
 child = resource.getrusage(resource.RUSAGE_CHILDREN)

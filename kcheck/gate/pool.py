@@ -37,6 +37,7 @@ __all__ = [
     "run_chunks_in_workers",
     "chunks_of",
     "resident_bytes",
+    "reap_exited",
     "RECYCLE_RSS_BYTES",
 ]
 
@@ -275,7 +276,7 @@ class _Pool(Generic[T, R]):
                 # Told to end with its last chunk, whose results are read: it exits by itself
                 # and writes nothing more. Not waited for here (issue 24: a one-scene run
                 # waited about 1 ms for the worker's address space to be torn down); reaped
-                # now if it has exited, else by the next pool (_reap_exited).
+                # now if it has exited, else by the next pool (reap_exited).
                 for fd in (worker.tasks, worker.results):
                     os.close(fd)
                 self.workers.remove(worker)
@@ -310,9 +311,11 @@ class _Pool(Generic[T, R]):
 _EXITING: list[int] = []
 
 
-def _reap_exited(wait: bool) -> None:
-    """Reap the workers of :data:`_EXITING` that have exited (``wait``: all of them, each
-    given 5 s to end, then killed). Such a worker has only to read its end message and exit."""
+def reap_exited(wait: bool = True) -> None:
+    """Reap the workers that ended with their last chunk and were not waited for (each run
+    reaps the earlier runs'): those that have exited, or (``wait``) all of them, each given
+    5 s to end, then killed. Such a worker has only to read its end message and exit. For a
+    caller about to read ``RUSAGE_CHILDREN`` (a benchmark) or to leave no zombie behind."""
     for pid in list(_EXITING):
         try:
             if wait:
@@ -384,7 +387,7 @@ def run_chunks_in_workers(
     chunk ran out of time the remaining tasks go one at a time (tasks that slow gain nothing
     from chunks, and each such chunk would cost its budget twice).
     """
-    _reap_exited(wait=True)  # the last run's ended workers: gone long since
+    reap_exited(wait=True)  # the last run's ended workers: gone long since
     pool: _Pool[Sequence[T], Sequence[R]] = _Pool(work, budget)
     pending: list[tuple[int, ...]] = chunks_of(len(tasks), chunk)
     pending.reverse()  # popped from the end
@@ -506,6 +509,6 @@ def run_chunks_in_workers(
                     break
                 assign(worker)
         pool.close()
-        _reap_exited(wait=False)
+        reap_exited(wait=False)
     finally:
         pool.kill_all()
