@@ -153,8 +153,11 @@ def _read(fd: int) -> object:
     return pickle.loads(body)
 
 
-def _child(tasks: int, results: int, work: Callable[[T], R], budget: Budget) -> None:
-    """The worker's loop; never returns."""
+def _child(
+    tasks: int, results: int, work: Callable[[T], R], budget: Budget, first: object = None
+) -> None:
+    """The worker's loop, starting with ``first`` (its first message, given at the fork;
+    None: read from ``tasks`` like the others); never returns."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     if budget.memory_bytes is not None:
         import resource
@@ -171,7 +174,7 @@ def _child(tasks: int, results: int, work: Callable[[T], R], budget: Budget) -> 
     try:
         while True:
             try:
-                message = _read(tasks)
+                message, first = first if first is not None else _read(tasks), None
             except EOFError:
                 break
             if message is None:
@@ -233,7 +236,10 @@ class _Pool(Generic[T, R]):
             # forked worker an import costs about three times as much: about 0.5 ms, issue 24).
             import resource  # noqa: F401
 
-    def spawn(self) -> _Worker[T]:
+    def spawn(self, first: object = None) -> _Worker[T]:
+        """A fresh worker; ``first``: its first task's message, which it starts on at once
+        (given through the fork: not written, read or unpickled, and not waiting for this
+        process's bookkeeping after the fork; issue 24)."""
         task_r, task_w = os.pipe()
         result_r, result_w = os.pipe()
         sys.stdout.flush()
@@ -245,7 +251,7 @@ class _Pool(Generic[T, R]):
                     os.close(fd)
             os.close(task_w)
             os.close(result_r)
-            _child(task_r, result_w, self.work, self.budget)
+            _child(task_r, result_w, self.work, self.budget, first)
         os.close(task_r)
         os.close(result_w)
         worker: _Worker[T] = _Worker(pid, task_w, result_r)
@@ -394,27 +400,33 @@ def run_chunks_in_workers(
     done: dict[int, R | BudgetExceeded] = {}
     next_out = 0
 
-    def assign(worker: _Worker[Sequence[T]]) -> None:
+    def assign(worker: _Worker[Sequence[T]] | None) -> None:
+        """Give the next pending chunk to ``worker``, or (None) to a fresh worker forked
+        with it."""
         if not pending:
-            worker.held = None
+            if worker is not None:
+                worker.held = None
             return
-        if worker.ending:  # it ends after its last chunk: a fresh one takes the rest
-            worker.held = None
+        if worker is not None and worker.ending:  # it ends after its last chunk: a fresh
+            worker.held = None  # one takes the rest
             pool.retire(worker, kill=False)
-            worker = pool.spawn()
+            worker = None
         indices = pending[-1]
-        try:
-            _write(worker.tasks, (indices[0], [tasks[i] for i in indices]))
-        except OSError:  # the worker died while idle: replace it, the chunk waits
-            worker.held = None
-            pool.retire(worker, kill=True)
-            assign(pool.spawn())
-            return
+        message = (indices[0], [tasks[i] for i in indices])
+        started = time.monotonic()
+        if worker is None:
+            worker = pool.spawn(message)
+        else:
+            try:
+                _write(worker.tasks, message)
+            except OSError:  # the worker died while idle: replace it, the chunk waits
+                worker.held = None
+                pool.retire(worker, kill=True)
+                assign(None)
+                return
         pending.pop()
         worker.held = indices
-        worker.deadline = (
-            float("inf") if budget.time_s is None else time.monotonic() + budget.time_s
-        )
+        worker.deadline = float("inf") if budget.time_s is None else started + budget.time_s
         if not pending:
             # The last chunk: the worker is told to end with it, so that it ends while this
             # process reads and reports its results instead of after (issue 24: a one-scene
@@ -444,11 +456,11 @@ def run_chunks_in_workers(
         worker.held = None
         pool.retire(worker, kill=True)
         if pending:
-            assign(pool.spawn())
+            assign(None)
 
     try:
         for _ in range(max(1, min(jobs, len(pending)))):
-            assign(pool.spawn())
+            assign(None)
         while next_out < len(tasks):
             while next_out in done:
                 yield done.pop(next_out)
@@ -458,7 +470,7 @@ def run_chunks_in_workers(
             busy = [w for w in pool.workers if w.held is not None]
             if not busy:  # tasks split after the last worker retired: start one
                 assert pending, "a task neither done, held nor pending"
-                assign(pool.spawn())
+                assign(None)
                 continue
             # At most an hour at a time: a deadline of 1e300 s overflows select's time_t.
             wait = min(min(w.deadline for w in busy) - time.monotonic(), MAX_WAIT_S)
@@ -483,7 +495,7 @@ def run_chunks_in_workers(
                         BudgetExceeded("died", f"the worker process checking it ended ({how})"),
                     )
                     if pending:
-                        assign(pool.spawn())
+                        assign(None)
                     continue
                 if status == "memory":
                     replace(worker, BudgetExceeded("memory", "it ran out of its memory budget"))
@@ -497,7 +509,7 @@ def run_chunks_in_workers(
                     worker.held = None
                     pool.retire(worker, kill=False)
                     if pending:
-                        assign(pool.spawn())
+                        assign(None)
                     continue
                 assign(worker)
             now = time.monotonic()
