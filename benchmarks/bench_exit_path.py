@@ -20,16 +20,19 @@ import tempfile
 import time
 from pathlib import Path
 
-from bench_gate import ENV, explicit_scene
+from bench_gate import ENV, adopt_orphans, children, explicit_scene, reap_orphans
 
 
 def timed(cmd: list[str], cwd: Path, stdout: int) -> tuple[float, float, int]:
-    """Wall s, CPU s (user + sys), exit code."""
+    """Wall s, CPU s (user + sys, kcheck's last worker included: bench_gate.reap_orphans),
+    exit code."""
+    adopt_orphans()
+    before = children()
     start = time.perf_counter()
     proc = subprocess.Popen(cmd, cwd=cwd, env=ENV, stdout=stdout, stderr=subprocess.DEVNULL)
     _, status, usage = os.wait4(proc.pid, 0)
     wall = time.perf_counter() - start
-    return wall, usage.ru_utime + usage.ru_stime, os.waitstatus_to_exitcode(status)
+    return wall, reap_orphans(before, usage)[0], os.waitstatus_to_exitcode(status)
 
 
 def main() -> None:

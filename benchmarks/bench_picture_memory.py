@@ -40,6 +40,7 @@ from kcheck.gate import pool
 pool.RECYCLE_RSS_BYTES = None if sys.argv[1] == "none" else int(sys.argv[1]) * 2**20
 from kcheck.cli import main
 code = main(sys.argv[2:])
+getattr(pool, "reap_exited", lambda: None)()  # the last workers, not waited for by main
 children = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
 parent = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 print(json.dumps({"code": int(code), "worker_kib": children, "parent_kib": parent}),

@@ -397,7 +397,9 @@ def _check(args: argparse.Namespace, temporary: list[Path], collecting: bool) ->
                 sample_map=samples,
             )
             doing = "checking" + (", plotting" if plots is not None else "")
-            ticks: list[Callable[[], None]] = []  # the progress line's, once it is shown
+            # The progress line's, once it is shown; first, while the first scenes run in
+            # workers, what this process will need for their results.
+            ticks: list[Callable[[], None]] = [_Once(_warm_up)]
             _started(collecting)
             batch = run_batch(files, checks, settings, tick=lambda: _each(ticks))
             batch = (accept(r, stdin) for r in batch)
@@ -452,11 +454,10 @@ def _acceptance(
     """What accepts failures (inline suppressions, per-path ignores, the baseline): a
     function from a scene's result to its result with accepted failures set aside, and the
     baseline with its root (None without ``--baseline``), to find its stale entries after."""
-    from kcheck.gate.suppress import Baseline, PathIgnores
-
     baseline = None
     root = None  # the repository root, for the baseline's keys
     if args.baseline is not None and args.write_baseline is None:
+        from kcheck.gate.suppress import Baseline
         from kcheck.report.sarif import source_root  # only then (its imports cost)
 
         root = source_root()
@@ -466,7 +467,11 @@ def _acceptance(
             from kcheck.errors import UsageError
 
             raise UsageError(f"--baseline {args.baseline}: {exc}") from exc
-    ignores = PathIgnores(config["per_path_ignores"], config.root)
+    ignores = None  # none configured: the same answers as an empty table's
+    if config["per_path_ignores"]:
+        from kcheck.gate.suppress import PathIgnores
+
+        ignores = PathIgnores(config["per_path_ignores"], config.root)
 
     def accept(result: SceneResult, stdin: tuple[Path, str] | None) -> SceneResult:
         from kcheck.gate.suppress import SuppressionError, apply, inline_suppressions
@@ -621,6 +626,32 @@ def _refuse_shared_outputs(
 def _each(calls: Sequence[Callable[[], None]]) -> None:
     for call in calls:
         call()
+
+
+class _Once:
+    """A call made the first time only."""
+
+    def __init__(self, call: Callable[[], None]) -> None:
+        self.call: Callable[[], None] | None = call
+
+    def __call__(self) -> None:
+        call, self.call = self.call, None
+        if call is not None:
+            call()
+
+
+def _warm_up() -> None:
+    """What this process does with the scenes' results, prepared while the first scenes run
+    in workers (the pool's first wait, on another core) instead of after them (issue 24: a
+    one-scene run's wall time). Changes nothing: the classes' ``__init__`` written at their
+    first instance anyway (:mod:`kcheck.records`), in this process for the slimmed results;
+    the module that accepts failures, imported before only when the configuration has
+    per-path ignores or a baseline is given."""
+    import kcheck.gate.suppress  # noqa: F401 - what accepts failures (_acceptance)
+    from kcheck.result import CheckResult, SceneResult
+
+    for cls in (SceneResult, CheckResult):
+        cls.__init__  # noqa: B018 - reading it writes it (kcheck.records)
 
 
 def _cores() -> int:

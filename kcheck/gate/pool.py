@@ -37,6 +37,7 @@ __all__ = [
     "run_chunks_in_workers",
     "chunks_of",
     "resident_bytes",
+    "reap_exited",
     "RECYCLE_RSS_BYTES",
 ]
 
@@ -48,6 +49,8 @@ _HEADER = struct.Struct("!Q")
 MAX_WAIT_S = 3600.0
 #: Address-space budgets from this size on set no limit (2**63 would overflow rlim_t).
 MAX_ADDRESS_SPACE = 2**62
+#: Past every file descriptor (:func:`os.closerange` closes them with one system call).
+MAX_DESCRIPTOR = 2**31 - 1
 
 
 def available() -> bool:
@@ -150,8 +153,11 @@ def _read(fd: int) -> object:
     return pickle.loads(body)
 
 
-def _child(tasks: int, results: int, work: Callable[[T], R], budget: Budget) -> None:
-    """The worker's loop; never returns."""
+def _child(
+    tasks: int, results: int, work: Callable[[T], R], budget: Budget, first: object = None
+) -> None:
+    """The worker's loop, starting with ``first`` (its first message, given at the fork;
+    None: read from ``tasks`` like the others); never returns."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     if budget.memory_bytes is not None:
         import resource
@@ -168,7 +174,7 @@ def _child(tasks: int, results: int, work: Callable[[T], R], budget: Budget) -> 
     try:
         while True:
             try:
-                message = _read(tasks)
+                message, first = first if first is not None else _read(tasks), None
             except EOFError:
                 break
             if message is None:
@@ -201,6 +207,10 @@ def _child(tasks: int, results: int, work: Callable[[T], R], budget: Budget) -> 
     except BaseException:  # noqa: BLE001 - a worker must exit, never unwind into the parent's code
         code = 70
     finally:
+        # Every descriptor closed before the exit, which tears the address space down first
+        # (about 1 ms): a reader of the output this worker shares with the parent (a pipe)
+        # sees its end when the parent ends, which does not wait for this teardown either.
+        os.closerange(0, MAX_DESCRIPTOR)
         os._exit(code)
 
 
@@ -221,8 +231,15 @@ class _Pool(Generic[T, R]):
         self.work = work
         self.budget = budget
         self.workers: list[_Worker[T]] = []
+        if budget.memory_bytes is not None:
+            # What each worker sets its budget with: imported here, before the forks (in a
+            # forked worker an import costs about three times as much: about 0.5 ms, issue 24).
+            import resource  # noqa: F401
 
-    def spawn(self) -> _Worker[T]:
+    def spawn(self, first: object = None) -> _Worker[T]:
+        """A fresh worker; ``first``: its first task's message, which it starts on at once
+        (given through the fork: not written, read or unpickled, and not waiting for this
+        process's bookkeeping after the fork; issue 24)."""
         task_r, task_w = os.pipe()
         result_r, result_w = os.pipe()
         sys.stdout.flush()
@@ -234,7 +251,7 @@ class _Pool(Generic[T, R]):
                     os.close(fd)
             os.close(task_w)
             os.close(result_r)
-            _child(task_r, result_w, self.work, self.budget)
+            _child(task_r, result_w, self.work, self.budget, first)
         os.close(task_r)
         os.close(result_w)
         worker: _Worker[T] = _Worker(pid, task_w, result_r)
@@ -261,6 +278,16 @@ class _Pool(Generic[T, R]):
 
     def close(self) -> None:
         for worker in list(self.workers):
+            if worker.ending and worker.held is None:
+                # Told to end with its last chunk, whose results are read: it exits by itself
+                # and writes nothing more. Not waited for here (issue 24: a one-scene run
+                # waited about 1 ms for the worker's address space to be torn down); reaped
+                # now if it has exited, else by the next pool (reap_exited).
+                for fd in (worker.tasks, worker.results):
+                    os.close(fd)
+                self.workers.remove(worker)
+                _EXITING.append(worker.pid)
+                continue
             if worker.ending:  # told already; it may be gone (no write to a pipe without reader)
                 continue
             try:
@@ -284,6 +311,32 @@ class _Pool(Generic[T, R]):
     def kill_all(self) -> None:
         for worker in list(self.workers):
             self.retire(worker, kill=True)
+
+
+#: Workers that were told to end and whose results were all read, not yet reaped (pids).
+_EXITING: list[int] = []
+
+
+def reap_exited(wait: bool = True) -> None:
+    """Reap the workers that ended with their last chunk and were not waited for (each run
+    reaps the earlier runs'): those that have exited, or (``wait``) all of them, each given
+    5 s to end, then killed. Such a worker has only to read its end message and exit. For a
+    caller about to read ``RUSAGE_CHILDREN`` (a benchmark) or to leave no zombie behind."""
+    for pid in list(_EXITING):
+        try:
+            if wait:
+                deadline = time.monotonic() + 5.0
+                while os.waitpid(pid, os.WNOHANG) == (0, 0):
+                    if time.monotonic() > deadline:
+                        os.kill(pid, signal.SIGKILL)
+                        os.waitpid(pid, 0)
+                        break
+                    time.sleep(0.001)
+            elif os.waitpid(pid, os.WNOHANG) == (0, 0):
+                continue  # still exiting
+        except ChildProcessError:
+            pass  # reaped by someone else (a caller's os.wait)
+        _EXITING.remove(pid)
 
 
 #: How often ``tick`` is called while the parent waits for workers, s.
@@ -340,33 +393,40 @@ def run_chunks_in_workers(
     chunk ran out of time the remaining tasks go one at a time (tasks that slow gain nothing
     from chunks, and each such chunk would cost its budget twice).
     """
+    reap_exited(wait=True)  # the last run's ended workers: gone long since
     pool: _Pool[Sequence[T], Sequence[R]] = _Pool(work, budget)
     pending: list[tuple[int, ...]] = chunks_of(len(tasks), chunk)
     pending.reverse()  # popped from the end
     done: dict[int, R | BudgetExceeded] = {}
     next_out = 0
 
-    def assign(worker: _Worker[Sequence[T]]) -> None:
+    def assign(worker: _Worker[Sequence[T]] | None) -> None:
+        """Give the next pending chunk to ``worker``, or (None) to a fresh worker forked
+        with it."""
         if not pending:
-            worker.held = None
+            if worker is not None:
+                worker.held = None
             return
-        if worker.ending:  # it ends after its last chunk: a fresh one takes the rest
-            worker.held = None
+        if worker is not None and worker.ending:  # it ends after its last chunk: a fresh
+            worker.held = None  # one takes the rest
             pool.retire(worker, kill=False)
-            worker = pool.spawn()
+            worker = None
         indices = pending[-1]
-        try:
-            _write(worker.tasks, (indices[0], [tasks[i] for i in indices]))
-        except OSError:  # the worker died while idle: replace it, the chunk waits
-            worker.held = None
-            pool.retire(worker, kill=True)
-            assign(pool.spawn())
-            return
+        message = (indices[0], [tasks[i] for i in indices])
+        started = time.monotonic()
+        if worker is None:
+            worker = pool.spawn(message)
+        else:
+            try:
+                _write(worker.tasks, message)
+            except OSError:  # the worker died while idle: replace it, the chunk waits
+                worker.held = None
+                pool.retire(worker, kill=True)
+                assign(None)
+                return
         pending.pop()
         worker.held = indices
-        worker.deadline = (
-            float("inf") if budget.time_s is None else time.monotonic() + budget.time_s
-        )
+        worker.deadline = float("inf") if budget.time_s is None else started + budget.time_s
         if not pending:
             # The last chunk: the worker is told to end with it, so that it ends while this
             # process reads and reports its results instead of after (issue 24: a one-scene
@@ -396,11 +456,11 @@ def run_chunks_in_workers(
         worker.held = None
         pool.retire(worker, kill=True)
         if pending:
-            assign(pool.spawn())
+            assign(None)
 
     try:
         for _ in range(max(1, min(jobs, len(pending)))):
-            assign(pool.spawn())
+            assign(None)
         while next_out < len(tasks):
             while next_out in done:
                 yield done.pop(next_out)
@@ -410,7 +470,7 @@ def run_chunks_in_workers(
             busy = [w for w in pool.workers if w.held is not None]
             if not busy:  # tasks split after the last worker retired: start one
                 assert pending, "a task neither done, held nor pending"
-                assign(pool.spawn())
+                assign(None)
                 continue
             # At most an hour at a time: a deadline of 1e300 s overflows select's time_t.
             wait = min(min(w.deadline for w in busy) - time.monotonic(), MAX_WAIT_S)
@@ -435,7 +495,7 @@ def run_chunks_in_workers(
                         BudgetExceeded("died", f"the worker process checking it ended ({how})"),
                     )
                     if pending:
-                        assign(pool.spawn())
+                        assign(None)
                     continue
                 if status == "memory":
                     replace(worker, BudgetExceeded("memory", "it ran out of its memory budget"))
@@ -449,7 +509,7 @@ def run_chunks_in_workers(
                     worker.held = None
                     pool.retire(worker, kill=False)
                     if pending:
-                        assign(pool.spawn())
+                        assign(None)
                     continue
                 assign(worker)
             now = time.monotonic()
@@ -461,5 +521,6 @@ def run_chunks_in_workers(
                     break
                 assign(worker)
         pool.close()
+        reap_exited(wait=False)
     finally:
         pool.kill_all()

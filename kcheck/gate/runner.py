@@ -11,6 +11,7 @@ so a report can print each scene as it finishes.
 from __future__ import annotations
 
 import dataclasses
+import importlib
 import time
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import field
@@ -694,6 +695,9 @@ def run_batch(
     def work(chunk: Sequence[Path]) -> list[SceneResult]:
         return check_files(chunk, checks, settings)
 
+    for name in WORKER_MODULES if settings.hints else WORKER_MODULES[:-1]:
+        importlib.import_module(name)  # once here, before the forks (WORKER_MODULES)
+
     # Workers that draw pictures grow (matplotlib's caches): recycled past a threshold.
     recycle = pool.RECYCLE_RSS_BYTES if settings.plots is not None else None
     if recycle is not None:
@@ -716,6 +720,21 @@ def run_batch(
         else:
             yield outcome
 
+
+#: Modules a worker imports for nearly every scene it checks, imported once by
+#: :func:`run_batch` before the workers are forked: the mass-property cache (every scene), the
+#: body's mass properties and the check of their units (every scene with a body), the ways
+#: out that failing findings' hints search (the analytical checks, when ``Settings.hints``;
+#: last). Light modules (numpy and kcheck's own), each imported in a scene's process anyway:
+#: in a forked worker an import costs about three times as much as here (its first writes to
+#: the import system's pages it shares with this process copy them; issue 24: about 2 ms of a
+#: one-scene run), and every worker of a batch paid it again.
+WORKER_MODULES = (
+    "kcheck.gate.cache",
+    "kcheck.body.mass",
+    "kcheck.analysis.mass_units",
+    "kcheck.analysis.way_out",
+)
 
 #: Most scene files a worker is given at once (:func:`chunk_size`).
 CHUNK_SCENES = 8

@@ -232,3 +232,14 @@ def test_the_last_chunk_split_after_a_crash_goes_to_a_fresh_worker():
     assert isinstance(out[2], BudgetExceeded) and out[2].kind == "crashed"
     first, second, last = (int(out[k].split(" in ")[1]) for k in (0, 1, 3))
     assert first == second != last
+
+
+def test_a_worker_that_ended_with_its_last_chunk_is_reaped_by_the_next_run():
+    # The last worker is not waited for when the run ends (it exits by itself); the next
+    # run reaps it, so ended workers do not pile up as zombies in a long-lived caller.
+    (first,) = run_in_workers([("sleep", 0.0)], work, jobs=1, budget=Budget())
+    pid = int(first.split(" in ")[1])
+    (second,) = run_in_workers([("sleep", 0.0)], work, jobs=1, budget=Budget())
+    assert int(second.split(" in ")[1]) != pid
+    with pytest.raises(ChildProcessError):  # no such child left: reaped
+        os.waitpid(pid, os.WNOHANG)
