@@ -12,6 +12,7 @@ from kcheck.fmt import clean, clean3, format_ranges
 from kcheck.mechanics.arcs import FULL, ArcSet, contains, intersect, margin, to_degrees
 from kcheck.mechanics.dynamics import Case, Problem, analyse_cases_many, build_problem, with_load
 from kcheck.mechanics.friction import FrictionIntervals, friction_intervals_batch
+from kcheck.mechanics.holding_certificates import holding_certified
 from kcheck.mechanics.kinematics import Frame, norm3, row_norms, unit3, unit_rows
 from kcheck.mechanics.lift_off import lift_off
 from kcheck.mechanics.outcomes import Outcome, outcome, safe_arcs
@@ -20,6 +21,7 @@ from kcheck.numerics.thresholds import (
     EPS,
     FORCE_SCREEN_ROUNDINGS,
     FORCE_SCREEN_RTOL,
+    HOLDING_CERTIFICATE_BATCH,
     IN_SWEEP_PLANE,
     INFINITE_POLE,
     NO_PITCH,
@@ -284,6 +286,8 @@ class _Holding:
     def __init__(self, problem: Problem, direction: np.ndarray | None) -> None:
         self.problem, self.direction = problem, direction
         self._parts: tuple[np.ndarray, Statics, np.ndarray | None] | None = None
+        # Answers decided beforehand by checked certificates (holding_certificates).
+        self.known: dict[tuple[int, ...], bool] = {}
 
     @property
     def wrench(self) -> np.ndarray:
@@ -300,8 +304,59 @@ class _Holding:
 
     def holds(self, keep: np.ndarray) -> bool:
         """:func:`~kcheck.mechanics.statics.holds_exactly` on the contacts ``keep``."""
+        known = self.known.get(tuple(int(j) for j in keep))
+        if known is not None:
+            return known
         wrench, statics, columns = self._built()
         return holds_exactly(statics, keep, wrench, columns=columns)
+
+    def question(self, keep: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The conic programme :meth:`holds` asks on ``keep``: the kept contacts' columns
+        (3k, 6), the wrench (6,) and their friction coefficients (k,)."""
+        wrench, statics, columns = self._built()
+        assert columns is not None
+        kept = columns.reshape(len(statics.points), 3, -1)[keep].reshape(3 * len(keep), -1)
+        return kept, wrench, statics.friction[keep]
+
+
+def _asks_holding(problem: Problem, case: Case, verdict: str, intervals: bool) -> bool:
+    """Whether :func:`_evaluated` asks :meth:`_Holding.holds` of a case with this outcome at
+    the direction (``intervals``: whether the case has friction intervals)."""
+    if verdict == "jams":
+        return True
+    return verdict in MOVING and intervals and bool(np.any(problem.friction[list(case.keep)] > 0))
+
+
+def _certify_holding(
+    problems: Sequence[Problem],
+    all_cases: Sequence[Sequence[Case]],
+    frictions: Sequence[Sequence[FrictionIntervals | None]],
+    designs: Sequence[np.ndarray | None],
+) -> list[_Holding]:
+    """Every scene's :class:`_Holding`, the spatial equilibrium questions its assembly will
+    ask answered beforehand where checked certificates decide them (all the chunk's at once,
+    :func:`~kcheck.mechanics.holding_certificates.holding_certified`), when there are at
+    least HOLDING_CERTIFICATE_BATCH; the others are left to the conic programme."""
+    holdings = [_Holding(p, d) for p, d in zip(problems, designs, strict=True)]
+    asked: list[tuple[_Holding, np.ndarray]] = []
+    for problem, cases, friction, design, holding in zip(
+        problems, all_cases, frictions, designs, holdings, strict=True
+    ):
+        if problem.dim != 3:
+            continue
+        for case, intervals in zip(cases, friction, strict=True):
+            if intervals is None or not (case.determined and case.well_conditioned):
+                continue
+            if _asks_holding(problem, case, outcome(case, design)[0], True):
+                asked.append((holding, np.asarray(case.keep)))
+    if len(asked) < HOLDING_CERTIFICATE_BATCH:
+        return holdings
+    questions = [h.question(keep) for h, keep in asked]
+    answers = holding_certified(*(list(x) for x in zip(*questions, strict=True)))
+    for (holding, keep), answer in zip(asked, answers, strict=True):
+        if answer is not None:
+            holding.known[tuple(int(j) for j in keep)] = answer
+    return holdings
 
 
 def _may_hold(problem: Problem, case: Case, holding: _Holding) -> bool:
@@ -396,18 +451,24 @@ def analyse_fixed_many(
         for cases, good, (sweeping, design) in zip(all_cases, goods, designs, strict=True)
     ]
     found = friction_intervals_batch(problems, chosen, [d for _, d in designs])
-    out = []
-    for scene, problem, cases, good, (sweeping, design), intervals in zip(
-        scenes, problems, all_cases, goods, designs, found, strict=True
+    frictions: list[list[FrictionIntervals | None]] = []
+    for cases, good, (sweeping, design), intervals in zip(
+        all_cases, goods, designs, found, strict=True
     ):
         case_friction: list[FrictionIntervals | None] = [None] * len(cases)
         if design is not None or not sweeping:
             each = iter(intervals)
             case_friction = [next(each) if g else None for g in good]
-        out.append(
-            _assemble(scene, problem, cases, case_friction, design, sweeping and sweep, plane)
+        frictions.append(case_friction)
+    holdings = _certify_holding(problems, all_cases, frictions, [d for _, d in designs])
+    return [
+        _assemble(
+            scene, problem, cases, case_friction, design, sweeping and sweep, plane, holding=h
         )
-    return out
+        for scene, problem, cases, case_friction, (sweeping, design), h in zip(
+            scenes, problems, all_cases, frictions, designs, holdings, strict=True
+        )
+    ]
 
 
 def cases_close_many(scenes: Sequence[Scene], masses: Sequence[MassProperties]) -> list[bool]:
@@ -550,13 +611,15 @@ def _assemble(
     sweeping: bool,
     plane: tuple[np.ndarray, np.ndarray] | None,
     evaluate: bool = False,
+    holding: _Holding | None = None,
 ) -> Analysis:
     """The analysis of a scene from its solved cases and friction intervals; ``evaluate``:
-    the outcomes at the design direction of the cases without intervals too."""
+    the outcomes at the design direction of the cases without intervals too; ``holding``:
+    the scene's equilibrium questions, some answered beforehand (:func:`_certify_holding`)."""
     results = []
     max_condition = 0.0
     names = problem.names
-    holding = _Holding(problem, design)
+    holding = _Holding(problem, design) if holding is None else holding
     for r, case in enumerate(cases):
         details = _case_details(problem, case)
         if not case.determined:

@@ -585,3 +585,18 @@ SURFACE_FIT_RTOL: float = 1e-4
 #: axis must be within it of z. STL's float32 tilts a facet by about 1e-5 deg; a draft angle
 #: or a chamfer, by degrees.
 EXTRUSION_DEG: float = 1.0
+#: A certificate that friction cannot hold the body (a twist opening every kept contact
+#: inside the dual of its friction cone, on which the wrench does work;
+#: :mod:`kcheck.mechanics.holding_certificates`) decides the equilibrium question without its
+#: own conic programme only when it clears every condition by this share of the twist's size
+#: (nondimensional; the wrench scaled to 1): a hundred times clarabel's tolerances (1e-8), so
+#: the programme gives the same answer; closer questions ask the programme.
+HOLDING_CERTIFICATE_MARGIN: float = 1e-6
+#: Newton steps of the certificate's search before a question is left to its conic programme
+#: (on 1353 questions of 300 generated scenes without an equilibrium, every certificate was
+#: found within 33 steps, half within 5).
+HOLDING_CERTIFICATE_STEPS: int = 40
+#: Equilibrium questions asked together (a chunk of scenes) below which each goes straight to
+#: its conic programme: the certificates' batch costs about a fixed 2-3 ms of numpy calls,
+#: more than a few programmes (about 0.15 ms each).
+HOLDING_CERTIFICATE_BATCH: int = 24
