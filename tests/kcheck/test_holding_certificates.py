@@ -10,6 +10,8 @@ too, from the same SVD tangents (its answer must not depend on which tangents).
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import clarabel
 import numpy as np
 import pytest
@@ -139,3 +141,41 @@ def test_no_wrench_and_no_contacts_are_left_undecided() -> None:
     mu = np.full(3, 0.3)
     wrenches = [np.zeros(6), np.full(6, np.nan)]
     assert holding_certified([columns] * 2, wrenches, [mu] * 2) == [None, None]
+
+
+def test_analyse_many_with_certificates_equals_the_programmes(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``analyse_many`` of the fixtures and 60 generated spatial scenes: the same results
+    (every outcome, force, ``friction_may_hold``, lift-off) with the chunk's equilibrium
+    questions decided by certificates as with every one asked of its conic programme; and
+    the certificates were asked (and decided most)."""
+    import sys
+
+    from kcheck.analysis import analyse_many
+    from kcheck.analysis import cases as cases_module
+    from kcheck.body.mass import body_mass_properties
+    from kcheck.scene import load_scene
+
+    tests = Path(__file__).resolve().parents[1]
+    sys.path.insert(0, str(tests))
+    from spatial_scenes import write_spatial_scenes
+
+    paths = sorted((tests.parent / "fixtures").glob("*/*.kcheck.yaml"))
+    scenes = [load_scene(p) for p in [*paths, *write_spatial_scenes(tmp_path, range(60))]]
+    scenes = [s for s in scenes if s.body is not None and s.dim == 3]
+    masses = [body_mass_properties(s.body, s.scale) for s in scenes]
+    asked: list[bool | None] = []
+
+    def counted(*args):  # type: ignore[no-untyped-def]
+        answers = holding_certified(*args)
+        asked.extend(answers)
+        return answers
+
+    monkeypatch.setattr(cases_module, "holding_certified", counted)
+    screened = analyse_many(scenes, masses)
+    monkeypatch.setattr(cases_module, "HOLDING_CERTIFICATE_BATCH", 10**9)
+    programmes = analyse_many(scenes, masses)
+    assert [a.results for a in screened] == [a.results for a in programmes]
+    assert len(asked) >= 100
+    assert sum(a is not None for a in asked) >= 0.9 * len(asked)
