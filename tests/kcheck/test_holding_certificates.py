@@ -159,15 +159,16 @@ def test_analyse_many_with_certificates_equals_the_programmes(
 
     tests = Path(__file__).resolve().parents[1]
     sys.path.insert(0, str(tests))
-    from spatial_scenes import write_spatial_scenes
+    from spatial_scenes import write_spatial_scenes  # type: ignore[import-not-found]
 
     paths = sorted((tests.parent / "fixtures").glob("*/*.kcheck.yaml"))
     scenes = [load_scene(p) for p in [*paths, *write_spatial_scenes(tmp_path, range(60))]]
-    scenes = [s for s in scenes if s.body is not None and s.dim == 3]
-    masses = [body_mass_properties(s.body, s.scale) for s in scenes]
+    bodies = [(s, s.body) for s in scenes if s.dim == 3]
+    scenes = [s for s, body in bodies if body is not None]
+    masses = [body_mass_properties(body, s.scale) for s, body in bodies if body is not None]
     asked: list[bool | None] = []
 
-    def counted(*args):  # type: ignore[no-untyped-def]
+    def counted(*args: list[np.ndarray]) -> list[bool | None]:
         answers = holding_certified(*args)
         asked.extend(answers)
         return answers
