@@ -83,7 +83,7 @@ def _certified(c: np.ndarray, w: np.ndarray, mu: np.ndarray) -> tuple[np.ndarray
     v[:, :6] = w
     z = (d @ v[:, None, :, None])[..., 0]
     v[:, 6] = np.minimum((z[..., 0] - np.hypot(z[..., 1], z[..., 2])).min(axis=1) - 1.0, 0.0)
-    t = np.ones(len(live))
+    t = np.full(len(live), 10.0)  # the barrier's weight on s (from 1: about 1.6x the steps)
     barrier = 2 * k + 1  # the barrier's parameter: the central path's gap is barrier / t
     flat = c.reshape(len(live), 3 * k, 6)
     gram = _inverse_each(np.einsum("qai,qaj->qij", flat, flat))  # (C^T C)^-1
