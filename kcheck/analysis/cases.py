@@ -234,7 +234,8 @@ def _evaluated(
     wrench alone); adds the friction details (without ``intervals``: none of them, and no
     ``friction_may_hold``)."""
     names = problem.names
-    verdict, x = outcome(case, direction)
+    known = holding.outcomes.get(case.retracted)
+    verdict, x = outcome(case, direction) if known is None else known
     forces = accel = None
     if verdict == "jams":
         verdict, forces, accel = _jam_or_lift(problem, case, holding, details)
@@ -286,8 +287,10 @@ class _Holding:
     def __init__(self, problem: Problem, direction: np.ndarray | None) -> None:
         self.problem, self.direction = problem, direction
         self._parts: tuple[np.ndarray, Statics, np.ndarray | None] | None = None
-        # Answers decided beforehand by checked certificates (holding_certificates).
+        # Answers decided beforehand by checked certificates (holding_certificates), and
+        # the outcomes at the direction found on the way (by retracted support).
         self.known: dict[tuple[int, ...], bool] = {}
+        self.outcomes: dict[int, tuple[Outcome, np.ndarray | None]] = {}
 
     @property
     def wrench(self) -> np.ndarray:
@@ -336,18 +339,19 @@ def _certify_holding(
     """Every scene's :class:`_Holding`, the spatial equilibrium questions its assembly will
     ask answered beforehand where checked certificates decide them (all the chunk's at once,
     :func:`~kcheck.mechanics.holding_certificates.holding_certified`), when there are at
-    least HOLDING_CERTIFICATE_BATCH; the others are left to the conic programme."""
+    least HOLDING_CERTIFICATE_BATCH; the others are left to the conic programme. Every case
+    with friction intervals has its outcome at the direction found here once, for the
+    assembly too."""
     holdings = [_Holding(p, d) for p, d in zip(problems, designs, strict=True)]
     asked: list[tuple[_Holding, np.ndarray]] = []
     for problem, cases, friction, design, holding in zip(
         problems, all_cases, frictions, designs, holdings, strict=True
     ):
-        if problem.dim != 3:
-            continue
         for case, intervals in zip(cases, friction, strict=True):
             if intervals is None or not (case.determined and case.well_conditioned):
                 continue
-            if _asks_holding(problem, case, outcome(case, design)[0], True):
+            decided = holding.outcomes[case.retracted] = outcome(case, design)
+            if problem.dim == 3 and _asks_holding(problem, case, decided[0], True):
                 asked.append((holding, np.asarray(case.keep)))
     if len(asked) < HOLDING_CERTIFICATE_BATCH:
         return holdings
