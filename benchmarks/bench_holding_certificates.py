@@ -68,7 +68,7 @@ def main() -> None:
             _solve_conic_anew(c, w, m, None)
 
     rows = []
-    for size in (6, 24, 100, 600):
+    for size in (6, 12, 18, 24, 100, 600):
         decided = 0
         for i in range(0, len(asked), size):
             got = holding_certified(

@@ -87,6 +87,7 @@ def _certified(c: np.ndarray, w: np.ndarray, mu: np.ndarray) -> tuple[np.ndarray
     barrier = 2 * k + 1  # the barrier's parameter: the central path's gap is barrier / t
     flat = c.reshape(len(live), 3 * k, 6)
     gram = _inverse_each(np.einsum("qai,qaj->qij", flat, flat))  # (C^T C)^-1
+    reach = np.linalg.norm(flat, axis=(1, 2)) * np.linalg.norm(gram, axis=(1, 2))
     # Forces can certify holding only inside every cone: no frictionless contact.
     gram[~np.all(mu > 0, axis=1)] = np.nan
     kkt = np.zeros((len(live), 8, 8))
@@ -116,7 +117,7 @@ def _certified(c: np.ndarray, w: np.ndarray, mu: np.ndarray) -> tuple[np.ndarray
             t[a] = np.where(centred, 8.0 * t[a], t[a])
             ok = _checks(c[a], mu[a], w[a], v[a, :6])
             found[live[a[ok]]] = True
-            held = _balanced(c[a], mu[a], w[a], gram[a], jz * inv[..., None]) & ~ok
+            held = _balanced(c[a], mu[a], w[a], gram[a], reach[a], jz * inv[..., None]) & ~ok
             holds[live[a[held]]] = True
             ok |= held
             # Centred with even the gap's bound below the margin: no certificate to find.
@@ -140,7 +141,12 @@ def _checks(c: np.ndarray, mu: np.ndarray, w: np.ndarray, y: np.ndarray) -> np.n
 
 
 def _balanced(
-    c: np.ndarray, mu: np.ndarray, w: np.ndarray, gram: np.ndarray, cones: np.ndarray
+    c: np.ndarray,
+    mu: np.ndarray,
+    w: np.ndarray,
+    gram: np.ndarray,
+    reach: np.ndarray,
+    cones: np.ndarray,
 ) -> np.ndarray:
     """Whether the forces the barrier's iterate implies hold the body with the margin.
 
@@ -149,7 +155,9 @@ def _balanced(
     cone; near the central path the forces balance a multiple of ``-w``. Scaled to balance
     ``-w`` best and put back on the balance exactly (least-norm correction), they certify an
     equilibrium when every normal force and every cone's slack clears
-    HOLDING_CERTIFICATE_MARGIN of their size."""
+    HOLDING_CERTIFICATE_MARGIN of their size, and the balance's rounding is far inside that:
+    the exact correction of what is left, at most ``reach`` (``|C| |(C^T C)^-1|``, Frobenius
+    norms) times the residual, moves no slack by more than half the margin."""
     q, k = mu.shape
     f = np.concatenate([cones[..., :1], mu[..., None] * cones[..., 1:]], axis=2)
     flat = c.reshape(q, 3 * k, 6)
@@ -157,11 +165,14 @@ def _balanced(
     scale = -np.einsum("qi,qi->q", b, w) / np.einsum("qi,qi->q", b, b)
     f = f.reshape(q, 3 * k) * scale[:, None]
     residual = np.einsum("qai,qa->qi", flat, f) + w
-    f = (f - np.einsum("qai,qij,qj->qa", flat, gram, residual)).reshape(q, k, 3)
+    f = f - np.einsum("qai,qij,qj->qa", flat, gram, residual)
+    left = np.linalg.norm(np.einsum("qai,qa->qi", flat, f) + w, axis=1)
+    f = f.reshape(q, k, 3)
     floor = HOLDING_CERTIFICATE_MARGIN * np.abs(f).max(axis=(1, 2))
     slack = np.minimum(f[..., 0], mu * f[..., 0] - np.hypot(f[..., 1], f[..., 2]))
     with np.errstate(invalid="ignore"):
-        return (scale > 0) & np.all(slack >= floor[:, None], axis=1)
+        exact = (1.0 + mu.max(axis=1)) * reach * left <= 0.5 * floor
+        return (scale > 0) & exact & np.all(slack >= floor[:, None], axis=1)
 
 
 def _inverse_each(matrix: np.ndarray) -> np.ndarray:

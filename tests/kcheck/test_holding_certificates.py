@@ -84,11 +84,14 @@ def _columns(points: np.ndarray, normals: np.ndarray) -> np.ndarray:
 
 def _random_sets(count: int, seed: int):
     """Contact sets of 3-5 contacts on a body around the origin, normals roughly inwards,
-    coefficients 0.02-0.8, random wrenches; every few a frictionless contact."""
+    coefficients 0.02-0.8, random wrenches; every seventh with a frictionless contact, every
+    eleventh with its contacts on one line (their wrenches span 5 of the 6 dimensions)."""
     rng = np.random.default_rng(seed)
     for i in range(count):
         k = int(rng.integers(3, 6))
         points = rng.uniform(-1, 1, (k, 3))
+        if i % 11 == 0:
+            points = rng.uniform(-1, 1, (k, 1)) * rng.normal(0, 1, 3) + rng.uniform(-1, 1, 3)
         normals = -points + rng.normal(0, 0.8, (k, 3))
         normals /= np.linalg.norm(normals, axis=1, keepdims=True)
         mu = rng.uniform(0.02, 0.8, k)
