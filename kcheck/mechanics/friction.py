@@ -244,18 +244,16 @@ def _end_errors(
     intervals: tuple[tuple[float, float], ...], roots: np.ndarray, errors: np.ndarray
 ) -> tuple[tuple[float, float], ...]:
     """Each interval end's error: the largest error of the roots (either sign) at that
-    breakpoint; 0 at 0 and at infinity (every end of the case at once)."""
-    if not intervals:
-        return ()
-    finite = np.isfinite(roots)
-    size, err = np.abs(roots[finite]), errors[finite]
-    ends = np.array(intervals, dtype=np.float64).reshape(-1)
-    with np.errstate(invalid="ignore"):
-        near = np.abs(size[None, :] - ends[:, None]) <= SAME_ROOT_RTOL * ends[:, None]
-    near &= ((ends > 0) & np.isfinite(ends))[:, None]
-    largest = np.max(np.where(near, err[None, :], -np.inf), axis=1, initial=-np.inf)
-    found = np.where(np.any(near, axis=1), largest, 0.0).tolist()
-    return tuple(zip(found[::2], found[1::2], strict=True))
+    breakpoint; 0 at 0 and at infinity."""
+    size, err = np.abs(roots[np.isfinite(roots)]), errors[np.isfinite(roots)]
+
+    def at(value: float) -> float:
+        if value <= 0 or not np.isfinite(value):
+            return 0.0
+        near = np.abs(size - value) <= SAME_ROOT_RTOL * value
+        return float(err[near].max()) if np.any(near) else 0.0
+
+    return tuple((at(lo), at(hi)) for lo, hi in intervals)
 
 
 def _pieces(points: np.ndarray, flags: np.ndarray) -> tuple[tuple[float, float], ...]:
