@@ -343,16 +343,22 @@ def _certify_holding(
     with friction intervals has its outcome at the direction found here once, for the
     assembly too."""
     holdings = [_Holding(p, d) for p, d in zip(problems, designs, strict=True)]
-    asked: list[tuple[_Holding, np.ndarray]] = []
-    for problem, cases, friction, design, holding in zip(
-        problems, all_cases, frictions, designs, holdings, strict=True
+    evaluated: list[tuple[_Holding, Case]] = []
+    for cases, friction, design, holding in zip(
+        all_cases, frictions, designs, holdings, strict=True
     ):
         for case, intervals in zip(cases, friction, strict=True):
-            if intervals is None or not (case.determined and case.well_conditioned):
-                continue
-            decided = holding.outcomes[case.retracted] = outcome(case, design)
-            if problem.dim == 3 and _asks_holding(problem, case, decided[0], True):
-                asked.append((holding, np.asarray(case.keep)))
+            if intervals is not None and case.determined and case.well_conditioned:
+                holding.outcomes[case.retracted] = outcome(case, design)
+                evaluated.append((holding, case))
+    if len(evaluated) < HOLDING_CERTIFICATE_BATCH:  # not even one question per case
+        return holdings
+    asked = [
+        (holding, np.asarray(case.keep))
+        for holding, case in evaluated
+        if holding.problem.dim == 3
+        and _asks_holding(holding.problem, case, holding.outcomes[case.retracted][0], True)
+    ]
     if len(asked) < HOLDING_CERTIFICATE_BATCH:
         return holdings
     questions = [h.question(keep) for h, keep in asked]
