@@ -22,7 +22,8 @@ at the cones lies inside them and gives the forces. A question is answered only 
 certificate passes its check with a margin, ``HOLDING_CERTIFICATE_MARGIN`` of its size, a
 hundred times clarabel's tolerances: then the conic programme has the same answer. Every
 other question (too near the boundary, a frictionless contact that would need forces on the
-cone's edge, or not decided within ``HOLDING_CERTIFICATE_STEPS`` steps) is left undecided
+cone's edge, contacts whose wrenches are too near dependent for the balance's rounding to be
+bounded, or not decided within ``HOLDING_CERTIFICATE_STEPS`` steps) is left undecided
 (None), for the programme itself.
 
 Nondimensional throughout (the wrenches of :class:`kcheck.mechanics.statics.Statics`).
@@ -120,7 +121,8 @@ def _certified(c: np.ndarray, w: np.ndarray, mu: np.ndarray) -> tuple[np.ndarray
             held = _balanced(c[a], mu[a], w[a], gram[a], reach[a], jz * inv[..., None]) & ~ok
             holds[live[a[held]]] = True
             ok |= held
-            # Centred with even the gap's bound below the margin: no certificate to find.
+            # Centred, and even the central path's gap leaves the margin s below zero: no
+            # twist certificate to find (forces, if any, were tried just above).
             hopeless = (decrement < 0.25) & (v[a, 6] + 2.0 * barrier / t[a] < 0.0)
             keep = ~ok & ~hopeless & np.all(np.isfinite(v[a]), axis=1)
             active = a[keep]
