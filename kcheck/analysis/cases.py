@@ -12,6 +12,7 @@ from kcheck.fmt import clean, clean3, format_ranges
 from kcheck.mechanics.arcs import FULL, ArcSet, contains, intersect, margin, to_degrees
 from kcheck.mechanics.dynamics import Case, Problem, analyse_cases_many, build_problem, with_load
 from kcheck.mechanics.friction import FrictionIntervals, friction_intervals_batch
+from kcheck.mechanics.holding_certificates import holding_certified
 from kcheck.mechanics.kinematics import Frame, norm3, row_norms, unit3, unit_rows
 from kcheck.mechanics.lift_off import lift_off
 from kcheck.mechanics.outcomes import Outcome, outcome, safe_arcs
@@ -20,6 +21,7 @@ from kcheck.numerics.thresholds import (
     EPS,
     FORCE_SCREEN_ROUNDINGS,
     FORCE_SCREEN_RTOL,
+    HOLDING_CERTIFICATE_BATCH,
     IN_SWEEP_PLANE,
     INFINITE_POLE,
     NO_PITCH,
@@ -232,7 +234,8 @@ def _evaluated(
     wrench alone); adds the friction details (without ``intervals``: none of them, and no
     ``friction_may_hold``)."""
     names = problem.names
-    verdict, x = outcome(case, direction)
+    known = holding.outcomes.get(case.retracted)
+    verdict, x = outcome(case, direction) if known is None else known
     forces = accel = None
     if verdict == "jams":
         verdict, forces, accel = _jam_or_lift(problem, case, holding, details)
@@ -284,6 +287,10 @@ class _Holding:
     def __init__(self, problem: Problem, direction: np.ndarray | None) -> None:
         self.problem, self.direction = problem, direction
         self._parts: tuple[np.ndarray, Statics, np.ndarray | None] | None = None
+        # Answers decided beforehand by checked certificates (holding_certificates), and
+        # the outcomes at the direction found on the way (by retracted support).
+        self.known: dict[tuple[int, ...], bool] = {}
+        self.outcomes: dict[int, tuple[Outcome, np.ndarray | None]] = {}
 
     @property
     def wrench(self) -> np.ndarray:
@@ -300,8 +307,66 @@ class _Holding:
 
     def holds(self, keep: np.ndarray) -> bool:
         """:func:`~kcheck.mechanics.statics.holds_exactly` on the contacts ``keep``."""
+        known = self.known.get(tuple(int(j) for j in keep))
+        if known is not None:
+            return known
         wrench, statics, columns = self._built()
         return holds_exactly(statics, keep, wrench, columns=columns)
+
+    def question(self, keep: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The conic programme :meth:`holds` asks on ``keep``: the kept contacts' columns
+        (3k, 6), the wrench (6,) and their friction coefficients (k,)."""
+        wrench, statics, columns = self._built()
+        assert columns is not None
+        kept = columns.reshape(len(statics.points), 3, -1)[keep].reshape(3 * len(keep), -1)
+        return kept, wrench, statics.friction[keep]
+
+
+def _asks_holding(problem: Problem, case: Case, verdict: str, intervals: bool) -> bool:
+    """Whether :func:`_evaluated` asks :meth:`_Holding.holds` of a case with this outcome at
+    the direction (``intervals``: whether the case has friction intervals)."""
+    if verdict == "jams":
+        return True
+    return verdict in MOVING and intervals and bool(np.any(problem.friction[list(case.keep)] > 0))
+
+
+def _certify_holding(
+    problems: Sequence[Problem],
+    all_cases: Sequence[Sequence[Case]],
+    frictions: Sequence[Sequence[FrictionIntervals | None]],
+    designs: Sequence[np.ndarray | None],
+) -> list[_Holding]:
+    """Every scene's :class:`_Holding`, the spatial equilibrium questions its assembly will
+    ask answered beforehand where checked certificates decide them (all the chunk's at once,
+    :func:`~kcheck.mechanics.holding_certificates.holding_certified`), when there are at
+    least HOLDING_CERTIFICATE_BATCH; the others are left to the conic programme. Every case
+    with friction intervals has its outcome at the direction found here once, for the
+    assembly too."""
+    holdings = [_Holding(p, d) for p, d in zip(problems, designs, strict=True)]
+    evaluated: list[tuple[_Holding, Case]] = []
+    for cases, friction, design, holding in zip(
+        all_cases, frictions, designs, holdings, strict=True
+    ):
+        for case, intervals in zip(cases, friction, strict=True):
+            if intervals is not None and case.determined and case.well_conditioned:
+                holding.outcomes[case.retracted] = outcome(case, design)
+                evaluated.append((holding, case))
+    if len(evaluated) < HOLDING_CERTIFICATE_BATCH:  # not even one question per case
+        return holdings
+    asked = [
+        (holding, np.asarray(case.keep))
+        for holding, case in evaluated
+        if holding.problem.dim == 3
+        and _asks_holding(holding.problem, case, holding.outcomes[case.retracted][0], True)
+    ]
+    if len(asked) < HOLDING_CERTIFICATE_BATCH:
+        return holdings
+    questions = [h.question(keep) for h, keep in asked]
+    answers = holding_certified(*(list(x) for x in zip(*questions, strict=True)))
+    for (holding, keep), answer in zip(asked, answers, strict=True):
+        if answer is not None:
+            holding.known[tuple(int(j) for j in keep)] = answer
+    return holdings
 
 
 def _may_hold(problem: Problem, case: Case, holding: _Holding) -> bool:
@@ -396,18 +461,24 @@ def analyse_fixed_many(
         for cases, good, (sweeping, design) in zip(all_cases, goods, designs, strict=True)
     ]
     found = friction_intervals_batch(problems, chosen, [d for _, d in designs])
-    out = []
-    for scene, problem, cases, good, (sweeping, design), intervals in zip(
-        scenes, problems, all_cases, goods, designs, found, strict=True
+    frictions: list[list[FrictionIntervals | None]] = []
+    for cases, good, (sweeping, design), intervals in zip(
+        all_cases, goods, designs, found, strict=True
     ):
         case_friction: list[FrictionIntervals | None] = [None] * len(cases)
         if design is not None or not sweeping:
             each = iter(intervals)
             case_friction = [next(each) if g else None for g in good]
-        out.append(
-            _assemble(scene, problem, cases, case_friction, design, sweeping and sweep, plane)
+        frictions.append(case_friction)
+    holdings = _certify_holding(problems, all_cases, frictions, [d for _, d in designs])
+    return [
+        _assemble(
+            scene, problem, cases, case_friction, design, sweeping and sweep, plane, holding=h
         )
-    return out
+        for scene, problem, cases, case_friction, (sweeping, design), h in zip(
+            scenes, problems, all_cases, frictions, designs, holdings, strict=True
+        )
+    ]
 
 
 def cases_close_many(scenes: Sequence[Scene], masses: Sequence[MassProperties]) -> list[bool]:
@@ -550,13 +621,15 @@ def _assemble(
     sweeping: bool,
     plane: tuple[np.ndarray, np.ndarray] | None,
     evaluate: bool = False,
+    holding: _Holding | None = None,
 ) -> Analysis:
     """The analysis of a scene from its solved cases and friction intervals; ``evaluate``:
-    the outcomes at the design direction of the cases without intervals too."""
+    the outcomes at the design direction of the cases without intervals too; ``holding``:
+    the scene's equilibrium questions, some answered beforehand (:func:`_certify_holding`)."""
     results = []
     max_condition = 0.0
     names = problem.names
-    holding = _Holding(problem, design)
+    holding = _Holding(problem, design) if holding is None else holding
     for r, case in enumerate(cases):
         details = _case_details(problem, case)
         if not case.determined:

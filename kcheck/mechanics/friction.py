@@ -31,6 +31,7 @@ from kcheck.numerics.thresholds import (
     MU_END_RTOL,
     PENCIL_INFINITE_RTOL,
     PENCIL_SINGULAR,
+    PENCIL_UNSHIFTED,
     SAME_FRICTION_RTOL,
     SAME_ROOT_RTOL,
 )
@@ -142,7 +143,8 @@ def pencil_roots(a0: np.ndarray, a1: np.ndarray) -> np.ndarray:
     where a pencil has fewer.
 
     Each pencil is equilibrated, shifted to the least singular ``B = A0 + s A1`` of a few
-    shifts (by the Hadamard ratio), and its roots are ``s - 1 / eig(B^-1 A1)`` (zero
+    shifts (by the Hadamard ratio; unshifted, ``s = 0``, when that ratio is at least
+    PENCIL_UNSHIFTED), and its roots are ``s - 1 / eig(B^-1 A1)`` (zero
     eigenvalues are roots at infinity). A pencil singular for every ``mu`` (e.g. an unknown
     that is zero for every ``mu``) has no roots.
     """
@@ -151,14 +153,22 @@ def pencil_roots(a0: np.ndarray, a1: np.ndarray) -> np.ndarray:
     rows, cols = _equilibrate(np.abs(a0) + np.abs(a1))
     a0 = a0 * rows[..., :, None] * cols[..., None, :]
     a1 = a1 * rows[..., :, None] * cols[..., None, :]
-    shifted = a0[None] + SHIFTS[:, None, None, None] * a1[None]  # (s, p, n, n)
-    quality = _hadamard(shifted)
-    best = np.argmax(quality, axis=0)
-    usable = quality[best, np.arange(p)] > 1.0 / PENCIL_SINGULAR
+    # Unshifted where that is well enough conditioned; the others try every shift.
+    unshifted = _hadamard(a0)
+    best = np.zeros(p, np.int64)
+    best_quality = unshifted
+    rest = np.flatnonzero(~(unshifted >= PENCIL_UNSHIFTED))
+    if len(rest):
+        shifted = a0[None, rest] + SHIFTS[:, None, None, None] * a1[None, rest]  # (s, r, n, n)
+        quality = _hadamard(shifted)
+        best[rest] = np.argmax(quality, axis=0)
+        best_quality = unshifted.copy()
+        best_quality[rest] = quality[best[rest], np.arange(len(rest))]
+    usable = best_quality > 1.0 / PENCIL_SINGULAR
     if not np.any(usable):
         return out
     picked = np.flatnonzero(usable)
-    base = shifted[best[picked], picked]
+    base = a0[picked] + SHIFTS[best[picked], None, None] * a1[picked]
     shift = SHIFTS[best[picked]]
     with np.errstate(all="ignore"):
         values = _eigvals_each(base, a1[picked])
