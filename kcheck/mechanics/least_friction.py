@@ -43,6 +43,7 @@ __all__ = [
     "least_friction",
     "least_friction_exactly",
     "rough_supports",
+    "sliding_limit",
 ]
 
 #: Most Dinkelbach-type steps of :func:`least_friction_exactly` (it needs 3 to 8).
@@ -122,6 +123,9 @@ def least_friction_exactly(
 
     if not _frictionless_misses(columns, wrench) and feasible(0.0):
         return 0.0
+    sliding = sliding_limit(columns, wrench, scale[keep], rtol)
+    if sliding is not None and sliding <= largest:
+        return sliding
     mu = max(upper, 1e-3)
     if upper_fails:
         if mu >= largest:
@@ -154,6 +158,126 @@ def least_friction_exactly(
             break
         local, ratio = below[0], lower
     return least_friction(feasible, ratio, largest=largest, rtol=rtol)
+
+
+#: Most Newton steps of :func:`sliding_limit` (it needs 3 to 8).
+NEWTON_STEPS = 20
+#: :func:`sliding_limit`'s Newton steps end when a step moves ``mu`` by less than this
+#: (relative) and the unit-scaled twist by less than ten times it.
+NEWTON_RTOL = 1e-14
+#: The least margin (relative to the terms compared) by which the separating twist of
+#: :func:`sliding_limit` must clear every friction cone at ``(1 - rtol)`` times the result:
+#: far above the rounding of the few products it is computed from (about 1e-16).
+CERTIFICATE_MARGIN = 1e-9
+#: The largest imbalance (relative to the wrench) of :func:`sliding_limit`'s forces: a
+#: converged Newton solve leaves about 1e-15; the conic solver's own tolerance is 1e-8.
+BALANCE_RTOL = 1e-10
+
+
+def sliding_limit(
+    columns: np.ndarray, wrench: np.ndarray, kept: np.ndarray, rtol: float
+) -> float | None:
+    """The least common coefficient ``mu`` (coefficients ``mu * kept``) at which ``n - 1``
+    contacts in space (``columns`` (3k, n) as :func:`kcheck.mechanics.statics._contact_axes`,
+    ``k = n - 1 = 5``) balance ``wrench``, where at that least coefficient every contact is
+    pressed and slides: without a conic solve, and certified; None where that does not hold
+    (a contact lifts off, one sticks, a support is frictionless, or the steps do not
+    converge), and the caller's conic search decides.
+
+    The limit is a twist ``h`` along which the load does no work while every contact opens
+    exactly as fast as its friction cone allows (``h . N_j = mu s_j |(h . T1_j, h . T2_j)|``,
+    the dual of the balance: a separating hyperplane of the contact-wrench cone that touches
+    it at ``-wrench``), and the balance presses each contact with the force on its cone's
+    edge opposite that slip: ``k + 1`` equations in ``h`` (up to scale) and ``mu``, solved by
+    Newton's method from the frictionless free twist at ``mu = 0`` (the first step is the
+    limiting friction's first-order estimate, load power over friction power).
+
+    Certified as bisection would find it, in floating point with no solver tolerance: the
+    returned value is the largest friction ratio of an explicit balance (normal forces
+    positive, imbalance below ``BALANCE_RTOL``), and the twist (nudged so that the load does
+    work along it) separates ``-wrench`` from every cone at ``(1 - rtol)`` times it by more
+    than ``CERTIFICATE_MARGIN`` (Farkas: no balance there)."""
+    n, k = len(wrench), len(kept)
+    if n != 6 or k != n - 1 or not np.all(kept > 0):
+        return None
+    size = float(np.linalg.norm(wrench))
+    if not size > 0:
+        return None
+    w = wrench / size
+    parts = columns.reshape(k, 3, n)
+    normals, tangents = parts[:, 0], parts[:, 1:]
+    free = np.linalg.svd(normals)[2][-1]  # the frictionless free twist
+    along = float(free @ w)
+    if along == 0:
+        return None
+    start = free if along > 0 else -free
+    h, mu = start.copy(), 0.0
+    jacobian = np.zeros((n + 1, n + 1))
+    jacobian[k, :n] = w
+    jacobian[k + 1, :n] = start
+    residual = np.zeros(n + 1)
+    for _ in range(NEWTON_STEPS):
+        slip, speed = _slip(tangents, h)
+        if slip is None:
+            return None
+        jacobian[:k, :n] = normals - (mu * kept)[:, None] * np.einsum("kc,kcn->kn", slip, tangents)
+        jacobian[:k, n] = -kept * speed
+        residual[:k] = normals @ h - mu * kept * speed
+        residual[k] = w @ h
+        residual[k + 1] = start @ h - 1.0
+        try:
+            step = np.linalg.solve(jacobian, -residual)
+        except np.linalg.LinAlgError:
+            return None
+        h, mu = h + step[:n], mu + float(step[n])
+        if abs(step[n]) <= NEWTON_RTOL * abs(mu) and np.abs(step[:n]).max() <= 10 * NEWTON_RTOL:
+            break
+    else:
+        return None
+    slip, _ = _slip(tangents, h)
+    if slip is None or not mu > 0:
+        return None
+    edges = normals - (mu * kept)[:, None] * np.einsum("kc,kcn->kn", slip, tangents)
+    pressed = np.linalg.lstsq(edges.T, -wrench, rcond=None)[0]
+    if not np.all(pressed > 0):
+        return None
+    local = np.column_stack([pressed, -(mu * kept * pressed)[:, None] * slip])
+    if np.linalg.norm(columns.T @ local.ravel() + wrench) > BALANCE_RTOL * size:
+        return None
+    found = _largest_ratio(local, kept)
+    if not _separates(normals, tangents, w, h, (1.0 - rtol) * found * kept):
+        return None
+    return found
+
+
+def _slip(tangents: np.ndarray, h: np.ndarray) -> tuple[np.ndarray | None, np.ndarray]:
+    """Each contact's tangential velocity along the twist ``h`` (in its tangent axes): unit
+    directions (k, 2), None where a contact does not slide, and speeds (k,)."""
+    velocity = tangents @ h
+    speed = np.sqrt(np.einsum("kc,kc->k", velocity, velocity))
+    if not np.all(speed > 0):
+        return None, speed
+    return velocity / speed[:, None], speed
+
+
+def _separates(
+    normals: np.ndarray, tangents: np.ndarray, w: np.ndarray, h: np.ndarray, mu: np.ndarray
+) -> bool:
+    """Whether the twist ``h``, nudged along the unit wrench ``w`` so that the load does
+    work along it, clears every contact's cone of coefficient ``mu_j``: ``h . N_j >
+    mu_j |(h . T1_j, h . T2_j)|`` with a margin of CERTIFICATE_MARGIN times the terms
+    compared. Then no balance of the wrench lies in those cones (Farkas' lemma)."""
+    lean = float(w @ h)
+    h = h + (abs(lean) + CERTIFICATE_MARGIN * float(np.abs(h).max())) * w
+    if not float(w @ h) > 0:
+        return False
+    velocity = tangents @ h
+    speed = np.sqrt(np.einsum("kc,kc->k", velocity, velocity))
+    opening = normals @ h
+    scale = float(np.abs(h).sum()) * (
+        np.abs(normals).max(axis=1) + mu * np.abs(tangents).max(axis=(1, 2))
+    )
+    return bool(np.all(opening - mu * speed > CERTIFICATE_MARGIN * scale))
 
 
 def _fractional_steps(
