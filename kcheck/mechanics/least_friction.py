@@ -160,11 +160,19 @@ def least_friction_exactly(
     return least_friction(feasible, ratio, largest=largest, rtol=rtol)
 
 
-#: Most Newton steps of :func:`sliding_limit` (it needs 3 to 8).
-NEWTON_STEPS = 20
+#: Most Newton steps of :func:`sliding_limit` per set of pressed contacts (it needs 3 to 8).
+NEWTON_STEPS = 30
+#: Most contacts :func:`sliding_limit` lets lift off before it leaves the answer to the conic
+#: search.
+LIFTED = 2
 #: :func:`sliding_limit`'s Newton steps end when a step moves ``mu`` by less than this
-#: (relative) and the unit-scaled twist by less than ten times it.
-NEWTON_RTOL = 1e-14
+#: (relative) and the twist (about unit size) by less than it: they converge quadratically, so
+#: the result is then near rounding (the certificate checks it, to the caller's ``rtol``).
+NEWTON_RTOL = 1e-9
+#: A Newton step of :func:`sliding_limit` that moves ``mu`` by less than this (relative)
+#: decides which contacts lift off: those whose force is below ``-LIFT_RTOL`` times the
+#: largest (far beyond the square of the step, the error left).
+LIFT_RTOL = 1e-3
 #: The least margin (relative to the terms compared) by which the separating twist of
 #: :func:`sliding_limit` must clear every friction cone at ``(1 - rtol)`` times the result:
 #: far above the rounding of the few products it is computed from (about 1e-16).
@@ -177,28 +185,29 @@ BALANCE_RTOL = 1e-10
 def sliding_limit(
     columns: np.ndarray, wrench: np.ndarray, kept: np.ndarray, rtol: float
 ) -> float | None:
-    """The least common coefficient ``mu`` (coefficients ``mu * kept``) at which ``n - 1``
-    contacts in space (``columns`` (3k, n) as :func:`kcheck.mechanics.statics._contact_axes`,
-    ``k = n - 1 = 5``) balance ``wrench``, where at that least coefficient every contact is
-    pressed and slides: without a conic solve, and certified; None where that does not hold
-    (a contact lifts off, one sticks, a support is frictionless, or the steps do not
-    converge), and the caller's conic search decides.
+    """The least common coefficient ``mu`` (coefficients ``mu * kept``) at which rough
+    contacts in space (``columns`` (3k, 6) as :func:`kcheck.mechanics.statics._contact_axes`)
+    balance ``wrench``, where every contact pressed at that least coefficient slides there:
+    without a conic solve, and certified; None where that does not hold (a pressed contact
+    sticks, a support is frictionless, the steps do not converge or the certificate fails),
+    and the caller's conic search decides.
 
-    The limit is a twist ``h`` along which the load does no work while every contact opens
-    exactly as fast as its friction cone allows (``h . N_j = mu s_j |(h . T1_j, h . T2_j)|``,
-    the dual of the balance: a separating hyperplane of the contact-wrench cone that touches
-    it at ``-wrench``), and the balance presses each contact with the force on its cone's
-    edge opposite that slip: ``k + 1`` equations in ``h`` (up to scale) and ``mu``, solved by
-    Newton's method from the frictionless free twist at ``mu = 0`` (the first step is the
-    limiting friction's first-order estimate, load power over friction power).
+    The limit is a twist ``h`` along which the load does no work while every pressed contact
+    opens exactly as fast as its friction cone allows (``h . N_j = mu s_j |(h . T1_j, h .
+    T2_j)|``: a separating hyperplane of the contact-wrench cone that touches it at
+    ``-wrench``), with normal forces ``f_j > 0`` on those contacts, each on its cone's edge
+    opposite that slip, balancing the wrench: ``a + 1 + 6`` equations in ``h``, ``mu`` and
+    the ``a`` forces (:func:`_sliding_newton`), solved by Newton's method from the
+    frictionless free twist at ``mu = 0``. A contact whose force comes out negative lifts
+    off: it leaves the pressed set and the steps go on (at most LIFTED times).
 
     Certified as bisection would find it, in floating point with no solver tolerance: the
     returned value is the largest friction ratio of an explicit balance (normal forces
     positive, imbalance below ``BALANCE_RTOL``), and the twist (nudged so that the load does
-    work along it) separates ``-wrench`` from every cone at ``(1 - rtol)`` times it by more
-    than ``CERTIFICATE_MARGIN`` (Farkas: no balance there)."""
+    work along it) clears every contact's cone at ``(1 - rtol)`` times it by more than
+    ``CERTIFICATE_MARGIN`` (:func:`_separates`; Farkas: no balance there)."""
     n, k = len(wrench), len(kept)
-    if n != 6 or k != n - 1 or not np.all(kept > 0):
+    if n != 6 or not np.all(kept > 0):
         return None
     size = float(np.linalg.norm(wrench))
     if not size > 0:
@@ -211,43 +220,87 @@ def sliding_limit(
     if along == 0:
         return None
     start = free if along > 0 else -free
-    h, mu = start.copy(), 0.0
-    jacobian = np.zeros((n + 1, n + 1))
-    jacobian[k, :n] = w
-    jacobian[k + 1, :n] = start
-    residual = np.zeros(n + 1)
-    for _ in range(NEWTON_STEPS):
-        slip, speed = _slip(tangents, h)
-        if slip is None:
+    pressed = np.arange(k)
+    # The wrench is nondimensional: the forces in units of its size.
+    state = (start, 0.0, np.linalg.lstsq(normals.T, -w, rcond=None)[0])
+    for _ in range(LIFTED + 1):
+        found = _sliding_newton(normals[pressed], tangents[pressed], w, kept[pressed], start, state)
+        if found is None:
             return None
-        jacobian[:k, :n] = normals - (mu * kept)[:, None] * np.einsum("kc,kcn->kn", slip, tangents)
-        jacobian[:k, n] = -kept * speed
-        residual[:k] = normals @ h - mu * kept * speed
-        residual[k] = w @ h
-        residual[k + 1] = start @ h - 1.0
+        h, mu, force = found
+        if np.all(force > 0):
+            break
+        lifts = np.arange(len(pressed)) != int(np.argmin(force))
+        pressed, state = pressed[lifts], (h, mu, force[lifts])
+    else:
+        return None
+    slip, _ = _slip(tangents[pressed], h)
+    if slip is None or not mu > 0:
+        return None
+    local = np.zeros((k, 3))
+    local[pressed, 0] = size * force
+    local[pressed, 1:] = -(mu * kept[pressed] * size * force)[:, None] * slip
+    if np.linalg.norm(columns.T @ local.ravel() + wrench) > BALANCE_RTOL * size:
+        return None
+    least = _largest_ratio(local, kept)
+    if not _separates(normals, tangents, w, h, (1.0 - rtol) * least * kept):
+        return None
+    return least
+
+
+def _sliding_newton(
+    normals: np.ndarray,
+    tangents: np.ndarray,
+    w: np.ndarray,
+    kept: np.ndarray,
+    start: np.ndarray,
+    state: tuple[np.ndarray, float, np.ndarray],
+) -> tuple[np.ndarray, float, np.ndarray] | None:
+    """Newton's method for :func:`sliding_limit` on the pressed contacts (normals (a, 6),
+    tangents (a, 2, 6), coefficients' scale (a,)) and the unit wrench ``w``, from ``state``
+    (twist, ``mu``, normal forces (a,) in units of the wrench): the residuals
+    ``h . N_j - mu s_j |T_j h|``, ``start . h - 1`` (the twist's scale) and
+    ``sum_j f_j (N_j - mu s_j T_j^T u_j) + w`` with ``u_j = T_j h / |T_j h|`` (the slip),
+    and their exact derivatives. The solution, or None when a contact stops sliding, the
+    matrix is singular or NEWTON_STEPS do not converge."""
+    h, mu, force = state
+    a, n = len(kept), len(w)
+    size = n + 1 + a
+    jacobian = np.zeros((size, size))
+    jacobian[a, :n] = start
+    residual = np.zeros(size)
+    # T_j^T T_j, summed with weights below: d(T_j^T u_j)/dh = (T_j^T T_j - l_j l_j^T) / |T_j h|
+    # with l_j = T_j^T u_j (u_j = T_j h / |T_j h|, the slip).
+    gram = np.einsum("kcn,kcm->knm", tangents, tangents).reshape(a, n * n)
+    for _ in range(NEWTON_STEPS):
+        velocity = tangents @ h
+        speed = np.sqrt(velocity[:, 0] ** 2 + velocity[:, 1] ** 2)
+        if not speed.min() > 0:
+            return None
+        slip = velocity / speed[:, None]
+        lean = slip[:, 0, None] * tangents[:, 0] + slip[:, 1, None] * tangents[:, 1]
+        edges = normals - (mu * kept)[:, None] * lean
+        residual[:a] = normals @ h - mu * kept * speed
+        residual[a] = start @ h - 1.0
+        residual[a + 1 :] = force @ edges + w
+        jacobian[:a, :n] = edges
+        jacobian[:a, n] = -kept * speed
+        jacobian[a + 1 :, n] = -(force * kept) @ lean
+        jacobian[a + 1 :, n + 1 :] = edges.T
+        weight = mu * kept * force / speed
+        jacobian[a + 1 :, :n] = (weight * lean.T) @ lean - (weight @ gram).reshape(n, n)
         try:
             step = np.linalg.solve(jacobian, -residual)
         except np.linalg.LinAlgError:
             return None
-        h, mu = h + step[:n], mu + float(step[n])
-        if abs(step[n]) <= NEWTON_RTOL * abs(mu) and np.abs(step[:n]).max() <= 10 * NEWTON_RTOL:
-            break
-    else:
-        return None
-    slip, _ = _slip(tangents, h)
-    if slip is None or not mu > 0:
-        return None
-    edges = normals - (mu * kept)[:, None] * np.einsum("kc,kcn->kn", slip, tangents)
-    pressed = np.linalg.lstsq(edges.T, -wrench, rcond=None)[0]
-    if not np.all(pressed > 0):
-        return None
-    local = np.column_stack([pressed, -(mu * kept * pressed)[:, None] * slip])
-    if np.linalg.norm(columns.T @ local.ravel() + wrench) > BALANCE_RTOL * size:
-        return None
-    found = _largest_ratio(local, kept)
-    if not _separates(normals, tangents, w, h, (1.0 - rtol) * found * kept):
-        return None
-    return found
+        h, mu, force = h + step[:n], mu + float(step[n]), force + step[n + 1 :]
+        if abs(step[n]) <= NEWTON_RTOL * abs(mu) and np.abs(step[:n]).max() <= NEWTON_RTOL:
+            return h, mu, force
+        # Near the solution (the error left about the square of the step) a force clearly
+        # below zero stays there: that contact lifts off, no need to converge first.
+        if abs(step[n]) <= LIFT_RTOL * abs(mu) and force.min() < -LIFT_RTOL * force.max():
+            return h, mu, force
+    return None
 
 
 def _slip(tangents: np.ndarray, h: np.ndarray) -> tuple[np.ndarray | None, np.ndarray]:
