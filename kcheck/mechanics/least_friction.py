@@ -39,6 +39,7 @@ from kcheck.numerics.thresholds import (
 )
 
 __all__ = [
+    "certified_holding",
     "friction_candidates",
     "least_friction",
     "least_friction_exactly",
@@ -125,6 +126,7 @@ def least_friction_exactly(
         return 0.0
     sliding = sliding_limit(columns, wrench, scale[keep], rtol)
     if sliding is not None and sliding <= largest:
+        _remember_limit(statics, keep, wrench, scale[keep], sliding, (1.0 - rtol) * sliding)
         return sliding
     mu = max(upper, 1e-3)
     if upper_fails:
@@ -331,6 +333,58 @@ def _separates(
         np.abs(normals).max(axis=1) + mu * np.abs(tangents).max(axis=(1, 2))
     )
     return bool(np.all(opening - mu * speed > CERTIFICATE_MARGIN * scale))
+
+
+# The last few certified sliding limits: the jamming check decides the design direction at
+# the scene's friction right after the least holding friction of the same case.
+_LIMITS: dict[bytes, tuple[np.ndarray, float, float]] = {}
+#: How many certified limits :func:`certified_holding` remembers.
+RECENT_LIMITS = 16
+
+
+def _limit_key(statics: Statics, keep: np.ndarray, wrench: np.ndarray) -> bytes:
+    """The kept contacts' geometry and the wrench, as bytes."""
+    parts = (statics.points[keep], statics.normals[keep], wrench)
+    return b"|".join(np.ascontiguousarray(x, float).tobytes() for x in parts)
+
+
+def _remember_limit(
+    statics: Statics,
+    keep: np.ndarray,
+    wrench: np.ndarray,
+    kept: np.ndarray,
+    holds_from: float,
+    fails_to: float,
+) -> None:
+    """Keep a certified limit: coefficients ``c * kept`` balance the wrench for ``c >=
+    holds_from`` (an explicit balance there) and do not for ``c <= fails_to`` (a separating
+    twist)."""
+    if len(_LIMITS) >= RECENT_LIMITS:
+        del _LIMITS[next(iter(_LIMITS))]
+    _LIMITS[_limit_key(statics, keep, wrench)] = (kept.copy(), holds_from, fails_to)
+
+
+def certified_holding(
+    statics: Statics, keep: np.ndarray, wrench: np.ndarray, mu: np.ndarray
+) -> bool | None:
+    """Whether the supports ``keep`` with coefficients ``mu`` (every support's) balance
+    ``wrench``, where one of the last certified sliding limits of
+    :func:`least_friction_exactly` decides it without a conic solve: ``mu`` on the kept
+    supports a common multiple ``c`` of that search's scale, and ``c`` at or above the limit
+    (True) or at or below ``(1 - rtol)`` times it (False). None otherwise."""
+    found = _LIMITS.get(_limit_key(statics, keep, wrench))
+    if found is None:
+        return None
+    kept, holds_from, fails_to = found
+    mine = np.asarray(mu, float)[keep]
+    c = float(mine[0] / kept[0])
+    if not np.array_equal(mine, c * kept):
+        return None
+    if c >= holds_from:
+        return True
+    if c <= fails_to:
+        return False
+    return None
 
 
 def _fractional_steps(
