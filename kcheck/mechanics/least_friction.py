@@ -122,12 +122,13 @@ def least_friction_exactly(
     def feasible(mu: float) -> bool:
         return _solve_conic(columns, wrench, mu * scale[keep], None) is not None
 
-    if not _frictionless_misses(columns, wrench) and feasible(0.0):
-        return 0.0
+    # A certified limit also shows that coefficient 0 does not hold: it goes first.
     sliding = sliding_limit(columns, wrench, scale[keep], rtol)
     if sliding is not None and sliding <= largest:
         _remember_limit(statics, keep, wrench, scale[keep], sliding, (1.0 - rtol) * sliding)
         return sliding
+    if not _frictionless_misses(columns, wrench) and feasible(0.0):
+        return 0.0
     mu = max(upper, 1e-3)
     if upper_fails:
         if mu >= largest:
@@ -165,13 +166,17 @@ def least_friction_exactly(
 #: Most Newton steps of :func:`sliding_limit` per set of pressed contacts (it needs 3 to 8; 1
 #: of 234 recorded cases needed 16 to 30).
 NEWTON_STEPS = 16
+#: :func:`sliding_limit`'s Newton steps have diverged once ``|mu|`` or the twist (scaled to
+#: about 1 by ``start . h = 1``) passes this (a limit above ``largest``, 100, is none the
+#: caller wants).
+DIVERGED = 1e3
 #: Most contacts :func:`sliding_limit` lets lift off before it leaves the answer to the conic
 #: search.
 LIFTED = 2
 #: :func:`sliding_limit`'s Newton steps end when a step moves ``mu`` by less than this
 #: (relative) and the twist (about unit size) by less than it: they converge quadratically, so
 #: the result is then near rounding (the certificate checks it, to the caller's ``rtol``).
-NEWTON_RTOL = 1e-9
+NEWTON_RTOL = 1e-7
 #: A Newton step of :func:`sliding_limit` that moves ``mu`` by less than this (relative)
 #: decides which contacts lift off: those whose force is below ``-LIFT_RTOL`` times the
 #: largest (far beyond the square of the step, the error left).
@@ -283,26 +288,29 @@ def _sliding_newton(
     gram = np.einsum("kcn,kcm->knm", tangents, tangents).reshape(a, n * n)
     for _ in range(NEWTON_STEPS):
         velocity = tangents @ h
-        speed = np.sqrt(velocity[:, 0] ** 2 + velocity[:, 1] ** 2)
+        speed = np.hypot(velocity[:, 0], velocity[:, 1])
         if not speed.min() > 0:
             return None
         slip = velocity / speed[:, None]
-        lean = slip[:, 0, None] * tangents[:, 0] + slip[:, 1, None] * tangents[:, 1]
-        edges = normals - (mu * kept)[:, None] * lean
-        residual[:a] = normals @ h - mu * kept * speed
+        lean = np.einsum("kc,kcn->kn", slip, tangents)  # T_j^T u_j
+        friction = mu * kept
+        edges = normals - friction[:, None] * lean
+        residual[:a] = edges @ h  # h . N_j - mu s_j |T_j h|
         residual[a] = start @ h - 1.0
         residual[a + 1 :] = force @ edges + w
         jacobian[:a, :n] = edges
         jacobian[:a, n] = -kept * speed
         jacobian[a + 1 :, n] = -(force * kept) @ lean
         jacobian[a + 1 :, n + 1 :] = edges.T
-        weight = mu * kept * force / speed
+        weight = friction * force / speed
         jacobian[a + 1 :, :n] = (weight * lean.T) @ lean - (weight @ gram).reshape(n, n)
         try:
             step = np.linalg.solve(jacobian, -residual)
         except np.linalg.LinAlgError:
             return None
         h, mu, force = h + step[:n], mu + float(step[n]), force + step[n + 1 :]
+        if not (abs(mu) < DIVERGED and np.abs(h).max() < DIVERGED):
+            return None  # no limit with these pressed contacts (one sticks, or lifts off)
         if abs(step[n]) <= NEWTON_RTOL * abs(mu) and np.abs(step[:n]).max() <= NEWTON_RTOL:
             return h, mu, force
         # Near the solution (the error left about the square of the step) a force clearly
