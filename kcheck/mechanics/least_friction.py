@@ -237,8 +237,13 @@ def sliding_limit(
     # The frictionless normal forces (least squares, in units of the wrench) from the same
     # decomposition: the start.
     state = (start, 0.0, u @ ((vt[:k] @ -w) / sv))
-    for _ in range(LIFTED + 1):
-        found = _sliding_newton(normals[pressed], tangents[pressed], w, kept[pressed], start, state)
+    for lifted in range(LIFTED + 1):
+        if lifted == 0 and k == n - 1:
+            found = _sliding_newton_all(normals, tangents, w, kept, start)
+        else:
+            found = _sliding_newton(
+                normals[pressed], tangents[pressed], w, kept[pressed], start, state
+            )
         if found is None:
             return None
         h, mu, force = found
@@ -260,6 +265,53 @@ def sliding_limit(
     if not _separates(normals, tangents, w, h, (1.0 - rtol) * least * kept):
         return None
     return least
+
+
+def _sliding_newton_all(
+    normals: np.ndarray, tangents: np.ndarray, w: np.ndarray, kept: np.ndarray, start: np.ndarray
+) -> tuple[np.ndarray, float, np.ndarray] | None:
+    """:func:`_sliding_newton` with every one of ``n - 1`` contacts pressed, from the free
+    twist at ``mu = 0``: the twist is then fixed by the ``n - 1`` cone conditions, the load's
+    zero work and its scale, so the forces need not be among the unknowns (a 7 x 7 system
+    instead of 12 x 12); they follow at the end, as the balance's least squares."""
+    a, n = len(kept), len(w)
+    h, mu = start, 0.0
+    jacobian = np.zeros((n + 1, n + 1))
+    jacobian[a, :n] = w
+    jacobian[a + 1, :n] = start
+    residual = np.zeros(n + 1)
+    for _ in range(NEWTON_STEPS):
+        velocity = tangents @ h
+        speed = np.hypot(velocity[:, 0], velocity[:, 1])
+        if not speed.min() > 0:
+            return None
+        lean = np.einsum("kc,kcn->kn", velocity / speed[:, None], tangents)  # T_j^T u_j
+        edges = normals - (mu * kept)[:, None] * lean
+        residual[:a] = edges @ h  # h . N_j - mu s_j |T_j h|
+        residual[a] = w @ h
+        residual[a + 1] = start @ h - 1.0
+        jacobian[:a, :n] = edges
+        jacobian[:a, n] = -kept * speed
+        try:
+            step = np.linalg.solve(jacobian, -residual)
+        except np.linalg.LinAlgError:
+            return None
+        h, mu = h + step[:n], mu + float(step[n])
+        if not (abs(mu) < DIVERGED and np.abs(h).max() < DIVERGED):
+            return None
+        if abs(step[n]) <= NEWTON_RTOL * abs(mu) and np.abs(step[:n]).max() <= NEWTON_RTOL:
+            velocity = tangents @ h
+            speed = np.hypot(velocity[:, 0], velocity[:, 1])
+            if not speed.min() > 0:
+                return None
+            lean = np.einsum("kc,kcn->kn", velocity / speed[:, None], tangents)
+            edges = normals - (mu * kept)[:, None] * lean
+            try:
+                force = np.linalg.solve(edges @ edges.T, -(edges @ w))
+            except np.linalg.LinAlgError:
+                return None
+            return h, mu, force
+    return None
 
 
 def _sliding_newton(
