@@ -28,11 +28,15 @@ from kcheck.mechanics.statics import (
 )
 from kcheck.numerics.arrays import unique
 from kcheck.numerics.thresholds import (
+    BALANCE_RTOL,
+    CERTIFICATE_MARGIN,
     CUBIC_IMAG_RTOL,
     DINKELBACH_STALL,
     FRICTIONLESS_MISS,
+    LIFT_RTOL,
     MU_FLOOR,
     MU_RTOL,
+    NEWTON_RTOL,
     POLY_ZERO_RTOL,
     PRESSED_RTOL,
     ZERO_GUARD,
@@ -173,21 +177,6 @@ DIVERGED = 1e3
 #: Most contacts :func:`sliding_limit` lets lift off before it leaves the answer to the conic
 #: search.
 LIFTED = 2
-#: :func:`sliding_limit`'s Newton steps end when a step moves ``mu`` by less than this
-#: (relative) and the twist (about unit size) by less than it: they converge quadratically, so
-#: the result is then near rounding (the certificate checks it, to the caller's ``rtol``).
-NEWTON_RTOL = 1e-7
-#: A Newton step of :func:`sliding_limit` that moves ``mu`` by less than this (relative)
-#: decides which contacts lift off: those whose force is below ``-LIFT_RTOL`` times the
-#: largest (far beyond the square of the step, the error left).
-LIFT_RTOL = 1e-3
-#: The least margin (relative to the terms compared) by which the separating twist of
-#: :func:`sliding_limit` must clear every friction cone at ``(1 - rtol)`` times the result:
-#: far above the rounding of the few products it is computed from (about 1e-16).
-CERTIFICATE_MARGIN = 1e-9
-#: The largest imbalance (relative to the wrench) of :func:`sliding_limit`'s forces: a
-#: converged Newton solve leaves about 1e-15; the conic solver's own tolerance is 1e-8.
-BALANCE_RTOL = 1e-10
 
 
 def sliding_limit(
