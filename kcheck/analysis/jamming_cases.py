@@ -333,8 +333,11 @@ def least_holding_friction(
     # Spatial: within JAM_MU_RTOL (relative); messages show three significant digits.
     wrench = statics.wrench(design)
     if statics.dim == 3:
-        # The first coefficient tried is often the scene's own, which the pyramids may exclude.
-        fails = _outside_pyramids(analysis, case, design, start * rough)
+        # The first coefficient tried is often the scene's own, which the pyramids may exclude
+        # (asked only if the sliding limit leaves the answer to the conic search).
+        def fails() -> bool:
+            return _outside_pyramids(analysis, case, design, start * rough)
+
         return least_friction_exactly(
             statics, case.keep, wrench, rough, start, rtol=JAM_MU_RTOL, upper_fails=fails
         )

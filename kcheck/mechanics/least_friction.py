@@ -100,12 +100,12 @@ def least_friction_exactly(
     *,
     largest: float = 100.0,
     rtol: float = MU_RTOL,
-    upper_fails: bool = False,
+    upper_fails: bool | Callable[[], bool] = False,
 ) -> float | None:
     """Spatial: the smallest common coefficient ``mu`` for which the supports ``keep``, with
     coefficients ``mu * scale`` and exact circular cones, balance ``wrench``; None when not
     even ``largest`` does. ``upper_fails``: the caller knows that ``upper`` does not (the
-    search then starts by doubling it).
+    search then starts by doubling it); a callable is asked only if the conic search runs.
 
     The least coefficient is ``min over balancing forces of max_j |f_t,j| / (scale_j f_n,j)``,
     a generalised fractional programme. From a balance found at a feasible coefficient
@@ -134,7 +134,7 @@ def least_friction_exactly(
     if not _frictionless_misses(columns, wrench) and feasible(0.0):
         return 0.0
     mu = max(upper, 1e-3)
-    if upper_fails:
+    if upper_fails() if callable(upper_fails) else upper_fails:
         if mu >= largest:
             return None
         mu = min(2.0 * mu, largest)
