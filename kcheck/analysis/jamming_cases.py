@@ -28,6 +28,7 @@ from kcheck.mechanics.arcs import ArcSet, complement, intersect, positive_arc
 from kcheck.mechanics.kinematics import FreeTwist, free_twist
 from kcheck.mechanics.lattice_cells import LatticeCells, lattice_cells, lattice_slack
 from kcheck.mechanics.least_friction import (
+    certified_holding,
     friction_candidates,
     least_friction,
     least_friction_exactly,
@@ -299,6 +300,9 @@ def held_at(analysis: JamAnalysis, case: JamCase, design: np.ndarray, mu: np.nda
         return holds(analysis.statics, case.keep, wrench, mu)
     if _outside_pyramids(analysis, case, design, mu):
         return False
+    known = certified_holding(analysis.statics, case.keep, wrench, mu)  # the least-mu search's
+    if known is not None:
+        return known
     return holds_exactly(analysis.statics, case.keep, wrench, mu)
 
 
@@ -329,8 +333,11 @@ def least_holding_friction(
     # Spatial: within JAM_MU_RTOL (relative); messages show three significant digits.
     wrench = statics.wrench(design)
     if statics.dim == 3:
-        # The first coefficient tried is often the scene's own, which the pyramids may exclude.
-        fails = _outside_pyramids(analysis, case, design, start * rough)
+        # The first coefficient tried is often the scene's own, which the pyramids may exclude
+        # (asked only if the sliding limit leaves the answer to the conic search).
+        def fails() -> bool:
+            return _outside_pyramids(analysis, case, design, start * rough)
+
         return least_friction_exactly(
             statics, case.keep, wrench, rough, start, rtol=JAM_MU_RTOL, upper_fails=fails
         )

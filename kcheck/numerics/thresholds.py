@@ -109,6 +109,10 @@ __all__ = [
     "DINKELBACH_STALL",
     "PRESSED_RTOL",
     "FRICTIONLESS_MISS",
+    "NEWTON_RTOL",
+    "LIFT_RTOL",
+    "CERTIFICATE_MARGIN",
+    "BALANCE_RTOL",
     "OUTSIDE_PYRAMIDS",
     "GOLDEN_XTOL",
     "LEAST_FORCE_RTOL",
@@ -474,6 +478,23 @@ PRESSED_RTOL: float = 1e-9
 #: friction skips the conic solve at coefficient 0, whose answer is then certain (the
 #: solver's feasibility tolerances are 1e-8, its reduced ones 1e-4, far below).
 FRICTIONLESS_MISS: float = 1e-2
+#: The sliding limit's Newton steps (least holding friction in space) end when a step moves
+#: ``mu`` by less than this (relative) and the twist (about unit size) by less than it
+#: (nondimensional): they converge quadratically, so the result is then near rounding (its
+#: certificate checks it, to the caller's ``rtol``).
+NEWTON_RTOL: float = 1e-7
+#: A Newton step of the sliding limit that moves ``mu`` by less than this (relative,
+#: nondimensional) decides which contacts lift off: those whose force is below ``-LIFT_RTOL``
+#: times the largest (far beyond the square of the step, the error left).
+LIFT_RTOL: float = 1e-3
+#: The least margin (relative to the terms compared, nondimensional) by which the sliding
+#: limit's separating twist must clear every friction cone at ``(1 - rtol)`` times the
+#: result: far above the rounding of the few products it is computed from (about 1e-16).
+CERTIFICATE_MARGIN: float = 1e-9
+#: The largest imbalance (relative to the wrench, nondimensional) of the sliding limit's
+#: forces: a converged Newton solve leaves about 1e-15; the conic solver's own tolerance is
+#: 1e-8.
+BALANCE_RTOL: float = 1e-10
 #: A design direction outside a facet of the circumscribed pyramids' held set by more than
 #: this slack (``a + c . d``, unit facet normals against the nondimensional wrench) is held
 #: by no circular cone inside them: the jamming check skips the conic solve there. Far above
