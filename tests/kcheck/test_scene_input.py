@@ -5,10 +5,13 @@ located errors, never tracebacks."""
 
 from __future__ import annotations
 
+import math
 import os
 import time
 import tracemalloc
+from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -529,3 +532,67 @@ def test_every_check_option_error_in_one_run(write_scene):
         ("checks", "analytcal-2d"),
     }
     assert all(e.line is not None for e in result.errors)
+
+
+def _former_walk(value: Any, path: tuple, budget: list[int]) -> Iterator[tuple[tuple, Any]]:
+    """``validate._walk`` as it was: every node (a mapping's keys too), depth first."""
+    budget[0] -= 1
+    if budget[0] < 0:
+        return
+    yield path, value
+    if isinstance(value, dict):
+        for k, v in value.items():
+            yield (*path, k), k
+            yield from _former_walk(v, (*path, k), budget)
+    elif isinstance(value, list):
+        for i, v in enumerate(value):
+            yield from _former_walk(v, (*path, i), budget)
+
+
+def _former_problems(data: Any, problems: Any, budget: int) -> None:
+    """``plain_value_problems`` as it was, over ``_former_walk``."""
+    from kcheck.scene.validate import _MAX_INT, _bad_string
+
+    for where, value in _former_walk(data, (), [budget]):
+        if isinstance(value, bool) or value is None:
+            continue
+        if isinstance(value, float) and not math.isfinite(value):
+            problems.add(where, f"expected a finite number, got {value}")
+        elif isinstance(value, int) and abs(value) > _MAX_INT:
+            problems.add(where, "the number is too large to be a physical quantity")
+        elif isinstance(value, str):
+            bad = _bad_string(value)
+            if bad:
+                problems.add(where, f"the text {bad}")
+
+
+class _Text(str):
+    pass
+
+
+def test_plain_value_problems_as_the_former_walk() -> None:
+    """The recursive check (``_check_tree``, no generators) finds the same problems at the
+    same fields in the same order as the generator walk it replaced, with any budget."""
+    from kcheck.scene.validate import Problems, _check_tree
+
+    bad: list[Any] = [
+        math.nan, math.inf, -math.inf, 10**301, -(10**301), "a\x00b", "x\ud800y", True, None,
+        1.5, 7, "fine", _Text("t\x00"), [], {},
+    ]  # fmt: skip
+    data = {
+        "a": bad,
+        "b": {"c": {"d": bad, math.inf: 1, "e\x00": [bad, {"f": bad}]}},
+        10**302: "key",
+        "g": [[[math.nan, {"h": -math.inf}]]],
+        "i": bad[:3],
+    }
+    found = []
+    for budget in (1_000_000, 1, 2, 5, 17, 40, 77):
+        mine, former = Problems(Path("x"), {}), Problems(Path("x"), {})
+        _check_tree(data, (), [budget], mine)
+        _former_problems(data, former, budget)
+        assert [(e.where, e.message) for e in mine.errors] == [
+            (e.where, e.message) for e in former.errors
+        ]
+        found.append(len(former.errors))
+    assert found[0] > 30 and 0 < found[3] < found[-1] < found[0]  # budgets cut the walk
