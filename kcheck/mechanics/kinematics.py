@@ -42,6 +42,8 @@ __all__ = [
     "maxwell_angle",
 ]
 
+_FLOAT = np.dtype(np.float64)
+
 
 def row_norms(vectors: np.ndarray) -> np.ndarray:
     """Euclidean norms of the rows of ``vectors`` (..., n) without overflow or underflow.
@@ -135,6 +137,12 @@ def _cross2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Cross product of 3-vectors (..., 3), broadcasting; ``np.cross`` without its overhead."""
+    if a.shape == (3,) == b.shape and a.dtype == _FLOAT == b.dtype:
+        # Two float 3-vectors (most calls of a planar scene): the same products and
+        # differences in Python floats (IEEE doubles, as numpy's), no array arithmetic.
+        x0, x1, x2 = a.tolist()
+        y0, y1, y2 = b.tolist()
+        return np.array([x1 * y2 - x2 * y1, x2 * y0 - x0 * y2, x0 * y1 - x1 * y0])
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
     out = np.empty(np.broadcast_shapes(a.shape, b.shape), np.result_type(a, b, float))
