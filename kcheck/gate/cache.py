@@ -80,6 +80,11 @@ def _file_sha256(path: Path) -> str:
 
 def _plain(value: Any) -> Any:
     """A JSON-able, deterministic form of a part field."""
+    kind = type(value)
+    # The plain leaves first, by exact type (none has ``tolist``: what the general path
+    # below returns them as, unchanged); most of a key's values are these.
+    if kind is float or kind is str or kind is int or kind is bool or value is None:
+        return value
     if hasattr(value, "tolist"):
         return value.tolist()
     if isinstance(value, Path):
