@@ -52,6 +52,18 @@ def row_norms(vectors: np.ndarray) -> np.ndarray:
     1e-300 gives its norm instead of ``inf`` or 0.
     """
     v = np.asarray(vectors, dtype=float)
+    if v.shape == (2,) or v.shape == (3,):
+        # One finite 2- or 3-vector (most calls of a planar scene): the same operations in
+        # Python floats (numpy adds a row's squares left to right), a numpy float returned.
+        values = v.tolist()
+        if all(map(math.isfinite, values)):
+            big = max(map(abs, values))
+            safe = big if big > 0 else 1.0
+            total = 0.0
+            for x in values:
+                x /= safe
+                total += x * x
+            return np.float64(math.sqrt(total) * big)
     big = np.abs(v).max(axis=-1, keepdims=True)
     safe = np.where(big > 0, big, 1.0)
     return np.sqrt(np.sum((v / safe) ** 2, axis=-1)) * big[..., 0]
