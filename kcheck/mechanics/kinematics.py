@@ -52,8 +52,8 @@ def row_norms(vectors: np.ndarray) -> np.ndarray:
     1e-300 gives its norm instead of ``inf`` or 0.
     """
     v = np.asarray(vectors, dtype=float)
-    if v.shape == (2,) or v.shape == (3,):
-        # One finite 2- or 3-vector (most calls of a planar scene): the same operations in
+    if v.ndim == 1 and 0 < len(v) <= 3:
+        # One finite vector of 1-3 parts (most calls of a planar scene): the same operations in
         # Python floats (numpy adds a row's squares left to right), a numpy float returned.
         values = v.tolist()
         if all(map(math.isfinite, values)):

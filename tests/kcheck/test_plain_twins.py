@@ -84,18 +84,21 @@ def _former_row_norms(vectors: np.ndarray) -> np.ndarray:
     return np.sqrt(np.sum((v / safe) ** 2, axis=-1)) * big[..., 0]
 
 
-@pytest.mark.parametrize("n", [2, 3])
+@pytest.mark.parametrize("n", [1, 2, 3])
 def test_row_norms_of_one_vector_in_plain_floats_bit_for_bit(n):
-    """``row_norms`` of one finite 2- or 3-vector (Python floats) is its numpy form's
+    """``row_norms`` of one finite vector of 1-3 parts (Python floats) is its numpy form's
     numpy float, bit for bit, at every magnitude, with zeros and rounding noise; non-finite
     vectors and other shapes take the numpy form."""
     rng = np.random.default_rng(n)
     vectors = [v[:n] for v in _vectors(rng, 20_000)]
     vectors += [np.zeros(n), np.full(n, 5e-324), np.full(n, 1e308), -np.zeros(n)]
     vectors += [np.array([np.inf, *[1.0] * (n - 1)]), np.array([*[1.0] * (n - 1), np.nan])]
-    vectors += [rng.normal(size=4), rng.normal(size=(3, n)), [1, 2][:n] + [3] * (n - 2)]
+    vectors += [rng.normal(size=4), rng.normal(size=(3, n)), [1, 2, 3][:n]]
     for v in vectors:
         with np.errstate(invalid="ignore", over="ignore"):  # inf / inf: NaN, as meant
             got, want = row_norms(v), _former_row_norms(v)
         assert type(got) is type(want)
         assert np.asarray(got).tobytes() == np.asarray(want).tobytes(), v
+    for f in (row_norms, _former_row_norms):  # no parts: no largest magnitude, as before
+        with pytest.raises(ValueError):
+            f(np.zeros(0))
