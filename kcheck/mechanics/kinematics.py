@@ -120,6 +120,10 @@ class Frame:
     def for_points(cls, points: np.ndarray, dim: int, force: float) -> Frame:
         """Frame centred on the support centroid, length = largest distance from it."""
         points = np.asarray(points, dtype=float)
+        if points.ndim == 2 and 0 < len(points) <= FEW_POINTS:
+            plain = _plain_frame(points.tolist())
+            if plain is not None:
+                return cls(np.array(plain[0]), plain[1], force, dim)
         big = float(np.abs(points).max()) if points.size else 0.0
         scale = big if big > 0 and np.isfinite(big) else 1.0
         origin = (points / scale).mean(axis=0) * scale
@@ -127,6 +131,40 @@ class Frame:
         if not (length > 0 and np.isfinite(length)):
             length = 1.0
         return cls(origin, length, force, dim)
+
+
+#: Up to this many points :meth:`Frame.for_points` works in Python floats (a scene's supports).
+FEW_POINTS = 12
+
+
+def _plain_frame(rows: list[list[float]]) -> tuple[list[float], float] | None:
+    """:meth:`Frame.for_points`' origin and length of a few finite points, in Python floats:
+    numpy's operations in its order (the mean adds the rows in turn, then divides by their
+    count; :func:`row_norms` of each offset); None for a non-finite or empty coordinate
+    (numpy decides those)."""
+    flat = [x for row in rows for x in row]
+    if not flat or not all(map(math.isfinite, flat)):
+        return None
+    big = max(map(abs, flat))
+    scale = big if big > 0 else 1.0
+    count = len(rows)
+    sums = [x / scale for x in rows[0]]
+    for row in rows[1:]:
+        sums = [s + x / scale for s, x in zip(sums, row, strict=True)]
+    origin = [s / count * scale for s in sums]
+    length = 0.0
+    for row in rows:
+        offset = [x - o for x, o in zip(row, origin, strict=True)]
+        size = max(map(abs, offset))
+        safe = size if size > 0 else 1.0
+        total = 0.0
+        for x in offset:
+            x /= safe
+            total += x * x
+        length = max(length, math.sqrt(total) * size)
+    if not (length > 0 and math.isfinite(length)):
+        length = 1.0
+    return origin, length
 
 
 @dataclass(frozen=True)
