@@ -352,7 +352,14 @@ def _from_payload(payload: Any) -> MassProperties | None:
         and inertia.shape == (3, 3)
         and bool(np.all(np.isfinite(com)))
         and bool(np.all(np.isfinite(inertia)))
-        and bool(np.allclose(inertia, inertia.T, rtol=CACHED_SYMMETRY_RTOL, atol=0))
+        # np.allclose(inertia, inertia.T, rtol=CACHED_SYMMETRY_RTOL, atol=0) of a finite
+        # inertia (tested just above), written as its test: |x - y| <= rtol |y|, or equal.
+        and bool(
+            np.all(
+                (np.abs(inertia - inertia.T) <= CACHED_SYMMETRY_RTOL * np.abs(inertia.T))
+                | (inertia == inertia.T)
+            )
+        )
         and payload["source"] == "mesh"
         and (volume is None or (isinstance(volume, (int, float)) and volume > 0))
         and isinstance(notes, list)

@@ -343,3 +343,27 @@ def test_plain_key_form_as_before() -> None:
         assert json.dumps(_plain(value), sort_keys=True) == json.dumps(
             _former_plain(value), sort_keys=True
         )
+
+
+def test_cached_inertia_symmetry_as_allclose() -> None:
+    """A cached entry's inertia is trusted when ``np.allclose(I, I.T, rtol=
+    CACHED_SYMMETRY_RTOL, atol=0)`` holds (written out in ``_from_payload``): the same
+    decision on inertias skewed by 0 to 100 times the tolerance, with zeros and signs."""
+    from kcheck.gate.cache import _from_payload, _to_payload
+    from kcheck.numerics.thresholds import CACHED_SYMMETRY_RTOL
+    from kcheck.result import MassProperties
+
+    rng = np.random.default_rng(29)
+    base = _to_payload(MassProperties(1.0, np.zeros(3), np.eye(3), "mesh", 1e-3, (), None, (), ()))
+    decided = set()
+    for _ in range(3000):
+        a = rng.normal(size=(3, 3))
+        a = a + a.T
+        a[rng.random((3, 3)) < 0.2] = 0.0
+        skew = rng.normal(size=(3, 3)) * CACHED_SYMMETRY_RTOL * 10.0 ** rng.uniform(-2, 2)
+        inertia = a * (1.0 + skew)
+        want = bool(np.allclose(inertia, inertia.T, rtol=CACHED_SYMMETRY_RTOL, atol=0))
+        got = _from_payload({**base, "inertia": inertia.tolist()}) is not None
+        assert got == want
+        decided.add(want)
+    assert decided == {True, False}
