@@ -89,7 +89,14 @@ class Problems:
         """A point in the scene's units as metres, each coordinate within the limits."""
         v = np.asarray(vector, dtype=float) * scale
         r = LIMITS["coordinate"]
-        if not np.all(np.abs(v) <= r.high):
+        high = r.high
+        # np.all(np.abs(v) <= high), element by element in Python floats for one point
+        inside = (
+            all(abs(x) <= high for x in v.tolist())
+            if v.ndim == 1
+            else bool(np.all(np.abs(v) <= high))
+        )
+        if not inside:
             self.add(where, f"coordinates must satisfy |x| ≤ {r.high:g} m, got {vector}")
             return None
         return v
@@ -99,7 +106,11 @@ class Problems:
         from kcheck.scene.couplings import unit
 
         v = np.asarray(vector, dtype=float)
-        largest = float(np.abs(v).max())
+        values = v.tolist() if v.ndim == 1 else []
+        if values and all(map(math.isfinite, values)):
+            largest = max(map(abs, values))  # float(np.abs(v).max()) of finite parts
+        else:
+            largest = float(np.abs(v).max())
         if largest == 0.0:
             self.add(where, f"expected a non-zero vector for {what}, got {vector}")
             return None

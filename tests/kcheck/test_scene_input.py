@@ -596,3 +596,52 @@ def test_plain_value_problems_as_the_former_walk() -> None:
         ]
         found.append(len(former.errors))
     assert found[0] > 30 and 0 < found[3] < found[-1] < found[0]  # budgets cut the walk
+
+
+def test_direction_and_coordinates_as_the_numpy_tests() -> None:
+    """``Problems.direction`` and ``coordinates`` (their size tests in Python floats for one
+    vector) accept, refuse and word the same as the numpy tests they replaced: zeros,
+    tiny and huge components, NaN and infinities anywhere in the vector."""
+    import numpy as np
+
+    from kcheck.scene.couplings import unit
+    from kcheck.scene.limits import LIMITS, MAX_DIRECTION, MIN_DIRECTION
+    from kcheck.scene.validate import Problems
+
+    def former_direction(problems: Problems, vector: list[float]) -> Any:
+        v = np.asarray(vector, dtype=float)
+        largest = float(np.abs(v).max())
+        if largest == 0.0:
+            problems.add(("d",), f"expected a non-zero vector for it, got {vector}")
+            return None
+        if not MIN_DIRECTION <= largest <= MAX_DIRECTION:
+            problems.add(("d",), f"it: bad {vector}")
+            return None
+        return unit(v)
+
+    def former_coordinates(problems: Problems, vector: list[float], scale: float) -> Any:
+        v = np.asarray(vector, dtype=float) * scale
+        if not np.all(np.abs(v) <= LIMITS["coordinate"].high):
+            problems.add(("c",), f"coordinates {vector}")
+            return None
+        return v
+
+    parts = [0.0, -0.0, 1.0, -2.5, 1e-12, 1e12, 1e300, math.nan, math.inf, -math.inf, 3]
+    rng = np.random.default_rng(4)
+    vectors = [[float(x) for x in rng.choice(parts, 3)] for _ in range(3000)]
+    vectors += [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [math.nan, 1.0, 0.0], [1.0, math.nan, 0.0]]
+    for vector in vectors:
+        mine, former = Problems(Path("x"), {}), Problems(Path("x"), {})
+        with np.errstate(invalid="ignore", over="ignore"):
+            got, want = mine.direction(("d",), vector, "it"), former_direction(former, vector)
+        assert (got is None) == (want is None) and len(mine.errors) == len(former.errors)
+        if got is not None:
+            assert got.tobytes() == want.tobytes()
+        for scale in (1.0, 1e-3):
+            mine, former = Problems(Path("x"), {}), Problems(Path("x"), {})
+            with np.errstate(invalid="ignore", over="ignore"):
+                got = mine.coordinates(("c",), vector, scale)
+                want = former_coordinates(former, vector, scale)
+            assert (got is None) == (want is None)
+            if got is not None:
+                assert got.tobytes() == want.tobytes()
