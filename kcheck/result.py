@@ -130,10 +130,21 @@ def to_json_value(value: Any) -> Any:
     if kind is str or kind is int or kind is bool or value is None:
         return value
     if kind is dict or kind is MappingProxyType:
-        return {str(k): to_json_value(v) for k, v in value.items()}
+        return {str(k): _json_item(v) for k, v in value.items()}
     if kind is list or kind is tuple:
-        return [to_json_value(v) for v in value]
+        return [_json_item(v) for v in value]
     return _general_json_value(value)
+
+
+def _json_item(value: Any) -> Any:
+    """:func:`to_json_value` of a container's item, a plain float or text without the call
+    (most of a report's values are the leaves of lists and mappings)."""
+    kind = type(value)
+    if kind is float:
+        return value if math.isfinite(value) else None
+    if kind is str:
+        return value
+    return to_json_value(value)
 
 
 def _general_json_value(value: Any) -> Any:
@@ -163,22 +174,27 @@ def ranges_json(ranges: Ranges) -> list[list[float]]:
 
 
 def _is_ranges(value: Any) -> bool:
-    return isinstance(value, (list, tuple)) and all(
-        isinstance(r, (list, tuple))
-        and len(r) == 2
-        and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in r)
-        for r in value
-    )
+    """Whether a value is a list of ``(start, end)`` numbers (not bools)."""
+    if not isinstance(value, (list, tuple)):
+        return False
+    for r in value:
+        if not isinstance(r, (list, tuple)) or len(r) != 2:
+            return False
+        for x in r:
+            if type(x) is not float and (isinstance(x, bool) or not isinstance(x, (int, float))):
+                return False
+    return True
 
 
 def details_json(details: Mapping[str, Any]) -> dict[str, Any]:
     """A check's further fields as JSON; lists of ranges in degrees (keys ending in ``_deg``)
     follow :func:`ranges_json`, as ``safe_ranges_deg`` does."""
-    out = to_json_value(details)
-    for key, value in details.items():
-        if key.endswith("_deg") and value and _is_ranges(value):
-            out[key] = ranges_json(value)
-    return out
+    return {
+        str(key): ranges_json(value)
+        if key.endswith("_deg") and value and _is_ranges(value)
+        else _json_item(value)
+        for key, value in details.items()
+    }
 
 
 @dataclass(frozen=True)

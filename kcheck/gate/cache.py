@@ -80,6 +80,11 @@ def _file_sha256(path: Path) -> str:
 
 def _plain(value: Any) -> Any:
     """A JSON-able, deterministic form of a part field."""
+    kind = type(value)
+    # The plain leaves first, by exact type (none has ``tolist``: what the general path
+    # below returns them as, unchanged); most of a key's values are these.
+    if kind is float or kind is str or kind is int or kind is bool or value is None:
+        return value
     if hasattr(value, "tolist"):
         return value.tolist()
     if isinstance(value, Path):
@@ -347,7 +352,14 @@ def _from_payload(payload: Any) -> MassProperties | None:
         and inertia.shape == (3, 3)
         and bool(np.all(np.isfinite(com)))
         and bool(np.all(np.isfinite(inertia)))
-        and bool(np.allclose(inertia, inertia.T, rtol=CACHED_SYMMETRY_RTOL, atol=0))
+        # np.allclose(inertia, inertia.T, rtol=CACHED_SYMMETRY_RTOL, atol=0) of a finite
+        # inertia (tested just above), written as its test: |x - y| <= rtol |y|, or equal.
+        and bool(
+            np.all(
+                (np.abs(inertia - inertia.T) <= CACHED_SYMMETRY_RTOL * np.abs(inertia.T))
+                | (inertia == inertia.T)
+            )
+        )
         and payload["source"] == "mesh"
         and (volume is None or (isinstance(volume, (int, float)) and volume > 0))
         and isinstance(notes, list)

@@ -278,9 +278,21 @@ def complement(arcs: ArcSet) -> ArcSet:
     out = []
     for s, e in gaps:
         if e > s:
-            shift = np.floor(s / TAU) * TAU
-            out.append((float(s - shift), float(e - shift)))
+            out.append(_shifted(s, e))
     return tuple(sorted(out))
+
+
+def _shifted(s: float, e: float) -> tuple[float, float]:
+    """A gap ``(s, e)`` moved by whole turns so that it starts in [0, 2 pi): ``floor(s / 2 pi)``
+    turns, in plain float arithmetic (a positive quotient below 2^52: ``math.floor``'s integer
+    times 2 pi is the same float as ``np.floor``'s; zero, negative or huge quotients, whose
+    signed zeros or size the integer would not keep, go to numpy)."""
+    turns = s / TAU
+    if 0.0 < turns < 2.0**52:
+        shift = math.floor(turns) * TAU
+        return (float(s - shift), float(e - shift))
+    shift = np.floor(turns) * TAU
+    return (float(s - shift), float(e - shift))
 
 
 def union(*sets: ArcSet) -> ArcSet:

@@ -14,7 +14,13 @@ from typing import Literal
 
 import numpy as np
 
-from kcheck.numerics.arrays import row_lengths, sorted_unique_tuples, unique, unique_rounded_rows
+from kcheck.numerics.arrays import (
+    RINT_SHIFT,
+    row_lengths,
+    sorted_unique_tuples,
+    unique,
+    unique_rounded_rows,
+)
 from kcheck.numerics.thresholds import (
     FACET_DECIMALS,
     FACET_TOL,
@@ -152,14 +158,15 @@ def _planar_facets(generators: list[list[float]]) -> np.ndarray | Literal["every
     if not facets:
         return "everywhere"
     scale = 10.0**FACET_DECIMALS
+    shift = RINT_SHIFT  # unit facets: |f scale| is far inside RINT_SHIFT's bound
     rounded: list[tuple[float, ...]] = []
     for f0, f1, f2 in facets:  # round_like_numpy of each part, written out
         r0, r1, r2 = f0 * scale, f1 * scale, f2 * scale
         rounded.append(
             (
-                math.copysign(float(round(r0)), r0) / scale,
-                math.copysign(float(round(r1)), r1) / scale,
-                math.copysign(float(round(r2)), r2) / scale,
+                math.copysign((r0 + shift) - shift, r0) / scale,
+                math.copysign((r1 + shift) - shift, r1) / scale,
+                math.copysign((r2 + shift) - shift, r2) / scale,
             )
         )
     return sorted_unique_tuples(rounded)
@@ -195,6 +202,7 @@ def planar_cone_holds(
         return None
     a0, a1, a2 = against
     scale = 10.0**FACET_DECIMALS
+    shift = RINT_SHIFT  # unit facets: |f scale| is far inside RINT_SHIFT's bound
     close = False
     for i in range(count):
         g0, g1, g2 = generators[i]
@@ -213,9 +221,9 @@ def planar_cone_holds(
             else:
                 continue
             # round_like_numpy of each part, as _planar_facets rounds the facet
-            r0 = math.copysign(float(round(r0)), r0) / scale
-            r1 = math.copysign(float(round(r1)), r1) / scale
-            r2 = math.copysign(float(round(r2)), r2) / scale
+            r0 = math.copysign((r0 + shift) - shift, r0) / scale
+            r1 = math.copysign((r1 + shift) - shift, r1) / scale
+            r2 = math.copysign((r2 + shift) - shift, r2) / scale
             value = r0 * a0 + r1 * a1 + r2 * a2
             if value < limit - margin:
                 return False

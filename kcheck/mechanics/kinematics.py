@@ -42,6 +42,8 @@ __all__ = [
     "maxwell_angle",
 ]
 
+_FLOAT = np.dtype(np.float64)
+
 
 def row_norms(vectors: np.ndarray) -> np.ndarray:
     """Euclidean norms of the rows of ``vectors`` (..., n) without overflow or underflow.
@@ -50,6 +52,18 @@ def row_norms(vectors: np.ndarray) -> np.ndarray:
     1e-300 gives its norm instead of ``inf`` or 0.
     """
     v = np.asarray(vectors, dtype=float)
+    if v.ndim == 1 and 0 < len(v) <= 3:
+        # One finite vector of 1-3 parts (most calls of a planar scene): the same operations in
+        # Python floats (numpy adds a row's squares left to right), a numpy float returned.
+        values = v.tolist()
+        if all(map(math.isfinite, values)):
+            big = max(map(abs, values))
+            safe = big if big > 0 else 1.0
+            total = 0.0
+            for x in values:
+                x /= safe
+                total += x * x
+            return np.float64(math.sqrt(total) * big)
     big = np.abs(v).max(axis=-1, keepdims=True)
     safe = np.where(big > 0, big, 1.0)
     return np.sqrt(np.sum((v / safe) ** 2, axis=-1)) * big[..., 0]
@@ -106,6 +120,10 @@ class Frame:
     def for_points(cls, points: np.ndarray, dim: int, force: float) -> Frame:
         """Frame centred on the support centroid, length = largest distance from it."""
         points = np.asarray(points, dtype=float)
+        if points.ndim == 2 and 0 < len(points) <= FEW_POINTS:
+            plain = _plain_frame(points.tolist())
+            if plain is not None:
+                return cls(np.array(plain[0]), plain[1], force, dim)
         big = float(np.abs(points).max()) if points.size else 0.0
         scale = big if big > 0 and np.isfinite(big) else 1.0
         origin = (points / scale).mean(axis=0) * scale
@@ -113,6 +131,40 @@ class Frame:
         if not (length > 0 and np.isfinite(length)):
             length = 1.0
         return cls(origin, length, force, dim)
+
+
+#: Up to this many points :meth:`Frame.for_points` works in Python floats (a scene's supports).
+FEW_POINTS = 12
+
+
+def _plain_frame(rows: list[list[float]]) -> tuple[list[float], float] | None:
+    """:meth:`Frame.for_points`' origin and length of a few finite points, in Python floats:
+    numpy's operations in its order (the mean adds the rows in turn, then divides by their
+    count; :func:`row_norms` of each offset); None for a non-finite or empty coordinate
+    (numpy decides those)."""
+    flat = [x for row in rows for x in row]
+    if not flat or not all(map(math.isfinite, flat)):
+        return None
+    big = max(map(abs, flat))
+    scale = big if big > 0 else 1.0
+    count = len(rows)
+    sums = [x / scale for x in rows[0]]
+    for row in rows[1:]:
+        sums = [s + x / scale for s, x in zip(sums, row, strict=True)]
+    origin = [s / count * scale for s in sums]
+    length = 0.0
+    for row in rows:
+        offset = [x - o for x, o in zip(row, origin, strict=True)]
+        size = max(map(abs, offset))
+        safe = size if size > 0 else 1.0
+        total = 0.0
+        for x in offset:
+            x /= safe
+            total += x * x
+        length = max(length, math.sqrt(total) * size)
+    if not (length > 0 and math.isfinite(length)):
+        length = 1.0
+    return origin, length
 
 
 @dataclass(frozen=True)
@@ -135,6 +187,12 @@ def _cross2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Cross product of 3-vectors (..., 3), broadcasting; ``np.cross`` without its overhead."""
+    if a.shape == (3,) == b.shape and a.dtype == _FLOAT == b.dtype:
+        # Two float 3-vectors (most calls of a planar scene): the same products and
+        # differences in Python floats (IEEE doubles, as numpy's), no array arithmetic.
+        x0, x1, x2 = a.tolist()
+        y0, y1, y2 = b.tolist()
+        return np.array([x1 * y2 - x2 * y1, x2 * y0 - x0 * y2, x0 * y1 - x1 * y0])
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
     out = np.empty(np.broadcast_shapes(a.shape, b.shape), np.result_type(a, b, float))

@@ -45,7 +45,7 @@ from kcheck.mechanics.cones import (
 from kcheck.mechanics.csc import Csc
 from kcheck.mechanics.dynamics import friction_directions
 from kcheck.mechanics.kinematics import Frame, cross3, wrenches
-from kcheck.numerics.arrays import unique_rows
+from kcheck.numerics.arrays import RINT_SHIFT, unique_rows
 from kcheck.numerics.thresholds import EDGE_WRENCH_DECIMALS, EPS, PRODUCT_ROUNDING, SAME_FACET
 from kcheck.records import dataclass
 
@@ -299,6 +299,7 @@ def _planar_generator_rows(
     if not points:
         return None
     scale = 10.0**EDGE_WRENCH_DECIMALS  # np.round(g, EDGE_WRENCH_DECIMALS)'s factor
+    shift = RINT_SHIFT  # unit wrenches: |part scale| is far inside RINT_SHIFT's bound
     rows: list[tuple[float, ...]] = []
     for (px, py), (nx, ny), m in zip(points, normals, mu, strict=True):
         tx, ty = -ny, nx
@@ -315,9 +316,9 @@ def _planar_generator_rows(
             r0, r1, r2 = w / size * scale, fx / size * scale, fy / size * scale
             rows.append(
                 (
-                    math.copysign(float(round(r0)), r0) / scale,
-                    math.copysign(float(round(r1)), r1) / scale,
-                    math.copysign(float(round(r2)), r2) / scale,
+                    math.copysign((r0 + shift) - shift, r0) / scale,
+                    math.copysign((r1 + shift) - shift, r1) / scale,
+                    math.copysign((r2 + shift) - shift, r2) / scale,
                 )
             )
     rows.sort()  # sorted_unique_tuples' order and duplicates

@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 __all__ = [
+    "RINT_SHIFT",
     "round_like_numpy",
     "row_lengths",
     "sorted_unique_tuples",
@@ -84,6 +85,14 @@ def row_lengths(vectors: np.ndarray) -> np.ndarray:
     for j in range(1, vectors.shape[1]):
         total += squares[:, j]
     return np.sqrt(total)[:, None]
+
+
+#: ``(y + RINT_SHIFT) - RINT_SHIFT`` is ``rint(y)`` (round half to even) for ``|y| <= 2^51``:
+#: the sum's unit in the last place is 1, so adding rounds away the fraction as rint does,
+#: and the subtraction is exact. ``math.copysign`` of it with ``y`` keeps a zero's sign as
+#: ``np.rint`` does; the same float as ``math.copysign(float(round(y)), y)``, without the
+#: integer (the unit facets and wrenches rounded to 13 decimals are far inside the bound).
+RINT_SHIFT = 1.5 * 2.0**52
 
 
 def round_like_numpy(value: float, scale: float) -> float:

@@ -372,7 +372,12 @@ class _Builder:
         if planar and abs(abs(normal[2]) - 1) > PLANAR_TOL:
             p.add(("sweep", "normal"), "a planar scene sweeps in the xy-plane: use [0, 0, 1]")
             return None
-        return Sweep(normal, e1, np.cross(normal, e1), given)
+        # np.cross of two 3-vectors written out (its multiplies and subtractions, the same
+        # floats; its call was most of this method's time).
+        n0, n1, n2 = normal.tolist()
+        z0, z1, z2 = e1.tolist()
+        e2 = np.array([n1 * z2 - n2 * z1, n2 * z0 - n0 * z2, n0 * z1 - n1 * z0])
+        return Sweep(normal, e1, e2, given)
 
     def load(self, model: LoadModel, sweep: Sweep, planar: bool) -> Load | None:
         p = self.p

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 import typing
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -89,7 +89,14 @@ class Problems:
         """A point in the scene's units as metres, each coordinate within the limits."""
         v = np.asarray(vector, dtype=float) * scale
         r = LIMITS["coordinate"]
-        if not np.all(np.abs(v) <= r.high):
+        high = r.high
+        # np.all(np.abs(v) <= high), element by element in Python floats for one point
+        inside = (
+            all(abs(x) <= high for x in v.tolist())
+            if v.ndim == 1
+            else bool(np.all(np.abs(v) <= high))
+        )
+        if not inside:
             self.add(where, f"coordinates must satisfy |x| ≤ {r.high:g} m, got {vector}")
             return None
         return v
@@ -99,7 +106,11 @@ class Problems:
         from kcheck.scene.couplings import unit
 
         v = np.asarray(vector, dtype=float)
-        largest = float(np.abs(v).max())
+        values = v.tolist() if v.ndim == 1 else []
+        if values and all(map(math.isfinite, values)):
+            largest = max(map(abs, values))  # float(np.abs(v).max()) of finite parts
+        else:
+            largest = float(np.abs(v).max())
         if largest == 0.0:
             self.add(where, f"expected a non-zero vector for {what}, got {vector}")
             return None
@@ -143,36 +154,64 @@ def _bad_string(text: str) -> str | None:
     return None
 
 
-def _walk(value: Any, path: FieldPath, budget: list[int]) -> Iterator[tuple[FieldPath, Any]]:
+def plain_value_problems(data: Any, problems: Problems) -> None:
+    """Every number finite and of float size, every string valid text without NUL; anywhere
+    in the file, check options included."""
+    _check_tree(data, (), [1_000_000], problems)
+
+
+def _check_tree(value: Any, path: FieldPath, budget: list[int], problems: Problems) -> None:
+    """:func:`plain_value_problems` of a value and everything below it (a mapping's keys
+    too), in file order (depth first), one node of ``budget`` each."""
     # Shared values (aliases) are walked each time they occur; the YAML reader has bounded
     # their total, and `budget` bounds this walk anyway.
     budget[0] -= 1
     if budget[0] < 0:
         return
-    yield path, value
-    if isinstance(value, dict):
+    kind = type(value)
+    if kind is dict:
         for k, v in value.items():
-            yield (*path, k), k
-            yield from _walk(v, (*path, k), budget)
+            where = (*path, k)
+            _check_value(k, where, problems)
+            _check_tree(v, where, budget, problems)
+    elif kind is list:
+        for i, v in enumerate(value):
+            _check_tree(v, (*path, i), budget, problems)
+    elif isinstance(value, dict):
+        for k, v in value.items():
+            where = (*path, k)
+            _check_value(k, where, problems)
+            _check_tree(v, where, budget, problems)
     elif isinstance(value, list):
         for i, v in enumerate(value):
-            yield from _walk(v, (*path, i), budget)
+            _check_tree(v, (*path, i), budget, problems)
+    else:
+        _check_value(value, path, problems)
 
 
-def plain_value_problems(data: Any, problems: Problems) -> None:
-    """Every number finite and of float size, every string valid text without NUL; anywhere
-    in the file, check options included."""
-    for where, value in _walk(data, (), [1_000_000]):
-        if isinstance(value, bool) or value is None:
-            continue
-        if isinstance(value, float) and not math.isfinite(value):
+def _check_value(value: Any, where: FieldPath, problems: Problems) -> None:
+    """One value's problem, if any: a non-finite float, an integer beyond float size, a
+    string that is not valid text."""
+    kind = type(value)
+    if kind is float:
+        if not math.isfinite(value):
             problems.add(where, f"expected a finite number, got {value}")
-        elif isinstance(value, int) and abs(value) > _MAX_INT:
-            problems.add(where, "the number is too large to be a physical quantity")
-        elif isinstance(value, str):
-            bad = _bad_string(value)
-            if bad:
-                problems.add(where, f"the text {bad}")
+        return
+    if kind is str:
+        bad = _bad_string(value)
+        if bad:
+            problems.add(where, f"the text {bad}")
+        return
+    if isinstance(value, bool) or value is None:
+        return
+    if isinstance(value, float) and not math.isfinite(value):
+        problems.add(where, f"expected a finite number, got {value}")
+    elif isinstance(value, int) and abs(value) > _MAX_INT:
+        problems.add(where, "the number is too large to be a physical quantity")
+    elif isinstance(value, str):
+        bad = _bad_string(value)
+        if bad:
+            problems.add(where, f"the text {bad}")
 
 
 # --- pydantic errors ------------------------------------------------------------------------

@@ -227,10 +227,10 @@ class Composer:
 
     def _key(self, top: _Frame, key: Any, mark: _Mark, scalar: bool) -> None:
         line, column = mark.line, mark.column
-        where = format_path(top.path) or "the top level"
         if not scalar or isinstance(key, (dict, list)):
             raise Located("mapping keys must be plain names, not lists or mappings", line, column)
         if not isinstance(key, str):
+            where = format_path(top.path) or "the top level"
             shown = "null" if key is None else str(key).lower() if isinstance(key, bool) else key
             kind = _KEY_KINDS.get(type(key), "a number")
             raise Located(
@@ -271,7 +271,9 @@ class Composer:
                     mark.line,
                     mark.column,
                 )
-            self._count(1, mark)
+            self.values += 1  # _count(1, mark), written out: most events are scalars
+            if self.values > self.limits.max_values:
+                self._count(0, mark)  # raises
             value = _scalar(event)
             if event.anchor is not None:
                 self.anchors[event.anchor] = (value, 1)

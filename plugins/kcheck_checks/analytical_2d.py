@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 
 import numpy as np
 
-from kcheck.analysis import analyse
+from kcheck.analysis import analyse, analyse_many
 from kcheck.analysis.cases import (
     Analysis,
     closing_analysis,
@@ -139,9 +140,22 @@ class Analytical2D(Check):
 
     def run(self, inputs: Inputs) -> CheckResult:
         """Analyse every retracted case and intersect the safe ranges."""
+        return self.run_many([inputs])[0]
+
+    def run_many(self, inputs: Sequence[Inputs]) -> list[CheckResult]:
+        """:meth:`run` of several scenes, their cases' algebra stacked in one batch
+        (:func:`kcheck.analysis.analyse_many`: each analysis is the scene's alone)."""
+        masses = []
+        for each in inputs:
+            assert each.mass is not None
+            masses.append(each.mass)
+        analyses = analyse_many([i.scene for i in inputs], masses)
+        return [self._judge(i, a) for i, a in zip(inputs, analyses, strict=True)]
+
+    def _judge(self, inputs: Inputs, analysis: Analysis) -> CheckResult:
+        """The result of one scene from its analysis: verdict, way-out hints, tilt."""
         assert inputs.mass is not None and isinstance(inputs.options, AnalyticalOptions)
         mass, opts = inputs.mass, inputs.options
-        analysis = analyse(inputs.scene, mass)
 
         def judged(scene: Scene, analysis: Analysis) -> CheckResult:
             return analytical_result(

@@ -59,3 +59,25 @@ def test_unique_rounded_rows_refuses_negative_decimals() -> None:
     are refused rather than given other bits."""
     with pytest.raises(ValueError, match="decimals"):
         unique_rounded_rows(np.ones((3, 3)), -1)
+
+
+def test_rint_shift_is_numpy_rint() -> None:
+    """``copysign((y + RINT_SHIFT) - RINT_SHIFT, y)`` is ``np.rint(y)`` (half to even, a
+    zero's sign kept) and the former ``copysign(float(round(y)), y)``, bit for bit, for
+    ``|y| <= 2^51``: random values at every scale, ties, their neighbours, signed zeros."""
+    import math
+
+    from kcheck.numerics.arrays import RINT_SHIFT
+
+    rng = np.random.default_rng(11)
+    values = rng.uniform(-1, 1, 200_000) * 10.0 ** rng.integers(-3, 16, 200_000)
+    ties = np.arange(-4000, 4000) + 0.5
+    edges = np.array([0.0, -0.0, 2.0**51, -(2.0**51), 2.0**51 - 0.5, 1e13, -1e13, 4.9e-324])
+    values = np.concatenate(
+        [values, ties, np.nextafter(ties, np.inf), np.nextafter(ties, -np.inf), edges]
+    )
+    assert np.all(np.abs(values) <= 2.0**51)
+    want = np.rint(values)
+    for y, w in zip(values.tolist(), want.tolist(), strict=True):
+        got = math.copysign((y + RINT_SHIFT) - RINT_SHIFT, y)
+        assert got.hex() == w.hex() == math.copysign(float(round(y)), y).hex(), y

@@ -301,3 +301,69 @@ def test_cli_cold_warm_and_without_the_cache_give_one_verdict(cli, tmp_path):
     assert codes == [1, 1, 1]
     assert warnings[0] == warnings[1] == warnings[2]
     assert any("(balls.stl) is 13.6 times smaller" in w for w in warnings[0]), warnings[0]
+
+
+def _former_plain(value: object) -> object:
+    """``cache._plain`` as it was before its plain-leaf shortcut."""
+    if hasattr(value, "tolist"):
+        return value.tolist()
+    if isinstance(value, Path):
+        return str(value)
+    if isinstance(value, (list, tuple)):
+        return [_former_plain(v) for v in value]
+    if isinstance(value, dict):
+        return {str(k): _former_plain(v) for k, v in sorted(value.items())}
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {f.name: _former_plain(getattr(value, f.name)) for f in dataclasses.fields(value)}
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return value
+    return repr(value)
+
+
+def test_plain_key_form_as_before() -> None:
+    """The keys' plain form (``_plain``, plain leaves by exact type first) is the former one
+    on every fixture's supports and body parts and on odd values: cached entries keep their
+    keys."""
+    from kcheck.gate.cache import _plain
+
+    class Odd(float):
+        pass
+
+    values: list[object] = [
+        1.5, -0.0, float("nan"), 3, True, None, "t", Odd(2.0), np.float64(1.0), np.int64(2),
+        np.array([1.0, 2.0]), Path("a/b"), (1, [2.0, {"k": np.bool_(True)}]), {2: "x", 1: 1.0},
+        object, complex(1, 2),
+    ]  # fmt: skip
+    for scene_file in sorted(FIXTURES.glob("*/*.kcheck.yaml")):
+        scene = load_scene(scene_file)
+        values.append(list(scene.supports))
+        if scene.body is not None:
+            values.append(list(scene.body.parts))
+    for value in values:
+        assert json.dumps(_plain(value), sort_keys=True) == json.dumps(
+            _former_plain(value), sort_keys=True
+        )
+
+
+def test_cached_inertia_symmetry_as_allclose() -> None:
+    """A cached entry's inertia is trusted when ``np.allclose(I, I.T, rtol=
+    CACHED_SYMMETRY_RTOL, atol=0)`` holds (written out in ``_from_payload``): the same
+    decision on inertias skewed by 0 to 100 times the tolerance, with zeros and signs."""
+    from kcheck.gate.cache import _from_payload, _to_payload
+    from kcheck.numerics.thresholds import CACHED_SYMMETRY_RTOL
+    from kcheck.result import MassProperties
+
+    rng = np.random.default_rng(29)
+    base = _to_payload(MassProperties(1.0, np.zeros(3), np.eye(3), "mesh", 1e-3, (), None, (), ()))
+    decided = set()
+    for _ in range(3000):
+        a = rng.normal(size=(3, 3))
+        a = a + a.T
+        a[rng.random((3, 3)) < 0.2] = 0.0
+        skew = rng.normal(size=(3, 3)) * CACHED_SYMMETRY_RTOL * 10.0 ** rng.uniform(-2, 2)
+        inertia = a * (1.0 + skew)
+        want = bool(np.allclose(inertia, inertia.T, rtol=CACHED_SYMMETRY_RTOL, atol=0))
+        got = _from_payload({**base, "inertia": inertia.tolist()}) is not None
+        assert got == want
+        decided.add(want)
+    assert decided == {True, False}

@@ -61,3 +61,44 @@ def test_shortcuts_equal_the_general_path():
         assert type(fast) is type(general)
     # the non-finite floats are null, as the JSON format says
     assert to_json_value([math.nan, math.inf, 1.0]) == [None, None, 1.0]
+
+
+def _former_is_ranges(value: object) -> bool:
+    """``_is_ranges`` as it was before its loop (``all`` of generators)."""
+    return isinstance(value, (list, tuple)) and all(
+        isinstance(r, (list, tuple))
+        and len(r) == 2
+        and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in r)
+        for r in value
+    )
+
+
+def _former_details_json(details: Mapping[str, object]) -> object:
+    """``details_json`` as it was: every value converted, then the ranges in degrees
+    replaced in place."""
+    from kcheck.result import ranges_json
+
+    out = to_json_value(details)
+    assert isinstance(out, dict)
+    for key, value in details.items():
+        if key.endswith("_deg") and value and _former_is_ranges(value):
+            out[key] = ranges_json(value)  # type: ignore[arg-type]
+    return out
+
+
+def test_details_in_one_pass_equal_the_former_two():
+    from kcheck.result import _is_ranges, details_json
+
+    ranges: list[object] = [
+        [(350.0, 10.0), (20.0, 30.0)], ((0.0, 360.0),), [[-10.0, 5.0]], [(1, 2)], [],
+        [(True, 2.0)], [(1.0, 2.0, 3.0)], [(np.float64(400.0), 2.0)], [(np.int64(1), 2.0)],
+        [(1.0, "2")], "text", 5.0, None, [(math.nan, 1.0)], [1.0, 2.0],
+    ]  # fmt: skip
+    for value in ranges:
+        assert _is_ranges(value) == _former_is_ranges(value)
+    details = {f"k{i}{suffix}": v for i, v in enumerate(ranges) for suffix in ("_deg", "")}
+    details.update({f"v{i}": v for i, v in enumerate(_values())})
+    for mapping in (details, MappingProxyType(details), {}):
+        fast, former = details_json(mapping), _former_details_json(mapping)
+        assert json.dumps(fast) == json.dumps(former)
+        assert list(fast) == list(former)  # the same keys in the same order

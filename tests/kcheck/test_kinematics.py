@@ -77,3 +77,23 @@ def test_wrenches_of_one_force_at_many_points_repeat_it():
         once, repeated = wrenches(points, force), wrenches(points, np.tile(force, (6, 1)))
         assert np.array_equal(once, repeated)
         assert np.array_equal(once[:, -dim:], np.tile(force, (6, 1)))
+
+
+def test_cross3_of_two_vectors_is_np_cross_bit_for_bit():
+    """``cross3``'s two-3-vector shortcut (Python floats) gives ``np.cross``'s bits, signed
+    zeros, infinities and NaN included; other shapes and dtypes take the array path."""
+    from kcheck.mechanics.kinematics import cross3
+
+    rng = np.random.default_rng(3)
+    special = [0.0, -0.0, 1.0, -1.0, np.inf, -np.inf, np.nan, 1e-310, 1e300]
+    vectors = [*rng.normal(size=(400, 3)) * 10.0 ** rng.integers(-8, 8, (400, 1))]
+    vectors += [np.array(rng.choice(special, 3)) for _ in range(400)]
+    for a, b in zip(vectors, vectors[1:] + vectors[:1], strict=True):
+        with np.errstate(invalid="ignore", over="ignore"):  # inf - inf, inf * 0: NaN, as said
+            got, want = cross3(a, b), np.cross(a, b)
+        assert got.dtype == want.dtype and got.shape == want.shape
+        assert got.tobytes() == want.tobytes()
+    rows = rng.normal(size=(5, 3))
+    assert cross3(rows, rows[::-1]).tobytes() == np.cross(rows, rows[::-1]).tobytes()
+    small = rng.normal(size=3).astype(np.float32)
+    assert cross3(small, small[::-1]).dtype == np.result_type(small, float)

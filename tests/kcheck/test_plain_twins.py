@@ -74,3 +74,68 @@ def test_largest_friction_ratio_equals_its_numpy_twin_bit_for_bit():
             local[rng.integers(0, k), 0] = 0.0
         scale = np.where(rng.random(k) < 0.2, 0.0, rng.uniform(0.1, 2.0, k))
         assert _largest_ratio(local, scale) == _largest_ratio_numpy(local, scale)
+
+
+def _former_row_norms(vectors: np.ndarray) -> np.ndarray:
+    """``row_norms`` as it was, numpy only."""
+    v = np.asarray(vectors, dtype=float)
+    big = np.abs(v).max(axis=-1, keepdims=True)
+    safe = np.where(big > 0, big, 1.0)
+    return np.sqrt(np.sum((v / safe) ** 2, axis=-1)) * big[..., 0]
+
+
+@pytest.mark.parametrize("n", [1, 2, 3])
+def test_row_norms_of_one_vector_in_plain_floats_bit_for_bit(n):
+    """``row_norms`` of one finite vector of 1-3 parts (Python floats) is its numpy form's
+    numpy float, bit for bit, at every magnitude, with zeros and rounding noise; non-finite
+    vectors and other shapes take the numpy form."""
+    rng = np.random.default_rng(n)
+    vectors = [v[:n] for v in _vectors(rng, 20_000)]
+    vectors += [np.zeros(n), np.full(n, 5e-324), np.full(n, 1e308), -np.zeros(n)]
+    vectors += [np.array([np.inf, *[1.0] * (n - 1)]), np.array([*[1.0] * (n - 1), np.nan])]
+    vectors += [rng.normal(size=4), rng.normal(size=(3, n)), [1, 2, 3][:n]]
+    for v in vectors:
+        with np.errstate(invalid="ignore", over="ignore"):  # inf / inf: NaN, as meant
+            got, want = row_norms(v), _former_row_norms(v)
+        assert type(got) is type(want)
+        assert np.asarray(got).tobytes() == np.asarray(want).tobytes(), v
+    for f in (row_norms, _former_row_norms):  # no parts: no largest magnitude, as before
+        with pytest.raises(ValueError):
+            f(np.zeros(0))
+
+
+def _former_frame(points: np.ndarray) -> tuple[np.ndarray, float]:
+    """``Frame.for_points``' origin and length as they were, numpy only."""
+    points = np.asarray(points, dtype=float)
+    big = float(np.abs(points).max()) if points.size else 0.0
+    scale = big if big > 0 and np.isfinite(big) else 1.0
+    origin = (points / scale).mean(axis=0) * scale
+    length = float(_former_row_norms(points - origin).max()) if len(points) else 0.0
+    if not (length > 0 and np.isfinite(length)):
+        length = 1.0
+    return origin, length
+
+
+def test_frame_of_a_few_points_in_plain_floats_bit_for_bit():
+    """``Frame.for_points`` of up to FEW_POINTS finite points (Python floats) has its numpy
+    form's origin and length, bit for bit: 1-12 points in 2 and 3 dimensions at every
+    magnitude, coincident points, zeros; non-finite points take the numpy form."""
+    from kcheck.mechanics.kinematics import FEW_POINTS, Frame
+
+    rng = np.random.default_rng(8)
+    sets = []
+    for _ in range(6000):
+        k, d = int(rng.integers(1, FEW_POINTS + 3)), int(rng.integers(2, 4))
+        p = rng.normal(size=(k, d)) * 10.0 ** rng.integers(-200, 200)
+        p[rng.random((k, d)) < 0.1] = 0.0
+        if rng.random() < 0.1:
+            p[:] = p[0]  # every point the same: no length
+        sets.append(p)
+    sets += [np.array([[np.inf, 0.0], [1.0, 2.0]]), np.array([[np.nan, 0.0, 1.0]])]
+    for p in sets:
+        with np.errstate(invalid="ignore", over="ignore"):
+            frame = Frame.for_points(p, p.shape[1], 1.0)
+            origin, length = _former_frame(p)
+        assert frame.origin.dtype == origin.dtype and frame.origin.shape == origin.shape
+        assert frame.origin.tobytes() == origin.tobytes() and type(frame.length) is float
+        assert np.float64(frame.length).tobytes() == np.float64(length).tobytes()

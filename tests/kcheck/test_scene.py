@@ -191,3 +191,23 @@ def test_shipped_schema_is_current():
 
     shipped = json.loads((ROOT / "docs" / "kcheck-scene.schema.json").read_text())
     assert shipped == scene_json_schema()
+
+
+def test_sweep_third_axis_is_np_cross(tmp_path):
+    """A scene's sweep ``e2`` (``normal x e1``, written out in the loader) is ``np.cross``'s,
+    bit for bit, for the default sweep and given zero directions (either normal sense)."""
+    rng = np.random.default_rng(5)
+    texts = [PLANAR_SCENE]
+    texts += [
+        PLANAR_SCENE.replace("version: 1", f"version: 1\nsweep: {{normal: {n}, zero: {z}}}")
+        for n, z in [
+            ("[0, 0, 1]", "[1, 0.3, 0]"),
+            ("[0, 0, -1]", "[-0.2, 1, 0]"),
+            ("[0, 0, 1]", str(rng.normal(size=2).round(6).tolist() + [0.0])),
+        ]
+    ]
+    for k, text in enumerate(texts):
+        path = tmp_path / f"s{k}.kcheck.yaml"
+        path.write_text(text)
+        sweep = load_scene(path).sweep
+        assert sweep.e2.tobytes() == np.cross(sweep.normal, sweep.e1).tobytes()

@@ -5,10 +5,13 @@ located errors, never tracebacks."""
 
 from __future__ import annotations
 
+import math
 import os
 import time
 import tracemalloc
+from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -529,3 +532,116 @@ def test_every_check_option_error_in_one_run(write_scene):
         ("checks", "analytcal-2d"),
     }
     assert all(e.line is not None for e in result.errors)
+
+
+def _former_walk(value: Any, path: tuple, budget: list[int]) -> Iterator[tuple[tuple, Any]]:
+    """``validate._walk`` as it was: every node (a mapping's keys too), depth first."""
+    budget[0] -= 1
+    if budget[0] < 0:
+        return
+    yield path, value
+    if isinstance(value, dict):
+        for k, v in value.items():
+            yield (*path, k), k
+            yield from _former_walk(v, (*path, k), budget)
+    elif isinstance(value, list):
+        for i, v in enumerate(value):
+            yield from _former_walk(v, (*path, i), budget)
+
+
+def _former_problems(data: Any, problems: Any, budget: int) -> None:
+    """``plain_value_problems`` as it was, over ``_former_walk``."""
+    from kcheck.scene.validate import _MAX_INT, _bad_string
+
+    for where, value in _former_walk(data, (), [budget]):
+        if isinstance(value, bool) or value is None:
+            continue
+        if isinstance(value, float) and not math.isfinite(value):
+            problems.add(where, f"expected a finite number, got {value}")
+        elif isinstance(value, int) and abs(value) > _MAX_INT:
+            problems.add(where, "the number is too large to be a physical quantity")
+        elif isinstance(value, str):
+            bad = _bad_string(value)
+            if bad:
+                problems.add(where, f"the text {bad}")
+
+
+class _Text(str):
+    pass
+
+
+def test_plain_value_problems_as_the_former_walk() -> None:
+    """The recursive check (``_check_tree``, no generators) finds the same problems at the
+    same fields in the same order as the generator walk it replaced, with any budget."""
+    from kcheck.scene.validate import Problems, _check_tree
+
+    bad: list[Any] = [
+        math.nan, math.inf, -math.inf, 10**301, -(10**301), "a\x00b", "x\ud800y", True, None,
+        1.5, 7, "fine", _Text("t\x00"), [], {},
+    ]  # fmt: skip
+    data = {
+        "a": bad,
+        "b": {"c": {"d": bad, math.inf: 1, "e\x00": [bad, {"f": bad}]}},
+        10**302: "key",
+        "g": [[[math.nan, {"h": -math.inf}]]],
+        "i": bad[:3],
+    }
+    found = []
+    for budget in (1_000_000, 1, 2, 5, 17, 40, 77):
+        mine, former = Problems(Path("x"), {}), Problems(Path("x"), {})
+        _check_tree(data, (), [budget], mine)
+        _former_problems(data, former, budget)
+        assert [(e.where, e.message) for e in mine.errors] == [
+            (e.where, e.message) for e in former.errors
+        ]
+        found.append(len(former.errors))
+    assert found[0] > 30 and 0 < found[3] < found[-1] < found[0]  # budgets cut the walk
+
+
+def test_direction_and_coordinates_as_the_numpy_tests() -> None:
+    """``Problems.direction`` and ``coordinates`` (their size tests in Python floats for one
+    vector) accept, refuse and word the same as the numpy tests they replaced: zeros,
+    tiny and huge components, NaN and infinities anywhere in the vector."""
+    import numpy as np
+
+    from kcheck.scene.couplings import unit
+    from kcheck.scene.limits import LIMITS, MAX_DIRECTION, MIN_DIRECTION
+    from kcheck.scene.validate import Problems
+
+    def former_direction(problems: Problems, vector: list[float]) -> Any:
+        v = np.asarray(vector, dtype=float)
+        largest = float(np.abs(v).max())
+        if largest == 0.0:
+            problems.add(("d",), f"expected a non-zero vector for it, got {vector}")
+            return None
+        if not MIN_DIRECTION <= largest <= MAX_DIRECTION:
+            problems.add(("d",), f"it: bad {vector}")
+            return None
+        return unit(v)
+
+    def former_coordinates(problems: Problems, vector: list[float], scale: float) -> Any:
+        v = np.asarray(vector, dtype=float) * scale
+        if not np.all(np.abs(v) <= LIMITS["coordinate"].high):
+            problems.add(("c",), f"coordinates {vector}")
+            return None
+        return v
+
+    parts = [0.0, -0.0, 1.0, -2.5, 1e-12, 1e12, 1e300, math.nan, math.inf, -math.inf, 3]
+    rng = np.random.default_rng(4)
+    vectors = [[float(x) for x in rng.choice(parts, 3)] for _ in range(3000)]
+    vectors += [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [math.nan, 1.0, 0.0], [1.0, math.nan, 0.0]]
+    for vector in vectors:
+        mine, former = Problems(Path("x"), {}), Problems(Path("x"), {})
+        with np.errstate(invalid="ignore", over="ignore"):
+            got, want = mine.direction(("d",), vector, "it"), former_direction(former, vector)
+        assert (got is None) == (want is None) and len(mine.errors) == len(former.errors)
+        if got is not None:
+            assert got.tobytes() == want.tobytes()
+        for scale in (1.0, 1e-3):
+            mine, former = Problems(Path("x"), {}), Problems(Path("x"), {})
+            with np.errstate(invalid="ignore", over="ignore"):
+                got = mine.coordinates(("c",), vector, scale)
+                want = former_coordinates(former, vector, scale)
+            assert (got is None) == (want is None)
+            if got is not None:
+                assert got.tobytes() == want.tobytes()

@@ -125,3 +125,38 @@ def test_plain_scalar_shortcut_answers_as_the_patterns():
         got, expected = yc.plain_scalar(text, 0, 0), by_patterns(text)
         assert type(got) is type(expected)
         assert repr(got) == repr(expected)
+
+
+@pytest.mark.parametrize("backend", ["c", "python"] if HAVE_LIBYAML else ["python"])
+def test_a_key_read_as_a_value_is_named_where_it_is(tmp_path, backend):
+    """A mapping key YAML reads as a boolean or number is refused, naming the mapping it is
+    in (the top level, or its field path) and its line."""
+    path = tmp_path / "a.yaml"
+    path.write_text("name: x\ntrue: 1\n")
+    with pytest.raises(SceneError) as info:
+        read_yaml(path, backend=backend)
+    assert "`true` (in the top level) is read as a boolean" in info.value.message
+    assert info.value.line == 2
+    path.write_text("load:\n  magnitude: 1\n  12: 2\n")
+    with pytest.raises(SceneError) as info:
+        read_yaml(path, backend=backend)
+    assert "`12` (in load) is read as an integer" in info.value.message
+    assert info.value.line == 3
+
+
+@pytest.mark.parametrize("backend", ["c", "python"] if HAVE_LIBYAML else ["python"])
+def test_the_value_limit_counts_scalars_and_collections(tmp_path, backend):
+    """``max_values`` counts every scalar and collection (keys included): a document with
+    exactly that many is read, one more is refused at the value that passes it."""
+    from kcheck.scene.yamlio import YamlLimits
+
+    path = tmp_path / "a.yaml"
+    path.write_text("a: 1\nb: [2, 3]\n")  # the mapping, a, 1, b, the list, 2, 3: seven
+    assert read_yaml(path, limits=YamlLimits(max_values=7), backend=backend).data == {
+        "a": 1,
+        "b": [2, 3],
+    }
+    with pytest.raises(SceneError) as info:
+        read_yaml(path, limits=YamlLimits(max_values=6), backend=backend)
+    assert "holds more than 6 values" in info.value.message
+    assert info.value.line == 2

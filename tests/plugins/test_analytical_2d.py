@@ -482,3 +482,41 @@ def test_painleve_case_is_ambiguous_and_fails(tmp_path: Path) -> None:
     assert finding.field == ("supports", 0)
     assert finding.message.startswith("retract y1 → ambiguous")
     assert "from μ = 0.463 on (Painlevé)" in finding.message
+
+
+def _batch_scenes() -> list[dict[str, Any]]:
+    """Planar scenes of every kind `run_many` meets in a chunk: passing and failing loads,
+    friction ranges (analysed one by one), gravity alone (the tolerated tilt), a torque,
+    no friction, a design angle that fails."""
+    out = [block_scene(load={"magnitude": 1.0, "angle": a}) for a in (200.0, 225.0, 250.0, 45.0)]
+    out.append(block_scene(friction={"min": 0.05, "max": 0.15}))
+    out.append(block_scene(friction=0.0))
+    gravity = block_scene(gravity=[-4, -9, 0])
+    del gravity["load"]
+    out.append(gravity)
+    out.append(block_scene(load={"magnitude": 1.0, "angle": 230.0, "torque": [0, 0, 0.004]}))
+    moved = block_scene()
+    moved["supports"][2]["position"] = [0, 45, 0]
+    out.append(moved)
+    return out
+
+
+def test_run_many_equals_each_scene_alone(tmp_path: Path) -> None:
+    """A worker's chunk checked at once (`run_many`: the cases' algebra of all its scenes
+    stacked) gives each scene exactly the result it gets alone, bit for bit (run times
+    aside); the stacking is the batch of tests/kcheck/test_batch.py."""
+    inputs = []
+    for i, data in enumerate(_batch_scenes()):
+        scene = load_scene(write_scene(tmp_path, data, f"s{i}"))
+        assert scene.body is not None
+        mass = body_mass_properties(scene.body, scene.scale)
+        options = AnalyticalOptions.model_validate({})
+        inputs.append(Inputs(scene, mass, options))
+    check = Analytical2D()
+    together = check.run_many(inputs)
+    alone = [check.run_many([each])[0] for each in inputs]
+    assert {r.status for r in alone} >= {Status.PASS, Status.FAIL}
+    for a, b in zip(together, alone, strict=True):
+        assert repr(dataclasses.replace(a, runtime_s=0.0)) == repr(
+            dataclasses.replace(b, runtime_s=0.0)
+        )
