@@ -16,7 +16,7 @@ from collections.abc import Sequence
 from typing import NoReturn
 
 from kcheck import __version__
-from kcheck.cli.common import ExitCode, Parser, discard_stdout, open_closed_streams
+from kcheck.cli.common import ExitCode, Parser, discard_gone, discard_stdout, open_closed_streams
 from kcheck.errors import KcheckError
 
 __all__ = ["ExitCode", "main", "run"]
@@ -186,8 +186,8 @@ def exit_now(code: int) -> NoReturn:
     last part alone was about a fifth of a one-scene run's CPU (issue 24). Here the first three
     happen as they would, then the process ends (:func:`os._exit`). Report files are closed
     before :func:`main` returns. With another thread still running, or when a flush fails
-    (standard error's reader went away), the interpreter's own exit does it all, as before;
-    standard output's reader going away leaves ``code`` as it is (docs/ci.md).
+    otherwise, the interpreter's own exit does it all, as before; a reader of standard output
+    or error going away leaves ``code`` as it is (docs/ci.md).
     """
     import atexit
     import threading
@@ -202,9 +202,7 @@ def exit_now(code: int) -> NoReturn:
                 try:
                     stream.flush()
                 except BrokenPipeError:
-                    if stream is not sys.stdout:
-                        raise
-                    discard_stdout()  # its reader went away: the code is still `code`
+                    discard_gone()  # its reader went away: the code is still `code`
                     stream.flush()
     except (OSError, ValueError):
         sys.exit(code)  # the interpreter's exit reports it, as it always did

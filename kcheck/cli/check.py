@@ -13,7 +13,14 @@ from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TextIO
 
-from kcheck.cli.common import ExitCode, close_replacing, discard_stdout, fail, open_replacing
+from kcheck.cli.common import (
+    ExitCode,
+    close_replacing,
+    discard_gone,
+    discard_stdout,
+    fail,
+    open_replacing,
+)
 from kcheck.cli.config import add_gate_options
 from kcheck.cli.executors import add_sample_options
 
@@ -215,6 +222,17 @@ class _Tee:
         self._each("finish", results, elapsed_s)
 
 
+@contextlib.contextmanager
+def _reader_may_go() -> Iterator[None]:
+    """Run a step that writes to stdout or stderr; if a reader went away, the rest of the
+    step's text is lost with it and the streams whose reader went away write to the null
+    device from now on."""
+    try:
+        yield
+    except BrokenPipeError:
+        discard_gone()
+
+
 def _plot_formats(text: str) -> tuple[str, ...] | None:
     from kcheck.pictures import PLOT_FORMATS
 
@@ -414,18 +432,22 @@ def _check(args: argparse.Namespace, temporary: list[Path], collecting: bool) ->
                     close_replacing(stream, keep=finished and stream not in tee.broken)
                 except OSError as exc:
                     tee.failures.append(f"cannot write {label}: {describe_os_error(exc)}")
+    # The verdict decides the exit code even when a reader of stdout or stderr went away
+    # (docs/ci.md): what is left for it goes to the null device.
     if to_stdout or not (config["format"] == "text" and args.output is None):
-        _errors_to_stderr(results)
-        try:
+        with _reader_may_go():
+            _errors_to_stderr(results)
+        with _reader_may_go():
             _summary_to_terminal(results, elapsed, args.output, bool(to_stdout))
-        except BrokenPipeError:  # the verdict still decides the exit code (docs/ci.md)
-            discard_stdout()
-    for message in tee.failures:
-        print(f"kcheck: error: {message}", file=sys.stderr)
+    with _reader_may_go():
+        for message in tee.failures:
+            print(f"kcheck: error: {message}", file=sys.stderr)
     if args.statistics:
-        _statistics(results, config["fail_on"])
+        with _reader_may_go():
+            _statistics(results, config["fail_on"])
     if baseline is not None:
-        _stale_baseline(baseline, results, args.baseline)
+        with _reader_may_go():
+            _stale_baseline(baseline, results, args.baseline)
     states = {r.status for r in results}
     if args.write_baseline is not None:
         from kcheck.gate.suppress import write_baseline
@@ -437,7 +459,8 @@ def _check(args: argparse.Namespace, temporary: list[Path], collecting: bool) ->
             from kcheck.errors import describe_os_error
 
             return fail(f"--write-baseline {args.write_baseline}: {describe_os_error(exc)}")
-        print(f"kcheck: {count} failures recorded in {args.write_baseline}", file=sys.stderr)
+        with _reader_may_go():
+            print(f"kcheck: {count} failures recorded in {args.write_baseline}", file=sys.stderr)
         return ExitCode.USAGE_OR_INPUT if Status.ERROR in states else ExitCode.OK
     if Status.ERROR in states or tee.failures:
         return ExitCode.USAGE_OR_INPUT
@@ -679,7 +702,7 @@ def _run(
     for result in missing:
         results.append(result)
         tee.scene(result)
-    with ProgressLine(args.progress, len(files), doing) as progress:
+    with ProgressLine(args.progress, len(files), doing, gone=discard_gone) as progress:
         ticks.append(progress.tick)
         progress.next(files[0] if files else None)
         for k, result in enumerate(batch):

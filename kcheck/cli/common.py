@@ -93,7 +93,12 @@ def discard_stdout() -> None:
     """The reader of standard output went away: what is still written to it (the rest of
     the report, what the buffer holds) goes to the null device, so the run goes on to its
     verdict and its exit code (Python's recipe, "Note on SIGPIPE" in :mod:`signal`)."""
-    stream = sys.stdout
+    discard(sys.stdout)
+
+
+def discard(stream: TextIO | None) -> None:
+    """What is still written to ``stream`` (standard output or error) goes to the null
+    device: its reader went away."""
     if stream is None:
         return
     try:
@@ -105,6 +110,34 @@ def discard_stdout() -> None:
         os.dup2(devnull, fd)
     finally:
         os.close(devnull)
+
+
+def reader_gone(stream: TextIO | None) -> bool:
+    """Whether ``stream`` is a pipe whose reader went away (its write end polls as an error).
+    Where :func:`select.poll` does not exist, any stream may be the one: True."""
+    import select
+
+    if stream is None:
+        return False
+    try:
+        fd = stream.fileno()
+    except (OSError, ValueError):
+        return False
+    poll = getattr(select, "poll", None)
+    if poll is None:
+        return True
+    watch = poll()
+    watch.register(fd, 0)  # errors and hang-ups are reported whatever is asked for
+    return any(events & select.POLLERR for _, events in watch.poll(0))
+
+
+def discard_gone() -> None:
+    """After a BrokenPipeError: each standard stream whose reader went away writes to the
+    null device from now on, so the run goes on to its verdict and its exit code (a `kcheck
+    check ... 2>&1 | head`, or a progress line's terminal closed, changes no exit code)."""
+    for stream in (sys.stdout, sys.stderr):
+        if reader_gone(stream):
+            discard(stream)
 
 
 def open_closed_streams() -> None:

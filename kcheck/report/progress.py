@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -46,11 +46,32 @@ class _Line:
 class ProgressLine:
     """A transient one-line progress display on stderr (a no-op when not wanted)."""
 
-    def __init__(self, mode: str, total: int, doing: str = "checking") -> None:
+    def __init__(
+        self,
+        mode: str,
+        total: int,
+        doing: str = "checking",
+        gone: Callable[[], None] | None = None,
+    ) -> None:
+        """``gone``: called once when stderr cannot be written any more (its reader went
+        away); the line then stops and the run goes on without it."""
         tty = bool(getattr(sys.stderr, "isatty", None) and sys.stderr.isatty())
         self.enabled = total > 0 and (mode == "always" or (mode == "auto" and tty))
         self.line = _Line(total, doing)
         self.live: Any = None
+        self.gone = gone
+
+    def _live(self, method: str) -> None:
+        """Call the display's ``method``; a stderr that fails ends the display, not the run
+        (a progress line is never worth an exit code)."""
+        if self.live is None:
+            return
+        try:
+            getattr(self.live, method)()
+        except OSError:
+            self.live = None
+            if self.gone is not None:
+                self.gone()
 
     def __enter__(self) -> ProgressLine:
         if self.enabled:
@@ -71,26 +92,23 @@ class ProgressLine:
                 # may deadlock the child (Python 3.12 warns); the batch calls tick() instead.
                 auto_refresh=False,
             )
-            self.live.start()
+            self._live("start")
         return self
 
     def __exit__(self, *exc: object) -> None:
-        if self.live is not None:
-            self.live.stop()
-            self.live = None
+        self._live("stop")
+        self.live = None
 
     def tick(self) -> None:
         """Redraw the line (its clock runs): called by the batch while it waits."""
-        if self.live is not None:
-            self.live.refresh()
+        self._live("refresh")
 
     def next(self, path: Path | str | None) -> None:
         """The scene now being checked (None: the last one is done)."""
         if self.line.current is not None:
             self.line.done += 1
         self.line.current = None if path is None else str(path)
-        if self.live is not None:
-            self.live.refresh()
+        self._live("refresh")
 
     @contextmanager
     def paused(self) -> Iterator[None]:
@@ -98,8 +116,8 @@ class ProgressLine:
         if self.live is None:
             yield
             return
-        self.live.stop()
+        self._live("stop")
         try:
             yield
         finally:
-            self.live.start()
+            self._live("start")

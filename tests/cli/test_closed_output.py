@@ -53,3 +53,42 @@ def test_closed_standard_output_keeps_the_verdict(scene, code, tmp_path):
     )
     assert done.returncode == code and done.stderr == ""
     assert json.loads(report.read_text())["scenes"]
+
+
+@pytest.mark.parametrize(("scene", "code"), [(PASSING, 0), (FAILING, 1)])
+@pytest.mark.parametrize(
+    "extra",
+    [["--progress", "always"], ["--format", "json", "--progress", "always"], ["-q"]],
+    ids=["progress-line", "json-progress-line", "summary-on-stderr"],
+)
+def test_a_stderr_reader_that_went_away_keeps_the_verdict(scene, code, extra, tmp_path):
+    # The progress line (forced on a pipe) and the summary line (stderr when a `json:-`
+    # report holds stdout) write to stderr, whose reader is gone before anything is written.
+    if extra == ["-q"]:
+        extra = ["--output-format", "json:-", "-o", str(tmp_path / "report.txt")]
+    read, write = os.pipe()
+    os.close(read)
+    try:
+        done = subprocess.run(
+            [sys.executable, "-m", "kcheck", "check", str(scene), *extra],
+            stdout=subprocess.DEVNULL,
+            stderr=write,
+        )
+    finally:
+        os.close(write)
+    assert done.returncode == code
+
+
+def test_a_reader_of_both_streams_that_went_away_keeps_the_verdict():
+    # `kcheck check ... 2>&1 | head -c0`: one pipe for both, its reader gone.
+    read, write = os.pipe()
+    os.close(read)
+    try:
+        done = subprocess.run(
+            [sys.executable, "-m", "kcheck", "check", str(FAILING), "--progress", "always"],
+            stdout=write,
+            stderr=write,
+        )
+    finally:
+        os.close(write)
+    assert done.returncode == 1
