@@ -35,7 +35,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from kcheck.numerics.thresholds import HOLDING_CERTIFICATE_MARGIN, HOLDING_CERTIFICATE_STEPS
+from kcheck.numerics.thresholds import (
+    HOLDING_CERTIFICATE_CONDITION,
+    HOLDING_CERTIFICATE_MARGIN,
+    HOLDING_CERTIFICATE_STEPS,
+)
 
 __all__ = ["holding_certified"]
 
@@ -159,7 +163,12 @@ def _balanced(
     equilibrium when every normal force and every cone's slack clears
     HOLDING_CERTIFICATE_MARGIN of their size, and the balance's rounding is far inside that:
     the exact correction of what is left, at most ``reach`` (``|C| |(C^T C)^-1|``, Frobenius
-    norms) times the residual, moves no slack by more than half the margin."""
+    norms) times the residual, moves no slack by more than half the margin. The residual
+    counts its own rounding too: computed as ``left``, it is at most ``left + (3k + 1) eps
+    (|C| |f| + |w|)`` (Higham's bound for a sum of ``3k + 1`` terms). And ``reach`` times the
+    unit roundoff stays below HOLDING_CERTIFICATE_CONDITION, so that ``(C^T C)^-1`` is itself
+    computed to far better than the margin: a nearly dependent contact set, whose computed
+    residual can round to zero while its reach is 1e16, certifies nothing."""
     q, k = mu.shape
     f = np.concatenate([cones[..., :1], mu[..., None] * cones[..., 1:]], axis=2)
     flat = c.reshape(q, 3 * k, 6)
@@ -169,11 +178,15 @@ def _balanced(
     residual = np.einsum("qai,qa->qi", flat, f) + w
     f = f - np.einsum("qai,qij,qj->qa", flat, gram, residual)
     left = np.linalg.norm(np.einsum("qai,qa->qi", flat, f) + w, axis=1)
+    eps = np.finfo(np.float64).eps
+    size = np.linalg.norm(flat, axis=(1, 2)) * np.linalg.norm(f, axis=1)
+    left += (3 * k + 1) * eps * (size + np.linalg.norm(w, axis=1))
     f = f.reshape(q, k, 3)
     floor = HOLDING_CERTIFICATE_MARGIN * np.abs(f).max(axis=(1, 2))
     slack = np.minimum(f[..., 0], mu * f[..., 0] - np.hypot(f[..., 1], f[..., 2]))
     with np.errstate(invalid="ignore"):
         exact = (1.0 + mu.max(axis=1)) * reach * left <= 0.5 * floor
+        exact &= reach * eps <= HOLDING_CERTIFICATE_CONDITION
         return (scale > 0) & exact & np.all(slack >= floor[:, None], axis=1)
 
 

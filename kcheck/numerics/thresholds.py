@@ -45,6 +45,7 @@ __all__ = [
     "PENCIL_SINGULAR",
     "PENCIL_UNSHIFTED",
     "HOLDING_CERTIFICATE_MARGIN",
+    "HOLDING_CERTIFICATE_CONDITION",
     "HOLDING_CERTIFICATE_STEPS",
     "HOLDING_CERTIFICATE_BATCH",
     "SLIP_TOL",
@@ -632,6 +633,13 @@ EXTRUSION_DEG: float = 1.0
 #: (nondimensional; the wrench scaled to 1): a hundred times clarabel's tolerances (1e-8), so
 #: the programme gives the same answer; closer questions ask the programme.
 HOLDING_CERTIFICATE_MARGIN: float = 1e-6
+#: A certificate that friction holds (forces put back on the balance by a least-norm
+#: correction) is accepted only for contact sets whose correction's reach ``|C| |(C^T C)^-1|``
+#: (Frobenius norms of the kept contacts' unit wrenches, nondimensional) times the unit
+#: roundoff stays below this: a hundredth of HOLDING_CERTIFICATE_MARGIN, so the rounding of
+#: the inverse itself cannot move a slack by a visible share of the margin. Nearly dependent
+#: contacts (reach above about 4.5e7) go to the conic programme.
+HOLDING_CERTIFICATE_CONDITION: float = HOLDING_CERTIFICATE_MARGIN / 100
 #: Newton steps (a count, nondimensional) of the certificate's search before a question is
 #: left to its conic programme (on 1800 questions of 300 generated scenes every one was
 #: decided within 33 steps, half within 5).

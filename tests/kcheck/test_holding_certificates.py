@@ -183,3 +183,26 @@ def test_analyse_many_with_certificates_equals_the_programmes(
     assert [a.results for a in screened] == [a.results for a in programmes]
     assert len(asked) >= 100
     assert sum(a is not None for a in asked) >= 0.9 * len(asked)
+
+
+def test_nearly_dependent_contacts_certify_nothing() -> None:
+    """Three contacts nearly on one line (the third 1e-7 off it), the weight through their
+    centroid: the set's unit wrenches are nearly dependent (reach ``|C| |(C^T C)^-1|`` about
+    5e14, computed here), so the least-norm correction's rounding is not bounded and no
+    forces certify holding; the question goes to the programme, which (the reference) says
+    it holds, as the closed form does (the weight inside the triangle, tan(theta) = 0.1 <
+    mu). The twist side is unaffected: at tan(theta) = 0.5 > mu it is still decided."""
+    points = np.array([[1.0, 0, 0], [-1.0, 0, 0], [0.0, 1e-7, 0]])
+    normals = np.tile([0, 0, 1.0], (3, 1))
+    mu = np.full(3, 0.3)
+    columns = _columns(points, normals)
+    reach = np.linalg.norm(columns) * np.linalg.norm(np.linalg.inv(columns.T @ columns))
+    assert reach > 1e12
+    answers = []
+    for tilt in (0.1, 0.5):
+        force = np.array([tilt, 0.0, -1.0])
+        moment = _cross(points.mean(axis=0), force)
+        answers.append(holding_certified([columns], [np.concatenate([moment, force])], [mu])[0])
+        if tilt == 0.1:
+            assert _reference_holds(points, normals, mu, moment, force) is True
+    assert answers == [None, False]
