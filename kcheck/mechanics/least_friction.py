@@ -202,11 +202,17 @@ def sliding_limit(
     frictionless free twist at ``mu = 0``. A contact whose force comes out negative lifts
     off: it leaves the pressed set and the steps go on (at most LIFTED times).
 
-    Certified as bisection would find it, in floating point with no solver tolerance: the
-    returned value is the largest friction ratio of an explicit balance (normal forces
-    positive, imbalance below ``BALANCE_RTOL``), and the twist (nudged so that the load does
-    work along it) clears every contact's cone at ``(1 - rtol)`` times it by more than
-    ``CERTIFICATE_MARGIN`` (:func:`_separates`; Farkas: no balance there)."""
+    Checked as bisection would find it, without a conic solve, and to the standard the conic
+    search meets rather than exactly. The "holds" side rests on an explicit balance: normal
+    forces positive, each pressed contact on its cone's edge, the returned value their
+    largest friction ratio as computed in floating point (a few ulps), and an imbalance of
+    at most ``BALANCE_RTOL`` (1e-10) of the wrench (a converged solve leaves about 1e-15):
+    forces within the conic solver's own tolerance (1e-8) of a balance, so the programme at
+    that coefficient would find it feasible too, but not a proof that an exact balance
+    exists there. The "fails" side rests on a separating twist (nudged so that the load does
+    work along it) that clears every contact's cone at ``(1 - rtol)`` times the value by
+    more than ``CERTIFICATE_MARGIN`` of the terms compared (:func:`_separates`; Farkas: no
+    balance there), far above the rounding of the few products it is computed from."""
     n, k = len(wrench), len(kept)
     if n != 6 or not np.all(kept > 0):
         return None
@@ -422,8 +428,8 @@ def _remember_limit(
     fails_to: float,
 ) -> None:
     """Keep a certified limit: coefficients ``c * kept`` balance the wrench for ``c >=
-    holds_from`` (an explicit balance there) and do not for ``c <= fails_to`` (a separating
-    twist)."""
+    holds_from`` (an explicit balance there, to ``BALANCE_RTOL``: :func:`sliding_limit`) and
+    do not for ``c <= fails_to`` (a separating twist)."""
     if len(_LIMITS) >= RECENT_LIMITS:
         del _LIMITS[next(iter(_LIMITS))]
     _LIMITS[_limit_key(statics, keep, wrench)] = (kept.copy(), holds_from, fails_to)

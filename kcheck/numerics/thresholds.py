@@ -494,7 +494,8 @@ LIFT_RTOL: float = 1e-3
 CERTIFICATE_MARGIN: float = 1e-9
 #: The largest imbalance (relative to the wrench, nondimensional) of the sliding limit's
 #: forces: a converged Newton solve leaves about 1e-15; the conic solver's own tolerance is
-#: 1e-8.
+#: 1e-8. Its "holds" side is certified to this, not exactly (as the conic search is to its
+#: tolerance).
 BALANCE_RTOL: float = 1e-10
 #: A design direction outside a facet of the circumscribed pyramids' held set by more than
 #: this slack (``a + c . d``, unit facet normals against the nondimensional wrench) is held
