@@ -535,7 +535,9 @@ def first_motion_end(
     limit = RESEAT_JAM_FACTOR * math.sqrt(2 * reach / max(accel, 1e-300))
     elapsed = time - time[0]
     backed = settings.retraction_time
-    # The first sample once the support has backed off (0 for the jump).
+    # The first sample once the support has backed off (0 for the jump). The 1e-9 is a
+    # relative tolerance on the sample times: the sample whose time rounds a few ulps below
+    # the back-off time (time steps summed in floating point) counts as at it.
     b = min(int(np.searchsorted(elapsed, backed * (1 - 1e-9))), len(time) - 1) if backed else 0
     after = np.max(np.linalg.norm(contact[b:] - contact[b], axis=2), axis=1)
     inside = b + np.nonzero((after >= reach) & (elapsed[b:] - elapsed[b] <= limit))[0]
