@@ -120,7 +120,8 @@ class Frame:
     def for_points(cls, points: np.ndarray, dim: int, force: float) -> Frame:
         """Frame centred on the support centroid, length = largest distance from it."""
         points = np.asarray(points, dtype=float)
-        if points.ndim == 2 and 0 < len(points) <= FEW_POINTS:
+        # Numpy's order is a C-ordered array's (it adds a column-major one's rows otherwise).
+        if points.ndim == 2 and 0 < len(points) <= FEW_POINTS and points.flags.c_contiguous:
             plain = _plain_frame(points.tolist())
             if plain is not None:
                 return cls(np.array(plain[0]), plain[1], force, dim)

@@ -119,7 +119,9 @@ def _former_frame(points: np.ndarray) -> tuple[np.ndarray, float]:
 def test_frame_of_a_few_points_in_plain_floats_bit_for_bit():
     """``Frame.for_points`` of up to FEW_POINTS finite points (Python floats) has its numpy
     form's origin and length, bit for bit: 1-12 points in 2 and 3 dimensions at every
-    magnitude, coincident points, zeros; non-finite points take the numpy form."""
+    magnitude, coincident points, zeros; non-finite points take the numpy form, and so do
+    column-major points (numpy's mean adds a column-major array's 8 or more rows in another
+    order: another origin in most draws)."""
     from kcheck.mechanics.kinematics import FEW_POINTS, Frame
 
     rng = np.random.default_rng(8)
@@ -132,6 +134,7 @@ def test_frame_of_a_few_points_in_plain_floats_bit_for_bit():
             p[:] = p[0]  # every point the same: no length
         sets.append(p)
     sets += [np.array([[np.inf, 0.0], [1.0, 2.0]]), np.array([[np.nan, 0.0, 1.0]])]
+    sets += [np.asfortranarray(p) for p in sets[:3000] if len(p) > 1]
     for p in sets:
         with np.errstate(invalid="ignore", over="ignore"):
             frame = Frame.for_points(p, p.shape[1], 1.0)
