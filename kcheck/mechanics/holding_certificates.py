@@ -36,6 +36,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from kcheck.numerics.thresholds import (
+    EPS,
     HOLDING_CERTIFICATE_CONDITION,
     HOLDING_CERTIFICATE_MARGIN,
     HOLDING_CERTIFICATE_STEPS,
@@ -178,15 +179,14 @@ def _balanced(
     residual = np.einsum("qai,qa->qi", flat, f) + w
     f = f - np.einsum("qai,qij,qj->qa", flat, gram, residual)
     left = np.linalg.norm(np.einsum("qai,qa->qi", flat, f) + w, axis=1)
-    eps = np.finfo(np.float64).eps
     size = np.linalg.norm(flat, axis=(1, 2)) * np.linalg.norm(f, axis=1)
-    left += (3 * k + 1) * eps * (size + np.linalg.norm(w, axis=1))
+    left += (3 * k + 1) * EPS * (size + np.linalg.norm(w, axis=1))
     f = f.reshape(q, k, 3)
     floor = HOLDING_CERTIFICATE_MARGIN * np.abs(f).max(axis=(1, 2))
     slack = np.minimum(f[..., 0], mu * f[..., 0] - np.hypot(f[..., 1], f[..., 2]))
     with np.errstate(invalid="ignore"):
         exact = (1.0 + mu.max(axis=1)) * reach * left <= 0.5 * floor
-        exact &= reach * eps <= HOLDING_CERTIFICATE_CONDITION
+        exact &= reach * EPS <= HOLDING_CERTIFICATE_CONDITION
         return (scale > 0) & exact & np.all(slack >= floor[:, None], axis=1)
 
 
