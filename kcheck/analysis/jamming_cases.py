@@ -28,12 +28,12 @@ from kcheck.mechanics.arcs import ArcSet, complement, intersect, positive_arc
 from kcheck.mechanics.kinematics import FreeTwist, free_twist
 from kcheck.mechanics.lattice_cells import LatticeCells, lattice_cells, lattice_slack
 from kcheck.mechanics.least_friction import (
-    certified_holding,
     friction_candidates,
     least_friction,
     least_friction_exactly,
     rough_supports,
 )
+from kcheck.mechanics.sliding_limit import certified_holding
 from kcheck.mechanics.statics import (
     PYRAMID_EDGES,
     Equilibria,

@@ -4,7 +4,8 @@ supports can balance a wrench (:mod:`kcheck.mechanics.statics` decides single co
 * Planar: exactly, as the least feasible root among the pair and triple determinants of the
   edge wrenches (:func:`friction_candidates`), found by bisection over those candidates.
 * Spatial: where every contact pressed at the limit slides there, the limit itself by
-  Newton's method, certified without a conic solve (:func:`sliding_limit`); otherwise
+  Newton's method, checked without a conic solve
+  (:func:`kcheck.mechanics.sliding_limit.sliding_limit`); otherwise
   Dinkelbach-type steps on the largest friction ratio of balancing forces, each a conic
   programme (:func:`least_friction_exactly`).
 * Otherwise (and as the check of both): bisection on the monotone feasibility
@@ -15,13 +16,13 @@ Nondimensional, as :mod:`kcheck.mechanics.statics`.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 
 import numpy as np
 
 from kcheck.mechanics.csc import Csc
 from kcheck.mechanics.kinematics import cross3, wrenches
+from kcheck.mechanics.sliding_limit import largest_ratio, remember_limit, sliding_limit
 from kcheck.mechanics.statics import (
     Statics,
     _contact_axes,
@@ -30,27 +31,20 @@ from kcheck.mechanics.statics import (
 )
 from kcheck.numerics.arrays import unique
 from kcheck.numerics.thresholds import (
-    BALANCE_RTOL,
-    CERTIFICATE_MARGIN,
     CUBIC_IMAG_RTOL,
     DINKELBACH_STALL,
     FRICTIONLESS_MISS,
-    LIFT_RTOL,
     MU_FLOOR,
     MU_RTOL,
-    NEWTON_RTOL,
     POLY_ZERO_RTOL,
-    PRESSED_RTOL,
     ZERO_GUARD,
 )
 
 __all__ = [
-    "certified_holding",
     "friction_candidates",
     "least_friction",
     "least_friction_exactly",
     "rough_supports",
-    "sliding_limit",
 ]
 
 #: Most Dinkelbach-type steps of :func:`least_friction_exactly` (it needs 3 to 8).
@@ -59,38 +53,6 @@ STEPS = 30
 SATURATED = 1e-6
 #: Rounds of steps, each checked at ``(1 - rtol)`` times its result, before bisection.
 ROUNDS = 3
-
-
-def _largest_ratio(local: np.ndarray, scale: np.ndarray) -> float:
-    """The largest ``|f_t| / (scale f_n)`` over the contacts with a share of the normal
-    force (forces in the contacts' axes, (k, 3)).
-
-    In plain floats (a handful of contacts, where numpy's per-call overhead was most of the
-    time): the same operations as :func:`_largest_ratio_numpy` in the same order
-    (``np.linalg.norm`` of a row is ``sqrt(t1 * t1 + t2 * t2)``), so the same value; that
-    function where a force is not finite."""
-    rows, scales = local.tolist(), scale.tolist()
-    normals = [abs(n) for n, _, _ in rows]
-    if not all(math.isfinite(x) for row in rows for x in row):
-        return _largest_ratio_numpy(local, scale)
-    limit = PRESSED_RTOL * max(max(normals), ZERO_GUARD)
-    largest = None
-    for (n, t1, t2), s in zip(rows, scales, strict=True):
-        fn = n * s
-        if s > 0 and fn > limit:
-            ratio = math.sqrt(t1 * t1 + t2 * t2) / fn
-            if largest is None or ratio > largest:
-                largest = ratio
-    return 0.0 if largest is None else largest
-
-
-def _largest_ratio_numpy(local: np.ndarray, scale: np.ndarray) -> float:
-    """:func:`_largest_ratio` with numpy."""
-    fn = local[:, 0] * scale
-    tangential = np.linalg.norm(local[:, 1:], axis=1)
-    pressed = (scale > 0) & (fn > PRESSED_RTOL * max(float(np.abs(local[:, 0]).max()), ZERO_GUARD))
-    ratios = tangential[pressed] / fn[pressed]
-    return float(ratios.max()) if len(ratios) else 0.0
 
 
 def least_friction_exactly(
@@ -109,8 +71,9 @@ def least_friction_exactly(
     even ``largest`` does. ``upper_fails``: the caller knows that ``upper`` does not (the
     search then starts by doubling it); a callable is asked only if the conic search runs.
 
-    First :func:`sliding_limit` (no conic solve; it answers about 93 % of the jamming
-    check's cases, and its limit is remembered for :func:`certified_holding`). Otherwise:
+    First :func:`~kcheck.mechanics.sliding_limit.sliding_limit` (no conic solve; it answers
+    about 93 % of the jamming check's cases, and its limit is remembered for
+    :func:`~kcheck.mechanics.sliding_limit.certified_holding`). Otherwise:
     the least coefficient is ``min over balancing forces of max_j |f_t,j| / (scale_j f_n,j)``,
     a generalised fractional programme. From a balance found at a feasible coefficient
     (doubling ``upper``), Dinkelbach-type steps (Crouzeix, Ferland & Schaible 1985), each a
@@ -133,7 +96,7 @@ def least_friction_exactly(
     # A certified limit also shows that coefficient 0 does not hold: it goes first.
     sliding = sliding_limit(columns, wrench, scale[keep], rtol)
     if sliding is not None and sliding <= largest:
-        _remember_limit(statics, keep, wrench, scale[keep], sliding, (1.0 - rtol) * sliding)
+        remember_limit(statics, keep, wrench, scale[keep], sliding, (1.0 - rtol) * sliding)
         return sliding
     if not _frictionless_misses(columns, wrench) and feasible(0.0):
         return 0.0
@@ -147,7 +110,7 @@ def least_friction_exactly(
             return None
         mu = min(2.0 * mu, largest)
     local, kept = found[0], scale[keep]
-    ratio = _largest_ratio(local, kept)
+    ratio = largest_ratio(local, kept)
     for _ in range(ROUNDS):
         local, ratio = _fractional_steps(columns, wrench, kept, local, ratio, rtol)
         # Whether (1 - rtol) times the result holds, as a step there: its least ``s`` is
@@ -164,298 +127,11 @@ def least_friction_exactly(
         if below is None or below[1] > 0.0:
             return ratio
         # Not converged (a stall): the balance found below it starts the steps again.
-        lower = _largest_ratio(below[0], kept)
+        lower = largest_ratio(below[0], kept)
         if not lower < ratio:
             break
         local, ratio = below[0], lower
     return least_friction(feasible, ratio, largest=largest, rtol=rtol)
-
-
-#: Most Newton steps of :func:`sliding_limit` per set of pressed contacts (it needs 3 to 8; 1
-#: of 234 recorded cases needed 16 to 30).
-NEWTON_STEPS = 16
-#: :func:`sliding_limit`'s Newton steps have diverged once ``|mu|`` or the twist (scaled to
-#: about 1 by ``start . h = 1``) passes this (a limit above ``largest``, 100, is none the
-#: caller wants).
-DIVERGED = 1e3
-#: Most contacts :func:`sliding_limit` lets lift off before it leaves the answer to the conic
-#: search.
-LIFTED = 2
-
-
-def sliding_limit(
-    columns: np.ndarray, wrench: np.ndarray, kept: np.ndarray, rtol: float
-) -> float | None:
-    """The least common coefficient ``mu`` (coefficients ``mu * kept``) at which rough
-    contacts in space (``columns`` (3k, 6) as :func:`kcheck.mechanics.statics._contact_axes`)
-    balance ``wrench``, where every contact pressed at that least coefficient slides there:
-    without a conic solve, and certified; None where that does not hold (a pressed contact
-    sticks, a support is frictionless, the steps do not converge or the certificate fails),
-    and the caller's conic search decides.
-
-    The limit is a twist ``h`` along which the load does no work while every pressed contact
-    opens exactly as fast as its friction cone allows (``h . N_j = mu s_j |(h . T1_j, h .
-    T2_j)|``: a separating hyperplane of the contact-wrench cone that touches it at
-    ``-wrench``), with normal forces ``f_j > 0`` on those contacts, each on its cone's edge
-    opposite that slip, balancing the wrench: ``a + 1 + 6`` equations in ``h``, ``mu`` and
-    the ``a`` forces (:func:`_sliding_newton`), solved by Newton's method from the
-    frictionless free twist at ``mu = 0``. A contact whose force comes out negative lifts
-    off: it leaves the pressed set and the steps go on (at most LIFTED times).
-
-    Checked as bisection would find it, without a conic solve, and to the standard the conic
-    search meets rather than exactly. The "holds" side rests on an explicit balance: normal
-    forces positive, each pressed contact on its cone's edge, the returned value their
-    largest friction ratio as computed in floating point (a few ulps), and an imbalance of
-    at most ``BALANCE_RTOL`` (1e-10) of the wrench (a converged solve leaves about 1e-15):
-    forces within the conic solver's own tolerance (1e-8) of a balance, so the programme at
-    that coefficient would find it feasible too, but not a proof that an exact balance
-    exists there. The "fails" side rests on a separating twist (nudged so that the load does
-    work along it) that clears every contact's cone at ``(1 - rtol)`` times the value by
-    more than ``CERTIFICATE_MARGIN`` of the terms compared (:func:`_separates`; Farkas: no
-    balance there), far above the rounding of the few products it is computed from."""
-    n, k = len(wrench), len(kept)
-    if n != 6 or not np.all(kept > 0):
-        return None
-    size = float(np.linalg.norm(wrench))
-    if not size > 0:
-        return None
-    if k >= n:
-        return None  # no free twist: the normals alone fix the body
-    w = wrench / size
-    parts = columns.reshape(k, 3, n)
-    normals, tangents = parts[:, 0], parts[:, 1:]
-    u, sv, vt = np.linalg.svd(normals)
-    if not sv[-1] > 0:
-        return None
-    free = vt[-1]  # the frictionless free twist
-    along = float(free @ w)
-    if along == 0:
-        return None
-    start = free if along > 0 else -free
-    pressed = np.arange(k)
-    # The frictionless normal forces (least squares, in units of the wrench) from the same
-    # decomposition: the start.
-    state = (start, 0.0, u @ ((vt[:k] @ -w) / sv))
-    for lifted in range(LIFTED + 1):
-        if lifted == 0 and k == n - 1:
-            found = _sliding_newton_all(normals, tangents, w, kept, start)
-        else:
-            found = _sliding_newton(
-                normals[pressed], tangents[pressed], w, kept[pressed], start, state
-            )
-        if found is None:
-            return None
-        h, mu, force = found
-        if np.all(force > 0):
-            break
-        lifts = np.arange(len(pressed)) != int(np.argmin(force))
-        pressed, state = pressed[lifts], (h, mu, force[lifts])
-    else:
-        return None
-    slip, _ = _slip(tangents[pressed], h)
-    if slip is None or not mu > 0:
-        return None
-    local = np.zeros((k, 3))
-    local[pressed, 0] = size * force
-    local[pressed, 1:] = -(mu * kept[pressed] * size * force)[:, None] * slip
-    if np.linalg.norm(columns.T @ local.ravel() + wrench) > BALANCE_RTOL * size:
-        return None
-    least = _largest_ratio(local, kept)
-    if not _separates(normals, tangents, w, h, (1.0 - rtol) * least * kept):
-        return None
-    return least
-
-
-def _sliding_newton_all(
-    normals: np.ndarray, tangents: np.ndarray, w: np.ndarray, kept: np.ndarray, start: np.ndarray
-) -> tuple[np.ndarray, float, np.ndarray] | None:
-    """:func:`_sliding_newton` with every one of ``n - 1`` contacts pressed, from the free
-    twist at ``mu = 0``: the twist is then fixed by the ``n - 1`` cone conditions, the load's
-    zero work and its scale, so the forces need not be among the unknowns (a 7 x 7 system
-    instead of 12 x 12); they follow at the end, as the balance's least squares."""
-    a, n = len(kept), len(w)
-    h, mu = start, 0.0
-    jacobian = np.zeros((n + 1, n + 1))
-    jacobian[a, :n] = w
-    jacobian[a + 1, :n] = start
-    residual = np.zeros(n + 1)
-    for _ in range(NEWTON_STEPS):
-        velocity = tangents @ h
-        speed = np.hypot(velocity[:, 0], velocity[:, 1])
-        if not speed.min() > 0:
-            return None
-        lean = np.einsum("kc,kcn->kn", velocity / speed[:, None], tangents)  # T_j^T u_j
-        edges = normals - (mu * kept)[:, None] * lean
-        residual[:a] = edges @ h  # h . N_j - mu s_j |T_j h|
-        residual[a] = w @ h
-        residual[a + 1] = start @ h - 1.0
-        jacobian[:a, :n] = edges
-        jacobian[:a, n] = -kept * speed
-        step = _solve_small(jacobian, -residual)
-        if step is None:
-            return None
-        h, mu = h + step[:n], mu + float(step[n])
-        if not (abs(mu) < DIVERGED and np.abs(h).max() < DIVERGED):
-            return None
-        if abs(step[n]) <= NEWTON_RTOL * abs(mu) and np.abs(step[:n]).max() <= NEWTON_RTOL:
-            velocity = tangents @ h
-            speed = np.hypot(velocity[:, 0], velocity[:, 1])
-            if not speed.min() > 0:
-                return None
-            lean = np.einsum("kc,kcn->kn", velocity / speed[:, None], tangents)
-            edges = normals - (mu * kept)[:, None] * lean
-            force = _solve_small(edges @ edges.T, -(edges @ w))
-            return None if force is None else (h, mu, force)
-    return None
-
-
-def _sliding_newton(
-    normals: np.ndarray,
-    tangents: np.ndarray,
-    w: np.ndarray,
-    kept: np.ndarray,
-    start: np.ndarray,
-    state: tuple[np.ndarray, float, np.ndarray],
-) -> tuple[np.ndarray, float, np.ndarray] | None:
-    """Newton's method for :func:`sliding_limit` on the pressed contacts (normals (a, 6),
-    tangents (a, 2, 6), coefficients' scale (a,)) and the unit wrench ``w``, from ``state``
-    (twist, ``mu``, normal forces (a,) in units of the wrench): the residuals
-    ``h . N_j - mu s_j |T_j h|``, ``start . h - 1`` (the twist's scale) and
-    ``sum_j f_j (N_j - mu s_j T_j^T u_j) + w`` with ``u_j = T_j h / |T_j h|`` (the slip),
-    and their exact derivatives. The solution, or None when a contact stops sliding, the
-    matrix is singular or NEWTON_STEPS do not converge."""
-    h, mu, force = state
-    a, n = len(kept), len(w)
-    size = n + 1 + a
-    jacobian = np.zeros((size, size))
-    jacobian[a, :n] = start
-    residual = np.zeros(size)
-    # T_j^T T_j, summed with weights below: d(T_j^T u_j)/dh = (T_j^T T_j - l_j l_j^T) / |T_j h|
-    # with l_j = T_j^T u_j (u_j = T_j h / |T_j h|, the slip).
-    gram = np.einsum("kcn,kcm->knm", tangents, tangents).reshape(a, n * n)
-    for _ in range(NEWTON_STEPS):
-        velocity = tangents @ h
-        speed = np.hypot(velocity[:, 0], velocity[:, 1])
-        if not speed.min() > 0:
-            return None
-        slip = velocity / speed[:, None]
-        lean = np.einsum("kc,kcn->kn", slip, tangents)  # T_j^T u_j
-        friction = mu * kept
-        edges = normals - friction[:, None] * lean
-        residual[:a] = edges @ h  # h . N_j - mu s_j |T_j h|
-        residual[a] = start @ h - 1.0
-        residual[a + 1 :] = force @ edges + w
-        jacobian[:a, :n] = edges
-        jacobian[:a, n] = -kept * speed
-        jacobian[a + 1 :, n] = -(force * kept) @ lean
-        jacobian[a + 1 :, n + 1 :] = edges.T
-        weight = friction * force / speed
-        jacobian[a + 1 :, :n] = (weight * lean.T) @ lean - (weight @ gram).reshape(n, n)
-        step = _solve_small(jacobian, -residual)
-        if step is None:
-            return None
-        h, mu, force = h + step[:n], mu + float(step[n]), force + step[n + 1 :]
-        if not (abs(mu) < DIVERGED and np.abs(h).max() < DIVERGED):
-            return None  # no limit with these pressed contacts (one sticks, or lifts off)
-        if abs(step[n]) <= NEWTON_RTOL * abs(mu) and np.abs(step[:n]).max() <= NEWTON_RTOL:
-            return h, mu, force
-        # Near the solution (the error left about the square of the step) a force clearly
-        # below zero stays there: that contact lifts off, no need to converge first.
-        if abs(step[n]) <= LIFT_RTOL * abs(mu) and force.min() < -LIFT_RTOL * force.max():
-            return h, mu, force
-    return None
-
-
-def _solve_small(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
-    """``matrix^-1 rhs`` for a small square system (LAPACK's gesv through scipy, which the
-    spatial checks have loaded for qhull: a quarter of ``np.linalg.solve``'s per-call cost
-    at 7 x 7); None when it is singular."""
-    from scipy.linalg.lapack import dgesv
-
-    _, _, x, info = dgesv(matrix, rhs)
-    return None if info != 0 else np.asarray(x)
-
-
-def _slip(tangents: np.ndarray, h: np.ndarray) -> tuple[np.ndarray | None, np.ndarray]:
-    """Each contact's tangential velocity along the twist ``h`` (in its tangent axes): unit
-    directions (k, 2), None where a contact does not slide, and speeds (k,)."""
-    velocity = tangents @ h
-    speed = np.sqrt(np.einsum("kc,kc->k", velocity, velocity))
-    if not np.all(speed > 0):
-        return None, speed
-    return velocity / speed[:, None], speed
-
-
-def _separates(
-    normals: np.ndarray, tangents: np.ndarray, w: np.ndarray, h: np.ndarray, mu: np.ndarray
-) -> bool:
-    """Whether the twist ``h``, nudged along the unit wrench ``w`` so that the load does
-    work along it, clears every contact's cone of coefficient ``mu_j``: ``h . N_j >
-    mu_j |(h . T1_j, h . T2_j)|`` with a margin of CERTIFICATE_MARGIN times the terms
-    compared. Then no balance of the wrench lies in those cones (Farkas' lemma)."""
-    lean = float(w @ h)
-    h = h + (abs(lean) + CERTIFICATE_MARGIN * float(np.abs(h).max())) * w
-    if not float(w @ h) > 0:
-        return False
-    velocity = tangents @ h
-    speed = np.sqrt(np.einsum("kc,kc->k", velocity, velocity))
-    opening = normals @ h
-    scale = float(np.abs(h).sum()) * (
-        np.abs(normals).max(axis=1) + mu * np.abs(tangents).max(axis=(1, 2))
-    )
-    return bool(np.all(opening - mu * speed > CERTIFICATE_MARGIN * scale))
-
-
-# The last few certified sliding limits: the jamming check decides the design direction at
-# the scene's friction right after the least holding friction of the same case.
-_LIMITS: dict[bytes, tuple[np.ndarray, float, float]] = {}
-#: How many certified limits :func:`certified_holding` remembers.
-RECENT_LIMITS = 16
-
-
-def _limit_key(statics: Statics, keep: np.ndarray, wrench: np.ndarray) -> bytes:
-    """The kept contacts' geometry and the wrench, as bytes."""
-    parts = (statics.points[keep], statics.normals[keep], wrench)
-    return b"|".join(np.ascontiguousarray(x, float).tobytes() for x in parts)
-
-
-def _remember_limit(
-    statics: Statics,
-    keep: np.ndarray,
-    wrench: np.ndarray,
-    kept: np.ndarray,
-    holds_from: float,
-    fails_to: float,
-) -> None:
-    """Keep a certified limit: coefficients ``c * kept`` balance the wrench for ``c >=
-    holds_from`` (an explicit balance there, to ``BALANCE_RTOL``: :func:`sliding_limit`) and
-    do not for ``c <= fails_to`` (a separating twist)."""
-    if len(_LIMITS) >= RECENT_LIMITS:
-        del _LIMITS[next(iter(_LIMITS))]
-    _LIMITS[_limit_key(statics, keep, wrench)] = (kept.copy(), holds_from, fails_to)
-
-
-def certified_holding(
-    statics: Statics, keep: np.ndarray, wrench: np.ndarray, mu: np.ndarray
-) -> bool | None:
-    """Whether the supports ``keep`` with coefficients ``mu`` (every support's) balance
-    ``wrench``, where one of the last certified sliding limits of
-    :func:`least_friction_exactly` decides it without a conic solve: ``mu`` on the kept
-    supports a common multiple ``c`` of that search's scale, and ``c`` at or above the limit
-    (True) or at or below ``(1 - rtol)`` times it (False). None otherwise."""
-    found = _LIMITS.get(_limit_key(statics, keep, wrench))
-    if found is None:
-        return None
-    kept, holds_from, fails_to = found
-    mine = np.asarray(mu, float)[keep]
-    c = float(mine[0] / kept[0])
-    if not np.array_equal(mine, c * kept):
-        return None
-    if c >= holds_from:
-        return True
-    if c <= fails_to:
-        return False
-    return None
 
 
 def _fractional_steps(
@@ -487,7 +163,7 @@ def _fractional_steps(
             step = _homogeneous_step(columns, wrench, ratio * kept, shrink)
         if step is None:
             break
-        lower = _largest_ratio(step[0], kept)
+        lower = largest_ratio(step[0], kept)
         if not lower < ratio:
             break
         gain = ratio - lower

@@ -112,7 +112,8 @@ __all__ = [
     "FRICTIONLESS_MISS",
     "NEWTON_RTOL",
     "LIFT_RTOL",
-    "CERTIFICATE_MARGIN",
+    "SLIDING_CERTIFICATE_MARGIN",
+    "SLIDING_NEWTON_DIVERGED",
     "BALANCE_RTOL",
     "OUTSIDE_PYRAMIDS",
     "GOLDEN_XTOL",
@@ -491,7 +492,11 @@ LIFT_RTOL: float = 1e-3
 #: The least margin (relative to the terms compared, nondimensional) by which the sliding
 #: limit's separating twist must clear every friction cone at ``(1 - rtol)`` times the
 #: result: far above the rounding of the few products it is computed from (about 1e-16).
-CERTIFICATE_MARGIN: float = 1e-9
+SLIDING_CERTIFICATE_MARGIN: float = 1e-9
+#: The sliding limit's Newton steps have diverged once ``|mu|`` or a component of the twist
+#: (scaled to about 1 by ``start . h = 1``; nondimensional) passes this: a limit above the
+#: search's ``largest`` coefficient, 100, is none the caller wants.
+SLIDING_NEWTON_DIVERGED: float = 1e3
 #: The largest imbalance (relative to the wrench, nondimensional) of the sliding limit's
 #: forces: a converged Newton solve leaves about 1e-15; the conic solver's own tolerance is
 #: 1e-8. Its "holds" side is certified to this, not exactly (as the conic search is to its

@@ -59,10 +59,10 @@ def test_few_condition_arcs_equal_numpys_within_their_error(k, monkeypatch):
 
 
 def test_largest_friction_ratio_equals_its_numpy_twin_bit_for_bit():
-    """least_friction._largest_ratio (plain floats, a handful of contacts) against the numpy
+    """sliding_limit.largest_ratio (plain floats, a handful of contacts) against the numpy
     version it copies: forces across magnitudes, pulling and unpressed contacts, frictionless
     supports (scale 0)."""
-    from kcheck.mechanics.least_friction import _largest_ratio, _largest_ratio_numpy
+    from kcheck.mechanics.sliding_limit import _largest_ratio_numpy, largest_ratio
 
     rng = np.random.default_rng(26)
     for trial in range(20000):
@@ -73,7 +73,7 @@ def test_largest_friction_ratio_equals_its_numpy_twin_bit_for_bit():
         if trial % 7 == 0:
             local[rng.integers(0, k), 0] = 0.0
         scale = np.where(rng.random(k) < 0.2, 0.0, rng.uniform(0.1, 2.0, k))
-        assert _largest_ratio(local, scale) == _largest_ratio_numpy(local, scale)
+        assert largest_ratio(local, scale) == _largest_ratio_numpy(local, scale)
 
 
 def _former_row_norms(vectors: np.ndarray) -> np.ndarray:

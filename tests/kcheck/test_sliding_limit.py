@@ -1,4 +1,4 @@
-"""The sliding limit (``least_friction.sliding_limit``): the least holding friction of five
+"""The sliding limit (``sliding_limit.sliding_limit``): the least holding friction of five
 contacts in space from Newton's method on the twist along which every contact slides, with
 its own certificate. References: bisection over the exact conic decision (clarabel) to
 1e-8, and 32-sided inscribed and circumscribed pyramids (linear programmes, no conic
@@ -12,7 +12,8 @@ import numpy as np
 
 from kcheck.analysis.jamming_cases import analyse_jamming, jam_statics
 from kcheck.body.mass import body_mass_properties
-from kcheck.mechanics.least_friction import least_friction, least_friction_exactly, sliding_limit
+from kcheck.mechanics.least_friction import least_friction, least_friction_exactly
+from kcheck.mechanics.sliding_limit import sliding_limit
 from kcheck.mechanics.statics import _contact_axes, build_statics, holds, holds_exactly
 from kcheck.scene import load_scene
 

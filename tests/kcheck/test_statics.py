@@ -358,7 +358,7 @@ def test_least_friction_where_the_supports_squeeze_equals_bisection(monkeypatch)
     def recorded(columns, wrench, mu, shrink):
         found = plain(columns, wrench, mu, shrink)
         if found is not None:  # every coefficient is mu.max() here (scale 1)
-            steps.append((float(mu.max()), lf._largest_ratio(found[0], np.ones(len(mu)))))
+            steps.append((float(mu.max()), lf.largest_ratio(found[0], np.ones(len(mu)))))
         return found
 
     monkeypatch.setattr(lf, "_homogeneous_step", recorded)
