@@ -46,6 +46,21 @@ __all__ = ["holding_certified"]
 
 _J = np.array([1.0, -1.0, -1.0])  # the second-order cone's form: z^T J z = z0^2 - |z1|^2
 
+# The barrier method's numerical choices (they change how many steps a question takes, not
+# what a certificate must pass).
+#: The barrier's first weight on ``s`` (from 1 it took about 1.6x the steps).
+FIRST_WEIGHT = 10.0
+#: The factor on the weight each time the iterate is centred (a long-step path following).
+WEIGHT_GROWTH = 8.0
+#: Newton decrement below which the full step is taken (damped ``1 / (1 + decrement)`` above:
+#: self-concordance keeps the iterate inside the cones) and the iterate counts as close
+#: enough to the central path for the "hopeless" test.
+FULL_STEP_DECREMENT = 0.25
+#: Newton decrement below which the iterate counts as centred and the weight grows.
+CENTRED_DECREMENT = 0.5
+#: Share of the margin a slack may lose to the balance's rounding and its exact correction.
+ROUNDING_SHARE = 0.5
+
 
 def holding_certified(
     columns: Sequence[np.ndarray], wrenches: Sequence[np.ndarray], mus: Sequence[np.ndarray]
@@ -89,7 +104,7 @@ def _certified(c: np.ndarray, w: np.ndarray, mu: np.ndarray) -> tuple[np.ndarray
     v[:, :6] = w
     z = (d @ v[:, None, :, None])[..., 0]
     v[:, 6] = np.minimum((z[..., 0] - np.hypot(z[..., 1], z[..., 2])).min(axis=1) - 1.0, 0.0)
-    t = np.full(len(live), 10.0)  # the barrier's weight on s (from 1: about 1.6x the steps)
+    t = np.full(len(live), FIRST_WEIGHT)  # the barrier's weight on s
     barrier = 2 * k + 1  # the barrier's parameter: the central path's gap is barrier / t
     flat = c.reshape(len(live), 3 * k, 6)
     gram = _inverse_each(np.einsum("qai,qaj->qij", flat, flat))  # (C^T C)^-1
@@ -117,18 +132,19 @@ def _certified(c: np.ndarray, w: np.ndarray, mu: np.ndarray) -> tuple[np.ndarray
             step = _solve_each(kkt[a], rhs[a])[:, :7, 0]
             decrement = np.sqrt(np.maximum(np.einsum("qi,qij,qj->q", step, hess, step), 0.0))
             # Damped Newton: stays strictly inside the cones (self-concordance).
-            damp = np.where(decrement < 0.25, 1.0, 1.0 / (1.0 + decrement))
+            damp = np.where(decrement < FULL_STEP_DECREMENT, 1.0, 1.0 / (1.0 + decrement))
             v[a] += damp[:, None] * step
-            centred = decrement < 0.5
-            t[a] = np.where(centred, 8.0 * t[a], t[a])
+            centred = decrement < CENTRED_DECREMENT
+            t[a] = np.where(centred, WEIGHT_GROWTH * t[a], t[a])
             ok = _checks(c[a], mu[a], w[a], v[a, :6])
             found[live[a[ok]]] = True
             held = _balanced(c[a], mu[a], w[a], gram[a], reach[a], jz * inv[..., None]) & ~ok
             holds[live[a[held]]] = True
             ok |= held
-            # Centred, and even the central path's gap leaves the margin s below zero: no
-            # twist certificate to find (forces, if any, were tried just above).
-            hopeless = (decrement < 0.25) & (v[a, 6] + 2.0 * barrier / t[a] < 0.0)
+            # Centred, and even twice the central path's gap (the iterate is only near the
+            # path) leaves the margin s below zero: no twist certificate to find (forces, if
+            # any, were tried just above).
+            hopeless = (decrement < FULL_STEP_DECREMENT) & (v[a, 6] + 2.0 * barrier / t[a] < 0.0)
             keep = ~ok & ~hopeless & np.all(np.isfinite(v[a]), axis=1)
             active = a[keep]
             if len(active) == 0:
@@ -185,7 +201,7 @@ def _balanced(
     floor = HOLDING_CERTIFICATE_MARGIN * np.abs(f).max(axis=(1, 2))
     slack = np.minimum(f[..., 0], mu * f[..., 0] - np.hypot(f[..., 1], f[..., 2]))
     with np.errstate(invalid="ignore"):
-        exact = (1.0 + mu.max(axis=1)) * reach * left <= 0.5 * floor
+        exact = (1.0 + mu.max(axis=1)) * reach * left <= ROUNDING_SHARE * floor
         exact &= reach * EPS <= HOLDING_CERTIFICATE_CONDITION
         return (scale > 0) & exact & np.all(slack >= floor[:, None], axis=1)
 
