@@ -15,7 +15,7 @@ from typing import Literal
 import numpy as np
 
 from kcheck.numerics.arrays import (
-    RINT_SHIFT,
+    round3_like_numpy,
     row_lengths,
     sorted_unique_tuples,
     unique,
@@ -157,18 +157,10 @@ def _planar_facets(generators: list[list[float]]) -> np.ndarray | Literal["every
     facets = upper + lower
     if not facets:
         return "everywhere"
-    scale = 10.0**FACET_DECIMALS
-    shift = RINT_SHIFT  # unit facets: |f scale| is far inside RINT_SHIFT's bound
-    rounded: list[tuple[float, ...]] = []
-    for f0, f1, f2 in facets:  # round_like_numpy of each part, written out
-        r0, r1, r2 = f0 * scale, f1 * scale, f2 * scale
-        rounded.append(
-            (
-                math.copysign((r0 + shift) - shift, r0) / scale,
-                math.copysign((r1 + shift) - shift, r1) / scale,
-                math.copysign((r2 + shift) - shift, r2) / scale,
-            )
-        )
+    scale = 10.0**FACET_DECIMALS  # unit facets: |f scale| is far inside RINT_SHIFT's bound
+    rounded: list[tuple[float, ...]] = [
+        round3_like_numpy(f0, f1, f2, scale) for f0, f1, f2 in facets
+    ]
     return sorted_unique_tuples(rounded)
 
 
@@ -201,8 +193,7 @@ def planar_cone_holds(
     if not 2.0 * abs(det) > RANK_MINOR_MARGIN * FACET_TOL * frobenius:
         return None
     a0, a1, a2 = against
-    scale = 10.0**FACET_DECIMALS
-    shift = RINT_SHIFT  # unit facets: |f scale| is far inside RINT_SHIFT's bound
+    scale = 10.0**FACET_DECIMALS  # unit facets: |f scale| is far inside RINT_SHIFT's bound
     close = False
     for i in range(count):
         g0, g1, g2 = generators[i]
@@ -215,15 +206,11 @@ def planar_cone_holds(
             f0, f1, f2 = c0 / size, c1 / size, c2 / size
             side = [f0 * x0 + f1 * x1 + f2 * x2 for x0, x1, x2 in generators]
             if min(side) >= -FACET_TOL:
-                r0, r1, r2 = f0 * scale, f1 * scale, f2 * scale
+                r0, r1, r2 = round3_like_numpy(f0, f1, f2, scale)
             elif max(side) <= FACET_TOL:
-                r0, r1, r2 = -f0 * scale, -f1 * scale, -f2 * scale
+                r0, r1, r2 = round3_like_numpy(-f0, -f1, -f2, scale)
             else:
                 continue
-            # round_like_numpy of each part, as _planar_facets rounds the facet
-            r0 = math.copysign((r0 + shift) - shift, r0) / scale
-            r1 = math.copysign((r1 + shift) - shift, r1) / scale
-            r2 = math.copysign((r2 + shift) - shift, r2) / scale
             value = r0 * a0 + r1 * a1 + r2 * a2
             if value < limit - margin:
                 return False

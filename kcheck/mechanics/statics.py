@@ -45,7 +45,7 @@ from kcheck.mechanics.cones import (
 from kcheck.mechanics.csc import Csc
 from kcheck.mechanics.dynamics import friction_directions
 from kcheck.mechanics.kinematics import Frame, cross3, wrenches
-from kcheck.numerics.arrays import RINT_SHIFT, unique_rows
+from kcheck.numerics.arrays import round3_like_numpy, unique_rows
 from kcheck.numerics.thresholds import EDGE_WRENCH_DECIMALS, EPS, PRODUCT_ROUNDING, SAME_FACET
 from kcheck.records import dataclass
 
@@ -298,8 +298,9 @@ def _planar_generator_rows(
     for no support."""
     if not points:
         return None
-    scale = 10.0**EDGE_WRENCH_DECIMALS  # np.round(g, EDGE_WRENCH_DECIMALS)'s factor
-    shift = RINT_SHIFT  # unit wrenches: |part scale| is far inside RINT_SHIFT's bound
+    # np.round(g, EDGE_WRENCH_DECIMALS)'s factor; unit wrenches: |part scale| is far inside
+    # RINT_SHIFT's bound
+    scale = 10.0**EDGE_WRENCH_DECIMALS
     rows: list[tuple[float, ...]] = []
     for (px, py), (nx, ny), m in zip(points, normals, mu, strict=True):
         tx, ty = -ny, nx
@@ -310,17 +311,9 @@ def _planar_generator_rows(
             size = math.sqrt(w * w + fx * fx + fy * fy)
             if not (0.0 < size < math.inf):
                 return None
-            # round_like_numpy of each part, written out (a few thousand calls a scene). A
-            # finite positive size bounds each part's size (the squares are summed rounding
+            # A finite positive size bounds each part's size (the squares are summed rounding
             # to nearest, which keeps order): the parts are finite, their rounding defined.
-            r0, r1, r2 = w / size * scale, fx / size * scale, fy / size * scale
-            rows.append(
-                (
-                    math.copysign((r0 + shift) - shift, r0) / scale,
-                    math.copysign((r1 + shift) - shift, r1) / scale,
-                    math.copysign((r2 + shift) - shift, r2) / scale,
-                )
-            )
+            rows.append(round3_like_numpy(w / size, fx / size, fy / size, scale))
     rows.sort()  # sorted_unique_tuples' order and duplicates
     out = [rows[0]]
     for row in rows[1:]:

@@ -81,3 +81,23 @@ def test_rint_shift_is_numpy_rint() -> None:
     for y, w in zip(values.tolist(), want.tolist(), strict=True):
         got = math.copysign((y + RINT_SHIFT) - RINT_SHIFT, y)
         assert got.hex() == w.hex() == math.copysign(float(round(y)), y).hex(), y
+
+
+def test_rounding_helpers_are_numpys_round() -> None:
+    """``round_like_numpy`` and ``round3_like_numpy`` (the plain-float twins' one rounding)
+    give ``np.round(v, d)``'s bits for unit-sized parts at the decimals the callers use
+    (13: facets and edge wrenches), signed zeros and ties included."""
+    from kcheck.numerics.arrays import round3_like_numpy, round_like_numpy
+
+    rng = np.random.default_rng(12)
+    parts = rng.uniform(-1, 1, (30_000, 3)) * 10.0 ** rng.integers(-16, 1, (30_000, 1))
+    parts[rng.random(parts.shape) < 0.1] = 0.0
+    parts[rng.random(parts.shape) < 0.05] *= -0.0
+    parts[:50] = (np.arange(150).reshape(50, 3) + 0.5) / 10.0**13  # ties at the 13th decimal
+    for d in (13, 6, 0):
+        scale = 10.0**d
+        want = np.round(parts, d)
+        for (x, y, z), w in zip(parts.tolist(), want.tolist(), strict=True):
+            got = round3_like_numpy(x, y, z, scale)
+            assert [v.hex() for v in got] == [v.hex() for v in w]
+            assert round_like_numpy(x, scale).hex() == w[0].hex()
