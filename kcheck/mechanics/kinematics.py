@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -53,17 +54,10 @@ def row_norms(vectors: np.ndarray) -> np.ndarray:
     """
     v = np.asarray(vectors, dtype=float)
     if v.ndim == 1 and 0 < len(v) <= 3:
-        # One finite vector of 1-3 parts (most calls of a planar scene): the same operations in
-        # Python floats (numpy adds a row's squares left to right), a numpy float returned.
+        # One finite vector of 1-3 parts (most calls of a planar scene): norm3, a numpy float.
         values = v.tolist()
         if all(map(math.isfinite, values)):
-            big = max(map(abs, values))
-            safe = big if big > 0 else 1.0
-            total = 0.0
-            for x in values:
-                x /= safe
-                total += x * x
-            return np.float64(math.sqrt(total) * big)
+            return np.float64(norm3(values))
     big = np.abs(v).max(axis=-1, keepdims=True)
     safe = np.where(big > 0, big, 1.0)
     return np.sqrt(np.sum((v / safe) ** 2, axis=-1)) * big[..., 0]
@@ -78,14 +72,17 @@ def unit_rows(vectors: np.ndarray) -> np.ndarray:
     return scaled / np.where(norm > 0, norm, 1.0)
 
 
-def norm3(values: list[float]) -> float:
-    """:func:`row_norms` of one 3-vector in plain float arithmetic, the same bits (numpy sums
-    the three terms left to right); for one vector numpy's per-call overhead is most of the
-    time."""
-    big = max(abs(x) for x in values)
+def norm3(values: Sequence[float]) -> float:
+    """:func:`row_norms` of one finite vector of 1-3 parts in plain float arithmetic, the same
+    bits (numpy adds a row's squares left to right; adding the first to 0.0 changes no bit);
+    for one vector numpy's per-call overhead is most of the time."""
+    big = max(map(abs, values))
     safe = big if big > 0 else 1.0
-    a, b, c = (x / safe for x in values)
-    return math.sqrt(a * a + b * b + c * c) * big
+    total = 0.0
+    for x in values:
+        x /= safe
+        total += x * x
+    return math.sqrt(total) * big
 
 
 def unit3(values: list[float]) -> list[float]:
@@ -155,14 +152,7 @@ def _plain_frame(rows: list[list[float]]) -> tuple[list[float], float] | None:
     origin = [s / count * scale for s in sums]
     length = 0.0
     for row in rows:
-        offset = [x - o for x, o in zip(row, origin, strict=True)]
-        size = max(map(abs, offset))
-        safe = size if size > 0 else 1.0
-        total = 0.0
-        for x in offset:
-            x /= safe
-            total += x * x
-        length = max(length, math.sqrt(total) * size)
+        length = max(length, norm3([x - o for x, o in zip(row, origin, strict=True)]))
     if not (length > 0 and math.isfinite(length)):
         length = 1.0
     return origin, length
