@@ -159,6 +159,9 @@ def mesh_mass_properties(
     """
     import trimesh
 
+    # Set before anything is cached: trimesh drops a mesh's whole cache when its density
+    # changes (the triangles, their cross products, the adjacency, the mass properties).
+    mesh.density = density
     extent = float(np.ptp(mesh.vertices, axis=0).max())
     areas = mesh.area_faces
     degenerate = int(np.count_nonzero(areas <= (DEGENERATE_FACE_RTOL * extent) ** 2))
@@ -220,8 +223,7 @@ def mesh_mass_properties(
         if inverted:
             text += f" ({inverted} wound inwards, counted as cavities)"
         notes.append(text)
-    mesh.density = density
-    props = mesh.mass_properties
+    props = mesh.mass_properties  # computed once: with the volume above
     com = np.asarray(props.center_mass, dtype=float)
     inertia = np.asarray(props.inertia, dtype=float)
     if not (np.all(np.isfinite(com)) and np.all(np.isfinite(inertia))):

@@ -1,0 +1,92 @@
+"""The cold path's shortcuts give the very numbers of what they replace (issue 24, cold
+cache): the surface's volume against trimesh's ``mesh.volume``, the shadow and face boxes
+against numpy's reductions, a mesh's mass properties against trimesh's own with the density
+set, and the pruned closest-point query against the brute-force one."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from kcheck.body import surface
+
+trimesh = pytest.importorskip("trimesh")
+
+
+def _meshes() -> list:
+    rng = np.random.default_rng(7)
+    out = []
+    for i in range(40):
+        sphere = trimesh.creation.icosphere(
+            subdivisions=int(rng.integers(0, 3)), radius=float(rng.uniform(1e-3, 2))
+        )
+        sphere.apply_translation(rng.normal(size=3) * 10 ** rng.uniform(-3, 2))
+        if i % 3 == 0:
+            sphere.invert()  # wound inwards: a negative volume
+        box = trimesh.creation.box(extents=rng.uniform(1e-3, 1, size=3))
+        box.apply_transform(trimesh.transformations.random_rotation_matrix(rng.random(3)))
+        box.apply_translation(rng.normal(size=3))
+        out += [sphere, box]
+    plate = Path(__file__).parents[2] / "fixtures" / "three-groove" / "top-plate.stl"
+    if plate.exists():
+        out.append(trimesh.load_mesh(plate).apply_scale(1e-3))  # mm to m
+    return out
+
+
+def test_volume_is_trimesh_volume_bit_for_bit() -> None:
+    for mesh in _meshes():
+        assert surface._volume(mesh.copy()) == float(mesh.copy().volume)
+
+
+def test_ray_boxes_are_the_reductions() -> None:
+    for mesh in _meshes():
+        triangles = np.asarray(mesh.triangles, dtype=float)
+        for ray in surface._RAYS:
+            setup = surface._ray_setup(triangles, ray)
+            uv = np.stack([triangles @ setup.e1, triangles @ setup.e2], axis=-1)
+            np.testing.assert_array_equal(setup.lo, uv.min(axis=1))
+            np.testing.assert_array_equal(setup.hi, uv.max(axis=1))
+
+
+def test_inside_matches_the_winding_number() -> None:
+    # Off the surface the generalised winding number is 1 inside, 0 outside (independent).
+    rng = np.random.default_rng(3)
+    for mesh in _meshes()[:20]:
+        if mesh.volume < 0:
+            continue
+        triangles = np.asarray(mesh.triangles, dtype=float)
+        lo, hi = mesh.bounds
+        points = rng.uniform(lo - 0.2 * (hi - lo), hi + 0.2 * (hi - lo), size=(100, 3))
+        winding = surface.winding_numbers(triangles, points)
+        clear = np.abs(winding - 0.5) > 0.1
+        found = surface.inside(triangles, points)
+        np.testing.assert_array_equal(found[clear], winding[clear] > 0.5)
+
+
+def test_pruned_closest_point_is_the_brute_force_one() -> None:
+    rng = np.random.default_rng(5)
+    for mesh in _meshes():
+        triangles = np.asarray(mesh.triangles, dtype=float)
+        lo, hi = mesh.bounds
+        points = rng.uniform(lo - 0.3 * (hi - lo), hi + 0.3 * (hi - lo), size=(30, 3))
+        _, d, _ = surface.closest_point(triangles, points)
+        _, d_all, _ = surface.closest_on_triangles(triangles, points)
+        np.testing.assert_allclose(d, d_all, rtol=1e-12, atol=0)
+
+
+def test_mesh_mass_properties_are_trimeshs_own() -> None:
+    from kcheck.body.mass import mesh_mass_properties
+
+    for mesh in _meshes():
+        if mesh.volume <= 0:
+            continue
+        reference = mesh.copy()
+        reference.density = 2700.0
+        expected = reference.mass_properties
+        found = mesh_mass_properties(mesh.copy(), 2700.0, Path("m.stl"), "body")
+        assert found.mass == float(expected.mass)
+        assert found.volume == float(expected.volume)
+        np.testing.assert_array_equal(found.center_of_mass, expected.center_mass)
+        np.testing.assert_array_equal(found.inertia, expected.inertia)
