@@ -49,8 +49,11 @@ _HEADER = struct.Struct("!Q")
 MAX_WAIT_S = 3600.0
 #: Address-space budgets from this size on set no limit (2**63 would overflow rlim_t).
 MAX_ADDRESS_SPACE = 2**62
-#: Past every file descriptor (:func:`os.closerange` closes them with one system call).
-MAX_DESCRIPTOR = 2**31 - 1
+#: Most descriptors a worker closes at its exit where it cannot list those it has open (no
+#: ``/proc/self/fd``). Without the ``close_range`` system call (Linux < 5.9, glibc < 2.34,
+#: older container seccomp profiles) :func:`os.closerange` makes one ``close`` per number:
+#: up to 2**31 - 1 took about 195 s per worker exit (a two-job run hung).
+MAX_DESCRIPTORS_CLOSED = 65536
 
 
 def available() -> bool:
@@ -153,6 +156,20 @@ def _read(fd: int) -> object:
     return pickle.loads(body)
 
 
+def _descriptor_bound() -> int:
+    """One past the highest file descriptor this process has open (Linux lists them in
+    ``/proc/self/fd``); elsewhere the open-files limit, at most :data:`MAX_DESCRIPTORS_CLOSED`."""
+    try:
+        return max(int(name) for name in os.listdir("/proc/self/fd")) + 1
+    except (OSError, ValueError, MemoryError):  # no /proc (or none listed): the limit
+        pass
+    try:
+        limit = os.sysconf("SC_OPEN_MAX")
+    except (OSError, ValueError):
+        limit = -1
+    return limit if 0 < limit <= MAX_DESCRIPTORS_CLOSED else MAX_DESCRIPTORS_CLOSED
+
+
 def _child(
     tasks: int, results: int, work: Callable[[T], R], budget: Budget, first: object = None
 ) -> None:
@@ -210,7 +227,7 @@ def _child(
         # Every descriptor closed before the exit, which tears the address space down first
         # (about 1 ms): a reader of the output this worker shares with the parent (a pipe)
         # sees its end when the parent ends, which does not wait for this teardown either.
-        os.closerange(0, MAX_DESCRIPTOR)
+        os.closerange(0, _descriptor_bound())
         os._exit(code)
 
 

@@ -243,3 +243,51 @@ def test_a_worker_that_ended_with_its_last_chunk_is_reaped_by_the_next_run():
     assert int(second.split(" in ")[1]) != pid
     with pytest.raises(ChildProcessError):  # no such child left: reaped
         os.waitpid(pid, os.WNOHANG)
+
+
+def test_a_worker_closes_its_descriptors_up_to_its_highest_open_one(tmp_path, monkeypatch):
+    """Where ``close_range`` is missing (Linux < 5.9, old seccomp profiles) ``os.closerange``
+    closes one number at a time: the worker's range must end at its highest open descriptor,
+    not at 2**31 - 1 (about 195 s per worker exit there). The workers are forked from this
+    process, so they call the ``os.closerange`` patched here; each writes its range down."""
+    from kcheck.gate import pool
+
+    log = tmp_path / "ranges"
+    closerange = os.closerange
+
+    def recorded(low: int, high: int) -> None:
+        fd = os.open(log, os.O_WRONLY | os.O_APPEND | os.O_CREAT)
+        os.write(fd, f"{low} {high} {fd}\n".encode())
+        os.close(fd)
+        closerange(low, high)
+
+    monkeypatch.setattr(os, "closerange", recorded)
+    out = list(run_in_workers([("sleep", 0.0)] * 3, work, jobs=2, budget=Budget(10, None)))
+    pool.reap_exited(wait=True)
+    assert len(out) == 3 and not any(isinstance(o, BudgetExceeded) for o in out)
+    ranges = [tuple(map(int, line.split())) for line in log.read_text().splitlines()]
+    assert ranges, "no worker closed its descriptors"
+    for low, high, highest_open in ranges:
+        assert low == 0  # stdin, stdout, stderr too: a pipe's reader sees its end
+        assert highest_open < high <= pool.MAX_DESCRIPTORS_CLOSED
+
+
+def test_without_a_list_of_open_descriptors_the_bound_is_the_capped_limit(monkeypatch):
+    from kcheck.gate import pool
+
+    read_end, write_end = os.pipe()
+    try:
+        assert write_end < pool._descriptor_bound() <= pool.MAX_DESCRIPTORS_CLOSED
+    finally:
+        os.close(read_end)
+        os.close(write_end)
+
+    def no_proc(path: str) -> list[str]:
+        raise FileNotFoundError(path)
+
+    monkeypatch.setattr(os, "listdir", no_proc)
+    limit = os.sysconf("SC_OPEN_MAX")
+    expected = limit if 0 < limit <= pool.MAX_DESCRIPTORS_CLOSED else pool.MAX_DESCRIPTORS_CLOSED
+    assert pool._descriptor_bound() == expected
+    monkeypatch.setattr(os, "sysconf", lambda name: 2**30)  # a container's huge limit
+    assert pool._descriptor_bound() == pool.MAX_DESCRIPTORS_CLOSED
