@@ -238,6 +238,7 @@ class _Worker(Generic[T]):
     pid: int
     tasks: int  # parent's write end
     results: int  # parent's read end
+    forked: float  # time.monotonic() just before its fork: its first task's clock starts then
     held: tuple[int, ...] | None = None  # the indices of the tasks it checks now
     deadline: float = float("inf")
     ending: bool = False  # told to end after the chunk it holds (its last)
@@ -259,8 +260,11 @@ class _Pool(Generic[T, R]):
         process's bookkeeping after the fork; issue 24)."""
         task_r, task_w = os.pipe()
         result_r, result_w = os.pipe()
+        # Flushed so that the worker does not write this process's buffered output again; the
+        # flush waits for a slow reader (``| less``, a full pipe), which is not the task's time.
         sys.stdout.flush()
         sys.stderr.flush()
+        forked = time.monotonic()
         pid = os.fork()
         if pid == 0:  # the child: keep only its own two ends
             for w in self.workers:
@@ -271,7 +275,7 @@ class _Pool(Generic[T, R]):
             _child(task_r, result_w, self.work, self.budget, first)
         os.close(task_r)
         os.close(result_w)
-        worker: _Worker[T] = _Worker(pid, task_w, result_r)
+        worker: _Worker[T] = _Worker(pid, task_w, result_r, forked)
         self.workers.append(worker)
         return worker
 
@@ -430,10 +434,11 @@ def run_chunks_in_workers(
             worker = None
         indices = pending[-1]
         message = (indices[0], [tasks[i] for i in indices])
-        started = time.monotonic()
         if worker is None:
             worker = pool.spawn(message)
+            started = worker.forked  # not before: spawn may wait for this process's output
         else:
+            started = time.monotonic()
             try:
                 _write(worker.tasks, message)
             except OSError:  # the worker died while idle: replace it, the chunk waits

@@ -291,3 +291,47 @@ def test_without_a_list_of_open_descriptors_the_bound_is_the_capped_limit(monkey
     assert pool._descriptor_bound() == expected
     monkeypatch.setattr(os, "sysconf", lambda name: 2**30)  # a container's huge limit
     assert pool._descriptor_bound() == pool.MAX_DESCRIPTORS_CLOSED
+
+
+SLOW_READER_PROBE = """
+import fcntl, os, sys, time
+from kcheck.gate.pool import Budget, BudgetExceeded, run_in_workers
+
+flags = fcntl.fcntl(1, fcntl.F_GETFL)  # fill the stdout pipe, whose reader starts later
+fcntl.fcntl(1, fcntl.F_SETFL, flags | os.O_NONBLOCK)
+try:
+    while True:
+        os.write(1, b"x" * 4096)
+except BlockingIOError:
+    pass
+fcntl.fcntl(1, fcntl.F_SETFL, flags)
+sys.stdout.write("buffered, flushed before the fork\\n")
+sys.stderr.write("full\\n")
+sys.stderr.flush()
+(out,) = run_in_workers([0.1], time.sleep, jobs=1, budget=Budget(float(sys.argv[2]), None))
+with open(sys.argv[1], "w") as fh:
+    fh.write(out.kind if isinstance(out, BudgetExceeded) else "ok")
+"""
+
+
+def test_a_slow_reader_of_the_output_does_not_use_the_tasks_time_budget(tmp_path):
+    """The pool flushes stdout before each fork; a reader that has not read yet (a pager, a
+    full pipe) holds that flush up, and that wait is not the task's: a task of 0.1 s gets
+    its result with a budget of 1 s although the flush waited 3 s (the budget's clock had
+    started before the flush: a time-budget result; the review of lane startup6)."""
+    import subprocess
+    import sys
+
+    verdict = tmp_path / "verdict"
+    proc = subprocess.Popen(
+        [sys.executable, "-c", SLOW_READER_PROBE, str(verdict), "1.0"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        env={k: v for k, v in os.environ.items() if k != "PYTHONUNBUFFERED"},  # stdout buffered
+    )  # fmt: skip
+    assert proc.stderr is not None
+    assert proc.stderr.readline() == b"full\n"  # imported, its stdout pipe full
+    time.sleep(3.0)  # the reader starts late: the probe's flush waits until then
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 0, err.decode()
+    assert out.endswith(b"buffered, flushed before the fork\n")
+    assert verdict.read_text() == "ok"
