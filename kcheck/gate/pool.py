@@ -14,6 +14,7 @@ than this module does.
 
 from __future__ import annotations
 
+import _thread
 import copyreg
 import io
 import os
@@ -47,6 +48,9 @@ R = TypeVar("R")
 _HEADER = struct.Struct("!Q")
 #: Longest single wait for a worker, s (the loop waits again; a budget may be far longer).
 MAX_WAIT_S = 3600.0
+#: How long workers told to end are given to exit, s: :meth:`_Pool.close` kills one still
+#: running then; :func:`reap_exited` waits that long at most, and never kills.
+EXIT_GRACE_S = 5.0
 #: Address-space budgets from this size on set no limit (2**63 would overflow rlim_t).
 MAX_ADDRESS_SPACE = 2**62
 #: Most descriptors a worker closes at its exit where it cannot list those it has open (no
@@ -307,7 +311,8 @@ class _Pool(Generic[T, R]):
                 for fd in (worker.tasks, worker.results):
                     os.close(fd)
                 self.workers.remove(worker)
-                _EXITING.append(worker.pid)
+                with _EXITING_LOCK:
+                    _EXITING.append(worker.pid)
                 continue
             if worker.ending:  # told already; it may be gone (no write to a pipe without reader)
                 continue
@@ -318,7 +323,7 @@ class _Pool(Generic[T, R]):
         for worker in list(self.workers):
             os.close(worker.tasks)
             worker.tasks = -1
-        deadline = time.monotonic() + 5.0
+        deadline = time.monotonic() + EXIT_GRACE_S
         for worker in list(self.workers):
             # The worker's end of its result pipe closes when it exits: wait for that EOF.
             left = max(deadline - time.monotonic(), 0.0)
@@ -334,30 +339,38 @@ class _Pool(Generic[T, R]):
             self.retire(worker, kill=True)
 
 
-#: Workers that were told to end and whose results were all read, not yet reaped (pids).
+#: Workers that were told to end and whose results were all read, not yet reaped (pids);
+#: pools in several threads share it, under :data:`_EXITING_LOCK`.
 _EXITING: list[int] = []
+_EXITING_LOCK = _thread.allocate_lock()
 
 
 def reap_exited(wait: bool = True) -> None:
     """Reap the workers that ended with their last chunk and were not waited for (each run
-    reaps the earlier runs'): those that have exited, or (``wait``) all of them, each given
-    5 s to end, then killed. Such a worker has only to read its end message and exit. For a
-    caller about to read ``RUSAGE_CHILDREN`` (a benchmark) or to leave no zombie behind."""
-    for pid in list(_EXITING):
+    reaps the earlier runs'): those that have exited, or (``wait``) those that exit within
+    :data:`EXIT_GRACE_S` (such a worker has only to read its end message and exit). For a
+    caller about to read ``RUSAGE_CHILDREN`` (a benchmark) or to leave no zombie behind.
+
+    Never kills: a pid that something else reaped (a caller's ``SIGCHLD`` handler or
+    ``os.wait``) may be another of the caller's children by now. One still running is left
+    for the next call."""
+    with _EXITING_LOCK:  # these pids are this call's now: another thread's call skips them
+        pids = _EXITING[:]
+        _EXITING.clear()
+    deadline = time.monotonic() + (EXIT_GRACE_S if wait else 0.0)
+    running = []
+    for pid in pids:
         try:
-            if wait:
-                deadline = time.monotonic() + 5.0
-                while os.waitpid(pid, os.WNOHANG) == (0, 0):
-                    if time.monotonic() > deadline:
-                        os.kill(pid, signal.SIGKILL)
-                        os.waitpid(pid, 0)
-                        break
-                    time.sleep(0.001)
-            elif os.waitpid(pid, os.WNOHANG) == (0, 0):
-                continue  # still exiting
+            while os.waitpid(pid, os.WNOHANG) == (0, 0):
+                if time.monotonic() >= deadline:
+                    running.append(pid)
+                    break
+                time.sleep(0.001)
         except ChildProcessError:
             pass  # reaped by someone else (a caller's os.wait)
-        _EXITING.remove(pid)
+    if running:
+        with _EXITING_LOCK:
+            _EXITING.extend(running)
 
 
 #: How often ``tick`` is called while the parent waits for workers, s.

@@ -335,3 +335,57 @@ def test_a_slow_reader_of_the_output_does_not_use_the_tasks_time_budget(tmp_path
     assert proc.returncode == 0, err.decode()
     assert out.endswith(b"buffered, flushed before the fork\n")
     assert verdict.read_text() == "ok"
+
+
+def test_reaping_never_kills_a_child_that_is_still_running(monkeypatch):
+    """A pid left to reap may be another child of the caller's by now (something else reaped
+    the worker and the pid was reused): past the grace it is left for later, not killed."""
+    import subprocess
+    import sys
+
+    from kcheck.gate import pool
+
+    monkeypatch.setattr(pool, "EXIT_GRACE_S", 0.2)
+    other = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    try:
+        with pool._EXITING_LOCK:
+            pool._EXITING.append(other.pid)  # as if one of ours had ended with that pid
+        pool.reap_exited(wait=True)
+        assert other.poll() is None  # still running
+        assert other.pid in pool._EXITING  # left for a later call
+    finally:
+        with pool._EXITING_LOCK:
+            if other.pid in pool._EXITING:
+                pool._EXITING.remove(other.pid)
+        other.kill()
+        other.wait()
+
+
+def test_pools_in_several_threads_share_the_pids_left_to_reap():
+    """Several threads reaping at once each take their own pids: none is reaped or removed
+    twice (a plain list raised ValueError in ``remove`` when two took the same pid). The pids
+    are past Linux's largest (2**22), so waitpid says at once that they are nobody's child."""
+    import threading
+
+    from kcheck.gate import pool
+
+    fake = list(range(2**22 + 1, 2**22 + 1 + 20000))
+    with pool._EXITING_LOCK:
+        pool._EXITING.extend(fake)
+    errors: list[BaseException] = []
+
+    def reap() -> None:
+        try:
+            pool.reap_exited(wait=False)
+        except BaseException as exc:  # noqa: BLE001 - collected, asserted below
+            errors.append(exc)
+
+    threads = [threading.Thread(target=reap) for _ in range(4)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    with pool._EXITING_LOCK:
+        left = set(pool._EXITING) & set(fake)
+        pool._EXITING[:] = [pid for pid in pool._EXITING if pid not in left]
+    assert errors == [] and not left
