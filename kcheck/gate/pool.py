@@ -14,6 +14,7 @@ than this module does.
 
 from __future__ import annotations
 
+import _thread
 import copyreg
 import io
 import os
@@ -47,10 +48,16 @@ R = TypeVar("R")
 _HEADER = struct.Struct("!Q")
 #: Longest single wait for a worker, s (the loop waits again; a budget may be far longer).
 MAX_WAIT_S = 3600.0
+#: How long workers told to end are given to exit, s: :meth:`_Pool.close` kills one still
+#: running then; :func:`reap_exited` waits that long at most, and never kills.
+EXIT_GRACE_S = 5.0
 #: Address-space budgets from this size on set no limit (2**63 would overflow rlim_t).
 MAX_ADDRESS_SPACE = 2**62
-#: Past every file descriptor (:func:`os.closerange` closes them with one system call).
-MAX_DESCRIPTOR = 2**31 - 1
+#: Most descriptors a worker closes at its exit where it cannot list those it has open (no
+#: ``/proc/self/fd``). Without the ``close_range`` system call (Linux < 5.9, glibc < 2.34,
+#: older container seccomp profiles) :func:`os.closerange` makes one ``close`` per number:
+#: up to 2**31 - 1 took about 195 s per worker exit (a two-job run hung).
+MAX_DESCRIPTORS_CLOSED = 65536
 
 
 def available() -> bool:
@@ -153,6 +160,20 @@ def _read(fd: int) -> object:
     return pickle.loads(body)
 
 
+def _descriptor_bound() -> int:
+    """One past the highest file descriptor this process has open (Linux lists them in
+    ``/proc/self/fd``); elsewhere the open-files limit, at most :data:`MAX_DESCRIPTORS_CLOSED`."""
+    try:
+        return max(int(name) for name in os.listdir("/proc/self/fd")) + 1
+    except (OSError, ValueError, MemoryError):  # no /proc (or none listed): the limit
+        pass
+    try:
+        limit = os.sysconf("SC_OPEN_MAX")
+    except (OSError, ValueError):
+        limit = -1
+    return limit if 0 < limit <= MAX_DESCRIPTORS_CLOSED else MAX_DESCRIPTORS_CLOSED
+
+
 def _child(
     tasks: int, results: int, work: Callable[[T], R], budget: Budget, first: object = None
 ) -> None:
@@ -210,7 +231,7 @@ def _child(
         # Every descriptor closed before the exit, which tears the address space down first
         # (about 1 ms): a reader of the output this worker shares with the parent (a pipe)
         # sees its end when the parent ends, which does not wait for this teardown either.
-        os.closerange(0, MAX_DESCRIPTOR)
+        os.closerange(0, _descriptor_bound())
         os._exit(code)
 
 
@@ -221,6 +242,7 @@ class _Worker(Generic[T]):
     pid: int
     tasks: int  # parent's write end
     results: int  # parent's read end
+    forked: float  # time.monotonic() just before its fork: its first task's clock starts then
     held: tuple[int, ...] | None = None  # the indices of the tasks it checks now
     deadline: float = float("inf")
     ending: bool = False  # told to end after the chunk it holds (its last)
@@ -242,8 +264,11 @@ class _Pool(Generic[T, R]):
         process's bookkeeping after the fork; issue 24)."""
         task_r, task_w = os.pipe()
         result_r, result_w = os.pipe()
+        # Flushed so that the worker does not write this process's buffered output again; the
+        # flush waits for a slow reader (``| less``, a full pipe), which is not the task's time.
         sys.stdout.flush()
         sys.stderr.flush()
+        forked = time.monotonic()
         pid = os.fork()
         if pid == 0:  # the child: keep only its own two ends
             for w in self.workers:
@@ -254,7 +279,7 @@ class _Pool(Generic[T, R]):
             _child(task_r, result_w, self.work, self.budget, first)
         os.close(task_r)
         os.close(result_w)
-        worker: _Worker[T] = _Worker(pid, task_w, result_r)
+        worker: _Worker[T] = _Worker(pid, task_w, result_r, forked)
         self.workers.append(worker)
         return worker
 
@@ -286,7 +311,8 @@ class _Pool(Generic[T, R]):
                 for fd in (worker.tasks, worker.results):
                     os.close(fd)
                 self.workers.remove(worker)
-                _EXITING.append(worker.pid)
+                with _EXITING_LOCK:
+                    _EXITING.append(worker.pid)
                 continue
             if worker.ending:  # told already; it may be gone (no write to a pipe without reader)
                 continue
@@ -297,7 +323,7 @@ class _Pool(Generic[T, R]):
         for worker in list(self.workers):
             os.close(worker.tasks)
             worker.tasks = -1
-        deadline = time.monotonic() + 5.0
+        deadline = time.monotonic() + EXIT_GRACE_S
         for worker in list(self.workers):
             # The worker's end of its result pipe closes when it exits: wait for that EOF.
             left = max(deadline - time.monotonic(), 0.0)
@@ -313,30 +339,38 @@ class _Pool(Generic[T, R]):
             self.retire(worker, kill=True)
 
 
-#: Workers that were told to end and whose results were all read, not yet reaped (pids).
+#: Workers that were told to end and whose results were all read, not yet reaped (pids);
+#: pools in several threads share it, under :data:`_EXITING_LOCK`.
 _EXITING: list[int] = []
+_EXITING_LOCK = _thread.allocate_lock()
 
 
 def reap_exited(wait: bool = True) -> None:
     """Reap the workers that ended with their last chunk and were not waited for (each run
-    reaps the earlier runs'): those that have exited, or (``wait``) all of them, each given
-    5 s to end, then killed. Such a worker has only to read its end message and exit. For a
-    caller about to read ``RUSAGE_CHILDREN`` (a benchmark) or to leave no zombie behind."""
-    for pid in list(_EXITING):
+    reaps the earlier runs'): those that have exited, or (``wait``) those that exit within
+    :data:`EXIT_GRACE_S` (such a worker has only to read its end message and exit). For a
+    caller about to read ``RUSAGE_CHILDREN`` (a benchmark) or to leave no zombie behind.
+
+    Never kills: a pid that something else reaped (a caller's ``SIGCHLD`` handler or
+    ``os.wait``) may be another of the caller's children by now. One still running is left
+    for the next call."""
+    with _EXITING_LOCK:  # these pids are this call's now: another thread's call skips them
+        pids = _EXITING[:]
+        _EXITING.clear()
+    deadline = time.monotonic() + (EXIT_GRACE_S if wait else 0.0)
+    running = []
+    for pid in pids:
         try:
-            if wait:
-                deadline = time.monotonic() + 5.0
-                while os.waitpid(pid, os.WNOHANG) == (0, 0):
-                    if time.monotonic() > deadline:
-                        os.kill(pid, signal.SIGKILL)
-                        os.waitpid(pid, 0)
-                        break
-                    time.sleep(0.001)
-            elif os.waitpid(pid, os.WNOHANG) == (0, 0):
-                continue  # still exiting
+            while os.waitpid(pid, os.WNOHANG) == (0, 0):
+                if time.monotonic() >= deadline:
+                    running.append(pid)
+                    break
+                time.sleep(0.001)
         except ChildProcessError:
             pass  # reaped by someone else (a caller's os.wait)
-        _EXITING.remove(pid)
+    if running:
+        with _EXITING_LOCK:
+            _EXITING.extend(running)
 
 
 #: How often ``tick`` is called while the parent waits for workers, s.
@@ -413,10 +447,11 @@ def run_chunks_in_workers(
             worker = None
         indices = pending[-1]
         message = (indices[0], [tasks[i] for i in indices])
-        started = time.monotonic()
         if worker is None:
             worker = pool.spawn(message)
+            started = worker.forked  # not before: spawn may wait for this process's output
         else:
+            started = time.monotonic()
             try:
                 _write(worker.tasks, message)
             except OSError:  # the worker died while idle: replace it, the chunk waits

@@ -695,7 +695,7 @@ def run_batch(
     def work(chunk: Sequence[Path]) -> list[SceneResult]:
         return check_files(chunk, checks, settings)
 
-    for name in WORKER_MODULES if settings.hints else WORKER_MODULES[:-1]:
+    for name in WORKER_MODULES + (HINT_MODULES if settings.hints else ()):
         importlib.import_module(name)  # once here, before the forks (WORKER_MODULES)
 
     # Workers that draw pictures grow (matplotlib's caches): recycled past a threshold.
@@ -723,18 +723,21 @@ def run_batch(
 
 #: Modules a worker imports for nearly every scene it checks, imported once by
 #: :func:`run_batch` before the workers are forked: the mass-property cache (every scene), the
-#: body's mass properties and the check of their units (every scene with a body), the ways
-#: out that failing findings' hints search (the analytical checks, when ``Settings.hints``;
-#: last). Light modules (numpy and kcheck's own), each imported in a scene's process anyway:
-#: in a forked worker an import costs about three times as much as here (its first writes to
-#: the import system's pages it shares with this process copy them; issue 24: about 2 ms of a
-#: one-scene run), and every worker of a batch paid it again.
+#: body's mass properties and the check of their units (every scene with a body); with
+#: :data:`HINT_MODULES` when ``Settings.hints``. Light modules (numpy and kcheck's own), each
+#: imported in a scene's process anyway: in a forked worker an import costs about three times
+#: as much as here (its first writes to the import system's pages it shares with this process
+#: copy them; issue 24: about 2 ms of a one-scene run), and every worker of a batch paid it
+#: again.
 WORKER_MODULES = (
     "kcheck.gate.cache",
     "kcheck.body.mass",
     "kcheck.analysis.mass_units",
-    "kcheck.analysis.way_out",
 )
+
+#: Imported with :data:`WORKER_MODULES` when ``Settings.hints``: the ways out that failing
+#: findings' hints search (the analytical checks).
+HINT_MODULES = ("kcheck.analysis.way_out",)
 
 #: Most scene files a worker is given at once (:func:`chunk_size`).
 CHUNK_SCENES = 8

@@ -243,3 +243,149 @@ def test_a_worker_that_ended_with_its_last_chunk_is_reaped_by_the_next_run():
     assert int(second.split(" in ")[1]) != pid
     with pytest.raises(ChildProcessError):  # no such child left: reaped
         os.waitpid(pid, os.WNOHANG)
+
+
+def test_a_worker_closes_its_descriptors_up_to_its_highest_open_one(tmp_path, monkeypatch):
+    """Where ``close_range`` is missing (Linux < 5.9, old seccomp profiles) ``os.closerange``
+    closes one number at a time: the worker's range must end at its highest open descriptor,
+    not at 2**31 - 1 (about 195 s per worker exit there). The workers are forked from this
+    process, so they call the ``os.closerange`` patched here; each writes its range down."""
+    from kcheck.gate import pool
+
+    log = tmp_path / "ranges"
+    closerange = os.closerange
+
+    def recorded(low: int, high: int) -> None:
+        fd = os.open(log, os.O_WRONLY | os.O_APPEND | os.O_CREAT)
+        os.write(fd, f"{low} {high} {fd}\n".encode())
+        os.close(fd)
+        closerange(low, high)
+
+    monkeypatch.setattr(os, "closerange", recorded)
+    out = list(run_in_workers([("sleep", 0.0)] * 3, work, jobs=2, budget=Budget(10, None)))
+    pool.reap_exited(wait=True)
+    assert len(out) == 3 and not any(isinstance(o, BudgetExceeded) for o in out)
+    ranges = [tuple(map(int, line.split())) for line in log.read_text().splitlines()]
+    assert ranges, "no worker closed its descriptors"
+    for low, high, highest_open in ranges:
+        assert low == 0  # stdin, stdout, stderr too: a pipe's reader sees its end
+        assert highest_open < high <= pool.MAX_DESCRIPTORS_CLOSED
+
+
+def test_without_a_list_of_open_descriptors_the_bound_is_the_capped_limit(monkeypatch):
+    from kcheck.gate import pool
+
+    read_end, write_end = os.pipe()
+    try:
+        assert write_end < pool._descriptor_bound() <= pool.MAX_DESCRIPTORS_CLOSED
+    finally:
+        os.close(read_end)
+        os.close(write_end)
+
+    def no_proc(path: str) -> list[str]:
+        raise FileNotFoundError(path)
+
+    monkeypatch.setattr(os, "listdir", no_proc)
+    limit = os.sysconf("SC_OPEN_MAX")
+    expected = limit if 0 < limit <= pool.MAX_DESCRIPTORS_CLOSED else pool.MAX_DESCRIPTORS_CLOSED
+    assert pool._descriptor_bound() == expected
+    monkeypatch.setattr(os, "sysconf", lambda name: 2**30)  # a container's huge limit
+    assert pool._descriptor_bound() == pool.MAX_DESCRIPTORS_CLOSED
+
+
+SLOW_READER_PROBE = """
+import fcntl, os, sys, time
+from kcheck.gate.pool import Budget, BudgetExceeded, run_in_workers
+
+flags = fcntl.fcntl(1, fcntl.F_GETFL)  # fill the stdout pipe, whose reader starts later
+fcntl.fcntl(1, fcntl.F_SETFL, flags | os.O_NONBLOCK)
+try:
+    while True:
+        os.write(1, b"x" * 4096)
+except BlockingIOError:
+    pass
+fcntl.fcntl(1, fcntl.F_SETFL, flags)
+sys.stdout.write("buffered, flushed before the fork\\n")
+sys.stderr.write("full\\n")
+sys.stderr.flush()
+(out,) = run_in_workers([0.1], time.sleep, jobs=1, budget=Budget(float(sys.argv[2]), None))
+with open(sys.argv[1], "w") as fh:
+    fh.write(out.kind if isinstance(out, BudgetExceeded) else "ok")
+"""
+
+
+def test_a_slow_reader_of_the_output_does_not_use_the_tasks_time_budget(tmp_path):
+    """The pool flushes stdout before each fork; a reader that has not read yet (a pager, a
+    full pipe) holds that flush up, and that wait is not the task's: a task of 0.1 s gets
+    its result with a budget of 1 s although the flush waited 3 s (the budget's clock had
+    started before the flush: a time-budget result; the review of lane startup6)."""
+    import subprocess
+    import sys
+
+    verdict = tmp_path / "verdict"
+    proc = subprocess.Popen(
+        [sys.executable, "-c", SLOW_READER_PROBE, str(verdict), "1.0"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        env={k: v for k, v in os.environ.items() if k != "PYTHONUNBUFFERED"},  # stdout buffered
+    )  # fmt: skip
+    assert proc.stderr is not None
+    assert proc.stderr.readline() == b"full\n"  # imported, its stdout pipe full
+    time.sleep(3.0)  # the reader starts late: the probe's flush waits until then
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 0, err.decode()
+    assert out.endswith(b"buffered, flushed before the fork\n")
+    assert verdict.read_text() == "ok"
+
+
+def test_reaping_never_kills_a_child_that_is_still_running(monkeypatch):
+    """A pid left to reap may be another child of the caller's by now (something else reaped
+    the worker and the pid was reused): past the grace it is left for later, not killed."""
+    import subprocess
+    import sys
+
+    from kcheck.gate import pool
+
+    monkeypatch.setattr(pool, "EXIT_GRACE_S", 0.2)
+    other = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    try:
+        with pool._EXITING_LOCK:
+            pool._EXITING.append(other.pid)  # as if one of ours had ended with that pid
+        pool.reap_exited(wait=True)
+        assert other.poll() is None  # still running
+        assert other.pid in pool._EXITING  # left for a later call
+    finally:
+        with pool._EXITING_LOCK:
+            if other.pid in pool._EXITING:
+                pool._EXITING.remove(other.pid)
+        other.kill()
+        other.wait()
+
+
+def test_pools_in_several_threads_share_the_pids_left_to_reap():
+    """Several threads reaping at once each take their own pids: none is reaped or removed
+    twice (a plain list raised ValueError in ``remove`` when two took the same pid). The pids
+    are past Linux's largest (2**22), so waitpid says at once that they are nobody's child."""
+    import threading
+
+    from kcheck.gate import pool
+
+    fake = list(range(2**22 + 1, 2**22 + 1 + 20000))
+    with pool._EXITING_LOCK:
+        pool._EXITING.extend(fake)
+    errors: list[BaseException] = []
+
+    def reap() -> None:
+        try:
+            pool.reap_exited(wait=False)
+        except BaseException as exc:  # noqa: BLE001 - collected, asserted below
+            errors.append(exc)
+
+    threads = [threading.Thread(target=reap) for _ in range(4)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    with pool._EXITING_LOCK:
+        left = set(pool._EXITING) & set(fake)
+        pool._EXITING[:] = [pid for pid in pool._EXITING if pid not in left]
+    assert errors == [] and not left
