@@ -27,6 +27,7 @@ from kcheck.scene.limits import LIMITS
 if TYPE_CHECKING:
     import trimesh
 
+    from kcheck.body.mesh_edges import Closure
     from kcheck.body.meshio import MERGE_RTOL, load_mesh, step_length_unit
 
 __all__ = [
@@ -36,6 +37,7 @@ __all__ = [
     "combine",
     "inertia_problem",
     "load_mesh",
+    "mesh_closure",
     "mesh_mass_properties",
     "part_mass_properties",
     "point_mass",
@@ -128,14 +130,15 @@ def transformed(
     )
 
 
-def body_volumes(mesh: trimesh.Trimesh) -> np.ndarray:
+def body_volumes(mesh: trimesh.Trimesh, pairs: np.ndarray | None = None) -> np.ndarray:
     """Signed volume (m³) of each edge-connected body of a closed mesh, from the divergence
-    theorem per face; without building a mesh per body as ``mesh.split`` does."""
+    theorem per face; without building a mesh per body as ``mesh.split`` does. ``pairs``:
+    the faces sharing an edge (k, 2) if known (for a closed mesh, its ``face_adjacency``)."""
     import trimesh
 
-    labels = trimesh.graph.connected_component_labels(
-        mesh.face_adjacency, node_count=len(mesh.faces)
-    )
+    if pairs is None:
+        pairs = mesh.face_adjacency
+    labels = trimesh.graph.connected_component_labels(pairs, node_count=len(mesh.faces))
     triangles = mesh.triangles
     per_face = np.einsum("ij,ij->i", triangles[:, 0], np.cross(triangles[:, 1], triangles[:, 2]))
     return np.bincount(labels, weights=per_face) / 6.0
@@ -174,14 +177,16 @@ def mesh_mass_properties(
     merged = int(mesh.metadata.get("kcheck_merged", 0))
     if merged:
         notes.append(f"{path.name}: {merged} duplicate vertices merged")
-    if repair and not (mesh.is_watertight and mesh.is_winding_consistent):
+    closure = mesh_closure(mesh)
+    if repair and not (closure.watertight and closure.consistent):
         # Orienting a flat (volume-less) mesh divides by its volume inside trimesh; the
         # volume is checked below and refused with a message, so the division's warning is not.
         with np.errstate(divide="ignore", invalid="ignore"):
             trimesh.repair.fix_winding(mesh)
             filled = trimesh.repair.fill_holes(mesh)
             trimesh.repair.fix_normals(mesh, multibody=True)
-        if mesh.is_watertight and mesh.is_winding_consistent:
+        closure = mesh_closure(mesh)
+        if closure.watertight and closure.consistent:
             where = field if isinstance(field, tuple) else None
             warnings.append(
                 Finding(
@@ -192,11 +197,11 @@ def mesh_mass_properties(
                     field=where,
                 )
             )
-    if not mesh.is_watertight:
+    if not closure.watertight:
         from kcheck.body.meshio import not_watertight
 
         raise not_watertight(mesh, path, field, scale, units)
-    if not mesh.is_winding_consistent:
+    if not closure.consistent:
         raise MeshError(
             path,
             "the mesh's face winding is inconsistent (set `repair: true` to re-wind it)",
@@ -216,7 +221,7 @@ def mesh_mass_properties(
         )
     if degenerate:
         notes.append(f"{path.name}: {degenerate} zero-area face(s) ignored")
-    volumes = body_volumes(mesh)
+    volumes = body_volumes(mesh, closure.edges.pairs)
     if len(volumes) > 1:
         inverted = int(np.count_nonzero(volumes < 0))
         text = f"{path.name}: {len(volumes)} disconnected closed bodies combined"
@@ -254,6 +259,28 @@ def mesh_mass_properties(
 
 #: Meshes read within :func:`shared_meshes`, by file and scale (None: outside it).
 _SHARED: dict[tuple[str, float], trimesh.Trimesh] | None = None
+#: The closures of the faces of meshes in :data:`_SHARED` (the faces, their closure).
+_CLOSURES: list[tuple[np.ndarray, Closure]] = []
+
+
+def mesh_closure(mesh: trimesh.Trimesh) -> Closure:
+    """Whether the mesh is watertight and consistently wound, and its shared edges
+    (:func:`kcheck.body.mesh_edges.closure_of`): within :func:`shared_meshes`, worked out once
+    for equal faces (they depend on nothing else: mass properties, ``body_volumes`` and the
+    supports' check of a part share them; a repaired mesh's changed faces get their own)."""
+    from kcheck.body.mesh_edges import closure_of
+
+    faces = np.asarray(mesh.faces)
+    if mesh.is_empty:  # trimesh: an empty mesh is neither watertight nor consistently wound
+        return closure_of(faces[:0], empty=True)
+    if _SHARED is None:
+        return closure_of(faces)
+    for known, closure in _CLOSURES:
+        if known.shape == faces.shape and np.array_equal(known, faces):
+            return closure
+    closure = closure_of(faces)
+    _CLOSURES.append((faces.copy(), closure))
+    return closure
 
 
 @contextlib.contextmanager
@@ -269,6 +296,7 @@ def shared_meshes() -> Iterator[None]:
     finally:
         if outer is None:
             _SHARED = None
+            _CLOSURES.clear()
 
 
 def _load(part: Part, max_mesh_bytes: int | None) -> trimesh.Trimesh:

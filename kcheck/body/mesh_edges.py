@@ -8,7 +8,7 @@ import numpy as np
 
 from kcheck.records import dataclass
 
-__all__ = ["Edges", "edges_of", "face_pairs"]
+__all__ = ["Closure", "Edges", "closure_of", "edges_of", "face_pairs"]
 
 
 @dataclass(frozen=True)
@@ -29,8 +29,40 @@ def _keys(faces: np.ndarray) -> np.ndarray:
     return np.minimum(first, second) * (int(f.max(initial=0)) + 1) + np.maximum(first, second)
 
 
+@dataclass(frozen=True)
+class Closure:
+    """What a mesh's faces alone say of it: its shared edges, whether it is watertight
+    (trimesh's ``is_watertight``) and whether each shared edge runs opposite ways in its two
+    faces (trimesh's ``is_winding_consistent``, which only means that for a watertight mesh)."""
+
+    edges: Edges
+    watertight: bool
+    consistent: bool
+
+
+def closure_of(faces: np.ndarray, *, empty: bool = False) -> Closure:
+    """:class:`Closure` of faces given by vertex ids (n, 3): the answers of trimesh's
+    ``is_watertight`` and ``is_winding_consistent`` from one sort (no faces: both, as
+    trimesh says of a mesh with vertices but no faces; ``empty``: the mesh has neither, and
+    trimesh says neither)."""
+    faces = np.asarray(faces)
+    edges, order, same = _edges(faces)
+    if empty:
+        return Closure(edges, False, False)
+    f = faces.astype(np.int64)
+    first, second = f.ravel(), np.roll(f, -1, axis=1).ravel()
+    # trimesh: in each pair of equal edges, the first one's end is the second one's start
+    consistent = bool(np.all(second[order[:-1][same]] == first[order[1:][same]]))
+    return Closure(edges, edges.closed, consistent)
+
+
 def edges_of(faces: np.ndarray) -> Edges:
     """The shared edges of faces given by vertex ids (n, 3)."""
+    return _edges(faces)[0]
+
+
+def _edges(faces: np.ndarray) -> tuple[Edges, np.ndarray, np.ndarray]:
+    """:func:`edges_of`, with the face edges' ids in key order and where a key equals the next."""
     key = _keys(faces)
     bits = max(1, (len(key) - 1).bit_length())
     if len(key) and int(key.max()) < 1 << (63 - bits):
@@ -47,7 +79,7 @@ def edges_of(faces: np.ndarray) -> Edges:
     # Runs of equal keys: a run of one is an open edge, of three or more a crowded one.
     manifold = not np.any(same[1:] & same[:-1])
     closed = manifold and len(s) % 2 == 0 and bool(np.all(s[0::2] == s[1::2]))
-    return Edges(pairs, closed, manifold)
+    return Edges(pairs, closed, manifold), order, same
 
 
 def face_pairs(faces: np.ndarray) -> np.ndarray:

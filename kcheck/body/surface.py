@@ -51,7 +51,7 @@ class Surface:
 def body_surface(body: Body, max_mesh_bytes: int | None = None) -> Surface | None:
     """The surface of the body's mesh parts in the scene's frame, in metres; None without
     mesh parts. Raises MeshError for a mesh that cannot be read (as mass properties do)."""
-    from kcheck.body.mass import placed_mesh
+    from kcheck.body.mass import mesh_closure, placed_mesh
 
     if not body.parts:
         return None
@@ -59,14 +59,16 @@ def body_surface(body: Body, max_mesh_bytes: int | None = None) -> Surface | Non
     closed = True
     for part in body.parts:
         mesh = placed_mesh(part, max_mesh_bytes)
-        if part.repair and not (mesh.is_watertight and mesh.is_winding_consistent):
+        closure = mesh_closure(mesh)
+        if part.repair and not (closure.watertight and closure.consistent):
             import trimesh  # the repair mass properties apply (kcheck.body.mass)
 
             with np.errstate(divide="ignore", invalid="ignore"):
                 trimesh.repair.fix_winding(mesh)
                 trimesh.repair.fill_holes(mesh)
                 trimesh.repair.fix_normals(mesh, multibody=True)
-        closed = closed and bool(mesh.is_watertight and mesh.is_winding_consistent)
+            closure = mesh_closure(mesh)
+        closed = closed and closure.watertight and closure.consistent
         if closed and _volume(mesh) < 0:
             closed = False  # wound inwards: inside and outside swapped
         triangles.append(np.asarray(mesh.triangles, dtype=float))

@@ -262,6 +262,36 @@ def test_watertightness_is_trimeshs():
         assert edges_of(np.asarray(faces)).closed == mesh.is_watertight
 
 
+def test_closure_is_trimeshs():
+    # Watertight and consistently wound from the faces alone (kcheck.body.mesh_edges): the
+    # reference is trimesh's is_watertight and is_winding_consistent (the latter only means
+    # something for a watertight mesh), on closed meshes of two bodies, with a face removed,
+    # a face flipped, three faces flipped, a face doubled, and no faces.
+    from kcheck.body.mesh_edges import closure_of
+
+    rng = np.random.default_rng(5)
+    shapes = [
+        trimesh.creation.icosphere(subdivisions=2),
+        trimesh.creation.box(),
+        trimesh.creation.annulus(1, 2, 1),
+    ]
+    for shape in shapes:
+        f = np.asarray(shape.faces)
+        flipped = f.copy()
+        flipped[0] = flipped[0, ::-1]
+        three = f.copy()
+        pick = rng.choice(len(f), 3, replace=False)
+        three[pick] = three[pick, ::-1]
+        variants = (f, f[1:], flipped, three, np.vstack([f, f[:2]]), f[:0])
+        for faces in variants:
+            mesh = trimesh.Trimesh(shape.vertices, faces, process=False)
+            ours = closure_of(faces)
+            assert ours.watertight == mesh.is_watertight
+            if ours.watertight:
+                assert ours.consistent == mesh.is_winding_consistent
+    assert sum(closure_of(np.asarray(s.faces)).consistent for s in shapes) == 3
+
+
 def test_close_vertex_pairs_are_the_kd_trees():
     # The sweep finding vertices closer than a tolerance: the reference is scipy's KD-tree,
     # on points in clusters (many close pairs) and on a grid (many on one plane).
