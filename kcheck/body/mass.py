@@ -42,6 +42,7 @@ __all__ = [
     "part_mass_properties",
     "point_mass",
     "principal_axes",
+    "read_mesh",
     "shared_meshes",
     "step_length_unit",
     "transformed",
@@ -299,9 +300,10 @@ def shared_meshes() -> Iterator[None]:
             _CLOSURES.clear()
 
 
-def _load(part: Part, max_mesh_bytes: int | None) -> trimesh.Trimesh:
+def _load(part: Part, max_mesh_bytes: int | None, *, copy: bool = True) -> trimesh.Trimesh:
     """The part's mesh in metres (unplaced): read, or a copy of the one read already within
-    :func:`shared_meshes` (a copy: repairs and placement change a mesh in place)."""
+    :func:`shared_meshes` (a copy: repairs and placement change a mesh in place); without
+    ``copy``, the one read itself, for a caller that changes neither its vertices nor faces."""
     from kcheck.body.meshio import load_mesh
 
     field = (*part.field, "mesh")
@@ -310,14 +312,22 @@ def _load(part: Part, max_mesh_bytes: int | None) -> trimesh.Trimesh:
     key = (str(part.mesh), part.scale)
     if key not in _SHARED:
         _SHARED[key] = load_mesh(part.mesh, part.scale, field, max_bytes=max_mesh_bytes)
-    return _SHARED[key].copy()
+    return _SHARED[key].copy() if copy else _SHARED[key]
+
+
+def read_mesh(part: Part, max_mesh_bytes: int | None = None) -> trimesh.Trimesh:
+    """The part's mesh in metres, unplaced, as read (within :func:`shared_meshes` the one
+    mass properties use: not to be changed; :func:`placed_mesh` gives a copy to change)."""
+    return _load(part, max_mesh_bytes, copy=False)
 
 
 def part_mass_properties(part: Part, max_mesh_bytes: int | None = None) -> MassProperties:
     """Mass properties of one part in the scene's frame (its transform applied); its mesh
     file at most ``max_mesh_bytes`` (default :data:`kcheck.body.meshio.MAX_MESH_BYTES`)."""
     field = (*part.field, "mesh")
-    mesh = _load(part, max_mesh_bytes)
+    # without `repair` the mesh's vertices and faces are left as they are: no copy (its
+    # density and the cached arrays trimesh derives are set on the one mesh read)
+    mesh = _load(part, max_mesh_bytes, copy=part.repair)
     props = mesh_mass_properties(
         mesh,
         part.density,

@@ -9,7 +9,7 @@ it, and :func:`closest_on_segments` measures in that plane.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -51,38 +51,48 @@ class Surface:
 def body_surface(body: Body, max_mesh_bytes: int | None = None) -> Surface | None:
     """The surface of the body's mesh parts in the scene's frame, in metres; None without
     mesh parts. Raises MeshError for a mesh that cannot be read (as mass properties do)."""
-    from kcheck.body.mass import mesh_closure, placed_mesh
+    from kcheck.body.mass import mesh_closure, place, placed_mesh, read_mesh
 
     if not body.parts:
         return None
     triangles = []
     closed = True
     for part in body.parts:
-        mesh = placed_mesh(part, max_mesh_bytes)
+        mesh = read_mesh(part, max_mesh_bytes)  # shared: read here, changed nowhere
         closure = mesh_closure(mesh)
         if part.repair and not (closure.watertight and closure.consistent):
             import trimesh  # the repair mass properties apply (kcheck.body.mass)
 
+            mesh = placed_mesh(part, max_mesh_bytes)  # a copy, placed, to repair
             with np.errstate(divide="ignore", invalid="ignore"):
                 trimesh.repair.fix_winding(mesh)
                 trimesh.repair.fill_holes(mesh)
                 trimesh.repair.fix_normals(mesh, multibody=True)
             closure = mesh_closure(mesh)
+            placed = np.asarray(mesh.triangles, dtype=float)
+        else:
+            # placed_mesh's triangles (its vertices placed, then indexed by the faces), without
+            # copying the mesh: the same numbers
+            vertices = np.asarray(mesh.vertices)
+            if part.rotation is not None or any(part.translation):
+                vertices = place(vertices, part)
+            placed = np.asarray(vertices[np.asarray(mesh.faces)], dtype=float)
         closed = closed and closure.watertight and closure.consistent
-        if closed and _volume(mesh) < 0:
+        if closed and _volume(placed) < 0:
             closed = False  # wound inwards: inside and outside swapped
-        triangles.append(np.asarray(mesh.triangles, dtype=float))
+        triangles.append(placed)
     return Surface(np.concatenate(triangles), closed)
 
 
-def _volume(mesh: Any) -> float:
-    """The mesh's volume (m³), bit for bit as ``mesh.volume`` computes it (trimesh's first
-    surface integral: the faces' cross products' x times their vertices' x summed, over 6)
-    without the centre of mass and inertia it computes alongside."""
-    triangles = np.asarray(mesh.triangles)
+def _volume(triangles: np.ndarray) -> float:
+    """The mesh's volume (m³) from its triangles (F, 3, 3), bit for bit as ``mesh.volume``
+    computes it (trimesh's first surface integral: the faces' cross products' x times their
+    vertices' x summed, over 6) without the centre of mass and inertia it computes alongside."""
+    from trimesh.triangles import cross  # what trimesh's ``triangles_cross`` is
+
     with np.errstate(all="ignore"):
         f1 = triangles[:, 0, 0] + triangles[:, 1, 0] + triangles[:, 2, 0]
-        return float(np.sum(np.asarray(mesh.triangles_cross)[:, 0] * f1) / 6.0)
+        return float(np.sum(cross(triangles)[:, 0] * f1) / 6.0)
 
 
 def closest_point(triangles: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, ...]:
