@@ -103,7 +103,7 @@ def _distances(scene: Scene, surface: Surface, points: np.ndarray) -> tuple[np.n
         step = PROBE_RTOL * size
         inward = np.where(inside(surface.triangles, q + step * perp)[:, None], perp, -perp)
         return q, d, inward
-    q, d, face = closest_point(surface.triangles, points)
+    q, d, face = closest_point(surface.triangles, points, surface.vertices)
     return q, d, -face_normals(surface.triangles[face])
 
 

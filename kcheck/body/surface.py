@@ -36,10 +36,12 @@ _BLOCK = 200_000
 @dataclass(frozen=True)
 class Surface:
     """The body's placed triangles (F, 3, 3), in metres, and whether every part is closed
-    (watertight, consistently wound: inside and outside are then defined)."""
+    (watertight, consistently wound: inside and outside are then defined); ``vertices``, if
+    known, the triangles' corners (V, 3) each once (the closest-point query's bound)."""
 
     triangles: np.ndarray
     closed: bool
+    vertices: np.ndarray | None = None
 
     @property
     def bounds(self) -> np.ndarray:
@@ -56,6 +58,7 @@ def body_surface(body: Body, max_mesh_bytes: int | None = None) -> Surface | Non
     if not body.parts:
         return None
     triangles = []
+    corners = []
     closed = True
     for part in body.parts:
         mesh = read_mesh(part, max_mesh_bytes)  # shared: read here, changed nowhere
@@ -69,6 +72,7 @@ def body_surface(body: Body, max_mesh_bytes: int | None = None) -> Surface | Non
                 trimesh.repair.fill_holes(mesh)
                 trimesh.repair.fix_normals(mesh, multibody=True)
             closure = mesh_closure(mesh)
+            vertices = np.asarray(mesh.vertices, dtype=float)
             placed = np.asarray(mesh.triangles, dtype=float)
         else:
             # placed_mesh's triangles (its vertices placed, then indexed by the faces), without
@@ -81,7 +85,10 @@ def body_surface(body: Body, max_mesh_bytes: int | None = None) -> Surface | Non
         if closed and _volume(placed) < 0:
             closed = False  # wound inwards: inside and outside swapped
         triangles.append(placed)
-    return Surface(np.concatenate(triangles), closed)
+        used = np.zeros(len(vertices), dtype=bool)
+        used[np.asarray(mesh.faces)] = True
+        corners.append(np.asarray(vertices[used], dtype=float))
+    return Surface(np.concatenate(triangles), closed, np.concatenate(corners))
 
 
 def _volume(triangles: np.ndarray) -> float:
@@ -95,12 +102,16 @@ def _volume(triangles: np.ndarray) -> float:
         return float(np.sum(cross(triangles)[:, 0] * f1) / 6.0)
 
 
-def closest_point(triangles: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, ...]:
+def closest_point(
+    triangles: np.ndarray, points: np.ndarray, vertices: np.ndarray | None = None
+) -> tuple[np.ndarray, ...]:
     """:func:`closest_on_triangles`, measuring only the triangles whose bounding box is no
     farther than the nearest vertex (the others cannot hold the closest point): for a large
-    mesh a few triangles per point instead of all."""
+    mesh a few triangles per point instead of all. ``vertices``: the triangles' corners each
+    once, if known (else every triangle's three: the same nearest one, found slower)."""
     points = np.asarray(points, dtype=float)
-    vertices = triangles.reshape(-1, 3)
+    if vertices is None:
+        vertices = triangles.reshape(-1, 3)
     a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
     # each face's box by pairwise minimum and maximum (exact: triangles.min(axis=1)'s values,
     # without numpy's slow reduction over a short middle axis)
@@ -153,7 +164,11 @@ class _RaySetup:
     h: np.ndarray
 
 
-def _ray_setup(triangles: np.ndarray, ray: np.ndarray) -> _RaySetup:
+def _ray_setup(
+    triangles: np.ndarray, ray: np.ndarray, edges: tuple[np.ndarray, np.ndarray] | None = None
+) -> _RaySetup:
+    """The set-up of one ray direction; ``edges``: the triangles' edges from the first vertex
+    (to the second, to the third), if worked out already (they do not depend on the ray)."""
     d = ray / np.linalg.norm(ray)
     e1 = np.cross(d, [1.0, 0.0, 0.0] if abs(d[0]) < 0.9 else [0.0, 1.0, 0.0])
     e1 /= np.linalg.norm(e1)
@@ -163,8 +178,9 @@ def _ray_setup(triangles: np.ndarray, ray: np.ndarray) -> _RaySetup:
     # gives (exact), without numpy's slow reduction over a short middle axis
     lo = np.minimum(np.minimum(uv[:, 0], uv[:, 1]), uv[:, 2])
     hi = np.maximum(np.maximum(uv[:, 0], uv[:, 1]), uv[:, 2])
-    edge1 = triangles[:, 1] - triangles[:, 0]
-    edge2 = triangles[:, 2] - triangles[:, 0]
+    if edges is None:
+        edges = (triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    edge1, edge2 = edges
     h = np.cross(d, edge2)
     return _RaySetup(d, e1, e2, lo, hi, edge1, edge2, h)
 
@@ -175,7 +191,8 @@ def _rays_of(triangles: np.ndarray) -> list[_RaySetup]:
     for kept, setups in _RAY_SETUPS:
         if kept is triangles:
             return setups
-    setups = [_ray_setup(triangles, ray) for ray in _RAYS]
+    edges = (triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    setups = [_ray_setup(triangles, ray, edges) for ray in _RAYS]
     if len(triangles) <= _KEEP_FACES:
         _RAY_SETUPS.insert(0, (triangles, setups))
         del _RAY_SETUPS[4:]

@@ -68,6 +68,9 @@ def test_surface_triangles_are_the_placed_meshes(shared: bool) -> None:
         assert ours is not None
         theirs = np.concatenate([np.asarray(m.triangles, dtype=float) for m in meshes])
         assert np.array_equal(ours.triangles, theirs)
+        assert ours.vertices is not None  # the corners, each once
+        corners = np.unique(theirs.reshape(-1, 3), axis=0)
+        assert np.array_equal(np.unique(ours.vertices, axis=0), corners)
         closures = [mesh_closure(m) for m in meshes]
         volumes = [float(m.volume) for m in meshes]
         expected = all(c.watertight and c.consistent for c in closures) and all(
@@ -112,6 +115,12 @@ def test_pruned_closest_point_is_the_brute_force_one() -> None:
         _, d, _ = surface.closest_point(triangles, points)
         _, d_all, _ = surface.closest_on_triangles(triangles, points)
         np.testing.assert_allclose(d, d_all, rtol=1e-12, atol=0)
+        # the bound from the mesh's own vertices (each once) instead of every triangle's three
+        # corners: the very same answers
+        used = np.unique(np.asarray(mesh.faces))
+        ours = surface.closest_point(triangles, points, np.asarray(mesh.vertices)[used])
+        for a, b in zip(ours, surface.closest_point(triangles, points), strict=True):
+            assert np.array_equal(a, b)
 
 
 def test_mesh_mass_properties_are_trimeshs_own() -> None:
