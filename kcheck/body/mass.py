@@ -262,6 +262,8 @@ def mesh_mass_properties(
 _SHARED: dict[tuple[str, float], trimesh.Trimesh] | None = None
 #: The closures of the faces of meshes in :data:`_SHARED` (the faces, their closure).
 _CLOSURES: list[tuple[np.ndarray, Closure]] = []
+#: The closures kept (the latest): a part's mass properties and its supports' check ask in turn.
+_KEEP_CLOSURES = 8
 
 
 def mesh_closure(mesh: trimesh.Trimesh) -> Closure:
@@ -280,7 +282,8 @@ def mesh_closure(mesh: trimesh.Trimesh) -> Closure:
         if known.shape == faces.shape and np.array_equal(known, faces):
             return closure
     closure = closure_of(faces)
-    _CLOSURES.append((faces.copy(), closure))
+    _CLOSURES.insert(0, (faces.copy(), closure))
+    del _CLOSURES[_KEEP_CLOSURES:]  # a scene of many parts: no growing scan
     return closure
 
 
