@@ -173,11 +173,22 @@ def _ray_setup(
     e1 = np.cross(d, [1.0, 0.0, 0.0] if abs(d[0]) < 0.9 else [0.0, 1.0, 0.0])
     e1 /= np.linalg.norm(e1)
     e2 = np.cross(d, e1)
-    uv = np.stack([triangles @ e1, triangles @ e2], axis=-1)  # (F, 3, 2)
-    # the boxes over the three vertices by pairwise minimum and maximum: what uv.min(axis=1)
-    # gives (exact), without numpy's slow reduction over a short middle axis
-    lo = np.minimum(np.minimum(uv[:, 0], uv[:, 1]), uv[:, 2])
-    hi = np.maximum(np.maximum(uv[:, 0], uv[:, 1]), uv[:, 2])
+    u, v = triangles @ e1, triangles @ e2  # (F, 3) each: the vertices' shadow coordinates
+    # the boxes over the three vertices by pairwise minimum and maximum: what the stacked
+    # coordinates' .min(axis=1) gives (exact), without numpy's slow reduction over a short
+    # middle axis nor the stacking
+    lo = np.column_stack(
+        [
+            np.minimum(np.minimum(u[:, 0], u[:, 1]), u[:, 2]),
+            np.minimum(np.minimum(v[:, 0], v[:, 1]), v[:, 2]),
+        ]
+    )
+    hi = np.column_stack(
+        [
+            np.maximum(np.maximum(u[:, 0], u[:, 1]), u[:, 2]),
+            np.maximum(np.maximum(v[:, 0], v[:, 1]), v[:, 2]),
+        ]
+    )
     if edges is None:
         edges = (triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
     edge1, edge2 = edges
