@@ -16,7 +16,7 @@ from kcheck.mechanics.holding_certificates import holding_certified
 from kcheck.mechanics.kinematics import Frame, norm3, row_norms, unit3, unit_rows
 from kcheck.mechanics.lift_off import lift_off
 from kcheck.mechanics.outcomes import Outcome, outcome, safe_arcs
-from kcheck.mechanics.statics import Statics, contact_columns, holds_exactly
+from kcheck.mechanics.statics import Statics, contact_columns, holds_exactly, kept_columns
 from kcheck.numerics.thresholds import (
     EPS,
     FORCE_SCREEN_ROUNDINGS,
@@ -318,16 +318,19 @@ class _Holding:
         (3k, 6), the wrench (6,) and their friction coefficients (k,)."""
         wrench, statics, columns = self._built()
         assert columns is not None
-        kept = columns.reshape(len(statics.points), 3, -1)[keep].reshape(3 * len(keep), -1)
-        return kept, wrench, statics.friction[keep]
+        return kept_columns(columns, keep), wrench, statics.friction[keep]
 
 
-def _asks_holding(problem: Problem, case: Case, verdict: str, intervals: bool) -> bool:
-    """Whether :func:`_evaluated` asks :meth:`_Holding.holds` of a case with this outcome at
-    the direction (``intervals``: whether the case has friction intervals)."""
-    if verdict == "jams":
-        return True
-    return verdict in MOVING and intervals and bool(np.any(problem.friction[list(case.keep)] > 0))
+def _asks_holding(problem: Problem, case: Case, verdict: str) -> bool:
+    """Whether :func:`_evaluated` asks :meth:`_Holding.holds` of a case with friction
+    intervals and this outcome at the direction (:func:`_jam_or_lift`, :func:`_may_hold`)."""
+    return verdict == "jams" or (verdict in MOVING and _kept_rough(problem, case))
+
+
+def _kept_rough(problem: Problem, case: Case) -> bool:
+    """Whether some contact the case keeps has friction (frictionless ones hold nothing the
+    free motion moves)."""
+    return bool(np.any(problem.friction[np.asarray(case.keep)] > 0))
 
 
 def _certify_holding(
@@ -357,7 +360,7 @@ def _certify_holding(
         (holding, np.asarray(case.keep))
         for holding, case in evaluated
         if holding.problem.dim == 3
-        and _asks_holding(holding.problem, case, holding.outcomes[case.retracted][0], True)
+        and _asks_holding(holding.problem, case, holding.outcomes[case.retracted][0])
     ]
     if len(asked) < HOLDING_CERTIFICATE_BATCH:
         return holdings
@@ -373,10 +376,7 @@ def _may_hold(problem: Problem, case: Case, holding: _Holding) -> bool:
     """Whether friction can also hold the body of a moving case: an equilibrium exists on the
     kept contacts, so rest is a second answer of the rigid model (the `jamming` check's
     question; frictionless kept contacts hold nothing the free motion moves)."""
-    keep = np.asarray(case.keep)
-    if not np.any(problem.friction[keep] > 0):
-        return False
-    return holding.holds(keep)
+    return _kept_rough(problem, case) and holding.holds(np.asarray(case.keep))
 
 
 def _jam_or_lift(

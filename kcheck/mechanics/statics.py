@@ -64,6 +64,7 @@ __all__ = [
     "holds_exactly",
     "equilibrium_forces",
     "contact_columns",
+    "kept_columns",
 ]
 
 #: Sides of the pyramid approximating a spatial friction cone. The inscribed and the
@@ -578,14 +579,19 @@ def holds_exactly(
         return holds(statics, keep, wrench, mu)
     if columns is None:
         return equilibrium_forces(statics, keep, wrench, mu) is not None
-    kept = columns.reshape(len(statics.points), 3, -1)[keep].reshape(3 * len(keep), -1)
-    return _solve_conic(kept, wrench, mu[keep], None) is not None
+    return _solve_conic(kept_columns(columns, keep), wrench, mu[keep], None) is not None
 
 
 def contact_columns(statics: Statics) -> np.ndarray:
     """The equilibrium columns (3k, 6) of every support (:func:`_contact_axes`): three per
     support, its normal's and its two tangents' unit wrenches."""
     return _contact_axes(statics, np.arange(len(statics.points)))[1]
+
+
+def kept_columns(columns: np.ndarray, keep: np.ndarray) -> np.ndarray:
+    """The rows of :func:`contact_columns` (3k, 6) that belong to the supports ``keep``
+    (3 len(keep), 6), in ``keep``'s order."""
+    return columns.reshape(len(columns) // 3, 3, -1)[keep].reshape(3 * len(keep), -1)
 
 
 def equilibrium_forces(
