@@ -14,7 +14,6 @@ import numpy as np
 __all__ = [
     "RINT_SHIFT",
     "round3_like_numpy",
-    "round_like_numpy",
     "row_lengths",
     "sorted_unique_tuples",
     "unique",
@@ -96,18 +95,12 @@ def row_lengths(vectors: np.ndarray) -> np.ndarray:
 RINT_SHIFT = 1.5 * 2.0**52
 
 
-def round_like_numpy(value: float, scale: float) -> float:
-    """``np.round(value, d)`` of one float, ``scale`` = 10^d, ``|value scale| <= 2^51``:
-    ``rint(value scale) / scale`` with the sign of a zero kept, the same bits (for the
-    plain-float twins of numpy code on a few elements, where numpy's per-call overhead is
-    most of the time)."""
-    return round3_like_numpy(value, 0.0, 0.0, scale)[0]
-
-
 def round3_like_numpy(x: float, y: float, z: float, scale: float) -> tuple[float, float, float]:
-    """:func:`round_like_numpy` of each part of a 3-vector (a unit facet or wrench): one call
-    a row, not three, where a scene rounds thousands of rows. The one place the shift
-    ``copysign((y + RINT_SHIFT) - RINT_SHIFT, y)`` is written."""
+    """``np.round(v, d)`` of each part of a 3-vector (a unit facet or wrench), ``scale`` =
+    10^d, each ``|part scale| <= 2^51``: ``rint(part scale) / scale`` with the sign of a zero
+    kept, the same bits, in plain floats (for the plain-float twins of numpy code, where a
+    scene rounds thousands of rows and numpy's per-call overhead is most of the time). The
+    one place the shift ``copysign((y + RINT_SHIFT) - RINT_SHIFT, y)`` is written."""
     shift = RINT_SHIFT
     x, y, z = x * scale, y * scale, z * scale
     return (
