@@ -112,10 +112,7 @@ def closest_point(
     points = np.asarray(points, dtype=float)
     if vertices is None:
         vertices = triangles.reshape(-1, 3)
-    a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
-    # each face's box by pairwise minimum and maximum (exact: triangles.min(axis=1)'s values,
-    # without numpy's slow reduction over a short middle axis)
-    lo, hi = np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c)
+    lo, hi = _corner_min(triangles), _corner_max(triangles)  # each face's box
     # per axis, contiguous: the box distances without a norm's reduction over a short last axis
     lo_axes, hi_axes = np.ascontiguousarray(lo.T), np.ascontiguousarray(hi.T)
     q = np.zeros_like(points)
@@ -136,6 +133,22 @@ def closest_point(
             best = mine[np.argmin(ds[mine])]
             q[k + i], d[k + i], f[k + i] = qs[best], ds[best], near[best]
     return q, d, f
+
+
+def _corner_min(values: np.ndarray) -> np.ndarray:
+    """``values.min(axis=1)`` of values per triangle corner (F, 3, ...), by pairwise minima:
+    the same values, without numpy's slow reduction over a short middle axis."""
+    return np.minimum(np.minimum(values[:, 0], values[:, 1]), values[:, 2])
+
+
+def _corner_max(values: np.ndarray) -> np.ndarray:
+    """``values.max(axis=1)`` of values per triangle corner (F, 3, ...), as :func:`_corner_min`."""
+    return np.maximum(np.maximum(values[:, 0], values[:, 1]), values[:, 2])
+
+
+def _first_edges(triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The triangles' (F, 3, 3) edges from their first vertex: to the second, to the third."""
+    return triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0]
 
 
 def _box_distance(lo: np.ndarray, hi: np.ndarray, points: np.ndarray) -> np.ndarray:
@@ -188,24 +201,11 @@ def _ray_setup(
     e1 /= np.linalg.norm(e1)
     e2 = np.cross(d, e1)
     u, v = triangles @ e1, triangles @ e2  # (F, 3) each: the vertices' shadow coordinates
-    # the boxes over the three vertices by pairwise minimum and maximum: what the stacked
-    # coordinates' .min(axis=1) gives (exact), without numpy's slow reduction over a short
-    # middle axis nor the stacking
-    lo = np.column_stack(
-        [
-            np.minimum(np.minimum(u[:, 0], u[:, 1]), u[:, 2]),
-            np.minimum(np.minimum(v[:, 0], v[:, 1]), v[:, 2]),
-        ]
-    )
-    hi = np.column_stack(
-        [
-            np.maximum(np.maximum(u[:, 0], u[:, 1]), u[:, 2]),
-            np.maximum(np.maximum(v[:, 0], v[:, 1]), v[:, 2]),
-        ]
-    )
-    if edges is None:
-        edges = (triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
-    edge1, edge2 = edges
+    # the boxes over the three vertices (what the stacked coordinates' min/max over axis 1
+    # give, without the stacking)
+    lo = np.column_stack([_corner_min(u), _corner_min(v)])
+    hi = np.column_stack([_corner_max(u), _corner_max(v)])
+    edge1, edge2 = _first_edges(triangles) if edges is None else edges
     h = np.cross(d, edge2)
     return _RaySetup(d, e1, e2, lo, hi, edge1, edge2, h)
 
@@ -216,7 +216,7 @@ def _rays_of(triangles: np.ndarray) -> list[_RaySetup]:
     for kept, setups in _RAY_SETUPS:
         if kept is triangles:
             return setups
-    edges = (triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    edges = _first_edges(triangles)
     setups = [_ray_setup(triangles, ray, edges) for ray in _RAYS]
     if len(triangles) <= _KEEP_FACES:
         _RAY_SETUPS.insert(0, (triangles, setups))
@@ -363,7 +363,7 @@ def winding_numbers(triangles: np.ndarray, points: np.ndarray) -> np.ndarray:
 
 def face_normals(triangles: np.ndarray) -> np.ndarray:
     """Unit outward normals of outward-wound triangles (zero for a degenerate face)."""
-    n = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    n = np.cross(*_first_edges(triangles))
     length = np.linalg.norm(n, axis=1, keepdims=True)
     return np.asarray(np.where(length > 0, n / np.where(length > 0, length, 1.0), 0.0))
 
